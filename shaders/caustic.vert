@@ -1,0 +1,82 @@
+// One ray per caustic-face vertex: through the object (refraction at both
+// faces, or one reflection) to the screen plane. Outputs the hit in screen
+// coordinates and what the geometry shader needs for the triangle's flux.
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec3 aNormal;
+
+uniform mat4 uModel;
+uniform mat3 uRotation;
+uniform vec3 uFlatNormal;   // outward, world
+uniform float uFlatOffset;  // flat face: dot(x, uFlatNormal) = uFlatOffset
+uniform float uIor;
+uniform bool uReflective;
+uniform bool uFlatFirst;    // the flat face faces the light
+uniform bool uPointLight;
+uniform bool uExactPointModel;
+uniform vec3 uLightDir;     // directional: propagation direction
+uniform vec3 uLightPos;     // point light position
+uniform bool uFresnel;
+uniform vec3 uScreenCenter;
+uniform vec3 uScreenNormal;
+uniform vec3 uScreenRight;
+uniform vec3 uScreenUp;
+uniform float uReportPlaneDistance;
+
+out VertexData {
+  vec2 screen;         // hit on the screen, (right, up) from its centre, world units
+  vec2 plane;          // hit on the virtual plane behind the screen ("report" mode)
+  vec3 footprint;      // where this vertex's ray entered the object (world)
+  float transmittance; // product of Fresnel transmittances along the ray
+  float valid;         // 1: reached the screen; 0: TIR, missed or grazing
+} vout;
+
+void main() {
+  vec3 v = (uModel * vec4(aPosition, 1.0)).xyz;
+  vec3 n = normalize(uRotation * aNormal);
+  vec3 incident = uPointLight ? normalize(v - uLightPos) : uLightDir;
+  vec3 origin = v;
+  vec3 dir = -uScreenNormal;  // replaced below; keeps rejected rays finite
+  vec3 footprint = v;
+  float transmittance = 1.0;
+  float tFace;
+  bool ok = true;
+
+  if (uReflective) {
+    dir = reflect(incident, faceAgainst(n, incident));
+  } else if (uFlatFirst) {
+    if (uPointLight && uExactPointModel) {
+      footprint = pointLightEntry(uLightPos, v, uFlatNormal, uFlatOffset, uIor);
+      incident = normalize(footprint - uLightPos);
+    }
+    vec3 inside;
+    refractFresnel(incident, faceAgainst(uFlatNormal, incident), 1.0, uIor, inside, tFace);
+    if (uPointLight && uExactPointModel) inside = normalize(v - footprint);
+    else footprint = v + inside * ((uFlatOffset - dot(v, uFlatNormal)) / dot(inside, uFlatNormal));
+    transmittance *= tFace;
+    ok = refractFresnel(inside, faceAgainst(n, inside), uIor, 1.0, dir, tFace);
+    transmittance *= tFace;
+  } else {
+    vec3 inside;
+    ok = refractFresnel(incident, faceAgainst(n, incident), 1.0, uIor, inside, tFace);
+    transmittance *= tFace;
+    float toward = dot(inside, uFlatNormal);
+    ok = ok && toward > 1e-6;
+    origin = v + inside * ((uFlatOffset - dot(v, uFlatNormal)) / max(toward, 1e-6));
+    ok = ok && refractFresnel(inside, faceAgainst(uFlatNormal, inside), uIor, 1.0, dir, tFace);
+    transmittance *= tFace;
+  }
+
+  float denom = dot(dir, uScreenNormal);
+  float s = dot(uScreenCenter - origin, uScreenNormal) / denom;
+  ok = ok && abs(denom) > 1e-6 && s > 0.0 && !isinf(s) && !isnan(s);
+  vec3 hit = origin + s * dir;
+  vec3 planeCenter = uScreenCenter - uReportPlaneDistance * uScreenNormal;
+  vec3 planeHit = origin + (dot(planeCenter - origin, uScreenNormal) / denom) * dir;
+
+  vout.screen = vec2(dot(hit - uScreenCenter, uScreenRight), dot(hit - uScreenCenter, uScreenUp));
+  vout.plane = vec2(dot(planeHit - planeCenter, uScreenRight), dot(planeHit - planeCenter, uScreenUp));
+  vout.footprint = footprint;
+  vout.transmittance = uFresnel ? transmittance : 1.0;
+  vout.valid = ok ? 1.0 : 0.0;
+  gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
+}

@@ -1,0 +1,46 @@
+// Generates the meshes of the built-in scenes (assets/scenes/*.json) from
+// their analytic surfaces. Units are millimetres; every caustic face sits
+// below a flat face with outward normal +z.
+#include "caustic/surfaces.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <numbers>
+
+int main(int argc, char** argv) {
+  CLI::App app{"Generate the built-in caustic meshes"};
+  std::filesystem::path out;
+  int resolution = 256;
+  app.add_option("--out", out, "Folder for the OBJ files")->required();
+  app.add_option("--resolution", resolution, "Vertices per side")->check(CLI::Range(2, 2048));
+  CLI11_PARSE(app, argc, argv);
+
+  using namespace caustic;
+  const double k = 2.0 * std::numbers::pi / 5.0;  // 5 mm period
+  const struct {
+    const char* name;
+    HeightField surface;
+  } meshes[] = {
+      // Plano-convex: R = 40 mm, n = 1.5 -> f = 80 mm; 20 mm square aperture.
+      {"lens", plano_convex_lens(40.0, 10.0)},
+      {"slab", flat_face(10.0)},
+      {"cylinder", cylindrical_lens(40.0, 10.0)},
+      // Sum of sines, amplitude 0.05 mm: folds begin at 1/((n-1) A k^2) = 25.3 mm.
+      {"wavy", sine_window(0.05, k, 0.05, k, 10.0)},
+  };
+  try {
+    std::filesystem::create_directories(out);
+    for (const auto& m : meshes) {
+      const auto file = out / (std::string(m.name) + ".obj");
+      write_obj(grid_mesh(m.surface, resolution, resolution), file);
+      std::cout << "wrote " << file.string() << "\n";
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "caustic-assetgen: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

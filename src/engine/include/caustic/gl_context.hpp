@@ -1,0 +1,48 @@
+// A headless OpenGL 4.5 core context through EGL, with no display server.
+#pragma once
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace caustic {
+
+class GlContextError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Which EGL platform to open. `automatic` prefers a hardware device
+/// (EGL_EXT_platform_device) and falls back to Mesa's surfaceless platform,
+/// where llvmpipe renders on the CPU.
+enum class EglPlatform { automatic, device, surfaceless };
+
+/// Owns an EGL context (never a window or surface) and makes it current on
+/// the thread that calls make_current(). Not copyable; destroy it on the
+/// thread that used it last.
+class GlContext {
+ public:
+  /// Creates the context and makes it current. Throws GlContextError with the
+  /// reason when no usable EGL display or OpenGL 4.5 core context exists.
+  explicit GlContext(EglPlatform platform = EglPlatform::automatic);
+  ~GlContext();
+  GlContext(const GlContext&) = delete;
+  GlContext& operator=(const GlContext&) = delete;
+
+  void make_current();
+  void release_current();
+
+  /// GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
+  const std::string& renderer() const;
+  /// GL_VERSION.
+  const std::string& version() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+/// Reads CAUSTICD_EGL_PLATFORM (automatic|device|surfaceless); automatic when unset.
+EglPlatform egl_platform_from_environment();
+
+}  // namespace caustic

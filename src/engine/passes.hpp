@@ -1,0 +1,41 @@
+// The two GPU passes behind Engine: the caustic ray pass into a float
+// target, and post-processing (bloom, tone mapping) into an 8-bit target.
+#pragma once
+
+#include "caustic/engine.hpp"
+#include "gl_objects.hpp"
+
+namespace caustic {
+
+struct TriangleCounts {
+  std::uint32_t drawn = 0, dropped = 0, positive = 0, negative = 0, subpixel = 0;
+};
+
+class RayPass {
+ public:
+  RayPass();
+  void upload(const Mesh& mesh);
+  /// Clears `target` and adds every triangle's relative irradiance into it.
+  void draw(const Scene& scene, const Placement& placement, const gl::RenderTarget& target);
+  TriangleCounts counts() const;
+
+ private:
+  gl::Program program_;
+  gl::VertexArray vao_;
+  gl::Buffer positions_, normals_, indices_, counters_;
+  GLsizei index_count_ = 0;
+};
+
+class PostPass {
+ public:
+  PostPass();
+  /// Bright pass and blur at half resolution, then tone mapping into `ldr`.
+  void run(const PostParams& post, const gl::Texture& hdr, const gl::RenderTarget& ldr);
+
+ private:
+  gl::Program bright_, blur_, tonemap_;
+  gl::VertexArray empty_vao_;
+  gl::RenderTarget half_a_, half_b_;
+};
+
+}  // namespace caustic

@@ -1,0 +1,24 @@
+// Writing and reading renders: EXR for HDR relative irradiance, PNG for the
+// tone-mapped picture (OpenImageIO).
+#pragma once
+
+#include "caustic/engine.hpp"
+
+#include <filesystem>
+#include <stdexcept>
+
+namespace caustic {
+
+class ImageIoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// One float channel "Y" (relative irradiance), 32-bit float EXR.
+void write_exr(const HdrImage& image, const std::filesystem::path& file);
+/// 8-bit RGB PNG (alpha dropped).
+void write_png(const Rgba8Image& image, const std::filesystem::path& file);
+/// Reads the first channel of any image OpenImageIO can open, as float.
+HdrImage read_hdr_image(const std::filesystem::path& file);
+
+}  // namespace caustic

@@ -1,0 +1,95 @@
+// Geometric-optics primitives shared by the CPU side of the appliance: the
+// reference tracer, tests and scene validation. The GLSL twins live in
+// shaders/optics.glsl; tests hold both against docs/physics.md.
+//
+// Conventions (the same as GLSL's reflect/refract):
+//  - directions point the way light travels; `i` is the incident direction;
+//  - `eta` is n_from / n_to: entering glass from air eta = 1/n, leaving it eta = n;
+//  - the normal passed to refract() faces against the incident ray
+//    (dot(n, i) < 0); use face_against() to orient a surface normal first.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <optional>
+
+namespace caustic::optics {
+
+using Vec3 = glm::dvec3;
+
+/// Mirror reflection of `i` about the plane with unit normal `n` (either side).
+inline Vec3 reflect(const Vec3& i, const Vec3& n) { return i - 2.0 * glm::dot(n, i) * n; }
+
+/// `n` or `-n`, whichever faces against the incident direction `i`.
+/// A normal exactly perpendicular to `i` is returned negated (grazing incidence).
+inline Vec3 face_against(const Vec3& n, const Vec3& i) { return glm::dot(n, i) < 0.0 ? n : -n; }
+
+/// A transmitted ray and the cosines Snell's law relates.
+struct Refraction {
+  Vec3 direction;  ///< unit transmitted direction
+  double cos_i;    ///< |cos| of the angle of incidence
+  double cos_t;    ///< cos of the angle of transmission (sqrt(k) of optics ch. 2)
+};
+
+/// Snell refraction of unit `i` at unit normal `n` (facing against `i`),
+/// eta = n_from / n_to. Total internal reflection returns no ray.
+inline std::optional<Refraction> refract(const Vec3& i, const Vec3& n, double eta) {
+  const double cos_i = -glm::dot(n, i);
+  const double k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+  if (k < 0.0) return std::nullopt;
+  const double cos_t = std::sqrt(k);
+  return Refraction{eta * i + (eta * cos_i - cos_t) * n, cos_i, cos_t};
+}
+
+/// Amplitude and power reflection coefficients of one interface.
+struct FresnelTerms {
+  double r_s;          ///< perpendicular (s) amplitude coefficient
+  double r_p;          ///< parallel (p) amplitude coefficient
+  double reflectance;  ///< unpolarised power reflectance (r_s^2 + r_p^2) / 2
+};
+
+/// Fresnel equations for light going from index n1 to n2, given the cosines of
+/// the incident and transmitted angles (both non-negative). The caller detects
+/// TIR before calling (there is no cos_t then); fresnel_transmittance() does both.
+inline FresnelTerms fresnel(double cos_i, double cos_t, double n1, double n2) {
+  const double r_s = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
+  const double r_p = (n1 * cos_t - n2 * cos_i) / (n1 * cos_t + n2 * cos_i);
+  return {r_s, r_p, 0.5 * (r_s * r_s + r_p * r_p)};
+}
+
+/// Unpolarised power transmittance T = 1 - R for a ray with |cos| of
+/// incidence `cos_i` crossing from index n1 to n2. TIR gives 0.
+inline double fresnel_transmittance(double cos_i, double n1, double n2) {
+  const double eta = n1 / n2;
+  const double k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+  if (k < 0.0) return 0.0;
+  return 1.0 - fresnel(cos_i, std::sqrt(k), n1, n2).reflectance;
+}
+
+/// Critical angle (radians) for light leaving index n into index 1.
+inline double critical_angle(double n) { return std::asin(1.0 / n); }
+
+/// Brewster's angle (radians) for light from n1 into n2, where r_p vanishes.
+inline double brewster_angle(double n1, double n2) { return std::atan(n2 / n1); }
+
+/// A plane dot(x, normal) = offset with unit normal.
+struct Plane {
+  Vec3 normal;
+  double offset;
+  double signed_distance(const Vec3& x) const { return glm::dot(x, normal) - offset; }
+};
+
+/// Exact entry point of the ray from a point light `light` to a point `v`
+/// inside a medium of index `n` bounded by the flat interface `plane`
+/// (light on the positive side, v on the negative side). Solves Snell's law in
+/// the plane of incidence by safeguarded bisection (docs/physics.md ch. 4):
+/// sin(theta_i) = n sin(theta_t) for the entry point at horizontal distance x.
+/// Returns no point when the light is not strictly in front of the plane or
+/// `v` not strictly behind it.
+std::optional<Vec3> point_light_entry(const Vec3& light, const Vec3& v, const Plane& plane, double n);
+
+/// Solid angle (steradians) that the triangle (a, b, c) subtends at `eye`
+/// (Van Oosterom & Strackee 1983), always non-negative.
+double solid_angle(const Vec3& eye, const Vec3& a, const Vec3& b, const Vec3& c);
+
+}  // namespace caustic::optics

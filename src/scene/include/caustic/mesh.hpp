@@ -1,0 +1,72 @@
+// The caustic face of an object: an indexed triangle mesh with one normal per
+// vertex, and where it sits in the world.
+#pragma once
+
+#include "caustic/scene.hpp"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+namespace caustic {
+
+struct Mesh {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;  ///< unit, one per position; orientation is free
+  std::vector<glm::uvec3> triangles;
+};
+
+/// Bounds that load_obj enforces, so a hostile file cannot exhaust memory.
+struct MeshLimits {
+  std::size_t max_vertices = std::size_t{1} << 22;
+  std::size_t max_triangles = std::size_t{1} << 23;
+  std::uintmax_t max_file_bytes = std::uintmax_t{1} << 30;
+  double max_coordinate = 1e6;
+};
+
+/// Loads an OBJ holding the caustic face as triangles. Positions with
+/// different normals become separate vertices; a file with no normals (or
+/// some faces without) gets area-weighted smooth normals. Throws SceneError
+/// with a message that names the problem (and the line for syntax errors).
+Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits = {});
+
+/// Checks the invariants every consumer relies on (finite values, unit
+/// normals, indices in range, at least one triangle). Throws SceneError.
+void validate_mesh(const Mesh& mesh, const MeshLimits& limits = {});
+
+/// Area-weighted vertex normals from the faces (winding gives the sign).
+/// Vertices on no non-degenerate face get the mean face normal.
+std::vector<glm::vec3> smooth_normals(const std::vector<glm::vec3>& positions,
+                                      const std::vector<glm::uvec3>& triangles);
+
+/// Writes a mesh as OBJ with `v`, `vn` and `f v//vn` lines.
+void write_obj(const Mesh& mesh, const std::filesystem::path& file);
+
+/// The object's pose resolved against its mesh: everything a renderer needs
+/// to take mesh coordinates to the world.
+struct Placement {
+  glm::dmat4 model{1.0};       ///< mesh -> world (rotation, uniform scale, translation)
+  glm::dmat3 rotation{1.0};    ///< rotates mesh normals into the world
+  double scale = 1.0;
+  glm::dvec3 flat_normal{0, 0, 1};  ///< outward flat-face normal, world
+  double flat_offset = 0.0;         ///< flat face: dot(x, flat_normal) = flat_offset, world
+  glm::dvec3 center{0, 0, 0};       ///< footprint centre, world (reference for point lights)
+  double max_depth = 0.0;           ///< largest depth of a vertex below the flat face, world
+};
+
+/// Rotation matrix of three.js Euler angles in order "XYZ" (degrees): Rx * Ry * Rz.
+glm::dmat3 euler_xyz_degrees(const glm::dvec3& degrees);
+
+/// Resolves fit_size (centring and scaling the footprint perpendicular to the
+/// flat-face normal), the default flat-face offset (through the extreme vertex
+/// along the normal) and the pose.
+Placement place_object(const ObjectParams& object, const Mesh& mesh);
+
+/// Rejects configurations the ray model cannot represent: a point light on the
+/// flat plane or inside the object, a screen plane that crosses the object, a
+/// mesh vertex on the light side of its own flat face. Throws SceneError.
+void check_geometry(const Scene& scene, const Mesh& mesh, const Placement& placement);
+
+}  // namespace caustic

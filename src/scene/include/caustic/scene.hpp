@@ -1,0 +1,118 @@
+// The scene a caustic render models: the object (its flat face, material and
+// pose), the light, the screen rectangle, and the render and post-processing
+// settings. docs/scene-format.md documents every key of the JSON form.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <nlohmann/json_fwd.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace caustic {
+
+/// A rejected scene, parameter patch or mesh. `key` names the offending JSON
+/// key path ("object.ior") or is empty when the problem is not a single key.
+class SceneError : public std::runtime_error {
+ public:
+  SceneError(std::string key, const std::string& message)
+      : std::runtime_error(key.empty() ? message : key + ": " + message), key_(std::move(key)) {}
+  const std::string& key() const { return key_; }
+
+ private:
+  std::string key_;
+};
+
+enum class Material { refractive, reflective };
+enum class LightType { directional, point };
+enum class PointModel { approximate, exact };
+enum class IntensityMode { energy, report };
+
+struct ObjectParams {
+  Material material = Material::refractive;
+  double ior = 1.5;
+  glm::dvec3 flat_face_normal{0, 0, 1};     ///< outward, mesh coordinates, unit
+  std::optional<double> flat_face_offset;   ///< plane dot(x, n) = offset; default: extreme vertex
+  glm::dvec3 position{0, 0, 0};
+  glm::dvec3 rotation_deg{0, 0, 0};         ///< Euler angles, three.js order "XYZ"
+  std::optional<double> fit_size;           ///< footprint size after centring; none: file units
+
+  bool operator==(const ObjectParams&) const = default;
+};
+
+struct LightParams {
+  LightType type = LightType::directional;
+  glm::dvec3 direction{0, 0, -1};  ///< propagation direction of a directional light, unit
+  glm::dvec3 position{0, 0, 100};  ///< point light position
+  PointModel point_model = PointModel::exact;
+
+  bool operator==(const LightParams&) const = default;
+};
+
+struct ScreenParams {
+  glm::dvec3 center{0, 0, -100};
+  glm::dvec3 normal{0, 0, 1};  ///< unit, facing the object
+  glm::dvec3 up{0, 1, 0};      ///< unit, perpendicular to normal after validation
+  double width = 40;
+  double height = 40;
+
+  bool operator==(const ScreenParams&) const = default;
+};
+
+struct RenderParams {
+  int width = 1024;
+  int height = 1024;
+  IntensityMode intensity = IntensityMode::energy;
+  bool fresnel = true;
+  double report_plane_distance = 1.0;  ///< virtual plane behind the screen, "report" mode
+
+  bool operator==(const RenderParams&) const = default;
+};
+
+struct PostParams {
+  double exposure = 1.0;
+  double gamma = 2.2;
+  double bloom_threshold = 1.0;
+  double bloom_strength = 0.3;
+  double bloom_radius = 8.0;  ///< Gaussian sigma in output pixels
+
+  bool operator==(const PostParams&) const = default;
+};
+
+struct Scene {
+  std::string name;
+  std::string description;
+  std::string mesh;                      ///< OBJ path as written, relative to base_dir
+  std::filesystem::path base_dir;        ///< folder of the scene file; not part of the JSON
+  std::optional<double> focus_distance;  ///< places the screen when screen.center is omitted
+  ObjectParams object;
+  LightParams light;
+  ScreenParams screen;
+  RenderParams render;
+  PostParams post;
+
+  std::filesystem::path mesh_path() const { return base_dir / mesh; }
+  bool operator==(const Scene&) const = default;
+};
+
+/// Parses and validates a scene; every key is checked, unknown keys are
+/// rejected. Throws SceneError naming the key.
+Scene scene_from_json(const nlohmann::json& j, const std::filesystem::path& base_dir);
+
+/// The complete JSON form of a scene (every key, defaults filled in).
+nlohmann::json scene_to_json(const Scene& scene);
+
+/// Reads a scene file. Throws SceneError on I/O, syntax or validation errors.
+Scene load_scene(const std::filesystem::path& file);
+
+/// Applies an RFC 7396 JSON merge patch and validates the result; the input
+/// scene is left untouched, so a rejected patch changes nothing.
+Scene apply_merge_patch(const Scene& scene, const nlohmann::json& patch);
+
+/// Turns "a.b.c=value" into a merge patch {"a":{"b":{"c":value}}}; the value
+/// is read as JSON when it parses, otherwise as a string.
+nlohmann::json patch_from_assignment(const std::string& assignment);
+
+}  // namespace caustic

@@ -1,0 +1,39 @@
+// Analytic caustic faces for the built-in scenes and for tests: height fields
+// z = h(x, y) below a flat face whose outward normal is +z. Light that enters
+// the flat face travels toward -z and leaves through the height field.
+#pragma once
+
+#include "caustic/mesh.hpp"
+
+#include <functional>
+
+namespace caustic {
+
+struct HeightField {
+  std::function<double(double, double)> height;          ///< z of the caustic face
+  std::function<glm::dvec2(double, double)> gradient;    ///< (dh/dx, dh/dy)
+  double half_width_x = 1.0;                             ///< footprint [-hx, hx] x [-hy, hy]
+  double half_width_y = 1.0;
+};
+
+/// Samples a height field on an nx x ny vertex grid (nx, ny >= 2) with exact
+/// outward normals (pointing away from the flat face, toward -z) and
+/// triangles wound so that their geometric normal points outward too.
+Mesh grid_mesh(const HeightField& surface, int nx, int ny);
+
+/// Spherical cap of radius of curvature `radius`, apex at z = 0 (the lowest
+/// point), over a square footprint of half-width `half_width` < radius / sqrt(2).
+/// Paraxial back focal length from the apex: radius / (n - 1).
+HeightField plano_convex_lens(double radius, double half_width);
+
+/// Cylinder of radius `radius` curved along x, apex line at z = 0.
+HeightField cylindrical_lens(double radius, double half_width);
+
+/// Thickness t0 + a_x cos(k_x x) + a_y cos(k_y y): thicker glass where the
+/// cosines peak (the face lies lower there).
+HeightField sine_window(double amplitude_x, double k_x, double amplitude_y, double k_y, double half_width);
+
+/// A plane z = 0: the flat slab.
+HeightField flat_face(double half_width);
+
+}  // namespace caustic

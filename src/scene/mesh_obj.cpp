@@ -1,0 +1,156 @@
+// OBJ reading and writing for the caustic face, with the validation every
+// consumer of a Mesh relies on.
+#include "caustic/mesh.hpp"
+
+#include <tiny_obj_loader.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+namespace caustic {
+namespace {
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+std::vector<glm::vec3> smooth_normals(const std::vector<glm::vec3>& positions,
+                                      const std::vector<glm::uvec3>& triangles) {
+  std::vector<glm::dvec3> sum(positions.size(), glm::dvec3(0.0));
+  glm::dvec3 total(0.0);
+  for (const auto& t : triangles) {
+    const glm::dvec3 a = positions[t.x], b = positions[t.y], c = positions[t.z];
+    const glm::dvec3 area_vector = glm::cross(b - a, c - a);  // length = twice the area: area weighting
+    for (int k = 0; k < 3; ++k) sum[t[k]] += area_vector;
+    total += area_vector;
+  }
+  const glm::dvec3 fallback = glm::length(total) > 0 ? glm::normalize(total) : glm::dvec3(0, 0, 1);
+  std::vector<glm::vec3> normals(positions.size());
+  for (std::size_t i = 0; i < sum.size(); ++i)
+    normals[i] = glm::vec3(glm::length(sum[i]) > 0 ? glm::normalize(sum[i]) : fallback);
+  return normals;
+}
+
+void validate_mesh(const Mesh& mesh, const MeshLimits& limits) {
+  if (mesh.triangles.empty()) throw SceneError("mesh", "has no triangles");
+  if (mesh.positions.size() > limits.max_vertices)
+    throw SceneError("mesh", "has " + std::to_string(mesh.positions.size()) + " vertices, more than the limit of " +
+                                 std::to_string(limits.max_vertices));
+  if (mesh.triangles.size() > limits.max_triangles)
+    throw SceneError("mesh", "has " + std::to_string(mesh.triangles.size()) + " triangles, more than the limit of " +
+                                 std::to_string(limits.max_triangles));
+  if (mesh.normals.size() != mesh.positions.size()) throw SceneError("mesh", "needs exactly one normal per vertex");
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    const auto& p = mesh.positions[i];
+    if (!finite(p)) throw SceneError("mesh", "vertex " + std::to_string(i + 1) + " is not finite (NaN or Inf)");
+    if (std::abs(p.x) > limits.max_coordinate || std::abs(p.y) > limits.max_coordinate ||
+        std::abs(p.z) > limits.max_coordinate)
+      throw SceneError("mesh", "vertex " + std::to_string(i + 1) + " lies beyond the coordinate limit of 1e6");
+    const auto& n = mesh.normals[i];
+    if (!finite(n) || std::abs(glm::length(n) - 1.0f) > 1e-3f)
+      throw SceneError("mesh", "normal of vertex " + std::to_string(i + 1) + " is not a finite unit vector");
+  }
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      if (mesh.triangles[i][k] >= mesh.positions.size())
+        throw SceneError("mesh", "triangle " + std::to_string(i + 1) + " refers to a vertex that does not exist");
+}
+
+Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits) {
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(file, ec);
+  // Messages name the file by its base name only: the full path of a
+  // protected mesh is not something to echo back to a client.
+  const std::string label = file.filename().string();
+  if (ec || !std::filesystem::is_regular_file(file)) throw SceneError("mesh", "cannot read mesh file " + label);
+  if (bytes > limits.max_file_bytes) throw SceneError("mesh", "mesh file " + label + " is larger than the limit");
+
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = false;
+  config.vertex_color = false;
+  tinyobj::ObjReader reader;
+  if (!reader.ParseFromFile(file.string(), config)) {
+    std::string err = reader.Error();
+    while (!err.empty() && err.back() == '\n') err.pop_back();
+    throw SceneError("mesh", "mesh file " + label + " is not a valid OBJ: " + (err.empty() ? "parse error" : err));
+  }
+  const auto& attrib = reader.GetAttrib();
+  const auto& shapes = reader.GetShapes();
+  const std::size_t vertex_count = attrib.vertices.size() / 3;
+  if (vertex_count > limits.max_vertices)
+    throw SceneError("mesh", "mesh file " + label + " has more than " + std::to_string(limits.max_vertices) + " vertices");
+
+  Mesh mesh;
+  bool all_normals = true;
+  std::map<std::pair<int, int>, unsigned> unified;  // (position, normal) -> vertex
+  for (const auto& shape : shapes) {
+    if (!shape.lines.indices.empty() || !shape.points.indices.empty())
+      throw SceneError("mesh", "mesh file " + label + " holds lines or points; only triangles are allowed");
+    const auto& m = shape.mesh;
+    std::size_t offset = 0;
+    for (std::size_t f = 0; f < m.num_face_vertices.size(); ++f) {
+      const unsigned fv = m.num_face_vertices[f];
+      if (fv != 3)
+        throw SceneError("mesh", "mesh file " + label + ": face " + std::to_string(f + 1) + " of \"" + shape.name +
+                                     "\" has " + std::to_string(fv) + " vertices; only triangles are allowed");
+      glm::uvec3 tri;
+      for (unsigned k = 0; k < 3; ++k) {
+        const auto& idx = m.indices[offset + k];
+        if (idx.vertex_index < 0 || static_cast<std::size_t>(idx.vertex_index) >= vertex_count)
+          throw SceneError("mesh", "mesh file " + label + ": a face refers to a vertex that does not exist");
+        if (idx.normal_index < 0) all_normals = false;
+        if (idx.normal_index >= 0 && static_cast<std::size_t>(idx.normal_index) >= attrib.normals.size() / 3)
+          throw SceneError("mesh", "mesh file " + label + ": a face refers to a normal that does not exist");
+        const auto key = std::make_pair(idx.vertex_index, idx.normal_index);
+        auto [it, inserted] = unified.try_emplace(key, static_cast<unsigned>(mesh.positions.size()));
+        if (inserted) {
+          const float* p = &attrib.vertices[3 * idx.vertex_index];
+          mesh.positions.emplace_back(p[0], p[1], p[2]);
+          if (idx.normal_index >= 0) {
+            const float* n = &attrib.normals[3 * idx.normal_index];
+            const glm::vec3 normal(n[0], n[1], n[2]);
+            const float len = glm::length(normal);
+            if (!finite(normal) || !(len > 0))
+              throw SceneError("mesh", "mesh file " + label + ": normal " + std::to_string(idx.normal_index + 1) +
+                                           " is zero or not finite");
+            mesh.normals.push_back(normal / len);
+          } else {
+            mesh.normals.emplace_back(0.0f);
+          }
+          if (mesh.positions.size() > limits.max_vertices)
+            throw SceneError("mesh", "mesh file " + label + " has more than " + std::to_string(limits.max_vertices) +
+                                         " vertices");
+        }
+        tri[k] = it->second;
+      }
+      mesh.triangles.push_back(tri);
+      if (mesh.triangles.size() > limits.max_triangles)
+        throw SceneError("mesh", "mesh file " + label + " has more than " + std::to_string(limits.max_triangles) +
+                                     " triangles");
+      offset += 3;
+    }
+  }
+  if (mesh.triangles.empty()) throw SceneError("mesh", "mesh file " + label + " holds no triangles");
+  for (const auto& p : mesh.positions)
+    if (!finite(p)) throw SceneError("mesh", "mesh file " + label + " has a vertex that is NaN or Inf");
+  if (!all_normals) mesh.normals = smooth_normals(mesh.positions, mesh.triangles);
+  validate_mesh(mesh, limits);
+  return mesh;
+}
+
+void write_obj(const Mesh& mesh, const std::filesystem::path& file) {
+  std::unique_ptr<FILE, int (*)(FILE*)> out(std::fopen(file.string().c_str(), "w"), &std::fclose);
+  if (!out) throw std::runtime_error("cannot write " + file.string());
+  std::fprintf(out.get(), "# caustic face, %zu vertices, %zu triangles\n", mesh.positions.size(), mesh.triangles.size());
+  for (const auto& p : mesh.positions) std::fprintf(out.get(), "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
+  for (const auto& n : mesh.normals) std::fprintf(out.get(), "vn %.7g %.7g %.7g\n", n.x, n.y, n.z);
+  for (const auto& t : mesh.triangles)
+    std::fprintf(out.get(), "f %u//%u %u//%u %u//%u\n", t.x + 1, t.x + 1, t.y + 1, t.y + 1, t.z + 1, t.z + 1);
+  if (std::ferror(out.get())) throw std::runtime_error("error while writing " + file.string());
+}
+
+}  // namespace caustic

@@ -1,0 +1,94 @@
+// Where the object sits in the world, and the scene checks that need both the
+// scene and the mesh.
+#include "caustic/mesh.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace caustic {
+namespace {
+
+// Two unit vectors completing n to a right-handed orthonormal basis.
+std::pair<glm::dvec3, glm::dvec3> basis_around(const glm::dvec3& n) {
+  const glm::dvec3 helper = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  const glm::dvec3 e1 = glm::normalize(glm::cross(helper, n));
+  return {e1, glm::cross(n, e1)};
+}
+
+}  // namespace
+
+glm::dmat3 euler_xyz_degrees(const glm::dvec3& degrees) {
+  const glm::dvec3 r = glm::radians(degrees);
+  const double cx = std::cos(r.x), sx = std::sin(r.x);
+  const double cy = std::cos(r.y), sy = std::sin(r.y);
+  const double cz = std::cos(r.z), sz = std::sin(r.z);
+  // glm is column-major: each dmat3 constructor argument group is a column.
+  const glm::dmat3 rx(1, 0, 0, 0, cx, sx, 0, -sx, cx);
+  const glm::dmat3 ry(cy, 0, -sy, 0, 1, 0, sy, 0, cy);
+  const glm::dmat3 rz(cz, sz, 0, -sz, cz, 0, 0, 0, 1);
+  return rx * ry * rz;
+}
+
+Placement place_object(const ObjectParams& object, const Mesh& mesh) {
+  const glm::dvec3 n = object.flat_face_normal;
+  const auto [e1, e2] = basis_around(n);
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const glm::dvec3 p : mesh.positions) {
+    const glm::dvec3 q(glm::dot(p, e1), glm::dot(p, e2), glm::dot(p, n));
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
+  }
+  const double offset_mesh = object.flat_face_offset.value_or(hi.z);
+  const glm::dvec3 mid = 0.5 * (lo + hi);
+  const glm::dvec3 centre_mesh = mid.x * e1 + mid.y * e2 + mid.z * n;
+
+  Placement out;
+  out.rotation = euler_xyz_degrees(object.rotation_deg);
+  glm::dvec3 origin(0.0);  // mesh point that lands on object.position
+  if (object.fit_size) {
+    const double footprint = std::max(hi.x - lo.x, hi.y - lo.y);
+    out.scale = footprint > 0 ? *object.fit_size / footprint : 1.0;
+    origin = centre_mesh;
+  }
+  glm::dmat4 m(out.rotation * out.scale);
+  m[3] = glm::dvec4(object.position - out.rotation * (out.scale * origin), 1.0);
+  out.model = m;
+
+  out.flat_normal = glm::normalize(out.rotation * n);
+  const glm::dvec3 plane_point = glm::dvec3(m * glm::dvec4(offset_mesh * n, 1.0));
+  out.flat_offset = glm::dot(plane_point, out.flat_normal);
+  out.center = glm::dvec3(m * glm::dvec4(centre_mesh, 1.0));
+  out.max_depth = (offset_mesh - lo.z) * out.scale;
+  return out;
+}
+
+void check_geometry(const Scene& scene, const Mesh& mesh, const Placement& placement) {
+  const glm::dvec3 nf = placement.flat_normal;
+  double screen_min = std::numeric_limits<double>::infinity(), screen_max = -screen_min;
+  double above_flat = -std::numeric_limits<double>::infinity();
+  for (const glm::dvec3 p : mesh.positions) {
+    const glm::dvec3 w = glm::dvec3(placement.model * glm::dvec4(p, 1.0));
+    const double s = glm::dot(w - scene.screen.center, scene.screen.normal);
+    screen_min = std::min(screen_min, s);
+    screen_max = std::max(screen_max, s);
+    above_flat = std::max(above_flat, glm::dot(w, nf) - placement.flat_offset);
+  }
+  const double tolerance = 1e-6 * std::max(1.0, placement.max_depth);
+  if (scene.object.material == Material::refractive && above_flat > tolerance)
+    throw SceneError("object.flat_face_offset",
+                     "the flat face cuts through the mesh (a vertex lies on its outer side); raise the offset");
+  if (screen_min < 0 && screen_max > 0)
+    throw SceneError("screen.center", "the screen plane crosses the object");
+  if (scene.light.type == LightType::point && scene.object.material == Material::refractive) {
+    const double h = glm::dot(scene.light.position, nf) - placement.flat_offset;
+    const double eps = 1e-6 * std::max(1.0, placement.max_depth);
+    if (std::abs(h) <= eps) throw SceneError("light.position", "the point light lies on the object's flat face");
+    if (h < 0 && h > -placement.max_depth - eps)
+      throw SceneError("light.position", "the point light lies inside the object's slab");
+  }
+}
+
+}  // namespace caustic

@@ -1,0 +1,325 @@
+// JSON <-> Scene with strict validation: every value is checked for type,
+// finiteness and range, and the message names the key, so that a REST client
+// or a scene author sees exactly what to fix.
+#include "caustic/scene.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <vector>
+
+namespace caustic {
+namespace {
+
+using nlohmann::json;
+
+constexpr double kMaxCoordinate = 1e6;
+
+std::string join(const std::string& prefix, const std::string& key) {
+  return prefix.empty() ? key : prefix + "." + key;
+}
+
+// Walks one JSON object, handing out typed values and remembering which keys
+// were read so that anything left over is reported as unknown.
+class Reader {
+ public:
+  Reader(const json& j, std::string path) : j_(j), path_(std::move(path)) {
+    if (!j_.is_object()) throw SceneError(path_, "must be a JSON object");
+  }
+
+  bool has(const std::string& key) const { return j_.contains(key) && !j_.at(key).is_null(); }
+
+  const json* get(const std::string& key) {
+    seen_.insert(key);
+    auto it = j_.find(key);
+    return it == j_.end() || it->is_null() ? nullptr : &*it;
+  }
+
+  std::string key(const std::string& k) const { return join(path_, k); }
+
+  double number(const std::string& k, double fallback, double lo, double hi, bool open_lo = false) {
+    const json* v = get(k);
+    if (!v) return fallback;
+    if (!v->is_number()) throw SceneError(key(k), "must be a number");
+    const double x = v->get<double>();
+    if (!std::isfinite(x) || x < lo || x > hi || (open_lo && x == lo)) {
+      std::ostringstream msg;
+      msg << "must be a finite number in " << (open_lo ? "(" : "[") << lo << ", " << hi << "], got " << x;
+      throw SceneError(key(k), msg.str());
+    }
+    return x;
+  }
+
+  std::optional<double> optional_number(const std::string& k, double lo, double hi, bool open_lo = false) {
+    if (!has(k)) {
+      get(k);
+      return std::nullopt;
+    }
+    return number(k, 0.0, lo, hi, open_lo);
+  }
+
+  int integer(const std::string& k, int fallback, int lo, int hi) {
+    const json* v = get(k);
+    if (!v) return fallback;
+    if (!v->is_number_integer()) throw SceneError(key(k), "must be an integer");
+    const auto x = v->get<long long>();
+    if (x < lo || x > hi)
+      throw SceneError(key(k), "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+                                   std::to_string(x));
+    return static_cast<int>(x);
+  }
+
+  bool boolean(const std::string& k, bool fallback) {
+    const json* v = get(k);
+    if (!v) return fallback;
+    if (!v->is_boolean()) throw SceneError(key(k), "must be true or false");
+    return v->get<bool>();
+  }
+
+  std::string string(const std::string& k, const std::string& fallback, std::size_t max_len = 4096) {
+    const json* v = get(k);
+    if (!v) return fallback;
+    if (!v->is_string()) throw SceneError(key(k), "must be a string");
+    auto s = v->get<std::string>();
+    if (s.size() > max_len) throw SceneError(key(k), "is longer than " + std::to_string(max_len) + " characters");
+    return s;
+  }
+
+  template <typename Enum>
+  Enum choice(const std::string& k, Enum fallback, std::initializer_list<std::pair<const char*, Enum>> options) {
+    const json* v = get(k);
+    if (!v) return fallback;
+    std::string allowed;
+    for (const auto& [name, value] : options) {
+      if (v->is_string() && v->get<std::string>() == name) return value;
+      allowed += (allowed.empty() ? "\"" : ", \"") + std::string(name) + "\"";
+    }
+    throw SceneError(key(k), "must be one of " + allowed);
+  }
+
+  glm::dvec3 vec3(const std::string& k, glm::dvec3 fallback, bool unit = false) {
+    const json* v = get(k);
+    if (!v) return fallback;
+    if (!v->is_array() || v->size() != 3) throw SceneError(key(k), "must be an array of 3 numbers");
+    glm::dvec3 out;
+    for (int i = 0; i < 3; ++i) {
+      const json& e = (*v)[i];
+      if (!e.is_number() || !std::isfinite(e.get<double>()) || std::abs(e.get<double>()) > kMaxCoordinate)
+        throw SceneError(key(k), "must hold 3 finite numbers of magnitude at most 1e6");
+      out[i] = e.get<double>();
+    }
+    if (unit) {
+      const double len = glm::length(out);
+      if (!(len > 1e-9)) throw SceneError(key(k), "must not be the zero vector");
+      out /= len;
+    }
+    return out;
+  }
+
+  Reader child(const std::string& k) {
+    static const json empty = json::object();
+    const json* v = get(k);
+    return Reader(v ? *v : empty, key(k));
+  }
+
+  void reject_unknown() const {
+    for (const auto& [k, _] : j_.items())
+      if (!seen_.count(k)) throw SceneError(key(k), "unknown key");
+  }
+
+ private:
+  const json& j_;
+  std::string path_;
+  std::set<std::string> seen_;
+};
+
+ObjectParams read_object(Reader r) {
+  ObjectParams o;
+  o.material = r.choice("material", o.material, {{"refractive", Material::refractive}, {"reflective", Material::reflective}});
+  o.ior = r.number("ior", o.ior, 1.0, 10.0);
+  o.flat_face_normal = r.vec3("flat_face_normal", o.flat_face_normal, true);
+  o.flat_face_offset = r.optional_number("flat_face_offset", -kMaxCoordinate, kMaxCoordinate);
+  o.position = r.vec3("position", o.position);
+  o.rotation_deg = r.vec3("rotation_deg", o.rotation_deg);
+  o.fit_size = r.optional_number("fit_size", 0.0, kMaxCoordinate, true);
+  r.reject_unknown();
+  return o;
+}
+
+LightParams read_light(Reader r) {
+  LightParams l;
+  l.type = r.choice("type", l.type, {{"directional", LightType::directional}, {"point", LightType::point}});
+  l.direction = r.vec3("direction", l.direction, true);
+  l.position = r.vec3("position", l.position);
+  l.point_model = r.choice("point_model", l.point_model, {{"approximate", PointModel::approximate}, {"exact", PointModel::exact}});
+  r.reject_unknown();
+  return l;
+}
+
+ScreenParams read_screen(Reader r, const std::optional<double>& focus_distance, const ObjectParams& object) {
+  ScreenParams s;
+  s.normal = r.vec3("normal", s.normal, true);
+  s.up = r.vec3("up", s.up, true);
+  // Gram-Schmidt: the image's vertical axis lies in the screen plane.
+  const glm::dvec3 in_plane = s.up - glm::dot(s.up, s.normal) * s.normal;
+  if (glm::length(in_plane) < 1e-6) throw SceneError(r.key("up"), "must not be parallel to screen.normal");
+  s.up = glm::normalize(in_plane);
+  if (r.has("center")) {
+    s.center = r.vec3("center", s.center);
+  } else if (focus_distance) {
+    r.get("center");
+    s.center = object.position - *focus_distance * s.normal;
+  } else {
+    s.center = r.vec3("center", s.center);
+  }
+  s.width = r.number("width", s.width, 0.0, kMaxCoordinate, true);
+  s.height = r.number("height", s.height, 0.0, kMaxCoordinate, true);
+  r.reject_unknown();
+  return s;
+}
+
+RenderParams read_render(Reader r) {
+  RenderParams p;
+  p.width = r.integer("width", p.width, 16, 8192);
+  p.height = r.integer("height", p.height, 16, 8192);
+  p.intensity = r.choice("intensity", p.intensity, {{"energy", IntensityMode::energy}, {"report", IntensityMode::report}});
+  p.fresnel = r.boolean("fresnel", p.fresnel);
+  p.report_plane_distance = r.number("report_plane_distance", p.report_plane_distance, 0.0, kMaxCoordinate, true);
+  r.reject_unknown();
+  return p;
+}
+
+PostParams read_post(Reader r) {
+  PostParams p;
+  p.exposure = r.number("exposure", p.exposure, 0.0, 1e4, true);
+  p.gamma = r.number("gamma", p.gamma, 0.1, 10.0);
+  p.bloom_threshold = r.number("bloom_threshold", p.bloom_threshold, 0.0, 1e6);
+  p.bloom_strength = r.number("bloom_strength", p.bloom_strength, 0.0, 100.0);
+  p.bloom_radius = r.number("bloom_radius", p.bloom_radius, 0.0, 64.0);
+  r.reject_unknown();
+  return p;
+}
+
+template <typename Enum>
+const char* name_of(Enum value, std::initializer_list<std::pair<const char*, Enum>> options) {
+  for (const auto& [name, v] : options)
+    if (v == value) return name;
+  return "";
+}
+
+json vec(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
+
+template <typename T>
+json opt(const std::optional<T>& v) { return v ? json(*v) : json(nullptr); }
+
+}  // namespace
+
+Scene scene_from_json(const json& j, const std::filesystem::path& base_dir) {
+  Reader r(j, "");
+  Scene s;
+  s.base_dir = base_dir;
+  s.name = r.string("name", "", 200);
+  s.description = r.string("description", "", 2000);
+  if (!r.has("mesh")) throw SceneError("mesh", "is required (path of the caustic face OBJ)");
+  s.mesh = r.string("mesh", "");
+  if (s.mesh.empty()) throw SceneError("mesh", "must not be empty");
+  s.focus_distance = r.optional_number("focus_distance", 0.0, kMaxCoordinate, true);
+  s.object = read_object(r.child("object"));
+  s.light = read_light(r.child("light"));
+  s.screen = read_screen(r.child("screen"), s.focus_distance, s.object);
+  s.render = read_render(r.child("render"));
+  s.post = read_post(r.child("post"));
+  r.reject_unknown();
+  return s;
+}
+
+json scene_to_json(const Scene& s) {
+  const auto& o = s.object;
+  const auto& l = s.light;
+  return json{
+      {"name", s.name},
+      {"description", s.description},
+      {"mesh", s.mesh},
+      {"focus_distance", opt(s.focus_distance)},
+      {"object",
+       {{"material", name_of(o.material, {{"refractive", Material::refractive}, {"reflective", Material::reflective}})},
+        {"ior", o.ior},
+        {"flat_face_normal", vec(o.flat_face_normal)},
+        {"flat_face_offset", opt(o.flat_face_offset)},
+        {"position", vec(o.position)},
+        {"rotation_deg", vec(o.rotation_deg)},
+        {"fit_size", opt(o.fit_size)}}},
+      {"light",
+       {{"type", name_of(l.type, {{"directional", LightType::directional}, {"point", LightType::point}})},
+        {"direction", vec(l.direction)},
+        {"position", vec(l.position)},
+        {"point_model", name_of(l.point_model, {{"approximate", PointModel::approximate}, {"exact", PointModel::exact}})}}},
+      {"screen",
+       {{"center", vec(s.screen.center)},
+        {"normal", vec(s.screen.normal)},
+        {"up", vec(s.screen.up)},
+        {"width", s.screen.width},
+        {"height", s.screen.height}}},
+      {"render",
+       {{"width", s.render.width},
+        {"height", s.render.height},
+        {"intensity", name_of(s.render.intensity, {{"energy", IntensityMode::energy}, {"report", IntensityMode::report}})},
+        {"fresnel", s.render.fresnel},
+        {"report_plane_distance", s.render.report_plane_distance}}},
+      {"post",
+       {{"exposure", s.post.exposure},
+        {"gamma", s.post.gamma},
+        {"bloom_threshold", s.post.bloom_threshold},
+        {"bloom_strength", s.post.bloom_strength},
+        {"bloom_radius", s.post.bloom_radius}}},
+  };
+}
+
+Scene load_scene(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw SceneError("", "cannot open scene file " + file.string());
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw SceneError("", "scene file " + file.string() + " is not valid JSON: " + e.what());
+  }
+  return scene_from_json(j, file.parent_path());
+}
+
+Scene apply_merge_patch(const Scene& scene, const json& patch) {
+  if (!patch.is_object()) throw SceneError("", "a parameter patch must be a JSON object");
+  json doc = scene_to_json(scene);
+  // The screen centre is stored resolved; a patch of focus_distance alone
+  // should move the screen, so drop the centre unless the patch sets it.
+  if (patch.contains("focus_distance") && !(patch.contains("screen") && patch["screen"].contains("center")))
+    doc["screen"].erase("center");
+  doc.merge_patch(patch);
+  return scene_from_json(doc, scene.base_dir);
+}
+
+json patch_from_assignment(const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) throw SceneError("", "expected key.path=value, got \"" + assignment + "\"");
+  const std::string path = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  json value = json::parse(text, nullptr, false);
+  if (value.is_discarded()) value = text;
+  std::vector<std::string> keys;
+  std::size_t begin = 0;
+  while (true) {
+    const auto dot = path.find('.', begin);
+    keys.push_back(path.substr(begin, dot == std::string::npos ? std::string::npos : dot - begin));
+    if (keys.back().empty()) throw SceneError(path, "empty key in path");
+    if (dot == std::string::npos) break;
+    begin = dot + 1;
+  }
+  json patch = value;
+  for (auto it = keys.rbegin(); it != keys.rend(); ++it) patch = json{{*it, patch}};
+  return patch;
+}
+
+}  // namespace caustic
