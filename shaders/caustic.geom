@@ -1,7 +1,10 @@
-// Draws each caustic-face triangle at its projected screen position with the
-// constant relative irradiance E = flux / projected area (energy mode), or
-// the report's area ratio. Sub-pixel triangles become one pixel-sized square
-// carrying the same flux, so a focus stays finite and keeps its energy.
+// Spreads each caustic-face triangle's flux over the screen pixels it
+// overlaps. The triangle carries the constant relative irradiance
+// E = flux / projected area (energy mode) or the report's area ratio; each
+// pixel receives E times the exact fraction of the pixel the triangle covers
+// (computed in caustic.frag), so a pixel holds the mean irradiance over its
+// area and every triangle deposits exactly its flux, however small it is.
+// The geometry emitted is the triangle's pixel-aligned bounding box.
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 4) out;
 
@@ -13,14 +16,18 @@ in VertexData {
   float valid;
 } vin[];
 
-flat out float gIrradiance;
+flat out float gIrradiance;  // E; for a collapsed triangle: flux per pixel area
+flat out vec2 gA;            // corners in window pixels
+flat out vec2 gB;
+flat out vec2 gC;
+flat out float gPoint;       // 1: collapsed to a point, all flux to one pixel
 
 uniform bool uPointLight;
 uniform vec3 uLightDir;
 uniform vec3 uLightPos;
 uniform float uReferenceDistance2;  // point light: r_ref^2, so E0 = I0 / r_ref^2
 uniform vec2 uHalfSize;             // half the screen rectangle, world units
-uniform vec2 uPixelSize;            // world units
+uniform vec2 uResolution;           // pixels
 uniform bool uReportIntensity;
 
 layout(std430, binding = 0) buffer TriangleCounters {
@@ -28,17 +35,22 @@ layout(std430, binding = 0) buffer TriangleCounters {
   uint dropped;        // a vertex missed the screen or met TIR
   uint positive;       // orientation on the screen, to count fold-overs
   uint negative;
-  uint subpixel;
+  uint collapsed;      // smaller than kCollapsed: treated as a point
 } counters;
+
+// Below this many square pixels a triangle's corners are too close for a
+// stable area; its flux goes to the pixel under its centroid.
+const float kCollapsed = 1e-4;
 
 float signedArea(vec2 a, vec2 b, vec2 c) {
   vec2 e1 = b - a, e2 = c - a;
   return 0.5 * (e1.x * e2.y - e1.y * e2.x);
 }
 
-void emitAt(vec2 p, float irradiance) {
-  gIrradiance = irradiance;
-  gl_Position = vec4(p / uHalfSize, 0.0, 1.0);
+vec2 toPixels(vec2 screen) { return (screen / uHalfSize * 0.5 + 0.5) * uResolution; }
+
+void emitPixel(vec2 p) {
+  gl_Position = vec4(p / uResolution * 2.0 - 1.0, 0.0, 1.0);
   EmitVertex();
 }
 
@@ -48,14 +60,16 @@ void main() {
     return;
   }
   float transmittance = (vin[0].transmittance + vin[1].transmittance + vin[2].transmittance) / 3.0;
-  float screenSigned = signedArea(vin[0].screen, vin[1].screen, vin[2].screen);
-  float screenArea = abs(screenSigned);
-  float pixelArea = uPixelSize.x * uPixelSize.y;
+  vec2 a = toPixels(vin[0].screen), b = toPixels(vin[1].screen), c = toPixels(vin[2].screen);
+  float signedPixels = signedArea(a, b, c);
+  float areaPixels = abs(signedPixels);
+  vec2 worldPerPixel = 2.0 * uHalfSize / uResolution;
+  float screenArea = areaPixels * worldPerPixel.x * worldPerPixel.y;
 
   float flux;
   if (uReportIntensity) {
     float planeArea = abs(signedArea(vin[0].plane, vin[1].plane, vin[2].plane));
-    flux = transmittance * screenArea / max(planeArea, 1e-6 * pixelArea) * screenArea;
+    flux = transmittance * screenArea / max(planeArea, 1e-12) * screenArea;
   } else if (uPointLight) {
     flux = transmittance * uReferenceDistance2 *
            solidAngle(uLightPos, vin[0].footprint, vin[1].footprint, vin[2].footprint);
@@ -63,29 +77,37 @@ void main() {
     vec3 areaVector = 0.5 * cross(vin[1].footprint - vin[0].footprint, vin[2].footprint - vin[0].footprint);
     flux = transmittance * abs(dot(areaVector, uLightDir));
   }
-  vec2 far = max(max(abs(vin[0].screen), abs(vin[1].screen)), abs(vin[2].screen));
-  if (!(flux > 0.0) || isinf(flux) || any(greaterThan(far, 1e4 * uHalfSize))) {
-    if (!(flux == 0.0)) atomicAdd(counters.dropped, 1u);
+  vec2 lo = min(min(a, b), c), hi = max(max(a, b), c);
+  bool offscreen = any(greaterThan(lo, uResolution)) || any(lessThan(hi, vec2(0.0)));
+  bool huge = any(greaterThan(hi - lo, 64.0 * uResolution));  // precision, not physics
+  if (!(flux > 0.0) || isinf(flux) || offscreen || huge) {
+    if (!(flux == 0.0) && !offscreen) atomicAdd(counters.dropped, 1u);
     return;
   }
   atomicAdd(counters.drawn, 1u);
-  if (screenSigned >= 0.0) atomicAdd(counters.positive, 1u);
+  if (signedPixels >= 0.0) atomicAdd(counters.positive, 1u);
   else atomicAdd(counters.negative, 1u);
 
-  if (screenArea >= pixelArea) {
-    float irradiance = flux / screenArea;
-    emitAt(vin[0].screen, irradiance);
-    emitAt(vin[1].screen, irradiance);
-    emitAt(vin[2].screen, irradiance);
+  float pixelArea = worldPerPixel.x * worldPerPixel.y;
+  gA = a;
+  gB = b;
+  gC = c;
+  if (areaPixels < kCollapsed) {
+    atomicAdd(counters.collapsed, 1u);
+    gPoint = 1.0;
+    gIrradiance = flux / pixelArea;
+    vec2 cell = floor((a + b + c) / 3.0);
+    lo = cell + 0.25;  // a quad inside one pixel covers its centre only
+    hi = cell + 0.75;
   } else {
-    atomicAdd(counters.subpixel, 1u);
-    vec2 centre = (vin[0].screen + vin[1].screen + vin[2].screen) / 3.0;
-    vec2 h = 0.5 * uPixelSize;
-    float irradiance = flux / pixelArea;
-    emitAt(centre + vec2(-h.x, -h.y), irradiance);
-    emitAt(centre + vec2(h.x, -h.y), irradiance);
-    emitAt(centre + vec2(-h.x, h.y), irradiance);
-    emitAt(centre + vec2(h.x, h.y), irradiance);
+    gPoint = 0.0;
+    gIrradiance = flux / screenArea;
+    lo = floor(lo);
+    hi = floor(hi) + 1.0;
   }
+  emitPixel(lo);
+  emitPixel(vec2(hi.x, lo.y));
+  emitPixel(vec2(lo.x, hi.y));
+  emitPixel(hi);
   EndPrimitive();
 }

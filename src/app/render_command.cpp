@@ -70,8 +70,8 @@ int run_render(const RenderOptions& opt) {
     std::printf("renderer: %s\n", context.renderer().c_str());
     std::printf("mesh: %zu vertices, %zu triangles; target %dx%d\n", mesh->positions.size(), mesh->triangles.size(),
                 scene.render.width, scene.render.height);
-    std::printf("triangles: %u drawn, %u dropped, %u folded, %u sub-pixel\n", st.drawn, st.dropped, st.folded,
-                st.subpixel);
+    std::printf("triangles: %u drawn, %u dropped, %u folded, %u collapsed\n", st.drawn, st.dropped, st.folded,
+                st.collapsed);
     std::printf("render time: %.2f ms caustic + %.2f ms post (median of %d frame%s)\n", median(ray_ms),
                 median(post_ms), opt.frames, opt.frames == 1 ? "" : "s");
     for (const auto& out : opt.outputs) {

@@ -38,6 +38,7 @@ Engine::~Engine() = default;
 
 void Engine::set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh) {
   if (!mesh) throw EngineError("set_scene needs a mesh");
+  validate_scene(scene);
   Placement placement = place_object(scene.object, *mesh);
   check_geometry(scene, *mesh, placement);
 
@@ -71,7 +72,7 @@ bool Engine::render() {
     s.stats.drawn = counts.drawn;
     s.stats.dropped = counts.dropped;
     s.stats.folded = std::min(counts.positive, counts.negative);
-    s.stats.subpixel = counts.subpixel;
+    s.stats.collapsed = counts.collapsed;
     ++s.ray_passes;
   }
   const auto start = std::chrono::steady_clock::now();

@@ -8,7 +8,7 @@
 namespace caustic {
 
 struct TriangleCounts {
-  std::uint32_t drawn = 0, dropped = 0, positive = 0, negative = 0, subpixel = 0;
+  std::uint32_t drawn = 0, dropped = 0, positive = 0, negative = 0, collapsed = 0;
 };
 
 class RayPass {

@@ -1,5 +1,7 @@
 #include "passes.hpp"
 
+#include "caustic/vertex_rays.hpp"
+
 #include <cmath>
 
 namespace caustic {
@@ -40,8 +42,7 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
   const auto& p = program_;
   const auto& screen = scene.screen;
   const bool point = scene.light.type == LightType::point;
-  const bool flat_first = point ? glm::dot(scene.light.position, placement.flat_normal) > placement.flat_offset
-                                : glm::dot(scene.light.direction, placement.flat_normal) < 0.0;
+  const bool flat_first = flat_face_first(scene, placement);
   // Relative irradiance of a point light is normalised to what it delivers
   // at the object's centre (docs/physics.md ch. 1).
   const double reference_distance = glm::length(scene.light.position - placement.center);
@@ -61,12 +62,12 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
   p.set("uFresnel", scene.render.fresnel);
   p.set("uScreenCenter", glm::vec3(screen.center));
   p.set("uScreenNormal", glm::vec3(screen.normal));
-  p.set("uScreenRight", glm::vec3(glm::normalize(glm::cross(screen.up, screen.normal))));
+  p.set("uScreenRight", glm::vec3(screen_right(screen)));
   p.set("uScreenUp", glm::vec3(screen.up));
   p.set("uReportPlaneDistance", static_cast<float>(scene.render.report_plane_distance));
   p.set("uReportIntensity", scene.render.intensity == IntensityMode::report);
   p.set("uHalfSize", glm::vec2(screen.width / 2, screen.height / 2));
-  p.set("uPixelSize", glm::vec2(screen.width / target.texture.width(), screen.height / target.texture.height()));
+  p.set("uResolution", glm::vec2(target.texture.width(), target.texture.height()));
 
   const TriangleCounts zero{};
   glNamedBufferSubData(counters_.id(), 0, sizeof zero, &zero);

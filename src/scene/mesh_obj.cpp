@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -15,6 +16,28 @@ namespace caustic {
 namespace {
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// tinyobjloader reads a malformed or non-finite number ("nan", "1e999",
+// "abc") as 0 without a word; a caustic face with a vertex silently moved
+// to the origin must be an error instead, with the line that holds it.
+void check_numbers(const std::filesystem::path& file, const std::string& label) {
+  std::ifstream in(file);
+  std::string line;
+  for (std::size_t number = 1; std::getline(in, line); ++number) {
+    std::istringstream words(line);
+    std::string tag;
+    words >> tag;
+    if (tag != "v" && tag != "vn" && tag != "vt") continue;
+    std::string word;
+    for (int k = 0; words >> word; ++k) {
+      char* end = nullptr;
+      const double x = std::strtod(word.c_str(), &end);
+      if (end != word.c_str() + word.size() || !std::isfinite(x))
+        throw SceneError("mesh", "mesh file " + label + " line " + std::to_string(number) + ": \"" + word +
+                                     "\" is not a finite number (NaN, Inf or malformed)");
+    }
+  }
+}
 
 }  // namespace
 
@@ -69,6 +92,7 @@ Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits) {
   if (ec || !std::filesystem::is_regular_file(file)) throw SceneError("mesh", "cannot read mesh file " + label);
   if (bytes > limits.max_file_bytes) throw SceneError("mesh", "mesh file " + label + " is larger than the limit");
 
+  check_numbers(file, label);
   tinyobj::ObjReaderConfig config;
   config.triangulate = false;
   config.vertex_color = false;

@@ -71,9 +71,14 @@ void check_geometry(const Scene& scene, const Mesh& mesh, const Placement& place
   double above_flat = -std::numeric_limits<double>::infinity();
   for (const glm::dvec3 p : mesh.positions) {
     const glm::dvec3 w = glm::dvec3(placement.model * glm::dvec4(p, 1.0));
-    const double s = glm::dot(w - scene.screen.center, scene.screen.normal);
-    screen_min = std::min(screen_min, s);
-    screen_max = std::max(screen_max, s);
+    // The solid spans from each caustic-face vertex to the flat face above it.
+    const glm::dvec3 on_flat = w + (placement.flat_offset - glm::dot(w, nf)) * nf;
+    const bool solid = scene.object.material == Material::refractive;
+    for (const glm::dvec3& q : {w, solid ? on_flat : w}) {
+      const double s = glm::dot(q - scene.screen.center, scene.screen.normal);
+      screen_min = std::min(screen_min, s);
+      screen_max = std::max(screen_max, s);
+    }
     above_flat = std::max(above_flat, glm::dot(w, nf) - placement.flat_offset);
   }
   const double tolerance = 1e-6 * std::max(1.0, placement.max_depth);

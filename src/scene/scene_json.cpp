@@ -278,6 +278,17 @@ json scene_to_json(const Scene& s) {
   };
 }
 
+void validate_scene(const Scene& scene) {
+  scene_from_json(scene_to_json(scene), scene.base_dir);
+  // Parsing normalises vectors; a scene built in code must already be normal.
+  auto unit = [](const glm::dvec3& v) { return std::abs(glm::length(v) - 1.0) < 1e-9; };
+  if (!unit(scene.object.flat_face_normal)) throw SceneError("object.flat_face_normal", "must be a unit vector");
+  if (!unit(scene.light.direction)) throw SceneError("light.direction", "must be a unit vector");
+  if (!unit(scene.screen.normal)) throw SceneError("screen.normal", "must be a unit vector");
+  if (!unit(scene.screen.up) || std::abs(glm::dot(scene.screen.up, scene.screen.normal)) > 1e-9)
+    throw SceneError("screen.up", "must be a unit vector perpendicular to screen.normal");
+}
+
 Scene load_scene(const std::filesystem::path& file) {
   std::ifstream in(file);
   if (!in) throw SceneError("", "cannot open scene file " + file.string());

@@ -42,7 +42,7 @@ struct FrameStats {
   std::uint32_t drawn = 0;    ///< triangles that reached the screen
   std::uint32_t dropped = 0;  ///< triangles with a vertex lost to TIR, a miss or grazing incidence
   std::uint32_t folded = 0;   ///< drawn triangles whose screen orientation is the minority one
-  std::uint32_t subpixel = 0; ///< drawn triangles smaller than a pixel, splatted into one pixel
+  std::uint32_t collapsed = 0; ///< drawn triangles of (nearly) zero screen area: flux into one pixel
 };
 
 class Engine {

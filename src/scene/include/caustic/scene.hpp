@@ -104,6 +104,11 @@ Scene scene_from_json(const nlohmann::json& j, const std::filesystem::path& base
 /// The complete JSON form of a scene (every key, defaults filled in).
 nlohmann::json scene_to_json(const Scene& scene);
 
+/// Validates a scene built in code the same way a parsed one is (ranges,
+/// finiteness, unit vectors), so NaN or Inf never reach a renderer.
+/// Throws SceneError naming the key.
+void validate_scene(const Scene& scene);
+
 /// Reads a scene file. Throws SceneError on I/O, syntax or validation errors.
 Scene load_scene(const std::filesystem::path& file);
 

@@ -1,0 +1,45 @@
+// The per-vertex ray method of the engine (docs/physics.md ch. 4-5) in
+// double precision on the CPU: the twin of shaders/caustic.vert and
+// caustic.geom. Tests hold the GPU renders against it (flux bookkeeping,
+// validity of each ray), and it lets tools reason about a frame without a
+// GL context. It is not the reference: that is the independent photon tracer.
+#pragma once
+
+#include "caustic/mesh.hpp"
+
+namespace caustic {
+
+/// One caustic-face vertex's ray through the object to the screen.
+struct VertexRay {
+  bool valid = false;         ///< false: TIR, grazing, or the screen lies behind the ray
+  glm::dvec2 screen{0.0};     ///< hit on the screen, (right, up) from its centre
+  glm::dvec3 footprint{0.0};  ///< where the ray entered the object
+  double transmittance = 1.0; ///< Fresnel product along the ray (1 when Fresnel is off)
+};
+
+/// Orthonormal screen axes: right = up x normal, so a viewer facing the
+/// screen (looking along -normal) sees +right to the right.
+glm::dvec3 screen_right(const ScreenParams& screen);
+
+/// Whether light meets the flat face before the caustic face.
+bool flat_face_first(const Scene& scene, const Placement& placement);
+
+/// Traces the ray through caustic-face vertex `v` (world) with normal `n` (world, unit).
+VertexRay trace_vertex(const Scene& scene, const Placement& placement, const glm::dvec3& v, const glm::dvec3& n);
+
+/// Flux (relative units: per unit E0, times area in world units) that enters
+/// the triangle whose vertex rays are a, b, c, including the mean Fresnel
+/// transmittance: what the engine spreads over the projected triangle.
+double triangle_flux(const Scene& scene, const Placement& placement, const VertexRay& a, const VertexRay& b,
+                     const VertexRay& c);
+
+/// Total flux that reaches the screen plane by the per-vertex method: the
+/// sum of triangle_flux over triangles whose three rays are valid.
+struct FluxSummary {
+  double flux = 0.0;
+  std::size_t valid_triangles = 0;
+  glm::dvec2 screen_min{0.0}, screen_max{0.0};  ///< bounds of the valid hits
+};
+FluxSummary summarize_flux(const Scene& scene, const Mesh& mesh, const Placement& placement);
+
+}  // namespace caustic

@@ -1,0 +1,107 @@
+#include "caustic/vertex_rays.hpp"
+
+#include "caustic/optics.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace caustic {
+
+glm::dvec3 screen_right(const ScreenParams& screen) { return glm::normalize(glm::cross(screen.up, screen.normal)); }
+
+bool flat_face_first(const Scene& scene, const Placement& placement) {
+  if (scene.light.type == LightType::point)
+    return glm::dot(scene.light.position, placement.flat_normal) > placement.flat_offset;
+  return glm::dot(scene.light.direction, placement.flat_normal) < 0.0;
+}
+
+VertexRay trace_vertex(const Scene& scene, const Placement& placement, const glm::dvec3& v, const glm::dvec3& n) {
+  using namespace optics;
+  const bool point = scene.light.type == LightType::point;
+  const double ior = scene.object.ior;
+  const Plane flat{placement.flat_normal, placement.flat_offset};
+  VertexRay ray;
+  ray.footprint = v;
+  Vec3 incident = point ? glm::normalize(v - scene.light.position) : scene.light.direction;
+  Vec3 origin = v, dir;
+  double t = 1.0;
+
+  if (scene.object.material == Material::reflective) {
+    dir = reflect(incident, face_against(n, incident));
+  } else if (flat_face_first(scene, placement)) {
+    const bool exact = point && scene.light.point_model == PointModel::exact;
+    if (exact) {
+      const auto entry = point_light_entry(scene.light.position, v, flat, ior);
+      if (!entry) return ray;
+      ray.footprint = *entry;
+      incident = glm::normalize(*entry - scene.light.position);
+    }
+    const auto in = refract(incident, face_against(flat.normal, incident), 1.0 / ior);
+    if (!in) return ray;
+    t *= fresnel_transmittance(in->cos_i, 1.0, ior);
+    const Vec3 inside = exact ? glm::normalize(v - ray.footprint) : in->direction;
+    if (!exact) ray.footprint = v + inside * (-flat.signed_distance(v) / glm::dot(inside, flat.normal));
+    const auto out = refract(inside, face_against(n, inside), ior);
+    if (!out) return ray;
+    t *= fresnel_transmittance(out->cos_i, ior, 1.0);
+    dir = out->direction;
+  } else {
+    const auto in = refract(incident, face_against(n, incident), 1.0 / ior);
+    if (!in) return ray;
+    t *= fresnel_transmittance(in->cos_i, 1.0, ior);
+    const double toward = glm::dot(in->direction, flat.normal);
+    if (!(toward > 1e-6)) return ray;
+    origin = v + in->direction * (-flat.signed_distance(v) / toward);
+    const auto out = refract(in->direction, face_against(flat.normal, in->direction), ior);
+    if (!out) return ray;
+    t *= fresnel_transmittance(out->cos_i, ior, 1.0);
+    dir = out->direction;
+  }
+
+  const auto& screen = scene.screen;
+  const double denom = glm::dot(dir, screen.normal);
+  if (!(std::abs(denom) > 1e-6)) return ray;
+  const double s = glm::dot(screen.center - origin, screen.normal) / denom;
+  if (!(s > 0.0) || !std::isfinite(s)) return ray;
+  const Vec3 hit = origin + s * dir - screen.center;
+  ray.screen = {glm::dot(hit, screen_right(screen)), glm::dot(hit, screen.up)};
+  ray.transmittance = scene.render.fresnel ? t : 1.0;
+  ray.valid = true;
+  return ray;
+}
+
+double triangle_flux(const Scene& scene, const Placement& placement, const VertexRay& a, const VertexRay& b,
+                     const VertexRay& c) {
+  const double t = (a.transmittance + b.transmittance + c.transmittance) / 3.0;
+  if (scene.light.type == LightType::point) {
+    const double r_ref = glm::length(scene.light.position - placement.center);
+    return t * r_ref * r_ref * optics::solid_angle(scene.light.position, a.footprint, b.footprint, c.footprint);
+  }
+  const glm::dvec3 area_vector = 0.5 * glm::cross(b.footprint - a.footprint, c.footprint - a.footprint);
+  return t * std::abs(glm::dot(area_vector, scene.light.direction));
+}
+
+FluxSummary summarize_flux(const Scene& scene, const Mesh& mesh, const Placement& placement) {
+  std::vector<VertexRay> rays(mesh.positions.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const glm::dvec3 v = glm::dvec3(placement.model * glm::dvec4(glm::dvec3(mesh.positions[i]), 1.0));
+    const glm::dvec3 n = glm::normalize(placement.rotation * glm::dvec3(mesh.normals[i]));
+    rays[i] = trace_vertex(scene, placement, v, n);
+  }
+  FluxSummary sum;
+  sum.screen_min = glm::dvec2(std::numeric_limits<double>::infinity());
+  sum.screen_max = -sum.screen_min;
+  for (const auto& tri : mesh.triangles) {
+    const VertexRay &a = rays[tri.x], &b = rays[tri.y], &c = rays[tri.z];
+    if (!a.valid || !b.valid || !c.valid) continue;
+    sum.flux += triangle_flux(scene, placement, a, b, c);
+    ++sum.valid_triangles;
+    for (const auto* r : {&a, &b, &c}) {
+      sum.screen_min = glm::min(sum.screen_min, r->screen);
+      sum.screen_max = glm::max(sum.screen_max, r->screen);
+    }
+  }
+  return sum;
+}
+
+}  // namespace caustic

@@ -1,0 +1,181 @@
+// The engine on scenes with closed-form answers (docs/physics.md ch. 7): the
+// flat slab, a point light through index-1 glass, and the render bookkeeping.
+#include "gl_test_support.hpp"
+
+#include "caustic/optics.hpp"
+
+#include <cmath>
+#include <numbers>
+
+using namespace caustic;
+using namespace caustic::testing;
+
+namespace {
+
+// Pixels whose centre lies at least `margin` inside the square |x|,|y| <= half.
+template <typename F>
+void for_each_inside(const HdrImage& img, const ScreenParams& screen, double half, double margin, F&& f) {
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const glm::dvec2 p = pixel_centre(screen, img.width, img.height, x, y);
+      if (std::abs(p.x) <= half - margin && std::abs(p.y) <= half - margin) f(img.at(x, y), p);
+    }
+}
+
+void expect_uniform(const HdrImage& img, const ScreenParams& screen, double half, double expected) {
+  const double margin = 3.0 * screen.width / img.width;
+  int count = 0;
+  double worst = 0;
+  for_each_inside(img, screen, half, margin, [&](float v, glm::dvec2) {
+    worst = std::max(worst, std::abs(v - expected) / expected);
+    ++count;
+  });
+  const double side = 2 * (half - margin);
+  EXPECT_GT(count, 0.9 * side * side / (screen.width * screen.height) * img.width * img.height);
+  EXPECT_LT(worst, 0.01) << "expected " << expected;
+}
+
+}  // namespace
+
+class FlatSlab : public GlTest {
+ protected:
+  std::shared_ptr<const Mesh> slab = shared(grid_mesh(flat_face(10.0), 64, 64));
+};
+
+TEST_F(FlatSlab, WithoutFresnelTheFootprintReadsOne) {
+  // 0.1 mm pixels: the slab's edges fall on pixel boundaries.
+  const Scene s = straight_down_scene(3.0, 50.0, 25.6, 256);
+  const HdrImage img = render(s, slab);
+  expect_uniform(img, s.screen, 10.0, 1.0);
+  // Outside the slab's shadow the object sends no light.
+  EXPECT_EQ(img.at(2, 2), 0.0f);
+  EXPECT_NEAR(total_flux(img, s.screen), 400.0, 400.0 * 1e-3);
+}
+
+TEST_F(FlatSlab, FresnelAtNormalIncidenceTransmits0_9216) {
+  Scene s = straight_down_scene(3.0, 50.0, 24.0, 256);
+  s.render.fresnel = true;
+  expect_uniform(render(s, slab), s.screen, 10.0, 0.96 * 0.96);
+}
+
+TEST_F(FlatSlab, TiltedScreenReadsCosineOfTheTilt) {
+  Scene s = straight_down_scene(3.0, 50.0, 40.0, 256);
+  const double tilt = std::numbers::pi / 6;
+  s.screen.normal = {0, std::sin(tilt), std::cos(tilt)};
+  s.screen.up = {0, std::cos(tilt), -std::sin(tilt)};
+  const HdrImage img = render(s, slab);
+  // The footprint stretches to 20 / cos(tilt) along `up`; test its centre.
+  expect_uniform(img, s.screen, 9.0, std::cos(tilt));
+}
+
+TEST_F(FlatSlab, ObliqueLightKeepsItsDirectionAndLosesFresnelTwice) {
+  Scene s = straight_down_scene(3.0, 50.0, 40.0, 256);
+  s.render.fresnel = true;
+  const double theta = 0.35;  // 20 degrees
+  s.light.direction = {std::sin(theta), 0, -std::cos(theta)};
+  const double n = s.object.ior;
+  const double cos_t = std::sqrt(1 - std::pow(std::sin(theta) / n, 2));
+  const double t_in = optics::fresnel_transmittance(std::cos(theta), 1.0, n);
+  const double t_out = optics::fresnel_transmittance(cos_t, n, 1.0);
+  // A parallel beam through parallel faces leaves parallel to the incident
+  // light; the screen (normal +z) sees it at cos(theta), shifted sideways.
+  const HdrImage img = render(s, slab);
+  const double shift = 50.0 * std::tan(theta);
+  int count = 0;
+  for_each_inside(img, s.screen, 100.0, 0.0, [&](float v, glm::dvec2 p) {
+    if (std::abs(p.x - shift) < 8 && std::abs(p.y) < 8) {
+      EXPECT_NEAR(v, t_in * t_out * std::cos(theta), 0.01 * t_in * t_out) << p.x << "," << p.y;
+      ++count;
+    }
+  });
+  EXPECT_GT(count, 1000);
+}
+
+TEST_F(FlatSlab, ReportIntensityOfAParallelBeamIsOne) {
+  Scene s = straight_down_scene(3.0, 50.0, 24.0, 128);
+  s.render.intensity = IntensityMode::report;
+  expect_uniform(render(s, slab), s.screen, 10.0, 1.0);
+}
+
+class PointLight : public GlTest {};
+
+TEST_F(PointLight, IndexOneGlassShowsTheInverseSquareLaw) {
+  // With n = 1 the object bends nothing: E / E0 = r_ref^2 cos(angle) / r^2.
+  for (const auto model : {PointModel::exact, PointModel::approximate}) {
+    Scene s = straight_down_scene(2.0, 40.0, 60.0, 256);
+    s.object.ior = 1.0;
+    s.light.type = LightType::point;
+    s.light.point_model = model;
+    s.light.position = {0, 0, 30};
+    const auto mesh = shared(grid_mesh(flat_face(25.0), 128, 128));
+    const HdrImage img = render(s, mesh);
+    const double r_ref2 = 30.0 * 30.0;  // to the footprint centre
+    double worst = 0;
+    for (int y = 0; y < img.height; y += 3)
+      for (int x = 0; x < img.width; x += 3) {
+        const glm::dvec2 p = pixel_centre(s.screen, img.width, img.height, x, y);
+        // Rays through the 50 mm object reach |x| < 25 * 70 / 30; stay inside.
+        if (std::abs(p.x) > 25 || std::abs(p.y) > 25) continue;
+        const glm::dvec3 to(p.x, p.y, -70.0);
+        const double r2 = glm::dot(to, to);
+        const double expected = r_ref2 * (70.0 / std::sqrt(r2)) / r2;
+        worst = std::max(worst, std::abs(img.at(x, y) - expected) / expected);
+      }
+    EXPECT_LT(worst, 0.01) << (model == PointModel::exact ? "exact" : "approximate");
+  }
+}
+
+class RenderBookkeeping : public GlTest {};
+
+TEST_F(RenderBookkeeping, RendersOnlyWhenSomethingChanged) {
+  const auto mesh = shared(grid_mesh(flat_face(10.0), 16, 16));
+  Scene s = straight_down_scene(3.0, 50.0, 24.0, 64);
+  engine_->set_scene(s, mesh);
+  EXPECT_TRUE(engine_->render());
+  EXPECT_FALSE(engine_->render());
+  engine_->set_scene(s, mesh);
+  EXPECT_FALSE(engine_->dirty());
+  EXPECT_EQ(engine_->ray_passes(), 1u);
+
+  s.post.exposure = 2.0;  // post-processing only: no new caustic pass
+  engine_->set_scene(s, mesh);
+  EXPECT_TRUE(engine_->render());
+  EXPECT_EQ(engine_->ray_passes(), 1u);
+
+  s.light.direction = glm::normalize(glm::dvec3(0.1, 0, -1));
+  engine_->set_scene(s, mesh);
+  EXPECT_TRUE(engine_->render());
+  EXPECT_EQ(engine_->ray_passes(), 2u);
+}
+
+TEST_F(RenderBookkeeping, InvalidScenesNeverReachTheGpu) {
+  const auto mesh = shared(grid_mesh(flat_face(10.0), 16, 16));
+  const Scene good = straight_down_scene(3.0, 50.0, 24.0, 64);
+  const HdrImage before = render(good, mesh);
+  for (int k = 0; k < 4; ++k) {
+    Scene bad = good;
+    if (k == 0) bad.object.ior = std::nan("");
+    if (k == 1) bad.light.direction = {0, INFINITY, -1};
+    if (k == 2) bad.screen.width = -1;
+    if (k == 3) bad.screen.center = {0, 0, 1};  // crosses the object
+    EXPECT_THROW(engine_->set_scene(bad, mesh), SceneError) << k;
+    EXPECT_FALSE(engine_->dirty());
+  }
+  EXPECT_EQ(engine_->read_hdr().pixels, before.pixels);
+}
+
+TEST_F(RenderBookkeeping, ToneMappedImageFollowsExposureAndGamma) {
+  const auto mesh = shared(grid_mesh(flat_face(10.0), 16, 16));
+  Scene s = straight_down_scene(3.0, 50.0, 24.0, 64);
+  s.post.bloom_strength = 0;
+  s.post.exposure = 0.7;
+  s.post.gamma = 2.0;
+  engine_->set_scene(s, mesh);
+  engine_->render();
+  const Rgba8Image ldr = engine_->read_ldr();
+  // Centre pixel: relative irradiance 1.0 -> (1 - exp(-0.7))^(1/2).
+  const std::size_t centre = (static_cast<std::size_t>(32) * 64 + 32) * 4;
+  EXPECT_NEAR(ldr.pixels[centre], 255.0 * std::sqrt(1 - std::exp(-0.7)), 1.0);
+  EXPECT_EQ(ldr.pixels[0], 0);
+  EXPECT_EQ(ldr.pixels[3], 255);
+}

@@ -1,0 +1,70 @@
+// Shared set-up for tests that render: one headless GL context per test
+// process, scenes built in code, and image statistics.
+#pragma once
+
+#include "caustic/engine.hpp"
+#include "caustic/gl_context.hpp"
+#include "caustic/surfaces.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+namespace caustic::testing {
+
+class GlTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    if (!context_) context_ = std::make_unique<GlContext>(egl_platform_from_environment());
+  }
+  void SetUp() override { engine_ = std::make_unique<Engine>(); }
+  void TearDown() override { engine_.reset(); }
+
+  HdrImage render(const Scene& scene, std::shared_ptr<const Mesh> mesh) {
+    engine_->set_scene(scene, std::move(mesh));
+    engine_->render();
+    return engine_->read_hdr();
+  }
+
+  static inline std::unique_ptr<GlContext> context_;
+  std::unique_ptr<Engine> engine_;
+};
+
+/// A directional light straight down (-z) on an object whose flat face
+/// (normal +z) sits at z = flat_offset, screen facing up at z = -distance.
+inline Scene straight_down_scene(double flat_offset, double distance, double screen_size, int pixels) {
+  Scene s;
+  s.mesh = "generated";
+  s.object.flat_face_offset = flat_offset;
+  s.light.direction = {0, 0, -1};
+  s.screen.center = {0, 0, -distance};
+  s.screen.normal = {0, 0, 1};
+  s.screen.up = {0, 1, 0};
+  s.screen.width = s.screen.height = screen_size;
+  s.render.width = s.render.height = pixels;
+  s.render.fresnel = false;
+  return s;
+}
+
+inline std::shared_ptr<const Mesh> shared(Mesh m) { return std::make_shared<const Mesh>(std::move(m)); }
+
+/// Screen position (right, up) of a pixel centre: row 0 is the top.
+inline glm::dvec2 pixel_centre(const ScreenParams& screen, int width, int height, int x, int y) {
+  return {(x + 0.5) / width * screen.width - 0.5 * screen.width,
+          0.5 * screen.height - (y + 0.5) / height * screen.height};
+}
+
+inline double total_flux(const HdrImage& img, const ScreenParams& screen) {
+  double sum = 0;
+  for (float v : img.pixels) sum += v;
+  return sum * (screen.width / img.width) * (screen.height / img.height);
+}
+
+inline bool all_finite(const HdrImage& img) {
+  for (float v : img.pixels)
+    if (!std::isfinite(v) || v < 0) return false;
+  return true;
+}
+
+}  // namespace caustic::testing

@@ -1,0 +1,171 @@
+// OBJ loading, normals, placement and geometry checks.
+#include "caustic/mesh.hpp"
+#include "caustic/surfaces.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace caustic;
+
+namespace {
+
+class ObjFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("caustic_mesh_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  std::filesystem::path write(const std::string& name, const std::string& text) {
+    const auto path = dir_ / name;
+    std::ofstream(path) << text;
+    return path;
+  }
+
+  // Expects load_obj to fail with a message containing `fragment`.
+  void expect_error(const std::string& text, const std::string& fragment, const MeshLimits& limits = {}) {
+    const auto path = write("bad.obj", text);
+    try {
+      load_obj(path, limits);
+      ADD_FAILURE() << "accepted:\n" << text;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(e.key(), "mesh");
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+      // The message names the file, never the folder it lives in.
+      EXPECT_EQ(std::string(e.what()).find(dir_.string()), std::string::npos) << e.what();
+    }
+  }
+
+  std::filesystem::path dir_;
+};
+
+const char* kSquare =
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+    "f 1 2 3\nf 1 3 4\n";
+
+}  // namespace
+
+TEST_F(ObjFiles, LoadsTrianglesAndComputesMissingNormals) {
+  const Mesh m = load_obj(write("square.obj", kSquare));
+  EXPECT_EQ(m.positions.size(), 4u);
+  EXPECT_EQ(m.triangles.size(), 2u);
+  for (const auto& n : m.normals) EXPECT_NEAR(n.z, 1.0f, 1e-6f);  // counter-clockwise seen from +z
+}
+
+TEST_F(ObjFiles, KeepsFileNormalsAndSplitsVerticesWithDifferentOnes) {
+  const Mesh m = load_obj(write("n.obj",
+                                "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 2\nvn 0 1 0\n"
+                                "f 1//1 2//1 3//1\nf 1//2 3//2 2//2\n"));
+  EXPECT_EQ(m.positions.size(), 6u);
+  EXPECT_FLOAT_EQ(m.normals[0].z, 1.0f);  // normalised
+}
+
+TEST_F(ObjFiles, RoundTripsThroughWriteObj) {
+  const Mesh original = grid_mesh(plano_convex_lens(40, 10), 9, 7);
+  write_obj(original, dir_ / "lens.obj");
+  const Mesh loaded = load_obj(dir_ / "lens.obj");
+  ASSERT_EQ(loaded.positions.size(), original.positions.size());
+  ASSERT_EQ(loaded.triangles.size(), original.triangles.size());
+  // Vertices may be renumbered; triangles keep their order and corners.
+  for (std::size_t t = 0; t < loaded.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const unsigned a = loaded.triangles[t][k], b = original.triangles[t][k];
+      EXPECT_NEAR(glm::length(loaded.positions[a] - original.positions[b]), 0.0f, 1e-5f);
+      EXPECT_NEAR(glm::length(loaded.normals[a] - original.normals[b]), 0.0f, 1e-5f);
+    }
+}
+
+TEST_F(ObjFiles, RejectsBadFiles) {
+  expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n", "only triangles");
+  expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2\n", "lines or points");
+  expect_error("v 0 0 0\nv 1 0 0\n", "no triangles");
+  expect_error("", "no triangles");
+  expect_error("v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n", "line 3");
+  expect_error("v 0 0 0\nv 1 0 0\nv inf 1 0\nf 1 2 3\n", "not a finite number");
+  expect_error("v 0 0 0\nv 1 0 0\nv 1 1e999 0\nf 1 2 3\n", "not a finite number");
+  expect_error("v 0 0 0\nv 1 0 0\nv 1 x 0\nf 1 2 3\n", "\"x\"");
+  expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n", "does not exist");
+  expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nvn 0 0 0\nf 1//1 2//1 3//1\n", "zero or not finite");
+  expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2e7 0 0\nf 1 2 3\nf 2 3 4\n", "coordinate limit");
+  MeshLimits small;
+  small.max_vertices = 3;
+  expect_error(kSquare, "more than 3 vertices", small);
+}
+
+TEST_F(ObjFiles, MissingFileIsAnError) {
+  EXPECT_THROW(load_obj(dir_ / "absent.obj"), SceneError);
+  EXPECT_THROW(load_obj(dir_), SceneError);  // a folder
+}
+
+TEST(Placement, FitSizeCentresAndScalesTheFootprint) {
+  const Mesh m = grid_mesh(flat_face(10), 5, 5);  // 20 x 20 footprint at z = 0
+  ObjectParams o;
+  o.fit_size = 100.0;
+  o.position = {1, 2, 3};
+  const Placement p = place_object(o, m);
+  EXPECT_DOUBLE_EQ(p.scale, 5.0);
+  const glm::dvec3 corner = glm::dvec3(p.model * glm::dvec4(10, 10, 0, 1));
+  EXPECT_NEAR(corner.x, 51.0, 1e-12);
+  EXPECT_NEAR(corner.y, 52.0, 1e-12);
+  EXPECT_NEAR(glm::length(p.center - glm::dvec3(1, 2, 3)), 0.0, 1e-12);
+}
+
+TEST(Placement, DefaultFlatFaceTouchesTheExtremeVertex) {
+  const Mesh m = grid_mesh(plano_convex_lens(40, 10), 11, 11);
+  ObjectParams o;
+  const Placement p = place_object(o, m);
+  const double sag = 40 - std::sqrt(1600.0 - 200.0);
+  EXPECT_NEAR(p.flat_offset, sag, 1e-5);
+  EXPECT_NEAR(p.max_depth, sag, 1e-5);
+  o.flat_face_offset = 5.0;
+  o.position = {0, 0, 10};
+  EXPECT_NEAR(place_object(o, m).flat_offset, 15.0, 1e-12);
+}
+
+TEST(Placement, EulerAnglesFollowThreeJsXyzOrder) {
+  // three.js Matrix4.makeRotationFromEuler(new Euler(a, b, c, 'XYZ')) first
+  // row: (cos b cos c, -cos b sin c, sin b).
+  const double a = 0.3, b = -0.7, c = 1.1;
+  const glm::dmat3 r = euler_xyz_degrees(glm::degrees(glm::dvec3(a, b, c)));
+  EXPECT_NEAR(r[0][0], std::cos(b) * std::cos(c), 1e-12);  // glm: r[column][row]
+  EXPECT_NEAR(r[1][0], -std::cos(b) * std::sin(c), 1e-12);
+  EXPECT_NEAR(r[2][0], std::sin(b), 1e-12);
+  // Third row: (sin a sin c - cos a sin b cos c, ..., cos a cos b).
+  EXPECT_NEAR(r[0][2], std::sin(a) * std::sin(c) - std::cos(a) * std::sin(b) * std::cos(c), 1e-12);
+  EXPECT_NEAR(r[2][2], std::cos(a) * std::cos(b), 1e-12);
+}
+
+TEST(CheckGeometry, RejectsWhatTheRayModelCannotRepresent) {
+  const Mesh m = grid_mesh(plano_convex_lens(40, 10), 11, 11);
+  Scene s = scene_from_json(nlohmann::json{{"mesh", "lens.obj"},
+                                           {"object", {{"flat_face_offset", 4.0}}},
+                                           {"screen", {{"center", {0, 0, -80}}}}},
+                            ".");
+  auto expect = [&](const Scene& scene, const std::string& key) {
+    try {
+      check_geometry(scene, m, place_object(scene.object, m));
+      ADD_FAILURE() << "accepted";
+    } catch (const SceneError& e) {
+      EXPECT_EQ(e.key(), key) << e.what();
+    }
+  };
+  EXPECT_NO_THROW(check_geometry(s, m, place_object(s.object, m)));
+  Scene crossing = s;
+  crossing.screen.center = {0, 0, 1};
+  expect(crossing, "screen.center");
+  Scene on_plane = s;
+  on_plane.light.type = LightType::point;
+  on_plane.light.position = {3, 0, 4.0};
+  expect(on_plane, "light.position");
+  Scene inside = on_plane;
+  inside.light.position = {0, 0, 2.0};
+  expect(inside, "light.position");
+  Scene cut = s;
+  cut.object.flat_face_offset = 1.0;  // below the lens edge
+  expect(cut, "object.flat_face_offset");
+}

@@ -1,0 +1,190 @@
+// Scene JSON: defaults, round trip, merge patches, --set assignments and
+// every kind of bad input, each rejected with the offending key named.
+#include "caustic/scene.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+using namespace caustic;
+using nlohmann::json;
+
+namespace {
+
+json minimal() { return json{{"mesh", "m.obj"}}; }
+
+// Expects the document to be rejected with a message that names `key`.
+void expect_rejected(const json& doc, const std::string& key) {
+  try {
+    scene_from_json(doc, ".");
+    ADD_FAILURE() << "accepted: " << doc.dump();
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), key) << e.what();
+    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+  }
+}
+
+json with(const std::string& section, const std::string& key, json value) {
+  json doc = minimal();
+  doc[section][key] = std::move(value);
+  return doc;
+}
+
+}  // namespace
+
+TEST(SceneJson, DefaultsAreFilledIn) {
+  const Scene s = scene_from_json(minimal(), "/data");
+  EXPECT_EQ(s.mesh_path(), std::filesystem::path("/data/m.obj"));
+  EXPECT_EQ(s.object.material, Material::refractive);
+  EXPECT_DOUBLE_EQ(s.object.ior, 1.5);
+  EXPECT_EQ(s.render.intensity, IntensityMode::energy);
+  EXPECT_FALSE(s.object.fit_size);
+}
+
+TEST(SceneJson, RoundTripsThroughJson) {
+  json doc = minimal();
+  doc["object"] = {{"material", "reflective"}, {"ior", 1.7}, {"flat_face_normal", {0, 2, 0}}, {"fit_size", 100},
+                   {"flat_face_offset", -3.5}, {"rotation_deg", {10, 20, 30}}};
+  doc["light"] = {{"type", "point"}, {"position", {1, 2, 3}}, {"point_model", "approximate"}};
+  doc["render"] = {{"intensity", "report"}, {"fresnel", false}, {"width", 640}, {"height", 480}};
+  const Scene s = scene_from_json(doc, ".");
+  EXPECT_DOUBLE_EQ(s.object.flat_face_normal.y, 1.0);  // normalised
+  EXPECT_EQ(scene_from_json(scene_to_json(s), "."), s);
+}
+
+TEST(SceneJson, FocusDistancePlacesTheScreen) {
+  json doc = minimal();
+  doc["focus_distance"] = 80;
+  doc["object"]["position"] = {1, 2, 3};
+  doc["screen"] = {{"normal", {0, 0, 1}}};
+  const Scene s = scene_from_json(doc, ".");
+  EXPECT_EQ(s.screen.center, glm::dvec3(1, 2, -77));
+  // An explicit centre wins.
+  doc["screen"]["center"] = {0, 0, -5};
+  EXPECT_EQ(scene_from_json(doc, ".").screen.center, glm::dvec3(0, 0, -5));
+}
+
+TEST(SceneJson, UpIsMadePerpendicularToTheNormal) {
+  json doc = minimal();
+  doc["screen"] = {{"normal", {0, 0, 1}}, {"up", {0, 1, 1}}};
+  const Scene s = scene_from_json(doc, ".");
+  EXPECT_NEAR(glm::dot(s.screen.up, s.screen.normal), 0.0, 1e-15);
+  EXPECT_NEAR(s.screen.up.y, 1.0, 1e-15);
+}
+
+TEST(SceneJson, RejectsBadValuesNamingTheKey) {
+  expect_rejected(json{{"object", {{"ior", 1.5}}}}, "mesh");
+  expect_rejected(json{{"mesh", 3}}, "mesh");
+  expect_rejected(json{{"mesh", ""}}, "mesh");
+  expect_rejected(json::array(), "");
+  expect_rejected(with("object", "ior", "glass"), "object.ior");
+  expect_rejected(with("object", "ior", 0.5), "object.ior");
+  expect_rejected(with("object", "ior", 1e9), "object.ior");
+  expect_rejected(with("object", "material", "wood"), "object.material");
+  expect_rejected(with("object", "flat_face_normal", {0, 0, 0}), "object.flat_face_normal");
+  expect_rejected(with("object", "flat_face_normal", {0, 1}), "object.flat_face_normal");
+  expect_rejected(with("object", "position", {0, "a", 1}), "object.position");
+  expect_rejected(with("object", "position", {0, 1e7, 1}), "object.position");
+  expect_rejected(with("object", "fit_size", 0), "object.fit_size");
+  expect_rejected(with("object", "fit_size", -2), "object.fit_size");
+  expect_rejected(with("light", "type", "spot"), "light.type");
+  expect_rejected(with("light", "direction", {0, 0, 0}), "light.direction");
+  expect_rejected(with("light", "point_model", "fast"), "light.point_model");
+  expect_rejected(with("screen", "width", 0), "screen.width");
+  expect_rejected(with("screen", "height", -1), "screen.height");
+  expect_rejected(with("screen", "up", {0, 0, 1}), "screen.up");  // parallel to the default normal
+  expect_rejected(with("render", "width", 8), "render.width");
+  expect_rejected(with("render", "height", 1.5), "render.height");
+  expect_rejected(with("render", "intensity", "area"), "render.intensity");
+  expect_rejected(with("render", "fresnel", 1), "render.fresnel");
+  expect_rejected(with("post", "exposure", 0), "post.exposure");
+  expect_rejected(with("post", "gamma", 0.0), "post.gamma");
+  expect_rejected(with("post", "bloom_radius", 100), "post.bloom_radius");
+  expect_rejected(with("post", "bloom_strength", -1), "post.bloom_strength");
+  expect_rejected(json{{"mesh", "m.obj"}, {"focus_distance", -1}}, "focus_distance");
+}
+
+TEST(SceneJson, RejectsUnknownKeysAtEveryLevel) {
+  expect_rejected(json{{"mesh", "m.obj"}, {"colour", "red"}}, "colour");
+  expect_rejected(with("object", "iorr", 1.5), "object.iorr");
+  expect_rejected(with("light", "power", 2), "light.power");
+  expect_rejected(with("screen", "depth", 2), "screen.depth");
+  expect_rejected(with("render", "fidelity", "max"), "render.fidelity");
+  expect_rejected(with("post", "vignette", 1), "post.vignette");
+  expect_rejected(json{{"mesh", "m.obj"}, {"object", 5}}, "object");
+}
+
+TEST(SceneJson, RejectsNanAndInfinity) {
+  // JSON has no NaN literal; a client that sends one through a library that
+  // writes it as a number still has to be stopped before the GPU.
+  expect_rejected(with("object", "ior", std::nan("")), "object.ior");
+  expect_rejected(with("post", "exposure", INFINITY), "post.exposure");
+  expect_rejected(with("light", "position", {0, NAN, 1}), "light.position");
+}
+
+TEST(MergePatch, ChangesOnlyWhatItNames) {
+  const Scene s = scene_from_json(minimal(), ".");
+  const Scene p = apply_merge_patch(s, json{{"object", {{"ior", 1.8}}}, {"post", {{"gamma", 1.0}}}});
+  EXPECT_DOUBLE_EQ(p.object.ior, 1.8);
+  EXPECT_DOUBLE_EQ(p.post.gamma, 1.0);
+  EXPECT_EQ(p.light, s.light);
+  EXPECT_EQ(p.screen, s.screen);
+}
+
+TEST(MergePatch, NullRestoresTheDefault) {
+  Scene s = scene_from_json(with("object", "fit_size", 50), ".");
+  ASSERT_TRUE(s.object.fit_size);
+  EXPECT_FALSE(apply_merge_patch(s, json{{"object", {{"fit_size", nullptr}}}}).object.fit_size);
+}
+
+TEST(MergePatch, RejectedPatchLeavesTheSceneAlone) {
+  const Scene s = scene_from_json(minimal(), ".");
+  const Scene before = s;
+  EXPECT_THROW(apply_merge_patch(s, json{{"object", {{"ior", -1}}}}), SceneError);
+  EXPECT_THROW(apply_merge_patch(s, json{{"nonsense", 1}}), SceneError);
+  EXPECT_THROW(apply_merge_patch(s, json::array({1, 2})), SceneError);
+  EXPECT_EQ(s, before);
+}
+
+TEST(MergePatch, FocusDistanceMovesTheScreen) {
+  json doc = minimal();
+  doc["focus_distance"] = 80;
+  const Scene s = scene_from_json(doc, ".");
+  EXPECT_DOUBLE_EQ(apply_merge_patch(s, json{{"focus_distance", 40}}).screen.center.z, -40.0);
+}
+
+TEST(Assignment, BuildsNestedPatches) {
+  EXPECT_EQ(patch_from_assignment("object.ior=1.7"), (json{{"object", {{"ior", 1.7}}}}));
+  EXPECT_EQ(patch_from_assignment("light.direction=[0,0.5,-1]"),
+            (json{{"light", {{"direction", {0, 0.5, -1}}}}}));
+  EXPECT_EQ(patch_from_assignment("object.material=reflective"),
+            (json{{"object", {{"material", "reflective"}}}}));
+  EXPECT_EQ(patch_from_assignment("name=My scene"), (json{{"name", "My scene"}}));
+}
+
+TEST(Assignment, RejectsMalformedText) {
+  EXPECT_THROW(patch_from_assignment("object.ior"), SceneError);
+  EXPECT_THROW(patch_from_assignment("=3"), SceneError);
+  EXPECT_THROW(patch_from_assignment("object..ior=3"), SceneError);
+  EXPECT_THROW(patch_from_assignment(".ior=3"), SceneError);
+}
+
+TEST(LoadScene, ReportsMissingFilesAndBadJson) {
+  const auto dir = std::filesystem::temp_directory_path() / "caustic_scene_test";
+  std::filesystem::create_directories(dir);
+  EXPECT_THROW(load_scene(dir / "absent.json"), SceneError);
+  std::ofstream(dir / "broken.json") << "{\"mesh\": \"a.obj\",";
+  try {
+    load_scene(dir / "broken.json");
+    ADD_FAILURE() << "accepted broken JSON";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("not valid JSON"), std::string::npos) << e.what();
+  }
+  std::ofstream(dir / "good.json") << R"({"mesh": "a.obj", "object": {"ior": 1.6}})";
+  const Scene s = load_scene(dir / "good.json");
+  EXPECT_EQ(s.mesh_path(), dir / "a.obj");
+  EXPECT_DOUBLE_EQ(s.object.ior, 1.6);
+}
