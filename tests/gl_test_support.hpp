@@ -5,6 +5,7 @@
 #include "caustic/engine.hpp"
 #include "caustic/gl_context.hpp"
 #include "caustic/surfaces.hpp"
+#include "caustic/vertex_rays.hpp"
 
 #include <gtest/gtest.h>
 
@@ -64,6 +65,21 @@ inline double total_flux(const HdrImage& img, const ScreenParams& screen) {
 inline bool all_finite(const HdrImage& img) {
   for (float v : img.pixels)
     if (!std::isfinite(v) || v < 0) return false;
+  return true;
+}
+
+inline // Sizes the screen rectangle around every projected vertex, with a margin,
+// so that no triangle is clipped and the whole flux must land on the image.
+bool frame_screen(Scene& s, const Mesh& mesh, FluxSummary* expected) {
+  const Placement placement = place_object(s.object, mesh);
+  *expected = summarize_flux(s, mesh, placement);
+  if (expected->valid_triangles == 0) return false;
+  const glm::dvec2 lo = expected->screen_min, hi = expected->screen_max;
+  const double size = 1.1 * std::max(hi.x - lo.x, hi.y - lo.y) + 1e-3;
+  const glm::dvec2 mid = 0.5 * (lo + hi);
+  s.screen.center += mid.x * screen_right(s.screen) + mid.y * s.screen.up;
+  s.screen.width = s.screen.height = size;
+  *expected = summarize_flux(s, mesh, placement);
   return true;
 }
 

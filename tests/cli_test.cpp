@@ -1,0 +1,118 @@
+// `causticd render` as a user runs it: every built-in scene to EXR and PNG,
+// and every kind of bad input rejected with a message and a non-zero exit.
+#include "caustic/image_io.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CommandResult {
+  int status;
+  std::string output;  // stdout and stderr together
+};
+
+CommandResult causticd(const std::string& args) {
+  const std::string command = std::string(CAUSTICD_BINARY) + " " + args + " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), &pclose);
+  CommandResult run{-1, ""};
+  std::array<char, 4096> buf;
+  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), pipe.get())) run.output.append(buf.data(), n);
+  const int raw = pclose(pipe.release());
+  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return run;
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("causticd_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string scene(const std::string& name) const { return std::string(CAUSTIC_ASSET_DIR) + "/scenes/" + name + ".json"; }
+  void expect_rejected(const std::string& args, const std::string& fragment) {
+    const CommandResult r = causticd(args);
+    EXPECT_EQ(r.status, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(fragment), std::string::npos) << args << "\n" << r.output;
+  }
+  fs::path dir_;
+};
+
+}  // namespace
+
+TEST_F(Cli, RendersEveryBuiltInSceneToExrAndPng) {
+  for (const std::string name : {"lens", "slab", "cylinder", "wavy"}) {
+    const fs::path exr = dir_ / (name + ".exr"), png = dir_ / (name + ".png");
+    const CommandResult r = causticd("render --scene " + scene(name) + " -o " + exr.string() + " -o " + png.string() +
+                           " --width 256 --height 256");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("render time:"), std::string::npos) << r.output;
+    const caustic::HdrImage hdr = caustic::read_hdr_image(exr);
+    EXPECT_EQ(hdr.width, 256);
+    double sum = 0;
+    for (float v : hdr.pixels) {
+      ASSERT_TRUE(std::isfinite(v));
+      sum += v;
+    }
+    EXPECT_GT(sum, 0.0) << name;
+    const caustic::HdrImage ldr = caustic::read_hdr_image(png);
+    EXPECT_EQ(ldr.width, 256);
+    EXPECT_EQ(ldr.height, 256);
+  }
+}
+
+TEST_F(Cli, SlabExrHoldsTheFresnelTransmittance) {
+  const fs::path exr = dir_ / "slab.exr";
+  ASSERT_EQ(causticd("render --scene " + scene("slab") + " -o " + exr.string() + " --width 128 --height 128").status, 0);
+  const caustic::HdrImage hdr = caustic::read_hdr_image(exr);
+  EXPECT_NEAR(hdr.at(64, 64), 0.9216, 1e-3);  // two faces at normal incidence, n = 1.5
+  EXPECT_EQ(hdr.at(1, 1), 0.0f);              // outside the slab's shadow
+}
+
+TEST_F(Cli, SetOverridesSceneKeys) {
+  const fs::path exr = dir_ / "slab.exr";
+  ASSERT_EQ(causticd("render --scene " + scene("slab") + " -o " + exr.string() +
+                     " --width 64 --height 64 --set render.fresnel=false")
+                .status,
+            0);
+  EXPECT_NEAR(caustic::read_hdr_image(exr).at(32, 32), 1.0, 1e-4);
+}
+
+TEST_F(Cli, RejectsBadInputWithAMessage) {
+  const std::string out = " -o " + (dir_ / "x.png").string();
+  expect_rejected("render --scene /nonexistent.json" + out, "nonexistent");
+  expect_rejected("render --scene " + scene("lens") + " -o " + (dir_ / "x.jpg").string(), ".exr or .png");
+  expect_rejected("render --scene " + scene("lens") + out + " --set object.ior=-3", "object.ior");
+  expect_rejected("render --scene " + scene("lens") + out + " --set object.colour=red", "object.colour: unknown key");
+  expect_rejected("render --scene " + scene("lens") + out + " --set object.ior", "key.path=value");
+  expect_rejected("render --scene " + scene("lens") + out + " --width 5", "width");
+  expect_rejected("render --scene " + scene("lens"), "--output");
+  expect_rejected("render" + out, "--scene");
+  expect_rejected("paint", "subcommand");
+
+  std::ofstream(dir_ / "broken.json") << "{\"mesh\": ";
+  expect_rejected("render --scene " + (dir_ / "broken.json").string() + out, "not valid JSON");
+  std::ofstream(dir_ / "nomesh.json") << R"({"mesh": "missing.obj"})";
+  expect_rejected("render --scene " + (dir_ / "nomesh.json").string() + out, "cannot read mesh file missing.obj");
+  std::ofstream(dir_ / "quad.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+  std::ofstream(dir_ / "quad.json") << R"({"mesh": "quad.obj"})";
+  expect_rejected("render --scene " + (dir_ / "quad.json").string() + out, "only triangles");
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
+TEST_F(Cli, PrintsItsVersion) {
+  const CommandResult r = causticd("--version");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NE(r.output.find("causticd"), std::string::npos);
+}
