@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Sets up a Debian 12 machine for causticd, builds it, then runs it or tests it.
+#   bash tools/bootstrap.sh run    # install what is missing, build, run the main job
+#   bash tools/bootstrap.sh test   # install what is missing, build, run every test
+# Needs root (or sudo) only when packages are missing.
+set -euo pipefail
+
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${CAUSTICD_BUILD_DIR:-$here/build}"
+mode="${1:-}"
+case "$mode" in
+  run | test | build) ;;
+  *)
+    echo "usage: bash tools/bootstrap.sh run|test|build" >&2
+    exit 2
+    ;;
+esac
+
+# Every Debian package the build, the tests and the headless renderer need.
+packages=(
+  g++ make cmake pkg-config
+  libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
+  libglm-dev nlohmann-json3-dev libtinyobjloader-dev libcli11-dev
+  libopenimageio-dev
+  googletest libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "== installing ${#missing[@]} missing Debian packages: ${missing[*]}"
+  sudo=()
+  if [[ $(id -u) -ne 0 ]]; then sudo=(sudo); fi
+  "${sudo[@]}" apt-get update -q
+  DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+jobs="$(nproc 2>/dev/null || echo 2)"
+echo "== configuring and building in $build"
+cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo
+cmake --build "$build" -j "$jobs"
+
+case "$mode" in
+  run)
+    # The streaming server is not built yet; the main job renders the default
+    # built-in scene and writes it where the user can open it.
+    out="$build/default"
+    "$build/src/causticd" render --scene "$build/assets/scenes/wavy.json" -o "$out.png" -o "$out.exr"
+    ;;
+  test)
+    cd "$build"
+    ctest --output-on-failure -j "$jobs"
+    ;;
+esac
