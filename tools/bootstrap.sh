@@ -21,7 +21,7 @@ packages=(
   g++ make cmake pkg-config
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   libglm-dev nlohmann-json3-dev libtinyobjloader-dev libcli11-dev
-  libopenimageio-dev openimageio-tools
+  libopenimageio-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev
 )
 

@@ -63,6 +63,7 @@ Program::Program(const std::vector<Stage>& stages) {
       text += "#line 1\n";
       text += it->second;
     }
+    if (!stage.source.empty()) text += "#line 1\n" + stage.source;
     GLuint shader = glCreateShader(stage.type);
     shaders.push_back(shader);
     const char* src = text.c_str();
@@ -75,7 +76,8 @@ Program::Program(const std::vector<Stage>& stages) {
       glGetShaderInfoLog(shader, sizeof log, nullptr, log);
       cleanup();
       glDeleteProgram(id_);
-      throw EngineError("cannot compile " + stage.files.back() + ": " + log);
+      throw EngineError("cannot compile " + (stage.source.empty() ? stage.files.back() : std::string("a shader")) +
+                        ": " + log);
     }
     glAttachShader(id_, shader);
   }

@@ -88,7 +88,8 @@ class Program {
  public:
   struct Stage {
     GLenum type;
-    std::vector<std::string> files;  // concatenated in order
+    std::vector<std::string> files;  // embedded shader files, concatenated in order
+    std::string source = {};         // appended after the files (tests bring their own kernels)
   };
   explicit Program(const std::vector<Stage>& stages);
   ~Program();
