@@ -20,8 +20,8 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-CommandResult causticd(const std::string& args) {
-  const std::string command = std::string(CAUSTICD_BINARY) + " " + args + " 2>&1";
+CommandResult causticd_with_env(const std::string& env, const std::string& args) {
+  const std::string command = env + " " + std::string(CAUSTICD_BINARY) + " " + args + " 2>&1";
   std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), &pclose);
   CommandResult run{-1, ""};
   std::array<char, 4096> buf;
@@ -30,6 +30,8 @@ CommandResult causticd(const std::string& args) {
   run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
   return run;
 }
+
+CommandResult causticd(const std::string& args) { return causticd_with_env("", args); }
 
 class Cli : public ::testing::Test {
  protected:
@@ -109,6 +111,23 @@ TEST_F(Cli, RejectsBadInputWithAMessage) {
   std::ofstream(dir_ / "quad.json") << R"({"mesh": "quad.obj"})";
   expect_rejected("render --scene " + (dir_ / "quad.json").string() + out, "only triangles");
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
+TEST_F(Cli, EglPlatformChoiceIsCheckedAndExplained) {
+  const std::string args = " render --scene " + scene("slab") + " -o " + (dir_ / "x.png").string() +
+                           " --width 32 --height 32";
+  CommandResult bad = causticd_with_env("CAUSTICD_EGL_PLATFORM=vulkan", args);
+  EXPECT_EQ(bad.status, 1) << bad.output;
+  EXPECT_NE(bad.output.find("CAUSTICD_EGL_PLATFORM must be automatic, device or surfaceless"), std::string::npos)
+      << bad.output;
+  // On a machine without a GPU asking for one is a clear error; with one it renders on it.
+  CommandResult device = causticd_with_env("CAUSTICD_EGL_PLATFORM=device", args);
+  if (device.status == 0)
+    EXPECT_EQ(device.output.find("llvmpipe"), std::string::npos) << device.output;
+  else
+    EXPECT_NE(device.output.find("no hardware EGL device"), std::string::npos) << device.output;
+  CommandResult cpu = causticd_with_env("CAUSTICD_EGL_PLATFORM=surfaceless", args);
+  EXPECT_EQ(cpu.status, 0) << cpu.output;
 }
 
 TEST_F(Cli, PrintsItsVersion) {

@@ -179,3 +179,24 @@ TEST_F(RenderBookkeeping, ToneMappedImageFollowsExposureAndGamma) {
   EXPECT_EQ(ldr.pixels[0], 0);
   EXPECT_EQ(ldr.pixels[3], 255);
 }
+
+TEST_F(RenderBookkeeping, BloomSpreadsLightAboveTheThreshold) {
+  // A small bright square (the slab at 4x4 mm) on a dark screen.
+  const auto mesh = shared(grid_mesh(flat_face(2.0), 8, 8));
+  Scene s = straight_down_scene(3.0, 50.0, 25.6, 128);
+  s.post.exposure = 1.0;
+  s.post.bloom_threshold = 0.5;
+  s.post.bloom_radius = 6.0;
+  auto pixel_beside = [&](double strength) {
+    s.post.bloom_strength = strength;
+    engine_->set_scene(s, mesh);
+    engine_->render();
+    const Rgba8Image ldr = engine_->read_ldr();
+    // 1 mm (5 pixels) right of the square's edge, on its middle row.
+    return ldr.pixels[(static_cast<std::size_t>(64) * 128 + 64 + 10 + 5) * 4];
+  };
+  EXPECT_EQ(pixel_beside(0.0), 0);
+  EXPECT_GT(pixel_beside(1.0), 10);
+  s.post.bloom_threshold = 2.0;  // above the slab's 1.0: nothing blooms
+  EXPECT_EQ(pixel_beside(1.0), 0);
+}
