@@ -1,0 +1,281 @@
+/**
+ * SECTION:element-causticsrc
+ * @title: causticsrc
+ *
+ * A live source of caustics: the light pattern that a refractive or
+ * reflective object throws on a screen, rendered with OpenGL in a headless
+ * EGL context of its own (a GPU when there is one, llvmpipe otherwise). It
+ * renders again only when the parameters changed and otherwise re-sends the
+ * last picture; every buffer carries a CausticFrameMeta with the parameter
+ * version it shows.
+ *
+ * ## Example launch line
+ * |[
+ * gst-launch-1.0 causticsrc scene=assets/scenes/lens.json framerate=30/1 ! videoconvert ! autovideosink
+ * ]|
+ * (inside causticd, which registers the element as a static plugin).
+ */
+#include "caustic/gst/causticsrc.hpp"
+
+#include "caustic/gst/frame_meta.hpp"
+#include "frame_source.hpp"
+
+#include <gst/base/gstpushsrc.h>
+#include <gst/video/video.h>
+
+#include <mutex>
+#include <string>
+
+GST_DEBUG_CATEGORY_STATIC(caustic_src_debug);
+#define GST_CAT_DEFAULT caustic_src_debug
+
+namespace {
+
+struct State {
+  std::mutex lock;  // guards the properties and the source hand-over
+  std::string scene_path;
+  int width = 0, height = 0;  // 0: the scene's render size
+  int fps_n = 30, fps_d = 1;
+  std::shared_ptr<caustic::ParamStore> params;
+  std::shared_ptr<const caustic::Mesh> mesh;
+  // Streaming thread only:
+  caustic::gst::FrameSource source;
+  GstVideoInfo info;
+  guint64 frame_index = 0;
+};
+
+}  // namespace
+
+struct GstCausticSrc {
+  GstPushSrc parent;
+  State* state;
+};
+struct GstCausticSrcClass {
+  GstPushSrcClass parent_class;
+};
+
+G_DEFINE_TYPE(GstCausticSrc, gst_caustic_src, GST_TYPE_PUSH_SRC)
+
+enum { PROP_0, PROP_SCENE, PROP_WIDTH, PROP_HEIGHT, PROP_FRAMERATE, PROP_RENDERS };
+
+static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
+    "src", GST_PAD_SRC, GST_PAD_ALWAYS,
+    GST_STATIC_CAPS("video/x-raw, format=(string)RGBA, width=(int)[16, 8192], height=(int)[16, 8192], "
+                    "framerate=(fraction)[1/1, 240/1]"));
+
+static State& state_of(gpointer self) { return *reinterpret_cast<GstCausticSrc*>(self)->state; }
+
+static void gst_caustic_src_set_property(GObject* object, guint id, const GValue* value, GParamSpec* pspec) {
+  State& s = state_of(object);
+  std::lock_guard lock(s.lock);
+  switch (id) {
+    case PROP_SCENE: s.scene_path = g_value_get_string(value) ? g_value_get_string(value) : ""; break;
+    case PROP_WIDTH: s.width = g_value_get_int(value); break;
+    case PROP_HEIGHT: s.height = g_value_get_int(value); break;
+    case PROP_FRAMERATE:
+      s.fps_n = gst_value_get_fraction_numerator(value);
+      s.fps_d = gst_value_get_fraction_denominator(value);
+      break;
+    default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+  }
+}
+
+static void gst_caustic_src_get_property(GObject* object, guint id, GValue* value, GParamSpec* pspec) {
+  State& s = state_of(object);
+  std::lock_guard lock(s.lock);
+  switch (id) {
+    case PROP_SCENE: g_value_set_string(value, s.scene_path.c_str()); break;
+    case PROP_WIDTH: g_value_set_int(value, s.width); break;
+    case PROP_HEIGHT: g_value_set_int(value, s.height); break;
+    case PROP_FRAMERATE: gst_value_set_fraction(value, s.fps_n, s.fps_d); break;
+    case PROP_RENDERS: g_value_set_uint64(value, s.source.renders.load()); break;
+    default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+  }
+}
+
+static GstCaps* gst_caustic_src_fixate(GstBaseSrc* src, GstCaps* caps) {
+  State& s = state_of(src);
+  int width, height, fps_n, fps_d;
+  {
+    std::lock_guard lock(s.lock);
+    const auto scene = s.params ? std::optional(s.params->snapshot().scene) : std::nullopt;
+    width = s.width ? s.width : (scene ? scene->render.width : 1024);
+    height = s.height ? s.height : (scene ? scene->render.height : 1024);
+    fps_n = s.fps_n;
+    fps_d = s.fps_d;
+  }
+  caps = gst_caps_make_writable(caps);
+  GstStructure* st = gst_caps_get_structure(caps, 0);
+  gst_structure_fixate_field_nearest_int(st, "width", width);
+  gst_structure_fixate_field_nearest_int(st, "height", height);
+  gst_structure_fixate_field_nearest_fraction(st, "framerate", fps_n, fps_d);
+  return GST_BASE_SRC_CLASS(gst_caustic_src_parent_class)->fixate(src, caps);
+}
+
+static gboolean gst_caustic_src_set_caps(GstBaseSrc* src, GstCaps* caps) {
+  State& s = state_of(src);
+  if (!gst_video_info_from_caps(&s.info, caps) || GST_VIDEO_INFO_FPS_N(&s.info) <= 0) return FALSE;
+  gst_base_src_set_blocksize(src, static_cast<guint>(GST_VIDEO_INFO_SIZE(&s.info)));
+  return TRUE;
+}
+
+static gboolean gst_caustic_src_start(GstBaseSrc* src) {
+  State& s = state_of(src);
+  std::lock_guard lock(s.lock);
+  s.frame_index = 0;
+  if (s.params && s.mesh) return TRUE;
+  if (s.scene_path.empty()) {
+    GST_ELEMENT_ERROR(src, RESOURCE, NOT_FOUND, ("No scene"), ("set the scene property or call set_source"));
+    return FALSE;
+  }
+  try {
+    const caustic::Scene scene = caustic::load_scene(s.scene_path);
+    auto mesh = std::make_shared<const caustic::Mesh>(caustic::load_obj(scene.mesh_path()));
+    s.params = std::make_shared<caustic::ParamStore>(scene, [mesh](const caustic::Scene& candidate) {
+      caustic::check_geometry(candidate, *mesh, caustic::place_object(candidate.object, *mesh));
+    });
+    s.mesh = std::move(mesh);
+  } catch (const std::exception& e) {
+    GST_ELEMENT_ERROR(src, RESOURCE, READ, ("Cannot load scene %s", s.scene_path.c_str()), ("%s", e.what()));
+    return FALSE;
+  }
+  return TRUE;
+}
+
+static gboolean gst_caustic_src_stop(GstBaseSrc* src) {
+  caustic::gst::release(state_of(src).source);
+  return TRUE;
+}
+
+// Live: each buffer's running time is when it is due; GstBaseSrc waits for it.
+static void gst_caustic_src_get_times(GstBaseSrc*, GstBuffer* buffer, GstClockTime* start, GstClockTime* end) {
+  *start = GST_BUFFER_PTS(buffer);
+  *end = GST_CLOCK_TIME_IS_VALID(*start) && GST_BUFFER_DURATION_IS_VALID(buffer)
+             ? *start + GST_BUFFER_DURATION(buffer)
+             : GST_CLOCK_TIME_NONE;
+}
+
+static gboolean gst_caustic_src_query(GstBaseSrc* src, GstQuery* query) {
+  State& s = state_of(src);
+  if (GST_QUERY_TYPE(query) == GST_QUERY_LATENCY && GST_VIDEO_INFO_FPS_N(&s.info) > 0) {
+    // A frame is rendered up to one frame interval before it is due.
+    const GstClockTime frame =
+        gst_util_uint64_scale(GST_SECOND, GST_VIDEO_INFO_FPS_D(&s.info), GST_VIDEO_INFO_FPS_N(&s.info));
+    gst_query_set_latency(query, TRUE, frame, frame);
+    return TRUE;
+  }
+  return GST_BASE_SRC_CLASS(gst_caustic_src_parent_class)->query(src, query);
+}
+
+static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
+  State& s = state_of(push);
+  std::shared_ptr<caustic::ParamStore> params;
+  std::shared_ptr<const caustic::Mesh> mesh;
+  {
+    std::lock_guard lock(s.lock);
+    params = s.params;
+    mesh = s.mesh;
+  }
+  GstBuffer* picture = nullptr;
+  try {
+    picture = caustic::gst::produce_frame(s.source, *params, mesh, GST_VIDEO_INFO_WIDTH(&s.info),
+                                          GST_VIDEO_INFO_HEIGHT(&s.info));
+  } catch (const std::exception& e) {
+    GST_ELEMENT_ERROR(push, LIBRARY, FAILED, ("Cannot render the caustic"), ("%s", e.what()));
+    return GST_FLOW_ERROR;
+  }
+  // A shallow copy shares the pixels; timestamps are this frame's own.
+  GstBuffer* buffer = gst_buffer_copy(picture);
+  gst_buffer_unref(picture);
+  const gint n = GST_VIDEO_INFO_FPS_N(&s.info), d = GST_VIDEO_INFO_FPS_D(&s.info);
+  GST_BUFFER_PTS(buffer) = gst_util_uint64_scale(s.frame_index * GST_SECOND, d, n);
+  GST_BUFFER_DURATION(buffer) = gst_util_uint64_scale((s.frame_index + 1) * GST_SECOND, d, n) - GST_BUFFER_PTS(buffer);
+  GST_BUFFER_OFFSET(buffer) = s.frame_index;
+  GST_BUFFER_OFFSET_END(buffer) = ++s.frame_index;
+  *out = buffer;
+  return GST_FLOW_OK;
+}
+
+static void gst_caustic_src_finalize(GObject* object) {
+  auto* self = reinterpret_cast<GstCausticSrc*>(object);
+  caustic::gst::release(self->state->source);
+  delete self->state;
+  G_OBJECT_CLASS(gst_caustic_src_parent_class)->finalize(object);
+}
+
+static void gst_caustic_src_class_init(GstCausticSrcClass* klass) {
+  auto* gobject = G_OBJECT_CLASS(klass);
+  auto* element = GST_ELEMENT_CLASS(klass);
+  auto* basesrc = GST_BASE_SRC_CLASS(klass);
+  gobject->set_property = gst_caustic_src_set_property;
+  gobject->get_property = gst_caustic_src_get_property;
+  gobject->finalize = gst_caustic_src_finalize;
+  const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS | GST_PARAM_MUTABLE_READY);
+  g_object_class_install_property(gobject, PROP_SCENE,
+                                  g_param_spec_string("scene", "Scene", "Scene file (JSON) to render", "", rw));
+  g_object_class_install_property(
+      gobject, PROP_WIDTH, g_param_spec_int("width", "Width", "Width in pixels; 0: the scene's", 0, 8192, 0, rw));
+  g_object_class_install_property(
+      gobject, PROP_HEIGHT, g_param_spec_int("height", "Height", "Height in pixels; 0: the scene's", 0, 8192, 0, rw));
+  g_object_class_install_property(gobject, PROP_FRAMERATE,
+                                  gst_param_spec_fraction("framerate", "Frame rate", "Frames per second", 1, 1, 240,
+                                                          1, 30, 1, rw));
+  g_object_class_install_property(
+      gobject, PROP_RENDERS,
+      g_param_spec_uint64("renders", "Renders", "Caustic passes drawn so far (unchanged frames are re-sent)", 0,
+                          G_MAXUINT64, 0, static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
+  gst_element_class_set_static_metadata(element, "Caustic source", "Source/Video",
+                                        "Renders the caustic of a refractive or reflective object, live",
+                                        "causticd developers");
+  gst_element_class_add_static_pad_template(element, &src_template);
+  basesrc->fixate = gst_caustic_src_fixate;
+  basesrc->set_caps = gst_caustic_src_set_caps;
+  basesrc->start = gst_caustic_src_start;
+  basesrc->stop = gst_caustic_src_stop;
+  basesrc->get_times = gst_caustic_src_get_times;
+  basesrc->query = gst_caustic_src_query;
+  GST_PUSH_SRC_CLASS(klass)->create = gst_caustic_src_create;
+  GST_DEBUG_CATEGORY_INIT(caustic_src_debug, "causticsrc", 0, "caustic source");
+}
+
+static void gst_caustic_src_init(GstCausticSrc* self) {
+  self->state = new State();
+  gst_video_info_init(&self->state->info);
+  gst_base_src_set_live(GST_BASE_SRC(self), TRUE);
+  gst_base_src_set_format(GST_BASE_SRC(self), GST_FORMAT_TIME);
+}
+
+namespace caustic::gst {
+
+static gboolean plugin_init(GstPlugin* plugin) {
+  return gst_element_register(plugin, "causticsrc", GST_RANK_NONE, gst_caustic_src_get_type());
+}
+
+bool register_elements() {
+  static const bool ok = gst_plugin_register_static(GST_VERSION_MAJOR, GST_VERSION_MINOR, "caustic",
+                                                    "Caustic rendering", plugin_init, CAUSTICD_VERSION, "LGPL",
+                                                    "causticd", "causticd", "https://localhost/causticd");
+  return ok;
+}
+
+static State* checked_state(GstElement* element) {
+  g_return_val_if_fail(G_TYPE_CHECK_INSTANCE_TYPE(element, gst_caustic_src_get_type()), nullptr);
+  return reinterpret_cast<GstCausticSrc*>(element)->state;
+}
+
+void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const Mesh> mesh) {
+  if (State* s = checked_state(causticsrc)) {
+    std::lock_guard lock(s->lock);
+    s->params = std::move(params);
+    s->mesh = std::move(mesh);
+  }
+}
+
+std::shared_ptr<ParamStore> param_store(GstElement* causticsrc) {
+  State* s = checked_state(causticsrc);
+  if (!s) return nullptr;
+  std::lock_guard lock(s->lock);
+  return s->params;
+}
+
+}  // namespace caustic::gst

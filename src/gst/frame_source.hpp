@@ -1,0 +1,35 @@
+// What causticsrc draws with: a GL context and an engine that live on the
+// streaming thread, and the last picture, re-sent while nothing changes.
+#pragma once
+
+#include "caustic/engine.hpp"
+#include "caustic/gl_context.hpp"
+#include "caustic/param_store.hpp"
+
+#include <gst/gst.h>
+
+#include <atomic>
+#include <memory>
+#include <string>
+
+namespace caustic::gst {
+
+struct FrameSource {
+  std::unique_ptr<GlContext> context;
+  std::unique_ptr<Engine> engine;
+  GstBuffer* picture = nullptr;  // RGBA, tagged with its version
+  std::uint64_t version = 0;     // version `picture` shows
+  std::atomic<std::uint64_t> renders{0};  // caustic passes so far (read from any thread)
+  std::string last_rejection;    // why the newest parameters were not rendered
+};
+
+/// A new reference to the frame for the current parameters: renders when
+/// the ParamStore's version moved on, re-uses the last picture otherwise.
+/// Creates the GL context on first use. Throws on GL failures.
+GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, std::shared_ptr<const Mesh> mesh,
+                         int width, int height);
+
+/// Frees the picture, the engine and the context (any thread, once streaming stopped).
+void release(FrameSource& source);
+
+}  // namespace caustic::gst

@@ -1,0 +1,26 @@
+// The `causticsrc` GStreamer element: a live source of rendered caustics.
+// See causticsrc.cpp for its documentation and an example launch line.
+#pragma once
+
+#include "caustic/mesh.hpp"
+#include "caustic/param_store.hpp"
+
+#include <gst/gst.h>
+
+#include <memory>
+
+namespace caustic::gst {
+
+/// Registers the elements of this project (causticsrc) as a static plugin
+/// named "caustic". Safe to call more than once; needs gst_init first.
+bool register_elements();
+
+/// Gives a causticsrc the parameters and the mesh it renders, instead of its
+/// `scene` property. Call before the element leaves the NULL state; the
+/// ParamStore stays shared, so patches applied to it show in later frames.
+void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const Mesh> mesh);
+
+/// The parameters a causticsrc renders (null before a source was set or loaded).
+std::shared_ptr<ParamStore> param_store(GstElement* causticsrc);
+
+}  // namespace caustic::gst

@@ -1,0 +1,46 @@
+// The live parameters of one session: the only state that the HTTP side and
+// a renderer share. Writers replace the whole scene under a mutex and bump a
+// version; a renderer compares versions (one atomic load) and copies the
+// scene only when it changed.
+#pragma once
+
+#include "caustic/scene.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+
+namespace caustic {
+
+class ParamStore {
+ public:
+  struct Snapshot {
+    Scene scene;
+    std::uint64_t version;
+  };
+
+  /// `check` runs on every candidate scene before it is published (for
+  /// example geometry checks against the mesh); it throws SceneError to refuse.
+  explicit ParamStore(Scene initial, std::function<void(const Scene&)> check = {});
+
+  Snapshot snapshot() const;
+  std::uint64_t version() const { return version_.load(std::memory_order_acquire); }
+
+  /// Applies an RFC 7396 merge patch; returns the new version. Throws
+  /// SceneError and leaves everything unchanged when the result is invalid.
+  std::uint64_t apply_patch(const nlohmann::json& patch);
+
+  /// Replaces the scene; same checks and guarantees as apply_patch.
+  std::uint64_t replace(const Scene& scene);
+
+ private:
+  mutable std::mutex mutex_;
+  Scene scene_;
+  std::atomic<std::uint64_t> version_{1};
+  std::function<void(const Scene&)> check_;
+};
+
+}  // namespace caustic
