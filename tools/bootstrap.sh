@@ -24,7 +24,7 @@ packages=(
   libopenimageio-dev
   libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstreamer-plugins-bad1.0-dev
   gstreamer1.0-plugins-base gstreamer1.0-plugins-good gstreamer1.0-plugins-bad gstreamer1.0-plugins-ugly
-  gstreamer1.0-nice libsoup-3.0-dev
+  gstreamer1.0-nice gstreamer1.0-libav libsoup-3.0-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev
 )
 
@@ -50,7 +50,7 @@ case "$mode" in
     # The streaming server is not built yet; the main job renders the default
     # built-in scene and writes it where the user can open it.
     out="$build/default"
-    "$build/src/causticd" render --scene "$build/assets/scenes/wavy.json" -o "$out.png" -o "$out.exr"
+    "$build/bin/causticd" render --scene "$build/share/causticd/assets/scenes/wavy.json" -o "$out.png" -o "$out.exr"
     ;;
   test)
     cd "$build"
