@@ -7,12 +7,15 @@ int main(int argc, char** argv) {
   CLI::App app{"causticd: server-side caustic renderer"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("causticd ") + CAUSTICD_VERSION);
-  const auto render = caustic::app::add_render_command(app);
+  const std::function<int()> commands[] = {caustic::app::add_render_command(app),
+                                           caustic::app::add_serve_command(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : caustic::app::bad_input;
   }
-  return render();
+  for (const auto& command : commands)
+    if (const int status = command(); status >= 0) return status;
+  return caustic::app::bad_input;
 }

@@ -271,6 +271,11 @@ void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std:
   }
 }
 
+void set_frame_observer(GstElement* causticsrc, FrameObserver observer) {
+  // Set before streaming starts; the streaming thread reads it without a lock.
+  if (State* s = checked_state(causticsrc)) s->source.observer = std::move(observer);
+}
+
 std::shared_ptr<ParamStore> param_store(GstElement* causticsrc) {
   State* s = checked_state(causticsrc);
   if (!s) return nullptr;

@@ -39,6 +39,7 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, std::sha
   const std::uint64_t before = source.engine->ray_passes();
   source.engine->render();
   source.renders += source.engine->ray_passes() - before;
+  if (source.observer) source.observer(source.engine->stats(), snap.version);
   const Rgba8Image image = source.engine->read_ldr();
 
   GstBuffer* buffer = gst_buffer_new_allocate(nullptr, image.pixels.size(), nullptr);

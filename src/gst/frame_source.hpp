@@ -9,6 +9,7 @@
 #include <gst/gst.h>
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -21,6 +22,7 @@ struct FrameSource {
   std::uint64_t version = 0;     // version `picture` shows
   std::atomic<std::uint64_t> renders{0};  // caustic passes so far (read from any thread)
   std::string last_rejection;    // why the newest parameters were not rendered
+  std::function<void(const FrameStats&, std::uint64_t)> observer;  // after each render
 };
 
 /// A new reference to the frame for the current parameters: renders when

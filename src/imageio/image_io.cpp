@@ -1,5 +1,6 @@
 #include "caustic/image_io.hpp"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 namespace caustic {
@@ -25,6 +26,20 @@ void write_exr(const HdrImage& image, const std::filesystem::path& file) {
 void write_png(const Rgba8Image& image, const std::filesystem::path& file) {
   OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
   write(file, spec, image.pixels.data(), OIIO::TypeDesc::UINT8, 4);
+}
+
+std::vector<unsigned char> encode_png(const Rgba8Image& image) {
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput memory(bytes);
+  auto out = OIIO::ImageOutput::create("png");
+  if (!out) throw ImageIoError("no PNG writer: " + OIIO::geterror());
+  OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+  void* proxy = &memory;
+  spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  if (!out->open("thumbnail.png", spec) || !out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data(), 4) ||
+      !out->close())
+    throw ImageIoError("cannot encode PNG: " + out->geterror());
+  return bytes;
 }
 
 HdrImage read_hdr_image(const std::filesystem::path& file) {

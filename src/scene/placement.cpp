@@ -62,6 +62,7 @@ Placement place_object(const ObjectParams& object, const Mesh& mesh) {
   out.flat_offset = glm::dot(plane_point, out.flat_normal);
   out.center = glm::dvec3(m * glm::dvec4(centre_mesh, 1.0));
   out.max_depth = (offset_mesh - lo.z) * out.scale;
+  out.footprint = glm::dvec2(hi.x - lo.x, hi.y - lo.y) * out.scale;
   return out;
 }
 

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <stdexcept>
+#include <vector>
 
 namespace caustic {
 
@@ -18,6 +19,8 @@ class ImageIoError : public std::runtime_error {
 void write_exr(const HdrImage& image, const std::filesystem::path& file);
 /// 8-bit RGB PNG (alpha dropped).
 void write_png(const Rgba8Image& image, const std::filesystem::path& file);
+/// The picture as PNG file bytes, for serving without touching the disk.
+std::vector<unsigned char> encode_png(const Rgba8Image& image);
 /// Reads the first channel of any image OpenImageIO can open, as float.
 HdrImage read_hdr_image(const std::filesystem::path& file);
 

@@ -54,6 +54,7 @@ struct Placement {
   double flat_offset = 0.0;         ///< flat face: dot(x, flat_normal) = flat_offset, world
   glm::dvec3 center{0, 0, 0};       ///< footprint centre, world (reference for point lights)
   double max_depth = 0.0;           ///< largest depth of a vertex below the flat face, world
+  glm::dvec2 footprint{0.0};        ///< extent across the flat-face normal, world units
 };
 
 /// Rotation matrix of three.js Euler angles in order "XYZ" (degrees): Rx * Ry * Rz.

@@ -2,11 +2,13 @@
 // See causticsrc.cpp for its documentation and an example launch line.
 #pragma once
 
+#include "caustic/engine.hpp"
 #include "caustic/mesh.hpp"
 #include "caustic/param_store.hpp"
 
 #include <gst/gst.h>
 
+#include <functional>
 #include <memory>
 
 namespace caustic::gst {
@@ -19,6 +21,10 @@ bool register_elements();
 /// `scene` property. Call before the element leaves the NULL state; the
 /// ParamStore stays shared, so patches applied to it show in later frames.
 void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const Mesh> mesh);
+
+/// Called on the streaming thread after every render (not for re-sent frames).
+using FrameObserver = std::function<void(const FrameStats& stats, std::uint64_t version)>;
+void set_frame_observer(GstElement* causticsrc, FrameObserver observer);
 
 /// The parameters a causticsrc renders (null before a source was set or loaded).
 std::shared_ptr<ParamStore> param_store(GstElement* causticsrc);

@@ -1,0 +1,141 @@
+#include "caustic/server/config.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <fstream>
+#include <regex>
+
+#include <unistd.h>
+
+extern char** environ;
+
+namespace caustic::server {
+namespace {
+
+int parse_int(const std::string& key, const std::string& text, int lo, int hi) {
+  int value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || value < lo || value > hi)
+    throw ConfigError(key + ": must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got \"" +
+                      text + "\"");
+  return value;
+}
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
+}
+
+void check_uri(const std::string& key, const std::string& value, const char* schemes) {
+  const std::regex pattern(std::string("^(") + schemes + ")://([^\\s@/]+@)?[A-Za-z0-9.:\\[\\]-]+(:[0-9]{1,5})?$");
+  if (!value.empty() && !std::regex_match(value, pattern))
+    throw ConfigError(key + ": must look like " + std::string(schemes) + "://host:port, got \"" + value + "\"");
+}
+
+}  // namespace
+
+const std::vector<std::string>& config_keys() {
+  static const std::vector<std::string> keys = {
+      "bind_address", "port",        "max_sessions",      "codec",       "bitrate_kbps",   "framerate",
+      "width",        "height",      "keyframe_interval", "stun_server", "turn_server",    "ice_addresses",
+      "idle_timeout_s", "max_body_bytes", "scenes_dir",     "web_dir"};
+  return keys;
+}
+
+void set_config_value(ServerConfig& c, const std::string& key, const std::string& raw) {
+  const std::string value = trim(raw);
+  if (key == "bind_address") {
+    static const std::regex address("^[0-9.]+$|^[0-9a-fA-F:]+$|^localhost$");
+    if (!std::regex_match(value, address)) throw ConfigError(key + ": must be an IP address, got \"" + value + "\"");
+    c.bind_address = value;
+  } else if (key == "port") {
+    c.port = parse_int(key, value, 0, 65535);
+  } else if (key == "max_sessions") {
+    c.max_sessions = parse_int(key, value, 1, 1000);
+  } else if (key == "codec") {
+    if (value != "vp8" && value != "h264") throw ConfigError(key + ": must be vp8 or h264, got \"" + value + "\"");
+    c.codec = value;
+  } else if (key == "bitrate_kbps") {
+    c.bitrate_kbps = parse_int(key, value, 100, 100000);
+  } else if (key == "framerate") {
+    c.framerate = parse_int(key, value, 1, 120);
+  } else if (key == "width") {
+    c.width = parse_int(key, value, 16, 4096);
+  } else if (key == "height") {
+    c.height = parse_int(key, value, 16, 4096);
+  } else if (key == "keyframe_interval") {
+    c.keyframe_interval = parse_int(key, value, 1, 10000);
+  } else if (key == "stun_server") {
+    check_uri(key, value, "stun");
+    c.stun_server = value;
+  } else if (key == "turn_server") {
+    check_uri(key, value, "turn|turns");
+    c.turn_server = value;
+  } else if (key == "ice_addresses") {
+    std::vector<std::string> list;
+    static const std::regex address("^[0-9.]+$|^[0-9a-fA-F:]+$");
+    std::string item;
+    for (std::size_t start = 0; start <= value.size();) {
+      const auto comma = std::min(value.find(',', start), value.size());
+      item = trim(value.substr(start, comma - start));
+      if (!item.empty()) {
+        if (!std::regex_match(item, address)) throw ConfigError(key + ": \"" + item + "\" is not an IP address");
+        list.push_back(item);
+      }
+      start = comma + 1;
+    }
+    c.ice_addresses = list;
+  } else if (key == "idle_timeout_s") {
+    c.idle_timeout_s = parse_int(key, value, 1, 86400);
+  } else if (key == "max_body_bytes") {
+    c.max_body_bytes = static_cast<std::size_t>(parse_int(key, value, 1024, 16 * 1024 * 1024));
+  } else if (key == "scenes_dir") {
+    c.scenes_dir = value;
+  } else if (key == "web_dir") {
+    c.web_dir = value;
+  } else {
+    throw ConfigError(key + ": unknown key");
+  }
+}
+
+void load_config_file(ServerConfig& config, const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw ConfigError("cannot read config file " + file.string());
+  ServerConfig next = config;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const std::string text = trim(line.substr(0, line.find('#')));
+    if (text.empty()) continue;
+    const auto eq = text.find('=');
+    const std::string where = file.string() + ":" + std::to_string(number) + ": ";
+    if (eq == std::string::npos) throw ConfigError(where + "expected key = value");
+    try {
+      set_config_value(next, trim(text.substr(0, eq)), text.substr(eq + 1));
+    } catch (const ConfigError& e) {
+      throw ConfigError(where + e.what());
+    }
+  }
+  config = next;
+}
+
+void load_config_environment(ServerConfig& config) {
+  ServerConfig next = config;
+  for (char** env = environ; env && *env; ++env) {
+    const std::string entry = *env;
+    if (entry.rfind("CAUSTICD_", 0) != 0) continue;
+    const auto eq = entry.find('=');
+    std::string key = entry.substr(9, eq - 9);
+    std::transform(key.begin(), key.end(), key.begin(), [](unsigned char ch) { return std::tolower(ch); });
+    if (std::find(config_keys().begin(), config_keys().end(), key) == config_keys().end()) continue;
+    try {
+      set_config_value(next, key, entry.substr(eq + 1));
+    } catch (const ConfigError& e) {
+      throw ConfigError("environment CAUSTICD_" + entry.substr(9, eq - 9) + ": " + e.what());
+    }
+  }
+  config = next;
+}
+
+}  // namespace caustic::server

@@ -1,0 +1,73 @@
+#include "gallery.hpp"
+
+#include "caustic/engine.hpp"
+#include "caustic/gl_context.hpp"
+#include "caustic/image_io.hpp"
+
+#include <regex>
+
+namespace caustic::server {
+
+nlohmann::json proxy_geometry(const Scene& scene, const Mesh& mesh) {
+  const Placement p = place_object(scene.object, mesh);
+  const auto v = [](const glm::dvec3& x) { return nlohmann::json::array({x.x, x.y, x.z}); };
+  return {{"outline", {p.footprint.x, p.footprint.y}},
+          {"thickness", p.max_depth},
+          {"flat_face_normal", v(p.flat_normal)},
+          {"position", v(scene.object.position)},
+          {"rotation_deg", v(scene.object.rotation_deg)}};
+}
+
+nlohmann::json describe(const GalleryEntry& e) {
+  return {{"id", e.id},
+          {"name", e.scene.name},
+          {"description", e.scene.description},
+          {"thumbnail", "/api/v1/scenes/" + e.id + "/thumbnail.png"},
+          {"proxy", e.proxy}};
+}
+
+Gallery load_gallery(const std::filesystem::path& dir, int thumbnail) {
+  Gallery gallery;
+  static const std::regex id_pattern("[a-z0-9_-]{1,64}");
+  std::vector<std::filesystem::path> files;
+  std::error_code ec;
+  for (const auto& f : std::filesystem::directory_iterator(dir, ec))
+    if (f.path().extension() == ".json") files.push_back(f.path());
+  if (ec) gallery.problems.push_back("cannot list " + dir.string() + ": " + ec.message());
+  std::unique_ptr<GlContext> context;
+  std::unique_ptr<Engine> engine;
+  for (const auto& file : files) {
+    const std::string id = file.stem().string();
+    if (!std::regex_match(id, id_pattern)) {
+      gallery.problems.push_back(file.filename().string() + ": not a valid scene id");
+      continue;
+    }
+    try {
+      auto entry = std::make_shared<GalleryEntry>();
+      entry->id = id;
+      entry->scene = load_scene(file);
+      entry->mesh = std::make_shared<const Mesh>(load_obj(entry->scene.mesh_path()));
+      entry->proxy = proxy_geometry(entry->scene, *entry->mesh);
+      if (!context) {
+        context = std::make_unique<GlContext>(egl_platform_from_environment());
+        engine = std::make_unique<Engine>();
+        gallery.renderer = context->renderer();
+      }
+      Scene small = entry->scene;
+      small.render.width = small.render.height = thumbnail;
+      engine->set_scene(small, entry->mesh);
+      engine->render();
+      entry->thumbnail_png = encode_png(engine->read_ldr());
+      gallery.entries[id] = std::move(entry);
+    } catch (const std::exception& e) {
+      gallery.problems.push_back(file.filename().string() + ": " + e.what());
+    }
+  }
+  if (context) {
+    engine.reset();
+    context->release_current();
+  }
+  return gallery;
+}
+
+}  // namespace caustic::server

@@ -1,0 +1,46 @@
+#include "http_util.hpp"
+
+namespace caustic::server {
+
+void reply_bytes(SoupServerMessage* msg, guint status, const std::string& content_type, const void* data,
+                 std::size_t size) {
+  soup_server_message_set_status(msg, status, nullptr);
+  SoupMessageHeaders* headers = soup_server_message_get_response_headers(msg);
+  soup_message_headers_replace(headers, "Cache-Control", "no-store");
+  soup_message_headers_replace(headers, "X-Content-Type-Options", "nosniff");
+  soup_server_message_set_response(msg, content_type.c_str(), SOUP_MEMORY_COPY, static_cast<const char*>(data), size);
+}
+
+void reply_json(SoupServerMessage* msg, guint status, const nlohmann::json& body) {
+  const std::string text = body.dump();
+  reply_bytes(msg, status, "application/json", text.data(), text.size());
+}
+
+void reply_problem(SoupServerMessage* msg, Metrics& metrics, guint status, const std::string& detail,
+                   const std::string& key) {
+  ++metrics.http_errors;
+  nlohmann::json body = {{"type", "about:blank"},
+                         {"title", soup_status_get_phrase(status)},
+                         {"status", status},
+                         {"detail", detail}};
+  if (!key.empty()) body["key"] = key;
+  const std::string text = body.dump();
+  reply_bytes(msg, status, "application/problem+json", text.data(), text.size());
+}
+
+std::string bearer_token(SoupServerMessage* msg) {
+  const char* value = soup_message_headers_get_one(soup_server_message_get_request_headers(msg), "Authorization");
+  if (!value) return "";
+  const std::string text = value;
+  const std::string prefix = "Bearer ";
+  return text.rfind(prefix, 0) == 0 ? text.substr(prefix.size()) : "";
+}
+
+bool same_secret(const std::string& a, const std::string& b) {
+  if (a.size() != b.size()) return false;
+  unsigned char diff = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ b[i]);
+  return diff == 0;
+}
+
+}  // namespace caustic::server

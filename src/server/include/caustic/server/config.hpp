@@ -1,0 +1,52 @@
+// Settings of `causticd serve`: a config file of `key = value` lines,
+// overridden by CAUSTICD_* environment variables, overridden by flags.
+// docs/configuration.md lists every key.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace caustic::server {
+
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct ServerConfig {
+  std::string bind_address = "127.0.0.1";
+  int port = 8080;
+  int max_sessions = 4;
+  std::string codec = "vp8";              ///< default when a session names none
+  int bitrate_kbps = 4000;
+  int framerate = 30;
+  int width = 1024;
+  int height = 1024;
+  int keyframe_interval = 60;             ///< frames between unrequested key frames
+  std::string stun_server;                ///< stun://host:port, empty: none
+  std::string turn_server;                ///< turn(s)://user:password@host:port, empty: none
+  std::vector<std::string> ice_addresses; ///< local addresses ICE may use; empty: every interface
+  int idle_timeout_s = 60;                ///< reclaim a session with no peer for this long
+  std::size_t max_body_bytes = 64 * 1024;
+  std::filesystem::path scenes_dir;       ///< empty: <data>/assets/scenes
+  std::filesystem::path web_dir;          ///< empty: <data>/web
+};
+
+/// Sets one key from text, checking type and range. Throws ConfigError that
+/// names the key.
+void set_config_value(ServerConfig& config, const std::string& key, const std::string& value);
+
+/// Reads `key = value` lines ('#' starts a comment). Throws ConfigError with
+/// the file, line and key on any error; `config` is untouched then.
+void load_config_file(ServerConfig& config, const std::filesystem::path& file);
+
+/// Applies CAUSTICD_<KEY> variables (e.g. CAUSTICD_PORT=9000) from `environ`.
+void load_config_environment(ServerConfig& config);
+
+/// The keys, for documentation and help text.
+const std::vector<std::string>& config_keys();
+
+}  // namespace caustic::server

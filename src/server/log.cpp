@@ -1,0 +1,22 @@
+#include "log.hpp"
+
+#include <atomic>
+#include <cstdio>
+
+namespace caustic::server {
+namespace {
+std::atomic<int> threshold{static_cast<int>(Level::info)};
+}
+
+void set_log_level(Level level) { threshold = static_cast<int>(level); }
+
+void log(Level level, const std::string& message) {
+  if (static_cast<int>(level) > threshold) return;
+  // One fprintf per line: lines from several threads do not interleave.
+  std::string line = message;
+  for (auto& ch : line)
+    if (ch == '\n') ch = ' ';
+  std::fprintf(stderr, "<%d>%s\n", static_cast<int>(level), line.c_str());
+}
+
+}  // namespace caustic::server

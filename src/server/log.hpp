@@ -1,0 +1,15 @@
+// One line per event on stderr, with the syslog priority prefix journald
+// understands (<3> error .. <7> debug).
+#pragma once
+
+#include <string>
+
+namespace caustic::server {
+
+enum class Level { error = 3, warning = 4, notice = 5, info = 6, debug = 7 };
+
+/// Events above `level` are dropped.
+void set_log_level(Level level);
+void log(Level level, const std::string& message);
+
+}  // namespace caustic::server

@@ -1,0 +1,47 @@
+#include "metrics.hpp"
+
+#include <sstream>
+
+namespace caustic::server {
+
+void Histogram::observe(double ms) {
+  std::lock_guard lock(mutex_);
+  for (std::size_t i = 0; i < kBoundsMs.size(); ++i)
+    if (ms <= kBoundsMs[i]) ++buckets_[i];
+  ++count_;
+  sum_ += ms / 1000.0;
+}
+
+std::string Histogram::render(const std::string& name, const std::string& help) const {
+  std::lock_guard lock(mutex_);
+  std::ostringstream out;
+  out << "# HELP " << name << " " << help << "\n# TYPE " << name << " histogram\n";
+  for (std::size_t i = 0; i < kBoundsMs.size(); ++i)
+    out << name << "_bucket{le=\"" << kBoundsMs[i] / 1000.0 << "\"} " << buckets_[i] << "\n";
+  out << name << "_bucket{le=\"+Inf\"} " << count_ << "\n"
+      << name << "_sum " << sum_ << "\n"
+      << name << "_count " << count_ << "\n";
+  return out.str();
+}
+
+std::string Metrics::render(std::size_t sessions) const {
+  std::ostringstream out;
+  auto counter = [&](const char* name, const char* help, std::uint64_t value) {
+    out << "# HELP " << name << " " << help << "\n# TYPE " << name << " counter\n" << name << " " << value << "\n";
+  };
+  out << "# HELP causticd_sessions Sessions now open.\n# TYPE causticd_sessions gauge\ncausticd_sessions " << sessions
+      << "\n";
+  counter("causticd_sessions_created_total", "Sessions created.", sessions_created);
+  counter("causticd_sessions_rejected_total", "Session requests refused because the server was full.",
+          sessions_rejected);
+  counter("causticd_frames_rendered_total", "Caustic passes drawn.", frames_rendered);
+  counter("causticd_frames_sent_total", "Encoded frames handed to the RTP payloader.", frames_sent);
+  counter("causticd_parameter_updates_total", "Accepted parameter patches.", parameter_updates);
+  counter("causticd_http_errors_total", "HTTP answers with a 4xx or 5xx status.", http_errors);
+  counter("causticd_pipeline_errors_total", "Errors posted by session pipelines.", pipeline_errors);
+  out << render_ms.render("causticd_render_seconds", "Time to render one frame (caustic pass and post-processing).");
+  out << encode_ms.render("causticd_encode_seconds", "Time from raw frame to encoded frame.");
+  return out.str();
+}
+
+}  // namespace caustic::server

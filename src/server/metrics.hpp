@@ -1,0 +1,42 @@
+// Counters and histograms for GET /metrics (Prometheus text format 0.0.4).
+// Updated from streaming threads and the main loop alike.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <string>
+
+namespace caustic::server {
+
+/// Cumulative histogram with fixed bucket bounds in milliseconds.
+class Histogram {
+ public:
+  static constexpr std::array<double, 10> kBoundsMs = {1, 2, 5, 10, 20, 50, 100, 200, 500, 1000};
+  void observe(double ms);
+  std::string render(const std::string& name, const std::string& help) const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::array<std::uint64_t, kBoundsMs.size()> buckets_{};
+  std::uint64_t count_ = 0;
+  double sum_ = 0;
+};
+
+struct Metrics {
+  std::atomic<std::uint64_t> sessions_created{0};
+  std::atomic<std::uint64_t> sessions_rejected{0};
+  std::atomic<std::uint64_t> frames_rendered{0};  ///< caustic passes
+  std::atomic<std::uint64_t> frames_sent{0};      ///< encoded frames handed to the payloader
+  std::atomic<std::uint64_t> parameter_updates{0};
+  std::atomic<std::uint64_t> http_errors{0};      ///< 4xx and 5xx answers
+  std::atomic<std::uint64_t> pipeline_errors{0};
+  Histogram render_ms;
+  Histogram encode_ms;
+
+  /// Everything in Prometheus text format; `sessions` is the live count.
+  std::string render(std::size_t sessions) const;
+};
+
+}  // namespace caustic::server

@@ -1,0 +1,348 @@
+#include "session.hpp"
+
+#include "caustic/gst/causticsrc.hpp"
+#include "caustic/server/data_files.hpp"
+#include "log.hpp"
+
+#define GST_USE_UNSTABLE_API
+#include <gst/sdp/sdp.h>
+#include <gst/webrtc/webrtc.h>
+
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <random>
+
+namespace caustic::server {
+namespace {
+
+using Ref = std::weak_ptr<Session>;
+
+}  // namespace
+
+std::string random_hex() {
+  std::random_device device;  // /dev/urandom on Linux
+  std::string out;
+  for (int i = 0; i < 4; ++i) {
+    char buf[9];
+    std::snprintf(buf, sizeof buf, "%08x", device());
+    out += buf;
+  }
+  return out;
+}
+
+Session::Session(std::string id, std::shared_ptr<const GalleryEntry> scene, SessionOptions options)
+    : id_(std::move(id)), token_(random_hex()), scene_(std::move(scene)), options_(std::move(options)),
+      context_(g_main_context_ref_thread_default()), idle_since_(std::chrono::steady_clock::now()) {
+  Scene initial = scene_->scene;
+  auto mesh = scene_->mesh;
+  params_ = std::make_shared<ParamStore>(initial, [mesh](const Scene& candidate) {
+    check_geometry(candidate, *mesh, place_object(candidate.object, *mesh));
+  });
+}
+
+std::shared_ptr<Session> Session::start(const std::string& id, std::shared_ptr<const GalleryEntry> scene,
+                                        SessionOptions options) {
+  std::shared_ptr<Session> session(new Session(id, std::move(scene), std::move(options)));
+  session->build();
+  return session;
+}
+
+void Session::on_main(std::function<void(Session&)> fn) {
+  auto* job = new std::pair<Ref, std::function<void(Session&)>>(weak_from_this(), std::move(fn));
+  g_main_context_invoke_full(
+      context_, G_PRIORITY_DEFAULT,
+      [](gpointer data) -> gboolean {
+        auto* j = static_cast<std::pair<Ref, std::function<void(Session&)>>*>(data);
+        if (auto s = j->first.lock(); s && !s->closed_) j->second(*s);
+        return G_SOURCE_REMOVE;
+      },
+      job, [](gpointer data) { delete static_cast<std::pair<Ref, std::function<void(Session&)>>*>(data); });
+}
+
+void Session::build() {
+  const ServerConfig& c = *options_.config;
+  const int macroblocks = ((c.width + 15) / 16) * ((c.height + 15) / 16);
+  const std::map<std::string, std::string> values = {
+      {"width", std::to_string(c.width)},
+      {"height", std::to_string(c.height)},
+      {"framerate", std::to_string(c.framerate)},
+      {"bitrate_bps", std::to_string(c.bitrate_kbps * 1000)},
+      {"bitrate_kbps", std::to_string(c.bitrate_kbps)},
+      {"keyframe_interval", std::to_string(c.keyframe_interval)},
+      {"h264_level", macroblocks <= 3600 ? "3.1" : "4"}};
+  std::string description = pipeline_description(options_.data_dir, options_.codec, values) +
+                            " ! webrtcbin name=webrtc bundle-policy=max-bundle";
+  if (!c.stun_server.empty()) description += " stun-server=" + c.stun_server;
+  if (!c.turn_server.empty()) description += " turn-server=" + c.turn_server;
+
+  GError* error = nullptr;
+  pipeline_ = gst_parse_launch(description.c_str(), &error);
+  if (error) {
+    std::string message = error->message;
+    g_error_free(error);
+    if (pipeline_) gst_object_unref(pipeline_);
+    pipeline_ = nullptr;
+    throw std::runtime_error("cannot build the " + options_.codec + " pipeline: " + message);
+  }
+  GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline_), "src");
+  gst::set_source(src, params_, scene_->mesh);
+  Metrics* metrics = options_.metrics;
+  gst::set_frame_observer(src, [metrics](const FrameStats& stats, std::uint64_t) {
+    ++metrics->frames_rendered;
+    metrics->render_ms.observe(stats.ray_ms + stats.post_ms);
+  });
+  gst_object_unref(src);
+
+  // Encode time: when a raw frame enters the encoder, and when it leaves.
+  struct EncodeClock {
+    std::mutex lock;
+    std::map<GstClockTime, gint64> entered;  // PTS -> monotonic time
+    Metrics* metrics;
+  };
+  auto clock = std::make_shared<EncodeClock>();
+  clock->metrics = metrics;
+  using ClockRef = std::shared_ptr<EncodeClock>;
+  auto free_ref = [](gpointer d) { delete static_cast<ClockRef*>(d); };
+  GstElement* encoder = gst_bin_get_by_name(GST_BIN(pipeline_), "encoder");
+  GstPad* in = gst_element_get_static_pad(encoder, "sink");
+  GstPad* out = gst_element_get_static_pad(encoder, "src");
+  gst_pad_add_probe(
+      in, GST_PAD_PROBE_TYPE_BUFFER,
+      [](GstPad*, GstPadProbeInfo* info, gpointer data) {
+        EncodeClock& c = **static_cast<ClockRef*>(data);
+        std::lock_guard lock(c.lock);
+        if (c.entered.size() > 64) c.entered.erase(c.entered.begin());
+        c.entered[GST_BUFFER_PTS(GST_PAD_PROBE_INFO_BUFFER(info))] = g_get_monotonic_time();
+        return GST_PAD_PROBE_OK;
+      },
+      new ClockRef(clock), free_ref);
+  gst_pad_add_probe(
+      out, GST_PAD_PROBE_TYPE_BUFFER,
+      [](GstPad*, GstPadProbeInfo* info, gpointer data) {
+        EncodeClock& c = **static_cast<ClockRef*>(data);
+        ++c.metrics->frames_sent;
+        std::lock_guard lock(c.lock);
+        auto it = c.entered.find(GST_BUFFER_PTS(GST_PAD_PROBE_INFO_BUFFER(info)));
+        if (it != c.entered.end()) {
+          c.metrics->encode_ms.observe((g_get_monotonic_time() - it->second) / 1000.0);
+          c.entered.erase(it);
+        }
+        return GST_PAD_PROBE_OK;
+      },
+      new ClockRef(clock), free_ref);
+  gst_object_unref(in);
+  gst_object_unref(out);
+  gst_object_unref(encoder);
+
+  webrtc_ = gst_bin_get_by_name(GST_BIN(pipeline_), "webrtc");
+  if (!c.ice_addresses.empty()) {
+    // libnice gathers on every interface otherwise; tests pin it to loopback.
+    GstWebRTCICE* ice = nullptr;
+    g_object_get(webrtc_, "ice-agent", &ice, nullptr);
+    for (const auto& address : c.ice_addresses) {
+      gboolean ok = FALSE;
+      g_signal_emit_by_name(ice, "add-local-ip-address", address.c_str(), &ok);
+      if (!ok) log(Level::warning, "session " + id_ + ": ICE refused local address " + address);
+    }
+    gst_object_unref(ice);
+  }
+  GArray* transceivers = nullptr;
+  g_signal_emit_by_name(webrtc_, "get-transceivers", &transceivers);
+  for (guint i = 0; transceivers && i < transceivers->len; ++i) {
+    auto* t = g_array_index(transceivers, GstWebRTCRTPTransceiver*, i);
+    g_object_set(t, "direction", GST_WEBRTC_RTP_TRANSCEIVER_DIRECTION_SENDONLY, "do-nack", TRUE, nullptr);
+  }
+  if (transceivers) g_array_unref(transceivers);
+
+  auto* self = new Ref(weak_from_this());
+  g_signal_connect_data(
+      webrtc_, "on-negotiation-needed",
+      G_CALLBACK((+[](GstElement*, gpointer data) {
+        if (auto s = static_cast<Ref*>(data)->lock()) s->on_main([](Session& me) { me.negotiate(); });
+      })),
+      self, [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
+  g_signal_connect_data(
+      webrtc_, "on-ice-candidate",
+      G_CALLBACK((+[](GstElement*, guint mline, gchar* candidate, gpointer data) {
+        nlohmann::json message = {{"type", "ice"}, {"candidate", candidate}, {"sdpMLineIndex", mline}};
+        if (auto s = static_cast<Ref*>(data)->lock()) s->on_main([message](Session& me) { me.send(message); });
+      })),
+      new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
+
+  GstBus* bus = gst_element_get_bus(pipeline_);
+  bus_watch_ = gst_bus_add_watch_full(
+      bus, G_PRIORITY_DEFAULT,
+      [](GstBus*, GstMessage* message, gpointer data) -> gboolean {
+        if (auto s = static_cast<Ref*>(data)->lock()) s->on_bus_message(message);
+        return G_SOURCE_CONTINUE;
+      },
+      new Ref(weak_from_this()), [](gpointer data) { delete static_cast<Ref*>(data); });
+  gst_object_unref(bus);
+
+  if (gst_element_set_state(pipeline_, GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE)
+    throw std::runtime_error("the " + options_.codec + " pipeline does not start");
+}
+
+void Session::on_bus_message(GstMessage* message) {
+  if (GST_MESSAGE_TYPE(message) != GST_MESSAGE_ERROR || closed_) return;
+  GError* error = nullptr;
+  gchar* debug = nullptr;
+  gst_message_parse_error(message, &error, &debug);
+  const std::string text = std::string(error->message) + (debug ? std::string(" (") + debug + ")" : "");
+  g_error_free(error);
+  g_free(debug);
+  ++options_.metrics->pipeline_errors;
+  log(Level::error, "session " + id_ + ": pipeline error: " + text);
+  if (options_.on_end) options_.on_end(id_, "pipeline error");
+}
+
+void Session::negotiate() {
+  if (offered_ || closed_) return;
+  // Offering before the payloader's caps reach webrtcbin can yield no offer
+  // (webrtcbin 1.22): wait for caps on its sink pad first.
+  GstPad* pad = gst_element_get_static_pad(webrtc_, "sink_0");
+  GstCaps* caps = pad ? gst_pad_get_current_caps(pad) : nullptr;
+  if (pad) gst_object_unref(pad);
+  if (!caps) {
+    auto* self = new Ref(weak_from_this());
+    g_timeout_add_full(
+        G_PRIORITY_DEFAULT, 50,
+        [](gpointer data) -> gboolean {
+          if (auto s = static_cast<Ref*>(data)->lock()) s->negotiate();
+          return G_SOURCE_REMOVE;
+        },
+        self, [](gpointer data) { delete static_cast<Ref*>(data); });
+    return;
+  }
+  gst_caps_unref(caps);
+  offered_ = true;
+  GstPromise* promise = gst_promise_new_with_change_func(
+      [](GstPromise* p, gpointer data) {
+        if (auto s = static_cast<Ref*>(data)->lock()) s->offer_created(p);
+        gst_promise_unref(p);
+      },
+      new Ref(weak_from_this()), [](gpointer data) { delete static_cast<Ref*>(data); });
+  g_signal_emit_by_name(webrtc_, "create-offer", nullptr, promise);
+}
+
+void Session::offer_created(GstPromise* promise) {
+  if (gst_promise_wait(promise) != GST_PROMISE_RESULT_REPLIED) return;
+  const GstStructure* reply = gst_promise_get_reply(promise);
+  GstWebRTCSessionDescription* offer = nullptr;
+  if (!reply || !gst_structure_has_field(reply, "offer")) {
+    on_main([](Session& me) {
+      log(Level::error, "session " + me.id_ + ": webrtcbin made no offer");
+      if (me.options_.on_end) me.options_.on_end(me.id_, "negotiation failed");
+    });
+    return;
+  }
+  gst_structure_get(reply, "offer", GST_TYPE_WEBRTC_SESSION_DESCRIPTION, &offer, nullptr);
+  GstPromise* done = gst_promise_new();
+  g_signal_emit_by_name(webrtc_, "set-local-description", offer, done);
+  gst_promise_unref(done);
+  gchar* text = gst_sdp_message_as_text(offer->sdp);
+  nlohmann::json message = {{"type", "offer"}, {"sdp", text}};
+  g_free(text);
+  gst_webrtc_session_description_free(offer);
+  on_main([message](Session& me) { me.send(message); });
+}
+
+void Session::send(const nlohmann::json& message) {
+  if (!socket_ || soup_websocket_connection_get_state(socket_) != SOUP_WEBSOCKET_STATE_OPEN) {
+    if (outbox_.size() < 256) outbox_.push_back(message);
+    return;
+  }
+  soup_websocket_connection_send_text(socket_, message.dump().c_str());
+}
+
+void Session::attach(SoupWebsocketConnection* socket) {
+  if (socket_) {
+    g_signal_handler_disconnect(socket_, socket_message_);
+    g_signal_handler_disconnect(socket_, socket_closed_);
+    soup_websocket_connection_close(socket_, SOUP_WEBSOCKET_CLOSE_NORMAL, "replaced by a new connection");
+    g_object_unref(socket_);
+  }
+  socket_ = G_TYPE_CHECK_INSTANCE_CAST(g_object_ref(socket), SOUP_TYPE_WEBSOCKET_CONNECTION, SoupWebsocketConnection);
+  soup_websocket_connection_set_max_incoming_payload_size(socket_, 256 * 1024);
+  socket_message_ = g_signal_connect_data(
+      socket_, "message",
+      G_CALLBACK((+[](SoupWebsocketConnection*, gint type, GBytes* bytes, gpointer data) {
+        if (type != SOUP_WEBSOCKET_DATA_TEXT) return;
+        gsize size = 0;
+        const auto* text = static_cast<const char*>(g_bytes_get_data(bytes, &size));
+        if (auto s = static_cast<Ref*>(data)->lock()) s->on_socket_message(std::string(text, size));
+      })),
+      new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
+  socket_closed_ = g_signal_connect_data(
+      socket_, "closed",
+      G_CALLBACK((+[](SoupWebsocketConnection*, gpointer data) {
+        auto s = static_cast<Ref*>(data)->lock();
+        if (s && !s->closed_ && s->options_.on_end) s->options_.on_end(s->id_, "peer disconnected");
+      })),
+      new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
+  std::vector<nlohmann::json> pending;
+  pending.swap(outbox_);
+  for (const auto& m : pending) send(m);
+}
+
+void Session::on_socket_message(const std::string& text) {
+  const nlohmann::json message = nlohmann::json::parse(text, nullptr, false);
+  auto reject = [&](const std::string& why) { send({{"type", "error"}, {"message", why}}); };
+  if (!message.is_object() || !message.contains("type") || !message["type"].is_string())
+    return reject("a signalling message is a JSON object with a string \"type\"");
+  const std::string type = message["type"];
+  if (type == "answer") {
+    if (!message.contains("sdp") || !message["sdp"].is_string()) return reject("answer: \"sdp\" must be a string");
+    GstSDPMessage* sdp = nullptr;
+    gst_sdp_message_new(&sdp);
+    const std::string body = message["sdp"];
+    if (gst_sdp_message_parse_buffer(reinterpret_cast<const guint8*>(body.data()), static_cast<guint>(body.size()),
+                                     sdp) != GST_SDP_OK) {
+      gst_sdp_message_free(sdp);
+      return reject("answer: \"sdp\" is not valid SDP");
+    }
+    GstWebRTCSessionDescription* answer = gst_webrtc_session_description_new(GST_WEBRTC_SDP_TYPE_ANSWER, sdp);
+    GstPromise* done = gst_promise_new();
+    g_signal_emit_by_name(webrtc_, "set-remote-description", answer, done);
+    gst_promise_unref(done);
+    gst_webrtc_session_description_free(answer);
+  } else if (type == "ice") {
+    if (!message.contains("candidate") || !message["candidate"].is_string() || !message.contains("sdpMLineIndex") ||
+        !message["sdpMLineIndex"].is_number_unsigned())
+      return reject("ice: needs a string \"candidate\" and an unsigned \"sdpMLineIndex\"");
+    const std::string candidate = message["candidate"];
+    if (candidate.empty()) return;  // end of candidates
+    g_signal_emit_by_name(webrtc_, "add-ice-candidate", message["sdpMLineIndex"].get<guint>(), candidate.c_str());
+  } else {
+    reject("unknown message type \"" + type + "\"");
+  }
+}
+
+void Session::close(const std::string& reason) {
+  if (closed_) return;
+  closed_ = true;
+  if (socket_) {
+    if (soup_websocket_connection_get_state(socket_) == SOUP_WEBSOCKET_STATE_OPEN) {
+      soup_websocket_connection_send_text(socket_, nlohmann::json{{"type", "bye"}, {"reason", reason}}.dump().c_str());
+      soup_websocket_connection_close(socket_, SOUP_WEBSOCKET_CLOSE_NORMAL, reason.c_str());
+    }
+  }
+  if (pipeline_) gst_element_set_state(pipeline_, GST_STATE_NULL);
+}
+
+Session::~Session() {
+  close("session closed");
+  if (socket_) {
+    g_signal_handler_disconnect(socket_, socket_message_);
+    g_signal_handler_disconnect(socket_, socket_closed_);
+    g_object_unref(socket_);
+  }
+  if (bus_watch_) g_source_remove(bus_watch_);
+  if (webrtc_) gst_object_unref(webrtc_);
+  if (pipeline_) gst_object_unref(pipeline_);
+  g_main_context_unref(context_);
+}
+
+}  // namespace caustic::server

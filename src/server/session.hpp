@@ -1,0 +1,85 @@
+// One viewer's stream: a pipeline (causticsrc -> encoder -> payloader ->
+// webrtcbin) with its own parameters, and the signalling that connects it to
+// the viewer's browser. Lives on the GLib main loop's thread; GStreamer
+// callbacks from streaming threads are handed over to it.
+#pragma once
+
+#include "caustic/param_store.hpp"
+#include "caustic/server/config.hpp"
+#include "gallery.hpp"
+#include "metrics.hpp"
+
+#include <gst/gst.h>
+#include <libsoup/soup.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace caustic::server {
+
+struct SessionOptions {
+  std::string codec;  ///< vp8 | h264
+  const ServerConfig* config;
+  std::filesystem::path data_dir;
+  Metrics* metrics;
+  std::function<void(const std::string& id, const std::string& reason)> on_end;  ///< asks the owner to remove it
+};
+
+class Session : public std::enable_shared_from_this<Session> {
+ public:
+  /// Builds and starts the pipeline. Throws std::runtime_error on failure.
+  static std::shared_ptr<Session> start(const std::string& id, std::shared_ptr<const GalleryEntry> scene,
+                                        SessionOptions options);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  const std::string& id() const { return id_; }
+  const std::string& token() const { return token_; }
+  const std::string& codec() const { return options_.codec; }
+  const std::string& scene_id() const { return scene_->id; }
+  ParamStore& params() { return *params_; }
+
+  /// The viewer's signalling socket; a second one replaces the first.
+  void attach(SoupWebsocketConnection* socket);
+  /// True while a viewer's socket is attached; idle_since() says since when none has been.
+  bool connected() const { return socket_ != nullptr; }
+  std::chrono::steady_clock::time_point idle_since() const { return idle_since_; }
+
+  /// Tells the viewer the session ends (if connected) and stops the pipeline.
+  void close(const std::string& reason);
+
+ private:
+  Session(std::string id, std::shared_ptr<const GalleryEntry> scene, SessionOptions options);
+  void build();
+  void send(const nlohmann::json& message);
+  void on_socket_message(const std::string& text);
+  void negotiate();
+  void offer_created(GstPromise* promise);
+  void on_bus_message(GstMessage* message);
+  // Runs `fn` on the main loop's thread if the session still exists.
+  void on_main(std::function<void(Session&)> fn);
+
+  std::string id_, token_;
+  std::shared_ptr<const GalleryEntry> scene_;
+  SessionOptions options_;
+  std::shared_ptr<ParamStore> params_;
+  GstElement* pipeline_ = nullptr;
+  GstElement* webrtc_ = nullptr;
+  GMainContext* context_ = nullptr;
+  guint bus_watch_ = 0;
+  SoupWebsocketConnection* socket_ = nullptr;
+  gulong socket_message_ = 0, socket_closed_ = 0;
+  std::vector<nlohmann::json> outbox_;  // messages that wait for a socket
+  std::chrono::steady_clock::time_point idle_since_;
+  bool offered_ = false, closed_ = false;
+};
+
+/// 128 random bits as 32 hex digits (from the system's CSPRNG).
+std::string random_hex();
+
+}  // namespace caustic::server

@@ -1,0 +1,60 @@
+#include "static_files.hpp"
+
+#include "http_util.hpp"
+
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
+
+namespace caustic::server {
+
+std::optional<std::filesystem::path> resolve_static(const std::filesystem::path& root, const std::string& url_path) {
+  namespace fs = std::filesystem;
+  // libsoup hands over the path still percent-encoded: decode once, and
+  // refuse anything that decodes to a separator trick or a control byte.
+  gchar* decoded_c = g_uri_unescape_string(url_path.c_str(), nullptr);
+  if (!decoded_c) return std::nullopt;
+  const std::string decoded = decoded_c;
+  g_free(decoded_c);
+  if (decoded.empty() || decoded[0] != '/' || decoded.find('\\') != std::string::npos ||
+      decoded.find('\0') != std::string::npos || decoded.find('%') != std::string::npos)
+    return std::nullopt;
+  for (unsigned char ch : decoded)
+    if (ch < 0x20 || ch == 0x7f) return std::nullopt;
+  fs::path relative;
+  std::istringstream parts(decoded.substr(1));
+  for (std::string part; std::getline(parts, part, '/');) {
+    if (part.empty()) continue;
+    if (part[0] == '.') return std::nullopt;  // "..", "." and hidden files alike
+    relative /= part;
+  }
+  std::error_code ec;
+  const fs::path base = fs::canonical(root, ec);
+  if (ec) return std::nullopt;
+  fs::path candidate = base / relative;
+  if (fs::is_directory(fs::symlink_status(candidate, ec))) candidate /= "index.html";
+  // Every component must be what it says: a canonical path that differs
+  // from the lexical one went through a symbolic link.
+  const fs::path real = fs::canonical(candidate, ec);
+  if (ec || real != candidate.lexically_normal() || !fs::is_regular_file(fs::symlink_status(real, ec)))
+    return std::nullopt;
+  return real;
+}
+
+void serve_static(const std::filesystem::path& root, const std::string& url_path, SoupServerMessage* msg,
+                  Metrics& metrics) {
+  static const std::map<std::string, std::string> types = {
+      {".html", "text/html; charset=utf-8"}, {".js", "text/javascript"},     {".mjs", "text/javascript"},
+      {".css", "text/css"},                  {".json", "application/json"}, {".png", "image/png"},
+      {".svg", "image/svg+xml"},             {".ico", "image/x-icon"},      {".txt", "text/plain; charset=utf-8"},
+      {".wasm", "application/wasm"},         {".yaml", "application/yaml"}};
+  const auto file = resolve_static(root, url_path);
+  const auto type = file ? types.find(file->extension().string()) : types.end();
+  if (!file || type == types.end()) return reply_problem(msg, metrics, SOUP_STATUS_NOT_FOUND, "no such file");
+  std::ifstream in(*file, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  reply_bytes(msg, SOUP_STATUS_OK, type->second, bytes.data(), bytes.size());
+}
+
+}  // namespace caustic::server

@@ -1,0 +1,23 @@
+// Files from web/, and nothing else: no "..", no encoded escapes, no
+// symbolic links, no hidden files.
+#pragma once
+
+#include "metrics.hpp"
+
+#include <libsoup/soup.h>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace caustic::server {
+
+/// The file under `root` that the URL path names, or nothing when the path
+/// is malformed, escapes `root`, crosses a symbolic link or names no
+/// regular file. "/" and folder paths map to their index.html.
+std::optional<std::filesystem::path> resolve_static(const std::filesystem::path& root, const std::string& url_path);
+
+void serve_static(const std::filesystem::path& root, const std::string& url_path, SoupServerMessage* msg,
+                  Metrics& metrics);
+
+}  // namespace caustic::server
