@@ -1,0 +1,115 @@
+// Starts `causticd serve` on a free loopback port for a test and talks HTTP
+// to it. Traffic stays on 127.0.0.1; every wait is bounded.
+#pragma once
+
+#include <gio/gio.h>
+#include <glib.h>
+#include <gtest/gtest.h>
+#include <libsoup/soup.h>
+#include <nlohmann/json.hpp>
+
+#include <csignal>
+#include <string>
+#include <vector>
+
+namespace caustic::testing {
+
+class ServerProcess {
+ public:
+  explicit ServerProcess(std::vector<std::string> extra_args = {}) {
+    std::vector<const char*> argv = {CAUSTICD_BINARY, "serve", "--port", "0", "--ice-address", "127.0.0.1"};
+    for (const auto& a : extra_args) argv.push_back(a.c_str());
+    argv.push_back(nullptr);
+    GError* error = nullptr;
+    process_ = g_subprocess_newv(argv.data(), G_SUBPROCESS_FLAGS_STDOUT_PIPE, &error);
+    if (!process_) {
+      ADD_FAILURE() << error->message;
+      g_error_free(error);
+      return;
+    }
+    GDataInputStream* out = g_data_input_stream_new(g_subprocess_get_stdout_pipe(process_));
+    // The first line names the URL (the port the kernel picked).
+    gchar* line = g_data_input_stream_read_line(out, nullptr, nullptr, nullptr);
+    g_object_unref(out);
+    const std::string text = line ? line : "";
+    g_free(line);
+    const std::string prefix = "listening on ";
+    if (text.rfind(prefix, 0) != 0) {
+      ADD_FAILURE() << "server did not start: \"" << text << "\"";
+      return;
+    }
+    url_ = text.substr(prefix.size());
+    if (!url_.empty() && url_.back() == '/') url_.pop_back();
+  }
+
+  ~ServerProcess() {
+    if (!process_) return;
+    g_subprocess_send_signal(process_, SIGTERM);
+    // Bounded wait: 10 s, then kill.
+    for (int i = 0; i < 100 && !finished(); ++i) g_usleep(100000);
+    if (!finished()) g_subprocess_force_exit(process_);
+    g_subprocess_wait(process_, nullptr, nullptr);
+    g_object_unref(process_);
+  }
+
+  bool finished() {
+    GMainContext* ctx = g_main_context_default();
+    while (g_main_context_iteration(ctx, FALSE)) {
+    }
+    return g_subprocess_get_if_exited(process_) || g_subprocess_get_if_signaled(process_);
+  }
+
+  const std::string& url() const { return url_; }
+  GSubprocess* process() const { return process_; }
+
+ private:
+  GSubprocess* process_ = nullptr;
+  std::string url_;
+};
+
+struct Response {
+  guint status = 0;
+  std::string body;
+  std::string content_type;
+  nlohmann::json json() const { return nlohmann::json::parse(body, nullptr, false); }
+};
+
+/// One synchronous HTTP request with a 10 s timeout.
+inline Response http(const std::string& method, const std::string& url, const std::string& body = "",
+                     const std::string& content_type = "application/json",
+                     const std::vector<std::pair<std::string, std::string>>& headers = {}) {
+  SoupSession* session = soup_session_new_with_options("timeout", 10, nullptr);
+  SoupMessage* msg = soup_message_new(method.c_str(), url.c_str());
+  Response r;
+  if (!msg) {
+    g_object_unref(session);
+    ADD_FAILURE() << "bad URL " << url;
+    return r;
+  }
+  for (const auto& [k, v] : headers) soup_message_headers_replace(soup_message_get_request_headers(msg), k.c_str(), v.c_str());
+  if (!body.empty() || method == "POST" || method == "PATCH") {
+    GBytes* bytes = g_bytes_new(body.data(), body.size());
+    soup_message_set_request_body_from_bytes(msg, content_type.empty() ? nullptr : content_type.c_str(), bytes);
+    g_bytes_unref(bytes);
+  }
+  GError* error = nullptr;
+  GBytes* reply = soup_session_send_and_read(session, msg, nullptr, &error);
+  if (error) {
+    ADD_FAILURE() << method << " " << url << ": " << error->message;
+    g_error_free(error);
+  }
+  r.status = soup_message_get_status(msg);
+  if (reply) {
+    gsize size = 0;
+    const auto* data = static_cast<const char*>(g_bytes_get_data(reply, &size));
+    r.body.assign(data, size);
+    g_bytes_unref(reply);
+  }
+  if (const char* type = soup_message_headers_get_content_type(soup_message_get_response_headers(msg), nullptr))
+    r.content_type = type;
+  g_object_unref(msg);
+  g_object_unref(session);
+  return r;
+}
+
+}  // namespace caustic::testing
