@@ -27,6 +27,17 @@ struct Route {
 
 std::string method_of(SoupServerMessage* msg) { return soup_server_message_get_method(msg); }
 
+// Browsers cannot set headers on a WebSocket: its token travels in the query.
+std::string query_token(SoupServerMessage* msg) {
+  std::string token;
+  if (const char* query = g_uri_get_query(soup_server_message_get_uri(msg))) {
+    GHashTable* form = soup_form_decode(query);
+    if (const char* t = static_cast<const char*>(g_hash_table_lookup(form, "token"))) token = t;
+    g_hash_table_unref(form);
+  }
+  return token;
+}
+
 void health(ServerState& s, SoupServerMessage* msg) {
   reply_json(msg, SOUP_STATUS_OK,
              {{"status", "ok"}, {"version", CAUSTICD_VERSION}, {"sessions", s.sessions.size()},
@@ -179,6 +190,20 @@ void handle_http(SoupServer*, SoupServerMessage* msg, const char* raw_path, GHas
   if (std::regex_match(path, m, thumbnail_path) && read) return thumbnail(s, msg, m[1]);
   if (path == "/api/v1/sessions" && method == "POST") return create_session(s, msg);
   if (std::regex_match(path, m, session_path)) return session_route(s, msg, {m[1], m[2]});
+  static const std::regex signal_path("^/api/v1/sessions/([0-9a-f]{32})/signal$");
+  if (std::regex_match(path, m, signal_path) && method == "GET") {
+    // libsoup asks this handler first: leaving the status unset lets the
+    // WebSocket handshake go ahead; any answer refuses it.
+    auto it = s.sessions.find(m[1]);
+    if (it == s.sessions.end()) return reply_problem(msg, s.metrics, SOUP_STATUS_NOT_FOUND, "no such session");
+    if (!same_secret(query_token(msg), it->second->token()))
+      return reply_problem(msg, s.metrics, SOUP_STATUS_UNAUTHORIZED, "the token does not match the session");
+    const char* upgrade =
+        soup_message_headers_get_one(soup_server_message_get_request_headers(msg), "Upgrade");
+    if (!upgrade || g_ascii_strcasecmp(upgrade, "websocket") != 0)
+      return reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST, "this is a WebSocket endpoint");
+    return;
+  }
   if (path == "/metrics" && read) {
     const std::string text = s.metrics.render(s.sessions.size());
     return reply_bytes(msg, SOUP_STATUS_OK, "text/plain; version=0.0.4", text.data(), text.size());
@@ -199,12 +224,7 @@ void handle_signal_socket(SoupServer*, SoupServerMessage* msg, const char* raw_p
   static const std::regex signal_path("^/api/v1/sessions/([0-9a-f]{32})/signal$");
   std::smatch m;
   const std::string path = raw_path;
-  std::string token;
-  if (const char* query = g_uri_get_query(soup_server_message_get_uri(msg))) {
-    GHashTable* form = soup_form_decode(query);
-    if (const char* t = static_cast<const char*>(g_hash_table_lookup(form, "token"))) token = t;
-    g_hash_table_unref(form);
-  }
+  const std::string token = query_token(msg);
   auto it = std::regex_match(path, m, signal_path) ? s.sessions.find(m[1]) : s.sessions.end();
   if (it == s.sessions.end() || !same_secret(token, it->second->token())) {
     ++s.metrics.http_errors;

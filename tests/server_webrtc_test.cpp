@@ -1,0 +1,65 @@
+// End to end without a browser: a second webrtcbin, as the viewer, connects
+// over loopback through the real signalling WebSocket and decodes frames.
+#include "server_process.hpp"
+#include "webrtc_peer.hpp"
+
+using caustic::testing::http;
+using caustic::testing::ServerProcess;
+using caustic::testing::WebRtcPeer;
+using nlohmann::json;
+
+namespace {
+
+class WebRtc : public ::testing::TestWithParam<const char*> {
+ protected:
+  static void SetUpTestSuite() { gst_init(nullptr, nullptr); }
+};
+
+double mean_abs_difference(const std::vector<guint8>& a, const std::vector<guint8>& b) {
+  if (a.size() != b.size() || a.empty()) return -1;
+  double sum = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) sum += std::abs(int(a[i]) - int(b[i]));
+  return sum / a.size();
+}
+
+}  // namespace
+
+TEST_P(WebRtc, ViewerReceivesTheStreamAndSeesAPatch) {
+  const std::string codec = GetParam();
+  ServerProcess server({"--width", "320", "--height", "240", "--framerate", "30"});
+  const json s = http("POST", server.url() + "/api/v1/sessions", json{{"scene", "wavy"}, {"codec", codec}}.dump()).json();
+  ASSERT_TRUE(s.contains("signal_url")) << s.dump();
+  std::string ws = server.url() + s["signal_url"].get<std::string>();
+  ws.replace(0, 4, "ws");  // http -> ws
+  WebRtcPeer peer(codec, ws);
+  ASSERT_TRUE(peer.wait_for_frames(10, 60.0)) << "decoded " << peer.decoded() << "; " << peer.error();
+  EXPECT_EQ(peer.width(), 320);
+  EXPECT_EQ(peer.height(), 240);
+  const auto before = peer.last_picture();
+
+  const auto auth = std::vector<std::pair<std::string, std::string>>{{"Authorization", "Bearer " + s["token"].get<std::string>()}};
+  const auto patched = http("PATCH", server.url() + "/api/v1/sessions/" + s["id"].get<std::string>() + "/params",
+                            R"({"light": {"direction": [0.2, 0.1, -1]}})", "application/merge-patch+json", auth);
+  ASSERT_EQ(patched.status, 200u) << patched.body;
+  ASSERT_TRUE(peer.wait_for_frames(15, 30.0)) << peer.error();
+  EXPECT_GT(mean_abs_difference(before, peer.last_picture()), 1.0) << "the patch did not reach the stream";
+
+  // Hanging up ends the session on the server.
+  peer.hang_up();
+  for (int i = 0; i < 50 && http("GET", server.url() + "/api/v1/health").json()["sessions"] != 0; ++i) g_usleep(100000);
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/health").json()["sessions"], 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Codecs, WebRtc, ::testing::Values("vp8", "h264"));
+
+TEST(Signalling, WrongTokenIsRefused) {
+  gst_init(nullptr, nullptr);
+  ServerProcess server;
+  const json s = http("POST", server.url() + "/api/v1/sessions", R"({"scene": "slab"})").json();
+  std::string ws = server.url() + "/api/v1/sessions/" + s["id"].get<std::string>() + "/signal?token=wrong";
+  ws.replace(0, 4, "ws");
+  WebRtcPeer peer("vp8", ws);
+  EXPECT_FALSE(peer.wait_for_frames(1, 3.0));
+  EXPECT_EQ(peer.decoded(), 0);
+  EXPECT_NE(peer.error().find("did not accept the WebSocket handshake"), std::string::npos) << peer.error();
+}

@@ -1,0 +1,55 @@
+// A receiving WebRTC peer for tests: a webrtcbin pinned to 127.0.0.1 that
+// answers the server's offer over the real signalling WebSocket, decodes the
+// video and keeps the latest picture. Runs on the thread-default main loop.
+#pragma once
+
+#include <gst/gst.h>
+#include <libsoup/soup.h>
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace caustic::testing {
+
+class WebRtcPeer {
+ public:
+  /// `codec` picks the decoder (vp8 | h264); `ws_url` is ws://host:port/...signal?token=T.
+  WebRtcPeer(const std::string& codec, const std::string& ws_url);
+  ~WebRtcPeer();
+
+  /// Iterates the main loop until `frames` more pictures were decoded or
+  /// `seconds` passed; returns whether they arrived.
+  bool wait_for_frames(int frames, double seconds);
+
+  int decoded() const { return decoded_.load(); }
+  std::vector<guint8> last_picture();  // RGBA
+  int width() const { return width_; }
+  int height() const { return height_; }
+  std::string error() const;
+
+  /// Closes the signalling socket (the server then ends the session).
+  void hang_up();
+
+ private:
+  static void on_socket(GObject* source, GAsyncResult* result, gpointer self);
+  void on_message(const nlohmann::json& m);
+  void send(const nlohmann::json& m);
+  void post_to_main(nlohmann::json m);
+
+  std::string codec_;
+  GMainContext* context_;
+  GstElement* pipeline_ = nullptr;
+  GstElement* webrtc_ = nullptr;
+  SoupSession* http_ = nullptr;
+  SoupWebsocketConnection* socket_ = nullptr;
+  std::atomic<int> decoded_{0};
+  std::mutex lock_;
+  std::vector<guint8> picture_;
+  int width_ = 0, height_ = 0;
+  std::string error_;
+};
+
+}  // namespace caustic::testing
