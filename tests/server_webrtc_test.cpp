@@ -41,8 +41,17 @@ TEST_P(WebRtc, ViewerReceivesTheStreamAndSeesAPatch) {
   const auto patched = http("PATCH", server.url() + "/api/v1/sessions/" + s["id"].get<std::string>() + "/params",
                             R"({"light": {"direction": [0.2, 0.1, -1]}})", "application/merge-patch+json", auth);
   ASSERT_EQ(patched.status, 200u) << patched.body;
+  EXPECT_GT(peer.frame_messages(), 0) << "no frame message on the data channel";
+  EXPECT_EQ(peer.version(), 1u);
+  EXPECT_TRUE(peer.wait_for_version(patched.json()["version"], 10.0)) << "version " << peer.version();
   ASSERT_TRUE(peer.wait_for_frames(15, 30.0)) << peer.error();
   EXPECT_GT(mean_abs_difference(before, peer.last_picture()), 1.0) << "the patch did not reach the stream";
+
+  // The server measured what it sent.
+  const std::string metrics = http("GET", server.url() + "/metrics").body;
+  for (const char* zero : {"causticd_frames_sent_total 0\n", "causticd_encode_seconds_count 0\n",
+                           "causticd_frames_rendered_total 0\n"})
+    EXPECT_EQ(metrics.find(zero), std::string::npos) << zero;
 
   // Hanging up ends the session on the server.
   peer.hang_up();

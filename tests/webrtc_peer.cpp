@@ -24,6 +24,19 @@ WebRtcPeer::WebRtcPeer(const std::string& codec, const std::string& ws_url)
                          {{"type", "ice"}, {"candidate", c}, {"sdpMLineIndex", mline}});
                    }),
                    this);
+  g_signal_connect(webrtc_, "on-data-channel", G_CALLBACK(+[](GstElement*, GstWebRTCDataChannel* channel, gpointer self) {
+                     g_signal_connect(channel, "on-message-string",
+                                      G_CALLBACK(+[](GstWebRTCDataChannel*, gchar* text, gpointer d) {
+                                        auto* me = static_cast<WebRtcPeer*>(d);
+                                        const auto m = nlohmann::json::parse(text, nullptr, false);
+                                        if (!m.is_object() || !m.contains("version")) return;
+                                        ++me->frame_messages_;
+                                        const std::uint64_t v = m["version"];
+                                        if (v > me->version_) me->version_ = v;
+                                      }),
+                                      self);
+                   }),
+                   this);
   g_signal_connect(webrtc_, "pad-added", G_CALLBACK(+[](GstElement*, GstPad* pad, gpointer data) {
                      auto* self = static_cast<WebRtcPeer*>(data);
                      if (GST_PAD_DIRECTION(pad) != GST_PAD_SRC) return;
@@ -166,6 +179,15 @@ bool WebRtcPeer::wait_for_frames(int frames, double seconds) {
     g_usleep(2000);
   }
   return decoded_ >= target;
+}
+
+bool WebRtcPeer::wait_for_version(std::uint64_t version, double seconds) {
+  const gint64 deadline = g_get_monotonic_time() + static_cast<gint64>(seconds * 1e6);
+  while (version_ < version && g_get_monotonic_time() < deadline) {
+    g_main_context_iteration(context_, FALSE);
+    g_usleep(500);
+  }
+  return version_ >= version;
 }
 
 std::vector<guint8> WebRtcPeer::last_picture() {

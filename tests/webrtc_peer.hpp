@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <cstdint>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -30,6 +31,13 @@ class WebRtcPeer {
   int height() const { return height_; }
   std::string error() const;
 
+  /// Newest parameter version announced on the "frames" data channel (0: none yet).
+  std::uint64_t version() const { return version_.load(); }
+  int frame_messages() const { return frame_messages_.load(); }
+  /// Iterates the main loop until a frame message with at least `version`
+  /// arrived or `seconds` passed; returns whether it did.
+  bool wait_for_version(std::uint64_t version, double seconds);
+
   /// Closes the signalling socket (the server then ends the session).
   void hang_up();
 
@@ -46,6 +54,8 @@ class WebRtcPeer {
   SoupSession* http_ = nullptr;
   SoupWebsocketConnection* socket_ = nullptr;
   std::atomic<int> decoded_{0};
+  std::atomic<std::uint64_t> version_{0};
+  std::atomic<int> frame_messages_{0};
   std::mutex lock_;
   std::vector<guint8> picture_;
   int width_ = 0, height_ = 0;

@@ -16,8 +16,12 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
+
+// From <gst/webrtc/webrtc.h>, which needs GST_USE_UNSTABLE_API.
+typedef struct _GstWebRTCDataChannel GstWebRTCDataChannel;
 
 namespace caustic::server {
 
@@ -50,6 +54,10 @@ class Session : public std::enable_shared_from_this<Session> {
   bool connected() const { return socket_ != nullptr; }
   std::chrono::steady_clock::time_point idle_since() const { return idle_since_; }
 
+  /// Sends {"rtp_timestamp", "version"} on the "frames" data channel
+  /// (any thread; dropped while the channel is not open).
+  void tell_frame(guint32 rtp_timestamp, std::uint64_t version);
+
   /// Tells the viewer the session ends (if connected) and stops the pipeline.
   void close(const std::string& reason);
 
@@ -77,6 +85,8 @@ class Session : public std::enable_shared_from_this<Session> {
   std::vector<nlohmann::json> outbox_;  // messages that wait for a socket
   std::chrono::steady_clock::time_point idle_since_;
   bool offered_ = false, closed_ = false;
+  std::mutex channel_lock_;
+  GstWebRTCDataChannel* channel_ = nullptr;  // the "frames" channel
 };
 
 /// 128 random bits as 32 hex digits (from the system's CSPRNG).
