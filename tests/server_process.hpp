@@ -56,7 +56,7 @@ class ServerProcess {
     GMainContext* ctx = g_main_context_default();
     while (g_main_context_iteration(ctx, FALSE)) {
     }
-    return g_subprocess_get_if_exited(process_) || g_subprocess_get_if_signaled(process_);
+    return g_subprocess_get_identifier(process_) == nullptr;  // no pid once it exited and was reaped
   }
 
   const std::string& url() const { return url_; }

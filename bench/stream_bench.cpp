@@ -1,0 +1,130 @@
+// Measures one streaming session end to end on this machine: sustained
+// decoded frame rate and the server's CPU use, then the time from a PATCH to
+// the first frame that carries the new version (as the viewer learns it on
+// the "frames" data channel). Prints a table; asserts nothing.
+//
+//   caustic-stream-bench --codec vp8 --width 1024 --height 1024 --seconds 20 --patches 100
+#include "server_process.hpp"
+#include "webrtc_peer.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+using caustic::testing::http;
+using caustic::testing::ServerProcess;
+using caustic::testing::WebRtcPeer;
+using nlohmann::json;
+
+namespace {
+
+// utime + stime of a process, in seconds.
+double cpu_seconds(const std::string& pid) {
+  std::ifstream in("/proc/" + pid + "/stat");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::istringstream fields(text.substr(text.rfind(')') + 2));
+  std::string f;
+  double utime = 0, stime = 0;
+  for (int i = 3; fields >> f; ++i) {
+    if (i == 14) utime = std::stod(f);
+    if (i == 15) {
+      stime = std::stod(f);
+      break;
+    }
+  }
+  return (utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Streaming benchmark of causticd serve (loopback only)"};
+  std::string codec = "vp8", scene = "wavy";
+  int width = 1024, height = 1024, framerate = 30, patches = 100;
+  double seconds = 20, spacing_ms = 200;
+  app.add_option("--codec", codec)->check(CLI::IsMember({"vp8", "h264"}));
+  app.add_option("--scene", scene);
+  app.add_option("--width", width)->check(CLI::Range(16, 4096));
+  app.add_option("--height", height)->check(CLI::Range(16, 4096));
+  app.add_option("--framerate", framerate)->check(CLI::Range(1, 120));
+  app.add_option("--seconds", seconds, "Length of the steady-state measurement")->check(CLI::Range(1.0, 600.0));
+  app.add_option("--patches", patches, "PATCHes for the latency measurement")->check(CLI::Range(1, 10000));
+  app.add_option("--spacing-ms", spacing_ms, "Pause between PATCHes")->check(CLI::Range(0.0, 10000.0));
+  CLI11_PARSE(app, argc, argv);
+  gst_init(nullptr, nullptr);
+
+  ServerProcess server({"--width", std::to_string(width), "--height", std::to_string(height), "--framerate",
+                        std::to_string(framerate), "--codec", codec});
+  if (server.url().empty()) return 1;
+  const std::string pid = g_subprocess_get_identifier(server.process());
+  const json s = http("POST", server.url() + "/api/v1/sessions", json{{"scene", scene}, {"codec", codec}}.dump()).json();
+  if (!s.contains("signal_url")) {
+    std::fprintf(stderr, "cannot create a session: %s\n", s.dump().c_str());
+    return 1;
+  }
+  std::string ws = server.url() + s["signal_url"].get<std::string>();
+  ws.replace(0, 4, "ws");
+  WebRtcPeer peer(codec, ws);
+  if (!peer.wait_for_frames(5, 60)) {
+    std::fprintf(stderr, "no video: %s\n", peer.error().c_str());
+    return 1;
+  }
+  std::printf("session: %s, %dx%d at %d fps, scene %s\n", codec.c_str(), width, height, framerate, scene.c_str());
+
+  // Steady state: parameters unchanged, frames re-sent and encoded.
+  auto measure = [&](double secs, const std::function<void()>& during) {
+    const int frames0 = peer.decoded();
+    const double cpu0 = cpu_seconds(pid);
+    const auto t0 = std::chrono::steady_clock::now();
+    during();
+    const int target = static_cast<int>(secs * 1000);
+    while (std::chrono::steady_clock::now() - t0 < std::chrono::milliseconds(target)) peer.wait_for_frames(1, 0.05);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return std::pair{(peer.decoded() - frames0) / wall, 100.0 * (cpu_seconds(pid) - cpu0) / wall};
+  };
+  std::printf("steady state: measuring %.0f s ...\n", seconds);
+  const auto [steady_fps, steady_cpu] = measure(seconds, [] {});
+  std::printf("steady state: %.1f fps decoded, server CPU %.0f%% of one core\n", steady_fps, steady_cpu);
+
+  // Latency: PATCH -> first frame message with the new version.
+  const auto auth =
+      std::vector<std::pair<std::string, std::string>>{{"Authorization", "Bearer " + s["token"].get<std::string>()}};
+  const std::string params = server.url() + "/api/v1/sessions/" + s["id"].get<std::string>() + "/params";
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  std::vector<double> latency_ms;
+  const int frames0 = peer.decoded();
+  const double cpu0 = cpu_seconds(pid);
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < patches; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto r = http("PATCH", params, json{{"light", {{"direction", {u(rng), u(rng), -1.0}}}}}.dump(),
+                        "application/merge-patch+json", auth);
+    if (r.status != 200) {
+      std::fprintf(stderr, "PATCH failed: %u %s\n", r.status, r.body.c_str());
+      return 1;
+    }
+    const std::uint64_t version = r.json()["version"];
+    if (peer.wait_for_version(version, 10.0))
+      latency_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    if ((i + 1) % 10 == 0) std::printf("  %d/%d patches\n", i + 1, patches);
+    peer.wait_for_frames(1000000, spacing_ms / 1000.0);  // keep the main loop turning
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("while patching: %.1f fps decoded, server CPU %.0f%% of one core\n", (peer.decoded() - frames0) / wall,
+              100.0 * (cpu_seconds(pid) - cpu0) / wall);
+  std::printf("PATCH -> first frame with the new version: median %.0f ms, p95 %.0f ms (%zu of %d seen)\n",
+              percentile(latency_ms, 0.5), percentile(latency_ms, 0.95), latency_ms.size(), patches);
+  return 0;
+}
