@@ -1,5 +1,6 @@
 // The REST API of `causticd serve`, black-box over loopback: every endpoint,
 // every documented error, and the parameters unchanged after each error.
+#include "openapi_check.hpp"
 #include "server_process.hpp"
 
 #include <filesystem>
@@ -223,4 +224,40 @@ TEST(StaticFiles, ServeWebAndNothingElse) {
     EXPECT_TRUE(status == 404u || status == 400u) << path << ": " << status;
   }
   fs::remove_all(web);
+}
+
+TEST(OpenApiDocument, MatchesTheRealResponses) {
+  const caustic::testing::OpenApi api;
+  ServerProcess server({"--max-sessions", "1"});
+  const std::string base = server.url();
+  auto check = [&](const std::string& templ, const std::string& method, const Response& r) {
+    const json body = r.content_type == "image/png" || r.content_type == "text/plain" || r.body.empty()
+                          ? json()
+                          : r.json();
+    EXPECT_EQ(api.check(templ, method, r.status, r.content_type, body), "") << method << " " << templ << " -> "
+                                                                             << r.status << " " << r.body.substr(0, 200);
+  };
+  check("/api/v1/health", "get", http("GET", base + "/api/v1/health"));
+  check("/api/v1/scenes", "get", http("GET", base + "/api/v1/scenes"));
+  check("/api/v1/scenes/{id}/thumbnail.png", "get", http("GET", base + "/api/v1/scenes/lens/thumbnail.png"));
+  check("/api/v1/scenes/{id}/thumbnail.png", "get", http("GET", base + "/api/v1/scenes/none/thumbnail.png"));
+  check("/metrics", "get", http("GET", base + "/metrics"));
+  const Response created = http("POST", base + "/api/v1/sessions", R"({"scene": "lens", "codec": "h264"})");
+  check("/api/v1/sessions", "post", created);
+  check("/api/v1/sessions", "post", http("POST", base + "/api/v1/sessions", R"({"scene": "slab"})"));  // 503
+  check("/api/v1/sessions", "post", http("POST", base + "/api/v1/sessions", R"({"scene": 1})"));
+  check("/api/v1/sessions", "post", http("POST", base + "/api/v1/sessions", "{", "application/json"));
+  check("/api/v1/sessions", "post", http("POST", base + "/api/v1/sessions", "{}", "text/plain"));
+  const json s = created.json();
+  const std::string url = base + "/api/v1/sessions/" + s["id"].get<std::string>();
+  const auto auth = std::vector<std::pair<std::string, std::string>>{{"Authorization", "Bearer " + s["token"].get<std::string>()}};
+  check("/api/v1/sessions/{id}/params", "get", http("GET", url + "/params", "", "", auth));
+  check("/api/v1/sessions/{id}/params", "get", http("GET", url + "/params"));
+  check("/api/v1/sessions/{id}/params", "patch",
+        http("PATCH", url + "/params", R"({"post": {"exposure": 2}})", "application/merge-patch+json", auth));
+  check("/api/v1/sessions/{id}/params", "patch",
+        http("PATCH", url + "/params", R"({"post": {"exposure": -2}})", "application/merge-patch+json", auth));
+  check("/api/v1/sessions/{id}/signal", "get", http("GET", url + "/signal?token=" + s["token"].get<std::string>()));
+  check("/api/v1/sessions/{id}", "delete", http("DELETE", url, "", "", auth));
+  check("/api/v1/sessions/{id}", "delete", http("DELETE", url, "", "", auth));  // 404 now
 }
