@@ -47,10 +47,8 @@ cmake --build "$build" -j "$jobs"
 
 case "$mode" in
   run)
-    # The streaming server is not built yet; the main job renders the default
-    # built-in scene and writes it where the user can open it.
-    out="$build/default"
-    "$build/bin/causticd" render --scene "$build/share/causticd/assets/scenes/wavy.json" -o "$out.png" -o "$out.exr"
+    echo "== serving the built-in scenes on http://localhost:8080 (Ctrl-C stops)"
+    exec "$build/bin/causticd" serve --bind 127.0.0.1 --port 8080
     ;;
   test)
     cd "$build"
