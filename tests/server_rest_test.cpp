@@ -261,3 +261,29 @@ TEST(OpenApiDocument, MatchesTheRealResponses) {
   check("/api/v1/sessions/{id}", "delete", http("DELETE", url, "", "", auth));
   check("/api/v1/sessions/{id}", "delete", http("DELETE", url, "", "", auth));  // 404 now
 }
+
+TEST(Sessions, IdleSessionIsReclaimed) {
+  ServerProcess server({"--idle-timeout", "1"});
+  ASSERT_EQ(http("POST", server.url() + "/api/v1/sessions", R"({"scene": "slab"})").status, 201u);
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/health").json()["sessions"], 1);
+  int sessions = 1;
+  for (int i = 0; i < 50 && sessions != 0; ++i) {  // at most 5 s
+    g_usleep(100000);
+    sessions = http("GET", server.url() + "/api/v1/health").json()["sessions"];
+  }
+  EXPECT_EQ(sessions, 0);
+}
+
+TEST(ServeCommand, BadConfigurationExitsNonZeroNamingTheKey) {
+  const auto file = std::filesystem::temp_directory_path() / "causticd_serve_bad.conf";
+  std::ofstream(file) << "port = 8080\nbitrate_kbps = lots\n";
+  const std::string command = std::string(CAUSTICD_BINARY) + " serve --config " + file.string() + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string output;
+  char buf[512];
+  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
+  const int status = pclose(pipe);
+  EXPECT_EQ(WEXITSTATUS(status), 2) << output;
+  EXPECT_NE(output.find("bitrate_kbps"), std::string::npos) << output;
+  EXPECT_NE(output.find(":2:"), std::string::npos) << output;
+}

@@ -1,0 +1,97 @@
+// Server configuration: file, environment and values, each bad one named.
+#include "caustic/server/config.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+using namespace caustic::server;
+
+namespace {
+
+std::filesystem::path write_config(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+void expect_error(ServerConfig& c, const std::string& key, const std::string& value, const std::string& fragment) {
+  const ServerConfig before = c;
+  try {
+    set_config_value(c, key, value);
+    ADD_FAILURE() << key << " = " << value << " accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(c.port, before.port);
+  EXPECT_EQ(c.ice_addresses, before.ice_addresses);
+}
+
+}  // namespace
+
+TEST(Config, FileSetsEveryKindOfValue) {
+  ServerConfig c;
+  load_config_file(c, write_config("causticd_good.conf",
+                                   "# comment\nport = 9000\nbind_address=0.0.0.0\ncodec = h264  # inline comment\n"
+                                   "ice_addresses = 127.0.0.1, ::1\nstun_server = stun://stun.example:3478\n"
+                                   "max_sessions = 7\n\n"));
+  EXPECT_EQ(c.port, 9000);
+  EXPECT_EQ(c.bind_address, "0.0.0.0");
+  EXPECT_EQ(c.codec, "h264");
+  EXPECT_EQ(c.ice_addresses, (std::vector<std::string>{"127.0.0.1", "::1"}));
+  EXPECT_EQ(c.stun_server, "stun://stun.example:3478");
+  EXPECT_EQ(c.max_sessions, 7);
+}
+
+TEST(Config, BadFileNamesFileLineAndKeyAndChangesNothing) {
+  ServerConfig c;
+  const auto file = write_config("causticd_bad.conf", "port = 9000\nframerate = fast\n");
+  try {
+    load_config_file(c, file);
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("causticd_bad.conf:2"), std::string::npos) << what;
+    EXPECT_NE(what.find("framerate"), std::string::npos) << what;
+  }
+  EXPECT_EQ(c.port, 8080);  // the good first line did not stick either
+  EXPECT_THROW(load_config_file(c, write_config("causticd_nokey.conf", "just words\n")), ConfigError);
+  EXPECT_THROW(load_config_file(c, write_config("causticd_unknown.conf", "colour = red\n")), ConfigError);
+  EXPECT_THROW(load_config_file(c, "/nonexistent/causticd.conf"), ConfigError);
+}
+
+TEST(Config, ValuesAreCheckedAndNamed) {
+  ServerConfig c;
+  expect_error(c, "port", "70000", "port");
+  expect_error(c, "port", "80a", "port");
+  expect_error(c, "max_sessions", "0", "max_sessions");
+  expect_error(c, "codec", "av1", "codec");
+  expect_error(c, "bind_address", "example.com; rm", "bind_address");
+  expect_error(c, "ice_addresses", "127.0.0.1, eth0", "eth0");
+  expect_error(c, "stun_server", "http://x", "stun_server");
+  expect_error(c, "stun_server", "stun://a b", "stun_server");
+  expect_error(c, "turn_server", "turn://u:p@host:3478 ! filesink", "turn_server");
+  expect_error(c, "width", "8", "width");
+  expect_error(c, "nonsense", "1", "unknown key");
+}
+
+TEST(Config, EnvironmentOverridesAndIsChecked) {
+  ServerConfig c;
+  setenv("CAUSTICD_PORT", "9100", 1);
+  setenv("CAUSTICD_MAX_SESSIONS", "3", 1);
+  load_config_environment(c);
+  EXPECT_EQ(c.port, 9100);
+  EXPECT_EQ(c.max_sessions, 3);
+  setenv("CAUSTICD_PORT", "-1", 1);
+  try {
+    load_config_environment(c);
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("CAUSTICD_PORT"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(c.port, 9100);
+  unsetenv("CAUSTICD_PORT");
+  unsetenv("CAUSTICD_MAX_SESSIONS");
+}
