@@ -200,3 +200,26 @@ TEST_F(RenderBookkeeping, BloomSpreadsLightAboveTheThreshold) {
   s.post.bloom_threshold = 2.0;  // above the slab's 1.0: nothing blooms
   EXPECT_EQ(pixel_beside(1.0), 0);
 }
+
+TEST_F(RenderBookkeeping, AsynchronousReadBackDeliversTheNewestPicture) {
+  const auto mesh = shared(grid_mesh(flat_face(10.0), 16, 16));
+  Scene s = straight_down_scene(3.0, 50.0, 24.0, 64);
+  Rgba8Image picture;
+  std::uint64_t tag = 0;
+  EXPECT_FALSE(engine_->poll_ldr_readback(&picture, &tag, false));  // nothing queued
+  engine_->set_scene(s, mesh);
+  engine_->render();
+  const Rgba8Image first = engine_->read_ldr();
+  engine_->start_ldr_readback(7);
+  s.post.exposure = 3.0;
+  engine_->set_scene(s, mesh);
+  engine_->render();
+  const Rgba8Image second = engine_->read_ldr();
+  ASSERT_NE(first.pixels, second.pixels);
+  engine_->start_ldr_readback(8);
+  ASSERT_TRUE(engine_->poll_ldr_readback(&picture, &tag, true));
+  EXPECT_EQ(tag, 8u);  // the newer picture; the older one is dropped
+  EXPECT_EQ(picture.width, 64);
+  EXPECT_EQ(picture.pixels, second.pixels);
+  EXPECT_FALSE(engine_->poll_ldr_readback(&picture, &tag, false));
+}

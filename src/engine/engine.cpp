@@ -1,6 +1,7 @@
 #include "caustic/engine.hpp"
 
 #include "passes.hpp"
+#include "readback.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -25,6 +26,7 @@ struct Engine::Impl {
   RayPass ray;
   PostPass post;
   gl::RenderTarget hdr, ldr;
+  Readback readback;
   std::optional<Scene> scene;
   std::shared_ptr<const Mesh> mesh;
   Placement placement;
@@ -112,6 +114,12 @@ Rgba8Image Engine::read_ldr() const {
     std::copy_n(raw.begin() + static_cast<std::ptrdiff_t>((img.height - 1 - y) * row), row,
                 img.pixels.begin() + static_cast<std::ptrdiff_t>(y * row));
   return img;
+}
+
+void Engine::start_ldr_readback(std::uint64_t tag) { impl_->readback.start(impl_->ldr.texture, tag); }
+
+bool Engine::poll_ldr_readback(Rgba8Image* picture, std::uint64_t* tag, bool wait) {
+  return impl_->readback.poll(picture, tag, wait);
 }
 
 const FrameStats& Engine::stats() const { return impl_->stats; }

@@ -20,13 +20,16 @@ struct FrameSource {
   std::unique_ptr<Engine> engine;
   GstBuffer* picture = nullptr;  // RGBA, tagged with its version
   std::uint64_t version = 0;     // version `picture` shows
+  std::uint64_t rendered = 0;    // version last drawn (its read-back may still be on the way)
+  bool readback_pending = false;
   std::atomic<std::uint64_t> renders{0};  // caustic passes so far (read from any thread)
   std::string last_rejection;    // why the newest parameters were not rendered
   std::function<void(const FrameStats&, std::uint64_t)> observer;  // after each render
 };
 
-/// A new reference to the frame for the current parameters: renders when
-/// the ParamStore's version moved on, re-uses the last picture otherwise.
+/// A new reference to the frame to send now: renders when the ParamStore's
+/// version moved on and queues the picture's read-back; sends the newest
+/// picture whose read-back has finished (waiting only for the very first).
 /// Creates the GL context on first use. Throws on GL failures.
 GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, std::shared_ptr<const Mesh> mesh,
                          int width, int height);

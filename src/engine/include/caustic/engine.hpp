@@ -66,6 +66,12 @@ class Engine {
 
   HdrImage read_hdr() const;
   Rgba8Image read_ldr() const;
+
+  /// Streaming read-back without waiting for the GPU: queue a copy of the
+  /// current tone-mapped picture tagged `tag` (e.g. its parameter version)...
+  void start_ldr_readback(std::uint64_t tag);
+  /// ...and take the newest finished copy, if any (waits when `wait`).
+  bool poll_ldr_readback(Rgba8Image* picture, std::uint64_t* tag, bool wait);
   const FrameStats& stats() const;
   /// Number of caustic passes drawn so far.
   std::uint64_t ray_passes() const;

@@ -1,0 +1,79 @@
+#include "readback.hpp"
+
+#include <algorithm>
+
+namespace caustic {
+
+Readback::~Readback() {
+  for (auto& s : slots_)
+    if (s.fence) glDeleteSync(s.fence);
+}
+
+bool Readback::pending() const {
+  return std::any_of(slots_.begin(), slots_.end(), [](const Slot& s) { return s.fence != nullptr; });
+}
+
+void Readback::start(const gl::Texture& texture, std::uint64_t tag) {
+  const std::size_t bytes = static_cast<std::size_t>(texture.width()) * texture.height() * 4;
+  if (bytes != capacity_) {
+    for (auto& s : slots_) {
+      if (s.fence) glDeleteSync(s.fence);
+      s = Slot{};
+      glNamedBufferStorage(s.buffer.id(), static_cast<GLsizeiptr>(bytes), nullptr, GL_MAP_READ_BIT);
+    }
+    capacity_ = bytes;
+  }
+  // Reuse the free slot, or overwrite the older of two unread pictures:
+  // only the newest picture matters for a live stream.
+  Slot* slot = &slots_[0];
+  for (auto& s : slots_)
+    if (!s.fence) slot = &s;
+  if (slot->fence) {
+    slot = slots_[0].order < slots_[1].order ? &slots_[0] : &slots_[1];
+    glDeleteSync(slot->fence);
+  }
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, slot->buffer.id());
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureImage(texture.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(bytes), nullptr);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  slot->fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  slot->tag = tag;
+  slot->order = ++started_;
+  slot->width = texture.width();
+  slot->height = texture.height();
+  gl::check_errors("read-back start");
+}
+
+bool Readback::poll(Rgba8Image* out, std::uint64_t* tag, bool wait) {
+  // The newest finished copy wins; older ones are dropped unread.
+  Slot* ready = nullptr;
+  for (auto& s : slots_) {
+    if (!s.fence) continue;
+    const GLenum state = glClientWaitSync(s.fence, GL_SYNC_FLUSH_COMMANDS_BIT, wait ? 1'000'000'000 : 0);
+    if ((state == GL_ALREADY_SIGNALED || state == GL_CONDITION_SATISFIED) && (!ready || s.order > ready->order))
+      ready = &s;
+  }
+  if (!ready) return false;
+  for (auto& s : slots_)
+    if (s.fence && s.order <= ready->order && &s != ready) {
+      glDeleteSync(s.fence);
+      s.fence = nullptr;
+    }
+  const std::size_t row = static_cast<std::size_t>(ready->width) * 4;
+  out->width = ready->width;
+  out->height = ready->height;
+  out->pixels.resize(row * ready->height);
+  const auto* data = static_cast<const std::uint8_t*>(
+      glMapNamedBufferRange(ready->buffer.id(), 0, static_cast<GLsizeiptr>(out->pixels.size()), GL_MAP_READ_BIT));
+  if (!data) throw EngineError("cannot map the read-back buffer");
+  // GL stores the bottom row first; pictures here start at the top.
+  for (int y = 0; y < ready->height; ++y)
+    std::copy_n(data + static_cast<std::size_t>(ready->height - 1 - y) * row, row, out->pixels.data() + y * row);
+  glUnmapNamedBuffer(ready->buffer.id());
+  glDeleteSync(ready->fence);
+  ready->fence = nullptr;
+  *tag = ready->tag;
+  return true;
+}
+
+}  // namespace caustic
