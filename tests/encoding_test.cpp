@@ -5,8 +5,10 @@
 
 #include <gst/app/gstappsink.h>
 #include <gst/gst.h>
+#include <gst/video/video.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <vector>
 
@@ -83,7 +85,6 @@ TEST_P(Encoding, RtpStreamDecodesToTheRawRender) {
   EXPECT_GT(db, 30.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Codecs, Encoding, ::testing::Values("vp8", "h264"));
 
 TEST(PipelineTemplate, RejectsUnknownCodecsAndInjectedValues) {
   const std::map<std::string, std::string> values = {{"width", "256"},        {"height", "256"},
@@ -99,3 +100,56 @@ TEST(PipelineTemplate, RejectsUnknownCodecsAndInjectedValues) {
   missing.erase("bitrate_bps");
   EXPECT_THROW(caustic::server::pipeline_description(CAUSTIC_DATA_DIR, "vp8", missing), std::runtime_error);
 }
+
+TEST_P(Encoding, UpstreamKeyUnitRequestGetsAKeyFrame) {
+  // What webrtcbin sends upstream when a viewer reports loss (PLI/FIR).
+  const std::string codec = GetParam();
+  const std::string scene = std::string(CAUSTIC_DATA_DIR) + "/assets/scenes/slab.json";
+  const std::map<std::string, std::string> values = {{"width", "128"},         {"height", "128"},
+                                                     {"framerate", "30"},      {"bitrate_bps", "1000000"},
+                                                     {"bitrate_kbps", "1000"}, {"keyframe_interval", "100000"},
+                                                     {"h264_level", "3.1"}};
+  std::string sender = caustic::server::pipeline_description(CAUSTIC_DATA_DIR, codec, values);
+  sender.replace(sender.find("causticsrc name=src"), 19, "causticsrc name=src scene=" + scene);
+  GError* error = nullptr;
+  GstElement* pipeline = gst_parse_launch((sender + " ! appsink name=sink").c_str(), &error);
+  ASSERT_EQ(error, nullptr);
+  GstElement* encoder = gst_bin_get_by_name(GST_BIN(pipeline), "encoder");
+  GstPad* encoded = gst_element_get_static_pad(encoder, "src");
+  std::atomic<int> frames{0}, key_frames{0};
+  struct Counts {
+    std::atomic<int>* frames;
+    std::atomic<int>* keys;
+  } counts{&frames, &key_frames};
+  gst_pad_add_probe(
+      encoded, GST_PAD_PROBE_TYPE_BUFFER,
+      [](GstPad*, GstPadProbeInfo* info, gpointer data) {
+        auto* c = static_cast<Counts*>(data);
+        ++*c->frames;
+        if (!GST_BUFFER_FLAG_IS_SET(GST_PAD_PROBE_INFO_BUFFER(info), GST_BUFFER_FLAG_DELTA_UNIT)) ++*c->keys;
+        return GST_PAD_PROBE_OK;
+      },
+      &counts, nullptr);
+  GstElement* sink = gst_bin_get_by_name(GST_BIN(pipeline), "sink");
+  gst_element_set_state(pipeline, GST_STATE_PLAYING);
+  auto pull_frames = [&](int n) {
+    const int target = frames + n;
+    for (int i = 0; i < 2000 && frames < target; ++i)
+      if (GstSample* s = gst_app_sink_try_pull_sample(GST_APP_SINK(sink), GST_SECOND / 10)) gst_sample_unref(s);
+  };
+  pull_frames(10);
+  const int keys_before = key_frames;
+  EXPECT_EQ(keys_before, 1) << "only the first frame should be a key frame";
+  GstPad* sink_pad = gst_element_get_static_pad(sink, "sink");
+  gst_pad_push_event(sink_pad, gst_video_event_new_upstream_force_key_unit(GST_CLOCK_TIME_NONE, TRUE, 0));
+  pull_frames(5);
+  EXPECT_GT(key_frames.load(), keys_before) << codec << " ignored the key unit request";
+  gst_object_unref(sink_pad);
+  gst_element_set_state(pipeline, GST_STATE_NULL);
+  gst_object_unref(encoded);
+  gst_object_unref(encoder);
+  gst_object_unref(sink);
+  gst_object_unref(pipeline);
+}
+
+INSTANTIATE_TEST_SUITE_P(Codecs, Encoding, ::testing::Values("vp8", "h264"));
