@@ -43,6 +43,14 @@ std::vector<guint8> nth_frame(const std::string& description, int n) {
   return pixels;
 }
 
+// Values for a pipeline template: a square picture at 30 fps.
+std::map<std::string, std::string> template_values(int size, int kbps, int keyframe_interval) {
+  return {{"width", std::to_string(size)},           {"height", std::to_string(size)},
+          {"framerate", "30"},                       {"bitrate_bps", std::to_string(kbps * 1000)},
+          {"bitrate_kbps", std::to_string(kbps)},    {"keyframe_interval", std::to_string(keyframe_interval)},
+          {"h264_level", "3.1"}};
+}
+
 // PSNR over the RGB channels of two RGBA images.
 double psnr(const std::vector<guint8>& a, const std::vector<guint8>& b) {
   double sum = 0;
@@ -69,10 +77,7 @@ class Encoding : public ::testing::TestWithParam<const char*> {
 TEST_P(Encoding, RtpStreamDecodesToTheRawRender) {
   const std::string codec = GetParam();
   const std::string scene = std::string(CAUSTIC_DATA_DIR) + "/assets/scenes/wavy.json";
-  const std::map<std::string, std::string> values = {{"width", "256"},        {"height", "256"},
-                                                     {"framerate", "30"},     {"bitrate_bps", "4000000"},
-                                                     {"bitrate_kbps", "4000"}, {"keyframe_interval", "30"},
-                                                     {"h264_level", "3.1"}};
+  const auto values = template_values(256, 4000, 30);
   std::string sender = caustic::server::pipeline_description(CAUSTIC_DATA_DIR, codec, values);
   sender.replace(sender.find("causticsrc name=src"), 19, "causticsrc name=src scene=" + scene);
   const std::string decoder = codec == "vp8" ? "rtpvp8depay ! vp8dec" : "rtph264depay ! h264parse ! avdec_h264";
@@ -87,10 +92,7 @@ TEST_P(Encoding, RtpStreamDecodesToTheRawRender) {
 
 
 TEST(PipelineTemplate, RejectsUnknownCodecsAndInjectedValues) {
-  const std::map<std::string, std::string> values = {{"width", "256"},        {"height", "256"},
-                                                     {"framerate", "30"},     {"bitrate_bps", "4000000"},
-                                                     {"bitrate_kbps", "4000"}, {"keyframe_interval", "30"},
-                                                     {"h264_level", "3.1"}};
+  const auto values = template_values(256, 4000, 30);
   EXPECT_THROW(caustic::server::pipeline_description(CAUSTIC_DATA_DIR, "av1", values), std::runtime_error);
   EXPECT_THROW(caustic::server::pipeline_description(CAUSTIC_DATA_DIR, "../vp8", values), std::runtime_error);
   auto injected = values;
@@ -105,10 +107,7 @@ TEST_P(Encoding, UpstreamKeyUnitRequestGetsAKeyFrame) {
   // What webrtcbin sends upstream when a viewer reports loss (PLI/FIR).
   const std::string codec = GetParam();
   const std::string scene = std::string(CAUSTIC_DATA_DIR) + "/assets/scenes/slab.json";
-  const std::map<std::string, std::string> values = {{"width", "128"},         {"height", "128"},
-                                                     {"framerate", "30"},      {"bitrate_bps", "1000000"},
-                                                     {"bitrate_kbps", "1000"}, {"keyframe_interval", "100000"},
-                                                     {"h264_level", "3.1"}};
+  const auto values = template_values(128, 1000, 100000);  // no unrequested key frames
   std::string sender = caustic::server::pipeline_description(CAUSTIC_DATA_DIR, codec, values);
   sender.replace(sender.find("causticsrc name=src"), 19, "causticsrc name=src scene=" + scene);
   GError* error = nullptr;
