@@ -1,0 +1,148 @@
+// The browser client in Debian's chromium, driven by playwright-core, against
+// a real `causticd serve` on 127.0.0.1 (ICE pinned to loopback). Every wait
+// is bounded.
+import assert from 'node:assert/strict';
+import { spawn } from 'node:child_process';
+import { mkdirSync } from 'node:fs';
+import { createRequire } from 'node:module';
+import readline from 'node:readline';
+import { after, before, test } from 'node:test';
+
+const { chromium } = createRequire(`${process.env.CAUSTIC_NODE_MODULES}/`)('playwright-core');
+const shots = process.env.CAUSTIC_SCREENSHOTS ?? '/tmp';
+
+async function startServer(extra = []) {
+  const server = spawn(process.env.CAUSTICD, ['serve', '--port', '0', '--ice-address', '127.0.0.1', '--width', '320',
+                                              '--height', '240', ...extra], { stdio: ['ignore', 'pipe', 'inherit'] });
+  const line = await new Promise((resolve, reject) => {
+    const timer = setTimeout(() => reject(new Error('server did not start')), 30000);
+    readline.createInterface({ input: server.stdout }).once('line', (l) => { clearTimeout(timer); resolve(l); });
+  });
+  server.url = line.replace('listening on ', '').replace(/\/$/, '');
+  return server;
+}
+
+let browser;
+before(async () => {
+  browser = await chromium.launch({
+    executablePath: '/usr/bin/chromium',
+    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
+           '--disable-component-update', '--disable-sync', '--allow-loopback-in-peer-connection',
+           '--disable-features=WebRtcHideLocalIpsWithMdns', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+  });
+});
+after(async () => { await browser?.close(); });
+
+// Polls `fn` in the page until it returns a truthy value or `seconds` pass.
+async function until(page, fn, seconds, what) {
+  for (let waited = 0; waited < seconds * 1000; waited += 250) {
+    const value = await page.evaluate(fn);
+    if (value) return value;
+    await page.waitForTimeout(250);
+  }
+  throw new Error(`timed out after ${seconds} s waiting for ${what}`);
+}
+
+const framesDecoded = () => window.caustic.peer?.getStats().then((report) => {
+  let n = 0;
+  report.forEach((r) => { if (r.type === 'inbound-rtp' && r.kind === 'video') n = r.framesDecoded; });
+  return n;
+});
+
+// The current video frame as an array of grey levels.
+const videoPixels = () => {
+  const v = document.getElementById('video');
+  const c = document.createElement('canvas');
+  c.width = v.videoWidth;
+  c.height = v.videoHeight;
+  const g = c.getContext('2d');
+  g.drawImage(v, 0, 0);
+  return Array.from(g.getImageData(0, 0, c.width, c.height).data.filter((_, i) => i % 4 === 0));
+};
+
+test('the gallery lists every scene with its rendered thumbnail', async () => {
+  const server = await startServer();
+  try {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}/`);
+    await page.waitForSelector('.card img', { timeout: 15000 });
+    await until(page, () => [...document.images].every((i) => i.complete && i.naturalWidth === 256), 15, 'thumbnails');
+    const ids = await page.$$eval('.card', (cards) => cards.map((c) => c.dataset.scene).sort());
+    assert.deepEqual(ids, ['cylinder', 'lens', 'slab', 'wavy']);
+    await page.click('.card[data-scene="lens"]');
+    await page.waitForURL(/viewer\.html\?scene=lens&codec=vp8/, { timeout: 10000 });
+    await page.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
+
+for (const codec of ['vp8', 'h264']) {
+  test(`the viewer shows live ${codec} video and follows the light`, async () => {
+    const server = await startServer();
+    try {
+      const page = await browser.newPage();
+      await page.goto(`${server.url}/viewer.html?scene=wavy&codec=${codec}`);
+      await until(page, () => window.caustic.connection === 'live', 30, 'a live connection');
+      const first = await until(page, framesDecoded, 30, 'decoded frames');
+      await until(page, async () => (await (window.caustic.peer.getStats().then((r) => {
+        let n = 0;
+        r.forEach((s) => { if (s.type === 'inbound-rtp' && s.kind === 'video') n = s.framesDecoded; });
+        return n;
+      }))) > 10, 30, 'more decoded frames');
+      assert.ok(first > 0);
+      const size = await page.evaluate(() => [document.getElementById('video').videoWidth,
+                                              document.getElementById('video').videoHeight]);
+      assert.deepEqual(size, [320, 240]);
+      await until(page, () => window.caustic.shownVersion === 1, 20, 'frame version 1 on screen');
+
+      const before = await page.evaluate(videoPixels);
+      await page.evaluate(() => window.caustic.moveLight(40, 25, 0));
+      await until(page, () => window.caustic.version >= 2 && window.caustic.shownVersion >= window.caustic.version,
+                  30, 'the new version on screen');
+      await page.waitForTimeout(300);
+      const after = await page.evaluate(videoPixels);
+      const change = after.reduce((sum, v, i) => sum + Math.abs(v - before[i]), 0) / after.length;
+      assert.ok(change > 1, `the picture barely changed (${change})`);
+      assert.match(await page.textContent('#version'), /frame version [2-9]/);
+
+      mkdirSync(shots, { recursive: true });
+      await page.screenshot({ path: `${shots}/viewer-${codec}.png` });
+      // Not blank: the lightmap's area on the canvas is brighter than the rest.
+      const contrast = await page.evaluate(() => {
+        const canvas = document.querySelector('#stage canvas');
+        const c = document.createElement('canvas');
+        c.width = canvas.width;
+        c.height = canvas.height;
+        const g = c.getContext('2d');
+        g.drawImage(canvas, 0, 0);
+        const d = g.getImageData(0, 0, c.width, c.height).data;
+        const grey = [];
+        for (let i = 0; i < d.length; i += 4) grey.push(d[i]);
+        grey.sort((a, b) => a - b);
+        return grey[Math.floor(grey.length * 0.99)] - grey[Math.floor(grey.length * 0.5)];
+      });
+      assert.ok(contrast > 60, `the canvas looks blank (contrast ${contrast})`);
+      await page.close();
+    } finally {
+      server.kill('SIGTERM');
+    }
+  });
+}
+
+test('a full server is shown as such and the page recovers when a place frees up', async () => {
+  const server = await startServer(['--max-sessions', '1']);
+  try {
+    const first = await browser.newPage();
+    await first.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(first, () => window.caustic.connection === 'live', 30, 'the first viewer live');
+    const second = await browser.newPage();
+    await second.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(second, () => window.caustic.connection === 'full', 20, 'the second viewer told the server is full');
+    await first.close({ runBeforeUnload: true });  // its pagehide deletes its session
+    await until(second, () => window.caustic.connection === 'live', 40, 'the second viewer live after retrying');
+    await second.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});

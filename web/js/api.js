@@ -1,0 +1,75 @@
+// The REST API: sessions and coalesced parameter patches.
+
+export class ServerFull extends Error {}
+
+export async function createSession(scene, codec) {
+  const response = await fetch('/api/v1/sessions', {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json' },
+    body: JSON.stringify({ scene, codec }),
+  });
+  const body = await response.json();
+  if (response.status === 503) throw new ServerFull(body.detail);
+  if (!response.ok) throw new Error(body.detail ?? `the server answered ${response.status}`);
+  return body;
+}
+
+// Ends a session; keepalive lets it go out while the page unloads.
+export function deleteSession(session) {
+  return fetch(`/api/v1/sessions/${session.id}`, {
+    method: 'DELETE',
+    keepalive: true,
+    headers: { Authorization: `Bearer ${session.token}` },
+  }).catch(() => {});
+}
+
+function merge(target, patch) {
+  for (const [key, value] of Object.entries(patch)) {
+    if (value && typeof value === 'object' && !Array.isArray(value)) {
+      target[key] = merge(target[key] && typeof target[key] === 'object' ? target[key] : {}, value);
+    } else {
+      target[key] = value;
+    }
+  }
+  return target;
+}
+
+// Sends parameter changes with at most one PATCH in flight: changes that
+// arrive meanwhile are merged, and the latest state wins.
+export class ParamChannel {
+  constructor(session, { onApplied, onError }) {
+    this.session = session;
+    this.pending = null;
+    this.inFlight = false;
+    this.onApplied = onApplied;
+    this.onError = onError;
+  }
+
+  set(patch) {
+    this.pending = merge(this.pending ?? {}, patch);
+    if (!this.inFlight) this.flush();
+  }
+
+  async flush() {
+    while (this.pending) {
+      const patch = this.pending;
+      this.pending = null;
+      this.inFlight = true;
+      const sentAt = performance.now();
+      try {
+        const response = await fetch(`/api/v1/sessions/${this.session.id}/params`, {
+          method: 'PATCH',
+          headers: { 'Content-Type': 'application/merge-patch+json', Authorization: `Bearer ${this.session.token}` },
+          body: JSON.stringify(patch),
+        });
+        const body = await response.json();
+        if (response.ok) this.onApplied(body, sentAt);
+        else this.onError(body);
+      } catch (error) {
+        this.onError({ detail: error.message });
+      } finally {
+        this.inFlight = false;
+      }
+    }
+  }
+}

@@ -1,0 +1,41 @@
+// The viewer's control modes as a state machine (the report's design): at
+// any time exactly one of none, light translation, object translation and
+// object rotation is active, and only its gizmo and helpers are visible.
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { TransformControls } from 'three/addons/controls/TransformControls.js';
+
+export const Modes = Object.freeze({ none: 'none', light: 'light', move: 'move', rotate: 'rotate' });
+
+export class ControlModes {
+  constructor(room, { onLightMoved, onObjectMoved, onModeChanged }) {
+    this.room = room;
+    this.orbit = new OrbitControls(room.camera, room.renderer.domElement);
+    this.orbit.target.set(0, -20, 0);
+    this.orbit.update();
+    this.gizmo = new TransformControls(room.camera, room.renderer.domElement);
+    room.scene.add(this.gizmo.getHelper());
+    this.gizmo.addEventListener('dragging-changed', (e) => { this.orbit.enabled = !e.value; });
+    this.gizmo.addEventListener('objectChange', () => {
+      if (this.mode === Modes.light) onLightMoved();
+      else onObjectMoved();
+    });
+    this.onModeChanged = onModeChanged;
+    window.addEventListener('keydown', (e) => {
+      const next = { l: Modes.light, t: Modes.move, r: Modes.rotate, Escape: Modes.none, 0: Modes.none }[e.key];
+      if (next) this.set(next);
+    });
+    this.set(Modes.none);
+  }
+
+  set(mode) {
+    this.mode = mode;
+    this.gizmo.detach();
+    const light = mode === Modes.light;
+    this.room.lightArrow.visible = light;
+    if (light) this.gizmo.attach(this.room.lightMarker);
+    if (mode === Modes.move || mode === Modes.rotate) this.gizmo.attach(this.room.handle);
+    this.gizmo.setMode(mode === Modes.rotate ? 'rotate' : 'translate');
+    this.gizmo.getHelper().visible = mode !== Modes.none;
+    this.onModeChanged(mode);
+  }
+}

@@ -1,0 +1,84 @@
+// The WebRTC side: signalling over the session's WebSocket, the video, and
+// the "frames" data channel that says which parameter version each RTP
+// timestamp shows.
+
+export class Stream {
+  constructor(session, video, { onState, onFrameVersion }) {
+    this.session = session;
+    this.video = video;
+    this.onState = onState;
+    this.onFrameVersion = onFrameVersion;
+    this.versions = new Map();  // rtp timestamp -> version
+    this.closed = false;
+  }
+
+  start() {
+    const url = new URL(this.session.signal_url, location.href);
+    url.protocol = location.protocol === 'https:' ? 'wss:' : 'ws:';
+    this.socket = new WebSocket(url);
+    this.pc = new RTCPeerConnection({ iceServers: [] });
+    this.pc.ontrack = (event) => {
+      this.video.srcObject = event.streams[0] ?? new MediaStream([event.track]);
+      this.video.play().catch(() => {});
+      this.watchFrames();
+    };
+    this.pc.ondatachannel = ({ channel }) => {
+      channel.onmessage = ({ data }) => {
+        const { rtp_timestamp: rtp, version } = JSON.parse(data);
+        this.versions.set(rtp, version);
+        if (this.versions.size > 512) this.versions.delete(this.versions.keys().next().value);
+      };
+    };
+    this.pc.onicecandidate = ({ candidate }) => {
+      if (candidate) this.send({ type: 'ice', candidate: candidate.candidate, sdpMLineIndex: candidate.sdpMLineIndex });
+    };
+    this.pc.onconnectionstatechange = () => {
+      const state = this.pc.connectionState;
+      if (state === 'connected') this.onState('live');
+      if (state === 'failed' || state === 'disconnected') this.fail('the connection was lost');
+    };
+    this.socket.onmessage = (event) => this.onSignal(JSON.parse(event.data));
+    this.socket.onclose = () => this.fail('the signalling connection closed');
+  }
+
+  send(message) {
+    if (this.socket.readyState === WebSocket.OPEN) this.socket.send(JSON.stringify(message));
+  }
+
+  async onSignal(message) {
+    if (message.type === 'offer') {
+      await this.pc.setRemoteDescription({ type: 'offer', sdp: message.sdp });
+      const answer = await this.pc.createAnswer();
+      await this.pc.setLocalDescription(answer);
+      this.send({ type: 'answer', sdp: answer.sdp });
+    } else if (message.type === 'ice' && message.candidate) {
+      await this.pc.addIceCandidate({ candidate: message.candidate, sdpMLineIndex: message.sdpMLineIndex });
+    } else if (message.type === 'bye') {
+      this.fail(message.reason);
+    }
+  }
+
+  // Reports the version of every frame the page composites.
+  watchFrames() {
+    if (!('requestVideoFrameCallback' in this.video)) return;
+    const onFrame = (now, meta) => {
+      if (this.closed) return;
+      const version = this.versions.get(meta.rtpTimestamp);
+      if (version !== undefined) this.onFrameVersion(version, now);
+      this.video.requestVideoFrameCallback(onFrame);
+    };
+    this.video.requestVideoFrameCallback(onFrame);
+  }
+
+  fail(reason) {
+    if (this.closed) return;
+    this.close();
+    this.onState('lost', reason);
+  }
+
+  close() {
+    this.closed = true;
+    this.socket?.close();
+    this.pc?.close();
+  }
+}

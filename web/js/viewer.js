@@ -1,0 +1,167 @@
+// The viewer: starts a session for ?scene=ID&codec=vp8|h264, shows the
+// streamed caustic on the lightmap plane, and turns the controls into
+// coalesced parameter patches.
+import GUI from 'lil-gui';
+import { createSession, deleteSession, ParamChannel, ServerFull } from './api.js';
+import { ControlModes } from './controls.js';
+import { CausticRoom } from './scene3d.js';
+import { Stream } from './stream.js';
+
+const query = new URLSearchParams(location.search);
+const sceneId = query.get('scene') ?? 'wavy';
+const video = document.getElementById('video');
+const stateLabel = document.getElementById('state');
+const versionLabel = document.getElementById('version');
+const statsPanel = document.getElementById('stats');
+
+// What the page knows, also read by the browser tests through window.caustic.
+const state = {
+  connection: 'connecting', codec: query.get('codec') ?? 'vp8', params: null, version: 0, shownVersion: 0,
+  sync: false, poses: new Map(), sentAt: new Map(), latencies: [], framesShown: 0,
+};
+window.caustic = state;
+
+let session = null, stream = null, channel = null, room = null, controls = null, retry = 0;
+
+function setConnection(name, detail = '') {
+  state.connection = name;
+  stateLabel.dataset.state = name;
+  stateLabel.textContent = detail ? `${name}: ${detail}` : name;
+}
+
+// Everything in the scene format a viewer may patch.
+function patchable(params) {
+  const { mesh, name, description, ...rest } = params;
+  const { width, height, ...render } = rest.render;
+  return { ...rest, render };
+}
+
+function onApplied(body, sentAt) {
+  state.params = body.params;
+  state.version = body.version;
+  state.sentAt.set(body.version, sentAt);
+  state.poses.set(body.version, { position: body.params.object.position, rotation_deg: body.params.object.rotation_deg });
+}
+
+function onFrameVersion(version, now) {
+  state.framesShown += 1;
+  if (version === state.shownVersion) return;
+  state.shownVersion = version;
+  versionLabel.textContent = `frame version ${version}`;
+  const sent = state.sentAt.get(version);
+  if (sent !== undefined) {
+    state.latencies.push(now - sent);
+    state.sentAt.delete(version);
+  }
+  if (state.sync) room.showPose(state.poses.get(version));
+}
+
+async function connect() {
+  setConnection(retry ? 'reconnecting' : 'connecting');
+  try {
+    session = await createSession(sceneId, state.codec);
+  } catch (error) {
+    setConnection(error instanceof ServerFull ? 'full' : 'error', error.message);
+    return scheduleRetry();
+  }
+  const firstTime = !room;
+  if (firstTime) {
+    const scenes = await (await fetch('/api/v1/scenes')).json();
+    const proxy = scenes.scenes.find((s) => s.id === sceneId).proxy;
+    room = new CausticRoom(document.getElementById('stage'), video, proxy);
+    controls = new ControlModes(room, {
+      onLightMoved: () => channel.set({ light: room.lightFromMarker(state.params.light.type) }),
+      onObjectMoved: () => channel.set({ object: room.objectPose() }),
+      onModeChanged: (mode) => { document.getElementById('mode').textContent = `mode: ${mode}`; },
+    });
+  }
+  channel = new ParamChannel(session, { onApplied, onError: (e) => console.warn('patch refused:', e.detail) });
+  if (state.params) channel.set(patchable(state.params));  // a reconnect keeps what the viewer changed
+  else onApplied(session.params, performance.now());
+  room.apply(state.params);
+  if (firstTime) {
+    controls.orbit.target.copy(room.target);
+    controls.orbit.update();
+    buildGui();
+  }
+  stream = new Stream(session, video, {
+    onState: (s, reason) => {
+      if (s === 'live') { retry = 0; setConnection('live'); }
+      if (s === 'lost') { setConnection('reconnecting', reason); scheduleRetry(); }
+    },
+    onFrameVersion,
+  });
+  stream.start();
+  state.peer = stream.pc;
+}
+
+function scheduleRetry() {
+  stream?.close();
+  if (session) deleteSession(session);
+  session = null;
+  const delay = Math.min(10000, 500 * 2 ** retry++);
+  setTimeout(connect, delay);
+}
+
+function buildGui() {
+  const gui = new GUI({ title: 'Caustic' });
+  const p = state.params;
+  const send = (section, key) => (value) => channel.set({ [section]: { [key]: value } });
+  const material = gui.addFolder('Material');
+  material.add(p.object, 'material', ['refractive', 'reflective']).onChange(send('object', 'material'));
+  material.add(p.object, 'ior', 1.0, 3.0, 0.01).onChange(send('object', 'ior'));
+  const light = gui.addFolder('Light');
+  light.add(p.light, 'type', ['directional', 'point']).onChange((type) => {
+    channel.set({ light: { type, ...room.lightFromMarker(type) } });
+  });
+  const post = gui.addFolder('Post-processing');
+  post.add(p.post, 'exposure', 0.05, 5, 0.01).onChange(send('post', 'exposure'));
+  post.add(p.post, 'gamma', 0.5, 4, 0.01).onChange(send('post', 'gamma'));
+  post.add(p.post, 'bloom_strength', 0, 2, 0.01).onChange(send('post', 'bloom_strength'));
+  post.add(p.post, 'bloom_threshold', 0, 10, 0.1).onChange(send('post', 'bloom_threshold'));
+  post.add(p.post, 'bloom_radius', 0, 32, 0.5).onChange(send('post', 'bloom_radius'));
+  const view = gui.addFolder('Stream');
+  view.add(state, 'codec', ['vp8', 'h264']).onChange(() => { retry = 1; scheduleRetry(); });
+  view.add(state, 'sync').name('synchronous pose');
+  view.add({ stats: false }, 'stats').name('stats overlay').onChange((on) => { statsPanel.hidden = !on; });
+}
+
+// Stats overlay: what the browser measures, once a second.
+let lastBytes = 0, lastTime = 0;
+setInterval(async () => {
+  if (statsPanel.hidden || !stream?.pc) return;
+  const report = await stream.pc.getStats();
+  let text = '';
+  report.forEach((r) => {
+    if (r.type === 'inbound-rtp' && r.kind === 'video') {
+      const kbps = lastTime ? (8 * (r.bytesReceived - lastBytes)) / (r.timestamp - lastTime) : 0;
+      lastBytes = r.bytesReceived;
+      lastTime = r.timestamp;
+      text += `fps ${r.framesPerSecond ?? 0}  bitrate ${kbps.toFixed(0)} kbit/s  jitter ${(1000 * r.jitter).toFixed(1)} ms  dropped ${r.framesDropped ?? 0}\n`;
+    }
+    if (r.type === 'candidate-pair' && r.nominated && r.currentRoundTripTime !== undefined)
+      text += `round trip ${(1000 * r.currentRoundTripTime).toFixed(1)} ms\n`;
+  });
+  const l = [...state.latencies].sort((a, b) => a - b);
+  if (l.length) text += `PATCH to frame: median ${l[l.length >> 1].toFixed(0)} ms over ${l.length}\n`;
+  text += `parameter version ${state.version}, on screen ${state.shownVersion}`;
+  statsPanel.textContent = text;
+}, 1000);
+
+// The same path a light drag takes, for scripted use (the browser tests).
+state.moveLight = (dx, dy, dz) => {
+  room.lightMarker.position.add({ x: dx, y: dy, z: dz });
+  channel.set({ light: room.lightFromMarker(state.params.light.type) });
+};
+
+window.addEventListener('pagehide', () => { if (session) deleteSession(session); });
+
+function frame() {
+  requestAnimationFrame(frame);
+  if (!room) return;
+  if (!state.sync) room.followHandle();
+  if (state.params && controls?.mode !== 'light') room.placeLight(state.params.light);
+  room.render();
+}
+requestAnimationFrame(frame);
+connect();
