@@ -26,7 +26,13 @@ packages=(
   gstreamer1.0-plugins-base gstreamer1.0-plugins-good gstreamer1.0-plugins-bad gstreamer1.0-plugins-ugly
   gstreamer1.0-nice gstreamer1.0-libav libsoup-3.0-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev
+  chromium
 )
+# Node.js and npm vendor three.js and run the browser tests. A machine that
+# already has them (for example from another repository) keeps its own.
+if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+  packages+=(nodejs npm)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
