@@ -12,7 +12,8 @@ const { chromium } = createRequire(`${process.env.CAUSTIC_NODE_MODULES}/`)('play
 const shots = process.env.CAUSTIC_SCREENSHOTS ?? '/tmp';
 
 async function startServer(extra = []) {
-  const server = spawn(process.env.CAUSTICD, ['serve', '--port', '0', '--ice-address', '127.0.0.1', '--width', '320',
+  const port = extra.includes('--port') ? [] : ['--port', '0'];
+  const server = spawn(process.env.CAUSTICD, ['serve', ...port, '--ice-address', '127.0.0.1', '--width', '320',
                                               '--height', '240', ...extra], { stdio: ['ignore', 'pipe', 'inherit'] });
   const line = await new Promise((resolve, reject) => {
     const timer = setTimeout(() => reject(new Error('server did not start')), 30000);
@@ -142,6 +143,44 @@ test('a full server is shown as such and the page recovers when a place frees up
     await first.close({ runBeforeUnload: true });  // its pagehide deletes its session
     await until(second, () => window.caustic.connection === 'live', 40, 'the second viewer live after retrying');
     await second.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
+
+test('a server restart shows reconnecting and the page comes back live', async () => {
+  let server = await startServer();
+  const port = new URL(server.url).port;
+  try {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'live', 30, 'live');
+    const exited = new Promise((resolve) => server.once('exit', resolve));
+    server.kill('SIGTERM');
+    await exited;
+    await until(page, () => ['reconnecting', 'error'].includes(window.caustic.connection), 20, 'the loss noticed');
+    server = await startServer(['--port', port]);
+    await until(page, () => window.caustic.connection === 'live', 60, 'live again after the restart');
+    await page.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
+
+test('a lost network shows reconnecting and the page recovers', async () => {
+  const server = await startServer();
+  try {
+    const context = await browser.newContext();
+    const page = await context.newPage();
+    await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'live', 30, 'live');
+    await page.evaluate(() => window.caustic.dropSignalling());  // what a dead network does to the socket
+    await context.setOffline(true);
+    await until(page, () => ['reconnecting', 'error'].includes(window.caustic.connection), 20, 'the loss noticed');
+    await page.waitForTimeout(1500);
+    await context.setOffline(false);
+    await until(page, () => window.caustic.connection === 'live', 60, 'live again');
+    await context.close();
   } finally {
     server.kill('SIGTERM');
   }

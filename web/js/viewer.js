@@ -154,6 +154,9 @@ state.moveLight = (dx, dy, dz) => {
   channel.set({ light: room.lightFromMarker(state.params.light.type) });
 };
 
+// Closes the signalling socket as a network failure would (browser tests).
+state.dropSignalling = () => stream?.socket.close();
+
 window.addEventListener('pagehide', () => { if (session) deleteSession(session); });
 
 function frame() {
