@@ -131,6 +131,30 @@ for (const codec of ['vp8', 'h264']) {
   });
 }
 
+test('the synchronous pose holds the drawn slab until its frame arrives', async () => {
+  const server = await startServer();
+  try {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}/viewer.html?scene=lens&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'live' && window.caustic.shownVersion === 1, 30, 'live');
+    const [before, right_after] = await page.evaluate(() => {
+      window.caustic.sync = true;
+      const start = window.caustic.drawnProxy();
+      window.caustic.moveObject(3, 0, 0);
+      return [start, window.caustic.drawnProxy()];
+    });
+    assert.deepEqual(right_after, before);  // the frame with the move is not on screen yet
+    await until(page, () => window.caustic.version >= 2 && window.caustic.shownVersion >= window.caustic.version,
+                30, 'the moved frame on screen');
+    await page.waitForTimeout(100);
+    const moved = await page.evaluate(() => window.caustic.drawnProxy());
+    assert.ok(Math.abs(moved[0] - before[0] - 3) < 1e-6, `drawn at ${moved}, requested ${before[0] + 3}`);
+    await page.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
+
 test('a full server is shown as such and the page recovers when a place frees up', async () => {
   const server = await startServer(['--max-sessions', '1']);
   try {

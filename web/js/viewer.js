@@ -41,6 +41,8 @@ function onApplied(body, sentAt) {
   state.version = body.version;
   state.sentAt.set(body.version, sentAt);
   state.poses.set(body.version, { position: body.params.object.position, rotation_deg: body.params.object.rotation_deg });
+  // The frame may have beaten the answer to the page.
+  if (state.sync && room && state.shownVersion >= body.version) room.showPose(state.poses.get(body.version));
 }
 
 function onFrameVersion(version, now) {
@@ -153,6 +155,13 @@ state.moveLight = (dx, dy, dz) => {
   room.lightMarker.position.add({ x: dx, y: dy, z: dz });
   channel.set({ light: room.lightFromMarker(state.params.light.type) });
 };
+
+state.moveObject = (dx, dy, dz) => {
+  room.handle.position.add({ x: dx, y: dy, z: dz });
+  channel.set({ object: room.objectPose() });
+};
+// Where the slab is drawn (scene coordinates of its centre).
+state.drawnProxy = () => room.proxy.position.toArray();
 
 // Closes the signalling socket as a network failure would (browser tests).
 state.dropSignalling = () => stream?.socket.close();
