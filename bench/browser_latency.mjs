@@ -6,9 +6,10 @@
 //     node bench/browser_latency.mjs [changes=100] [codec=vp8] [size=1024]
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
+import path from 'node:path';
 import readline from 'node:readline';
 
-const { chromium } = createRequire(`${process.env.CAUSTIC_NODE_MODULES}/`)('playwright-core');
+const { chromium } = createRequire(`${path.resolve(process.env.CAUSTIC_NODE_MODULES)}/`)('playwright-core');
 const [changes = 100, codec = 'vp8', size = 1024] = process.argv.slice(2);
 
 const server = spawn(process.env.CAUSTICD, ['serve', '--port', '0', '--ice-address', '127.0.0.1', '--width', `${size}`,

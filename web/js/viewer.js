@@ -17,7 +17,7 @@ const statsPanel = document.getElementById('stats');
 // What the page knows, also read by the browser tests through window.caustic.
 const state = {
   connection: 'connecting', codec: query.get('codec') ?? 'vp8', params: null, version: 0, shownVersion: 0,
-  sync: false, poses: new Map(), sentAt: new Map(), latencies: [], framesShown: 0,
+  sync: false, poses: new Map(), sentAt: new Map(), shownLog: [], latencies: [], framesShown: 0,
 };
 window.caustic = state;
 
@@ -39,7 +39,11 @@ function patchable(params) {
 function onApplied(body, sentAt) {
   state.params = body.params;
   state.version = body.version;
-  state.sentAt.set(body.version, sentAt);
+  // Latency: from sending the PATCH to the first frame on screen with this
+  // version or a later one (the server may skip versions that came in fast).
+  const shown = state.shownLog.find(([version]) => version >= body.version);
+  if (shown) state.latencies.push(shown[1] - sentAt);
+  else state.sentAt.set(body.version, sentAt);
   state.poses.set(body.version, { position: body.params.object.position, rotation_deg: body.params.object.rotation_deg });
   // The frame may have beaten the answer to the page.
   if (state.sync && room && state.shownVersion >= body.version) room.showPose(state.poses.get(body.version));
@@ -50,10 +54,12 @@ function onFrameVersion(version, now) {
   if (version === state.shownVersion) return;
   state.shownVersion = version;
   versionLabel.textContent = `frame version ${version}`;
-  const sent = state.sentAt.get(version);
-  if (sent !== undefined) {
+  state.shownLog.push([version, now]);
+  if (state.shownLog.length > 256) state.shownLog.shift();
+  for (const [pending, sent] of state.sentAt) {
+    if (pending > version) continue;
     state.latencies.push(now - sent);
-    state.sentAt.delete(version);
+    state.sentAt.delete(pending);
   }
   if (state.sync) room.showPose(state.poses.get(version));
 }
