@@ -1,0 +1,80 @@
+#include "commands.hpp"
+
+#include "caustic/image_io.hpp"
+#include "caustic/reference.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+namespace caustic::app {
+namespace {
+
+struct ReferenceCommandOptions {
+  std::filesystem::path scene, output;
+  std::vector<std::string> assignments;
+  std::uint64_t photons = 10'000'000;
+  std::uint64_t seed = 1;
+  int threads = 0;
+};
+
+int run_reference(const ReferenceCommandOptions& opt) {
+  Scene scene;
+  Mesh mesh;
+  try {
+    scene = load_scene(opt.scene);
+    for (const auto& a : opt.assignments) scene = apply_merge_patch(scene, patch_from_assignment(a));
+    mesh = load_obj(scene.mesh_path());
+  } catch (const SceneError& e) {
+    std::cerr << "causticd reference: " << opt.scene.string() << ": " << e.what() << "\n";
+    return bad_input;
+  }
+  if (opt.output.extension() != ".exr") {
+    std::cerr << "causticd reference: --output " << opt.output.string() << ": the file must end in .exr\n";
+    return bad_input;
+  }
+  ReferenceOptions options;
+  options.photons = opt.photons;
+  options.seed = opt.seed;
+  options.threads = opt.threads;
+  options.progress = [](double done) {
+    const int width = 40, filled = static_cast<int>(done * width);
+    std::fprintf(stderr, "\r[%s%s] %3.0f%%", std::string(filled, '#').c_str(), std::string(width - filled, ' ').c_str(),
+                 100 * done);
+    std::fflush(stderr);
+  };
+  try {
+    const ReferenceResult r = trace_reference(scene, mesh, options);
+    std::fprintf(stderr, "\n");
+    write_exr(r.image, opt.output);
+    std::printf("photons: %llu traced, %llu on the screen, in %.2f s: %.2f M photons/s\n",
+                static_cast<unsigned long long>(r.photons), static_cast<unsigned long long>(r.photons_on_screen),
+                r.seconds, r.photons / r.seconds / 1e6);
+    std::printf("wrote %s\n", opt.output.string().c_str());
+  } catch (const SceneError& e) {
+    std::cerr << "\ncausticd reference: " << opt.scene.string() << ": " << e.what() << "\n";
+    return bad_input;
+  } catch (const std::exception& e) {
+    std::cerr << "\ncausticd reference: " << e.what() << "\n";
+    return runtime_failure;
+  }
+  return ok;
+}
+
+}  // namespace
+
+std::function<int()> add_reference_command(CLI::App& app) {
+  auto opt = std::make_shared<ReferenceCommandOptions>();
+  CLI::App* cmd = app.add_subcommand("reference", "Render a scene with the independent photon tracer (HDR EXR)");
+  cmd->add_option("--scene", opt->scene, "Scene file (JSON)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--output,-o", opt->output, "Output .exr (relative irradiance)")->required();
+  cmd->add_option("--photons", opt->photons, "Photons to trace")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
+  cmd->add_option("--seed", opt->seed, "Random seed (same seed, same image)");
+  cmd->add_option("--threads", opt->threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
+  cmd->add_option("--set", opt->assignments, "Override a scene key, e.g. --set render.fresnel=false");
+  return [cmd, opt] { return cmd->parsed() ? run_reference(*opt) : -1; };
+}
+
+}  // namespace caustic::app

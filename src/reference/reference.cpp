@@ -1,0 +1,274 @@
+#include "caustic/reference.hpp"
+
+#include "caustic/optics.hpp"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <thread>
+
+namespace caustic {
+namespace {
+
+using optics::Vec3;
+
+// Owns an Embree device and a committed scene of the caustic face (world space).
+class Geometry {
+ public:
+  Geometry(const Mesh& mesh, const Placement& placement) : mesh_(mesh), placement_(placement) {
+    device_ = rtcNewDevice("threads=1");
+    if (!device_) throw std::runtime_error("cannot create an Embree device");
+    scene_ = rtcNewScene(device_);
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                          3 * sizeof(float), mesh.positions.size()));
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+      const Vec3 w = world(i);
+      v[3 * i] = static_cast<float>(w.x);
+      v[3 * i + 1] = static_cast<float>(w.y);
+      v[3 * i + 2] = static_cast<float>(w.z);
+    }
+    auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                             3 * sizeof(unsigned), mesh.triangles.size()));
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+      for (int k = 0; k < 3; ++k) t[3 * i + k] = mesh.triangles[i][k];
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(scene_, geom);
+    rtcReleaseGeometry(geom);
+    rtcCommitScene(scene_);
+  }
+  ~Geometry() {
+    rtcReleaseScene(scene_);
+    rtcReleaseDevice(device_);
+  }
+  Geometry(const Geometry&) = delete;
+  Geometry& operator=(const Geometry&) = delete;
+
+  Vec3 world(std::size_t i) const {
+    return Vec3(placement_.model * glm::dvec4(Vec3(mesh_.positions[i]), 1.0));
+  }
+
+  struct Hit {
+    Vec3 point, normal;  // normal interpolated from the vertices, unit, world
+  };
+
+  // First intersection of the ray with the caustic face, beyond `t_min`.
+  bool intersect(const Vec3& origin, const Vec3& dir, double t_min, Hit* hit) const {
+    RTCRayHit rh{};
+    rh.ray.org_x = static_cast<float>(origin.x);
+    rh.ray.org_y = static_cast<float>(origin.y);
+    rh.ray.org_z = static_cast<float>(origin.z);
+    rh.ray.dir_x = static_cast<float>(dir.x);
+    rh.ray.dir_y = static_cast<float>(dir.y);
+    rh.ray.dir_z = static_cast<float>(dir.z);
+    rh.ray.tnear = static_cast<float>(t_min);
+    rh.ray.tfar = std::numeric_limits<float>::infinity();
+    rh.ray.mask = 0xffffffffu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect1(scene_, &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    const auto& tri = mesh_.triangles[rh.hit.primID];
+    const double u = rh.hit.u, w = rh.hit.v;
+    const Vec3 n = (1 - u - w) * Vec3(mesh_.normals[tri.x]) + u * Vec3(mesh_.normals[tri.y]) +
+                   w * Vec3(mesh_.normals[tri.z]);
+    hit->point = origin + static_cast<double>(rh.ray.tfar) * dir;
+    hit->normal = glm::normalize(placement_.rotation * n);
+    return true;
+  }
+
+ private:
+  const Mesh& mesh_;
+  const Placement& placement_;
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+};
+
+// The rectangle photons are launched through: perpendicular to the mean
+// light direction, just in front of the object, covering it.
+struct Launch {
+  Vec3 origin, a, b;  // corner and the two edge vectors
+  Vec3 normal;        // toward the object
+};
+
+Launch launch_rectangle(const Scene& scene, const Geometry& geo, const Mesh& mesh, const Placement& p) {
+  std::vector<Vec3> corners;
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    const Vec3 w = geo.world(i);
+    corners.push_back(w);
+    corners.push_back(w + (p.flat_offset - glm::dot(w, p.flat_normal)) * p.flat_normal);  // the flat face above
+  }
+  const bool point = scene.light.type == LightType::point;
+  const Vec3 axis = point ? glm::normalize(p.center - scene.light.position) : scene.light.direction;
+  const Vec3 helper = std::abs(axis.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  const Vec3 e1 = glm::normalize(glm::cross(helper, axis)), e2 = glm::cross(axis, e1);
+  // Directional: project along the light. Point: project centrally onto a
+  // plane just in front of the nearest corner.
+  double depth = std::numeric_limits<double>::infinity();
+  for (const auto& c : corners) depth = std::min(depth, glm::dot(c - (point ? scene.light.position : p.center), axis));
+  const Vec3 base = point ? scene.light.position : p.center;
+  const double plane = point ? 0.999 * depth : depth - 1e-3 * (1 + std::abs(depth));
+  double lo1 = 1e300, hi1 = -1e300, lo2 = 1e300, hi2 = -1e300;
+  for (const auto& c : corners) {
+    Vec3 q = c - base;
+    if (point) q *= plane / glm::dot(q, axis);
+    lo1 = std::min(lo1, glm::dot(q, e1)), hi1 = std::max(hi1, glm::dot(q, e1));
+    lo2 = std::min(lo2, glm::dot(q, e2)), hi2 = std::max(hi2, glm::dot(q, e2));
+  }
+  const double pad1 = 1e-3 * (hi1 - lo1), pad2 = 1e-3 * (hi2 - lo2);
+  Launch l;
+  l.normal = axis;
+  l.origin = base + plane * axis + (lo1 - pad1) * e1 + (lo2 - pad2) * e2;
+  l.a = (hi1 - lo1 + 2 * pad1) * e1;
+  l.b = (hi2 - lo2 + 2 * pad2) * e2;
+  return l;
+}
+
+struct Photon {
+  Vec3 origin, dir;
+  double flux;
+};
+
+// Follows one photon through the object; returns false when it never
+// reaches the screen (missed the object, TIR, wrong side).
+bool follow(const Scene& scene, const Geometry& geo, const Placement& p, Photon& ph) {
+  using namespace optics;
+  const double n = scene.object.ior;
+  const bool fresnel = scene.render.fresnel;
+  const Plane flat{p.flat_normal, p.flat_offset};
+  Geometry::Hit hit;
+  if (scene.object.material == Material::reflective) {
+    if (!geo.intersect(ph.origin, ph.dir, 0.0, &hit)) return false;
+    ph.dir = glm::normalize(reflect(ph.dir, face_against(hit.normal, ph.dir)));
+    ph.origin = hit.point;
+    return true;
+  }
+  const bool flat_first = glm::dot(ph.dir, flat.normal) < 0.0 && flat.signed_distance(ph.origin) > 0.0;
+  if (flat_first) {
+    const double t = -flat.signed_distance(ph.origin) / glm::dot(ph.dir, flat.normal);
+    const Vec3 entry = ph.origin + t * ph.dir;
+    const auto in = refract(ph.dir, face_against(flat.normal, ph.dir), 1.0 / n);
+    if (!in) return false;
+    if (fresnel) ph.flux *= fresnel_transmittance(in->cos_i, 1.0, n);
+    if (!geo.intersect(entry, in->direction, 0.0, &hit)) return false;  // passed beside the caustic face
+    const auto out = refract(in->direction, face_against(hit.normal, in->direction), n);
+    if (!out) return false;  // TIR: dropped, as the engine does
+    if (fresnel) ph.flux *= fresnel_transmittance(out->cos_i, n, 1.0);
+    ph.origin = hit.point;
+    ph.dir = out->direction;
+    return true;
+  }
+  if (!geo.intersect(ph.origin, ph.dir, 0.0, &hit)) return false;
+  const auto in = refract(ph.dir, face_against(hit.normal, ph.dir), 1.0 / n);
+  if (!in) return false;
+  if (fresnel) ph.flux *= fresnel_transmittance(in->cos_i, 1.0, n);
+  const double toward = glm::dot(in->direction, flat.normal);
+  if (!(toward > 1e-9)) return false;
+  const Vec3 exit = hit.point + (-flat.signed_distance(hit.point) / toward) * in->direction;
+  const auto out = refract(in->direction, face_against(flat.normal, in->direction), n);
+  if (!out) return false;
+  if (fresnel) ph.flux *= fresnel_transmittance(out->cos_i, n, 1.0);
+  ph.origin = exit;
+  ph.dir = out->direction;
+  return true;
+}
+
+}  // namespace
+
+ReferenceResult trace_reference(const Scene& scene, const Mesh& mesh, const ReferenceOptions& options) {
+  validate_scene(scene);
+  const Placement placement = place_object(scene.object, mesh);
+  check_geometry(scene, mesh, placement);
+  const auto start = std::chrono::steady_clock::now();
+  const Geometry geo(mesh, placement);
+  const Launch launch = launch_rectangle(scene, geo, mesh, placement);
+  const auto strata = static_cast<std::uint64_t>(std::ceil(std::sqrt(static_cast<double>(std::max<std::uint64_t>(options.photons, 1)))));
+  const int width = scene.render.width, height = scene.render.height;
+  const auto& screen = scene.screen;
+  const Vec3 right = glm::normalize(glm::cross(screen.up, screen.normal));
+  const double pixel_area = (screen.width / width) * (screen.height / height);
+  const double cell_area = glm::length(glm::cross(launch.a, launch.b)) / static_cast<double>(strata * strata);
+  const bool point = scene.light.type == LightType::point;
+  const double r_ref2 = point ? glm::dot(scene.light.position - placement.center, scene.light.position - placement.center) : 1.0;
+
+  const int threads = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  std::vector<std::vector<double>> tiles(static_cast<std::size_t>(threads),
+                                         std::vector<double>(static_cast<std::size_t>(width) * height, 0.0));
+  std::atomic<std::uint64_t> rows_done{0}, landed{0};
+  auto work = [&](int worker) {
+    auto& tile = tiles[static_cast<std::size_t>(worker)];
+    std::uint64_t mine = 0;
+    for (std::uint64_t row = static_cast<std::uint64_t>(worker); row < strata; row += static_cast<std::uint64_t>(threads)) {
+      // One generator per stratum row: the image does not depend on the thread count.
+      std::mt19937_64 rng(options.seed * 0x9E3779B97F4A7C15ull + row);
+      std::uniform_real_distribution<double> jitter(0.0, 1.0);
+      for (std::uint64_t col = 0; col < strata; ++col) {
+        const double s = (static_cast<double>(col) + jitter(rng)) / strata;
+        const double t = (static_cast<double>(row) + jitter(rng)) / strata;
+        const Vec3 target = launch.origin + s * launch.a + t * launch.b;
+        Photon ph;
+        if (point) {
+          const Vec3 to = target - scene.light.position;
+          const double r2 = glm::dot(to, to);
+          ph.dir = to / std::sqrt(r2);
+          ph.origin = scene.light.position;
+          // Solid angle of the cell seen from the light, in units of E0 = I0 / r_ref^2.
+          ph.flux = r_ref2 * cell_area * std::abs(glm::dot(ph.dir, launch.normal)) / r2;
+        } else {
+          ph.dir = scene.light.direction;
+          ph.origin = target;
+          ph.flux = cell_area;
+        }
+        if (!follow(scene, geo, placement, ph)) continue;
+        const double denom = glm::dot(ph.dir, screen.normal);
+        if (!(std::abs(denom) > 1e-9)) continue;
+        const double along = glm::dot(screen.center - ph.origin, screen.normal) / denom;
+        if (!(along > 0)) continue;
+        const Vec3 hit = ph.origin + along * ph.dir - screen.center;
+        const double u = glm::dot(hit, right) / screen.width + 0.5, v = 0.5 - glm::dot(hit, screen.up) / screen.height;
+        if (u < 0 || u >= 1 || v < 0 || v >= 1) continue;
+        const auto x = static_cast<std::size_t>(u * width), y = static_cast<std::size_t>(v * height);
+        tile[y * static_cast<std::size_t>(width) + x] += ph.flux;
+        ++mine;
+      }
+      ++rows_done;
+    }
+    landed += mine;
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < threads; ++w) pool.emplace_back(work, w);
+  std::thread reporter;
+  std::atomic<bool> finished{false};
+  if (options.progress)
+    reporter = std::thread([&] {
+      while (!finished) {
+        options.progress(static_cast<double>(rows_done) / strata);
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      }
+    });
+  work(0);
+  for (auto& t : pool) t.join();
+  finished = true;
+  if (reporter.joinable()) reporter.join();
+  if (options.progress) options.progress(1.0);
+
+  ReferenceResult result;
+  result.image = HdrImage{width, height, std::vector<float>(static_cast<std::size_t>(width) * height)};
+  for (std::size_t i = 0; i < result.image.pixels.size(); ++i) {
+    double sum = 0;
+    for (const auto& tile : tiles) sum += tile[i];  // fixed order: deterministic
+    result.image.pixels[i] = static_cast<float>(sum / pixel_area);
+  }
+  result.photons = strata * strata;
+  result.photons_on_screen = landed;
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace caustic

@@ -1,0 +1,117 @@
+// The reference photon tracer against the analytic oracles, before it is
+// trusted to judge the engine.
+#include "caustic/optics.hpp"
+#include "caustic/reference.hpp"
+#include "caustic/surfaces.hpp"
+#include "lens_oracle.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+using namespace caustic;
+
+namespace {
+
+Scene straight_down(double flat_offset, double distance, double screen_size, int pixels, bool fresnel) {
+  Scene s;
+  s.mesh = "generated";
+  s.object.flat_face_offset = flat_offset;
+  s.screen.center = {0, 0, -distance};
+  s.screen.width = s.screen.height = screen_size;
+  s.render.width = s.render.height = pixels;
+  s.render.fresnel = fresnel;
+  return s;
+}
+
+ReferenceOptions photons(std::uint64_t n, int threads = 0) {
+  ReferenceOptions o;
+  o.photons = n;
+  o.threads = threads;
+  return o;
+}
+
+}  // namespace
+
+TEST(Reference, FlatSlabIsUniformTinTout) {
+  const Mesh slab = grid_mesh(flat_face(10.0), 16, 16);
+  // 0.4 mm pixels: the slab's edges fall on pixel boundaries.
+  const ReferenceResult r = trace_reference(straight_down(3.0, 50.0, 25.6, 64, true), slab, photons(4'000'000));
+  const double expected = 0.96 * 0.96;
+  double worst = 0, mean = 0;
+  for (int y = 8; y < 56; ++y)
+    for (int x = 8; x < 56; ++x) {
+      worst = std::max(worst, std::abs(r.image.at(x, y) - expected) / expected);
+      mean += r.image.at(x, y) / (48.0 * 48.0);
+    }
+  EXPECT_NEAR(mean, expected, 0.003 * expected);
+  // Strata do not line up with pixels: a pixel holds 39 or 40 columns of
+  // them, so single pixels scatter by up to ~2.5% around the mean.
+  EXPECT_LT(worst, 0.04);
+  EXPECT_EQ(r.image.at(2, 2), 0.0f);
+  std::printf("slab: %llu photons in %.2f s (%.1f M photons/s)\n", static_cast<unsigned long long>(r.photons),
+              r.seconds, r.photons / r.seconds / 1e6);
+}
+
+TEST(Reference, PlanoConvexLensMatchesTheExactRayMap) {
+  const double half = 10.0;
+  const Mesh lens = grid_mesh(plano_convex_lens(oracle::kRadius, half), 128, 128);
+  for (const double z : {20.0, 60.0}) {
+    const Scene s = straight_down(4.0, z, oracle::lens_screen_size(z, half), 96, false);
+    const ReferenceResult r = trace_reference(s, lens, photons(4'000'000));
+    const auto [l1, used] = oracle::compare_with_ray_map(r.image, s.screen.width, z, half);
+    std::printf("lens at %.0f mm: relative L1 %.4f over %d pixels, %.1f M photons/s\n", z, l1, used,
+                r.photons / r.seconds / 1e6);
+    EXPECT_GT(used, 3000);
+    EXPECT_LT(l1, 0.03) << "z = " << z;
+  }
+}
+
+TEST(Reference, ErrorFallsAsOneOverSqrtPhotons) {
+  // Flux through a point light's index-1 window: E / E0 = r_ref^2 cos / r^2,
+  // known exactly, so the Monte Carlo error itself can be measured.
+  Scene s = straight_down(2.0, 40.0, 40.0, 32, false);
+  s.object.ior = 1.0;
+  s.light.type = LightType::point;
+  s.light.position = {0.3, -0.2, 30};
+  const Mesh window = grid_mesh(flat_face(25.0), 8, 8);
+  auto error = [&](std::uint64_t n) {
+    const ReferenceResult r = trace_reference(s, window, photons(n));
+    double diff = 0, sum = 0;
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x) {
+        const double px = (x + 0.5) * 40.0 / 32 - 20, py = 20 - (y + 0.5) * 40.0 / 32;
+        const glm::dvec3 to(px - 0.3, py + 0.2, -70.0);
+        const double r2 = glm::dot(to, to);
+        const double exact = glm::dot(s.light.position - glm::dvec3(0, 0, 0), s.light.position) * (70.0 / std::sqrt(r2)) / r2;
+        diff += std::abs(r.image.at(x, y) - exact);
+        sum += exact;
+      }
+    return diff / sum;
+  };
+  const double coarse = error(10'000), fine = error(640'000);  // 64x the photons
+  std::printf("relative L1: %.4f at 1e4 photons, %.4f at 6.4e5 photons (ratio %.1f)\n", coarse, fine, coarse / fine);
+  EXPECT_LT(fine, coarse / 4);  // at least sqrt(64) / 2
+}
+
+TEST(Reference, DeterministicForASeedWhateverTheThreads) {
+  const Mesh lens = grid_mesh(plano_convex_lens(40.0, 10.0), 32, 32);
+  const Scene s = straight_down(4.0, 30.0, 20.0, 32, true);
+  const ReferenceResult one = trace_reference(s, lens, photons(40'000, 1));
+  const ReferenceResult two = trace_reference(s, lens, photons(40'000, 2));
+  EXPECT_EQ(one.image.pixels, two.image.pixels);
+  ReferenceOptions other = photons(40'000, 2);
+  other.seed = 2;
+  EXPECT_NE(trace_reference(s, lens, other).image.pixels, one.image.pixels);
+}
+
+TEST(Reference, RejectsWhatTheSceneCannotRepresent) {
+  const Mesh lens = grid_mesh(plano_convex_lens(40.0, 10.0), 16, 16);
+  Scene s = straight_down(4.0, 30.0, 20.0, 32, true);
+  s.screen.center = {0, 0, 1};
+  EXPECT_THROW(trace_reference(s, lens, photons(100)), SceneError);
+  s = straight_down(4.0, 30.0, 20.0, 32, true);
+  s.object.ior = std::nan("");
+  EXPECT_THROW(trace_reference(s, lens, photons(100)), SceneError);
+}
