@@ -130,6 +130,19 @@ TEST_F(Cli, EglPlatformChoiceIsCheckedAndExplained) {
   EXPECT_EQ(cpu.status, 0) << cpu.output;
 }
 
+TEST_F(Cli, ReferenceTracesToExrAndRejectsBadInput) {
+  const fs::path exr = dir_ / "ref.exr";
+  const CommandResult r = causticd("reference --scene " + scene("slab") + " -o " + exr.string() +
+                                   " --photons 250000 --set render.width=64 --set render.height=64");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("M photons/s"), std::string::npos) << r.output;
+  const caustic::HdrImage hdr = caustic::read_hdr_image(exr);
+  EXPECT_NEAR(hdr.at(32, 32), 0.9216, 0.05);
+  expect_rejected("reference --scene " + scene("slab") + " -o " + (dir_ / "ref.png").string(), ".exr");
+  expect_rejected("reference --scene " + scene("slab") + " -o " + exr.string() + " --photons 0", "photons");
+  expect_rejected("reference --scene " + scene("slab") + " -o " + exr.string() + " --set object.ior=0", "object.ior");
+}
+
 TEST_F(Cli, PrintsItsVersion) {
   const CommandResult r = causticd("--version");
   EXPECT_EQ(r.status, 0);
