@@ -5,6 +5,8 @@
 
 #include "caustic/reference.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <cstdio>
 
 using namespace caustic;
@@ -48,3 +50,21 @@ INSTANTIATE_TEST_SUITE_P(BuiltInScenes, EngineVsReference,
                          ::testing::Values(Case{"slab", 0.01}, Case{"wavy", 0.01}, Case{"cylinder", 0.03},
                                            Case{"lens", 0.01}),
                          [](const auto& info) { return std::string(info.param.scene); });
+
+TEST_F(EngineVsReference, ReportIntensityIsFarFromTheReferenceWhereEnergyIsNot) {
+  // The lens half-way to its focus: the beam converges, and the report's
+  // area ratio measures that convergence rather than the light it carries.
+  Scene scene = load_scene(std::string(CAUSTIC_ASSET_DIR) + "/scenes/lens.json");
+  scene = apply_merge_patch(scene, nlohmann::json{{"focus_distance", 40}, {"render", {{"width", 128}, {"height", 128}}},
+                                    {"screen", {{"width", 16}, {"height", 16}}}});
+  const auto mesh = shared(load_obj(scene.mesh_path()));
+  ReferenceOptions options;
+  options.photons = 16'000'000;
+  const HdrImage reference = trace_reference(scene, *mesh, options).image;
+  const double energy = relative_l1(render(scene, mesh), reference);
+  scene.render.intensity = IntensityMode::report;
+  const double report = relative_l1(render(scene, mesh), reference);
+  std::printf("lens at 40 mm: relative L1 against the reference: energy %.4f, report %.4f\n", energy, report);
+  EXPECT_LT(energy, 0.01);
+  EXPECT_GT(report, 10 * energy);
+}
