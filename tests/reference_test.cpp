@@ -2,6 +2,7 @@
 // trusted to judge the engine.
 #include "caustic/optics.hpp"
 #include "caustic/reference.hpp"
+#include "caustic/resample.hpp"
 #include "caustic/surfaces.hpp"
 #include "lens_oracle.hpp"
 
@@ -114,4 +115,25 @@ TEST(Reference, RejectsWhatTheSceneCannotRepresent) {
   s = straight_down(4.0, 30.0, 20.0, 32, true);
   s.object.ior = std::nan("");
   EXPECT_THROW(trace_reference(s, lens, photons(100)), SceneError);
+}
+
+TEST(Resample, LensAtAnotherResolutionIsTheSameSurface) {
+  const auto surface = plano_convex_lens(oracle::kRadius, 10.0);
+  const Mesh fine = grid_mesh(surface, 96, 96);
+  const Mesh coarse = resample_face(fine, {0, 0, 1}, 33);
+  EXPECT_EQ(coarse.positions.size(), 33u * 33u);
+  EXPECT_EQ(coarse.triangles.size(), 2u * 32u * 32u);
+  double worst_height = 0, worst_normal = 0;
+  for (std::size_t i = 0; i < coarse.positions.size(); ++i) {
+    const glm::dvec3 p = coarse.positions[i];
+    worst_height = std::max(worst_height, std::abs(p.z - surface.height(p.x, p.y)));
+    const glm::dvec2 g = surface.gradient(p.x, p.y);
+    const glm::dvec3 exact = glm::normalize(glm::dvec3(g.x, g.y, -1.0));
+    worst_normal = std::max(worst_normal, glm::length(glm::dvec3(coarse.normals[i]) - exact));
+  }
+  // Chord error of the 96^2 source (flat triangles on a sphere) and its
+  // linearly interpolated normals bound what resampling can reproduce.
+  EXPECT_LT(worst_height, 2e-3);
+  EXPECT_LT(worst_normal, 2e-3);
+  EXPECT_THROW(resample_face(fine, {0, 0, 1}, 1), std::invalid_argument);
 }
