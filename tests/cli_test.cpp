@@ -143,6 +143,22 @@ TEST_F(Cli, ReferenceTracesToExrAndRejectsBadInput) {
   expect_rejected("reference --scene " + scene("slab") + " -o " + exr.string() + " --set object.ior=0", "object.ior");
 }
 
+TEST_F(Cli, BenchWritesResultsAndCharts) {
+  const CommandResult r = causticd("bench --out " + dir_.string() +
+                                   " --photons 20000 --frames 1 --meshes 16 --sizes 128");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream csv(dir_ / "results.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "setup,method,mesh,pixels,ray_ms,post_ms,relative_l1,relative_rmse");
+  int rows = 0;
+  while (std::getline(csv, line)) ++rows;
+  EXPECT_EQ(rows, 6);  // six methods over three set-ups, one mesh, one size
+  EXPECT_GT(fs::file_size(dir_ / "accuracy.png"), 1000u);
+  EXPECT_GT(fs::file_size(dir_ / "accuracy.svg"), 1000u);
+  expect_rejected("bench --out " + dir_.string() + " --sizes 100", "--sizes");
+}
+
 TEST_F(Cli, PrintsItsVersion) {
   const CommandResult r = causticd("--version");
   EXPECT_EQ(r.status, 0);

@@ -17,6 +17,9 @@ std::function<int()> add_render_command(CLI::App& app);
 /// `causticd reference`: the photon tracer.
 std::function<int()> add_reference_command(CLI::App& app);
 
+/// `causticd bench`: accuracy against speed.
+std::function<int()> add_bench_command(CLI::App& app);
+
 /// `causticd serve`: the streaming server.
 std::function<int()> add_serve_command(CLI::App& app);
 

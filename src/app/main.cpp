@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("causticd ") + CAUSTICD_VERSION);
   const std::function<int()> commands[] = {caustic::app::add_render_command(app),
                                            caustic::app::add_reference_command(app),
+                                           caustic::app::add_bench_command(app),
                                            caustic::app::add_serve_command(app)};
   try {
     app.parse(argc, argv);
