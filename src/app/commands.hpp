@@ -2,14 +2,25 @@
 // and returns the exit status when it runs.
 #pragma once
 
+#include "caustic/mesh.hpp"
+
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <functional>
+#include <string>
+#include <vector>
 
 namespace caustic::app {
 
 /// Exit statuses shared by every subcommand.
 enum Exit : int { ok = 0, runtime_failure = 1, bad_input = 2 };
+
+/// A scene file with `--set key.path=value` overrides applied in order, and
+/// its mesh; prints "causticd <command>: <file>: <problem>" and returns
+/// false on bad input.
+bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
+                         const std::vector<std::string>& assignments, Scene* scene, Mesh* mesh);
 
 /// `causticd render`: one scene to EXR (HDR) and/or PNG (tone-mapped).
 std::function<int()> add_render_command(CLI::App& app);

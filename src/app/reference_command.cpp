@@ -3,7 +3,6 @@
 #include "caustic/image_io.hpp"
 #include "caustic/reference.hpp"
 
-#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <iostream>
@@ -23,14 +22,7 @@ struct ReferenceCommandOptions {
 int run_reference(const ReferenceCommandOptions& opt) {
   Scene scene;
   Mesh mesh;
-  try {
-    scene = load_scene(opt.scene);
-    for (const auto& a : opt.assignments) scene = apply_merge_patch(scene, patch_from_assignment(a));
-    mesh = load_obj(scene.mesh_path());
-  } catch (const SceneError& e) {
-    std::cerr << "causticd reference: " << opt.scene.string() << ": " << e.what() << "\n";
-    return bad_input;
-  }
+  if (!load_scene_and_mesh("reference", opt.scene, opt.assignments, &scene, &mesh)) return bad_input;
   if (opt.output.extension() != ".exr") {
     std::cerr << "causticd reference: --output " << opt.output.string() << ": the file must end in .exr\n";
     return bad_input;

@@ -4,7 +4,6 @@
 #include "caustic/gl_context.hpp"
 #include "caustic/image_io.hpp"
 
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -31,21 +30,12 @@ double median(std::vector<double> v) {
 
 int run_render(const RenderOptions& opt) {
   Scene scene;
-  std::shared_ptr<const Mesh> mesh;
-  try {
-    scene = load_scene(opt.scene);
-    for (const auto& a : opt.assignments) scene = apply_merge_patch(scene, patch_from_assignment(a));
-    if (opt.width || opt.height) {
-      nlohmann::json size = nlohmann::json::object();
-      if (opt.width) size["width"] = opt.width;
-      if (opt.height) size["height"] = opt.height;
-      scene = apply_merge_patch(scene, {{"render", size}});
-    }
-    mesh = std::make_shared<const Mesh>(load_obj(scene.mesh_path()));
-  } catch (const SceneError& e) {
-    std::cerr << "causticd render: " << opt.scene.string() << ": " << e.what() << "\n";
-    return bad_input;
-  }
+  Mesh loaded;
+  std::vector<std::string> assignments = opt.assignments;
+  if (opt.width) assignments.push_back("render.width=" + std::to_string(opt.width));
+  if (opt.height) assignments.push_back("render.height=" + std::to_string(opt.height));
+  if (!load_scene_and_mesh("render", opt.scene, assignments, &scene, &loaded)) return bad_input;
+  auto mesh = std::make_shared<const Mesh>(std::move(loaded));
   for (const auto& out : opt.outputs) {
     const auto ext = out.extension().string();
     if (ext != ".exr" && ext != ".png") {
