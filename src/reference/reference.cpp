@@ -39,6 +39,10 @@ Launch launch_rectangle(const Scene& scene, const Geometry& geo, const Mesh& mes
   // plane just in front of the nearest corner.
   double depth = std::numeric_limits<double>::infinity();
   for (const auto& c : corners) depth = std::min(depth, glm::dot(c - (point ? scene.light.position : p.center), axis));
+  if (point && !(depth > 0))
+    throw SceneError("light.position",
+                     "the reference tracer needs the whole object in front of a point light (less than 90 degrees "
+                     "from the direction to the object's centre)");
   const Vec3 base = point ? scene.light.position : p.center;
   const double plane = point ? 0.999 * depth : depth - 1e-3 * (1 + std::abs(depth));
   double lo1 = 1e300, hi1 = -1e300, lo2 = 1e300, hi2 = -1e300;
