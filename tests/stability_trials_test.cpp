@@ -77,6 +77,7 @@ TEST_F(StabilityTrials, EngineAndReferenceStayFiniteAndCreateNoEnergy) {
   std::mt19937 rng(20261122);
   int rendered = 0, rejected = 0;
   double worst_excess = -1;
+  int reference_refused = 0;
   for (int i = 0; i < 3000; ++i) {
     Trial t = random_trial(rng);
     const Placement placement = place_object(t.scene.object, *t.mesh);
@@ -103,12 +104,18 @@ TEST_F(StabilityTrials, EngineAndReferenceStayFiniteAndCreateNoEnergy) {
     if (i % 10 == 0) {  // the reference on a tenth of them: it is slower
       ReferenceOptions options;
       options.photons = 4096;
-      const ReferenceResult r = trace_reference(t.scene, *t.mesh, options);
-      for (float v : r.image.pixels) ASSERT_TRUE(std::isfinite(v) && v >= 0) << "trial " << i;
+      try {
+        const ReferenceResult r = trace_reference(t.scene, *t.mesh, options);
+        for (float v : r.image.pixels) ASSERT_TRUE(std::isfinite(v) && v >= 0) << "trial " << i;
+      } catch (const SceneError& e) {
+        // The tracer cannot launch from a point light beside a wide object; it says so.
+        EXPECT_EQ(e.key(), "light.position") << e.what();
+        ++reference_refused;
+      }
     }
     ++rendered;
   }
-  std::printf("%d trials rendered, %d rejected with a named key; largest flux excess %.1e\n", rendered, rejected,
-              worst_excess);
+  std::printf("%d trials rendered, %d rejected with a named key; largest flux excess %.1e; the reference refused %d\n",
+              rendered, rejected, worst_excess, reference_refused);
   EXPECT_GT(rendered, 2000);
 }
