@@ -94,10 +94,7 @@ HdrImage Engine::read_hdr() const {
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glGetTextureImage(t.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(float)), raw.data());
   gl::check_errors("HDR read-back");
-  // GL stores the bottom row first; images here start at the top.
-  for (int y = 0; y < img.height; ++y)
-    std::copy_n(raw.begin() + static_cast<std::ptrdiff_t>(img.height - 1 - y) * img.width, img.width,
-                img.pixels.begin() + static_cast<std::ptrdiff_t>(y) * img.width);
+  gl::copy_rows_top_first(raw.data(), img.pixels.data(), static_cast<std::size_t>(img.width), img.height);
   return img;
 }
 
@@ -109,10 +106,7 @@ Rgba8Image Engine::read_ldr() const {
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glGetTextureImage(t.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(raw.size()), raw.data());
   gl::check_errors("LDR read-back");
-  const std::size_t row = static_cast<std::size_t>(img.width) * 4;
-  for (int y = 0; y < img.height; ++y)
-    std::copy_n(raw.begin() + static_cast<std::ptrdiff_t>((img.height - 1 - y) * row), row,
-                img.pixels.begin() + static_cast<std::ptrdiff_t>(y * row));
+  gl::copy_rows_top_first(raw.data(), img.pixels.data(), static_cast<std::size_t>(img.width) * 4, img.height);
   return img;
 }
 

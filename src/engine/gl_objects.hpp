@@ -8,6 +8,8 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
+#include <cstddef>
 #include <string>
 #include <utility>
 #include <vector>
@@ -111,6 +113,15 @@ class Program {
   GLint location(const char* name) const { return glGetUniformLocation(id_, name); }
   GLuint id_ = 0;
 };
+
+/// Copies `height` rows of `row` elements from GL's bottom-row-first order
+/// into `top_first`, the order every image of this project uses.
+template <typename T>
+void copy_rows_top_first(const T* bottom_first, T* top_first, std::size_t row, int height) {
+  for (int y = 0; y < height; ++y)
+    std::copy_n(bottom_first + static_cast<std::size_t>(height - 1 - y) * row, row,
+                top_first + static_cast<std::size_t>(y) * row);
+}
 
 /// Throws EngineError when glGetError reports anything, naming `where`.
 void check_errors(const char* where);

@@ -66,9 +66,7 @@ bool Readback::poll(Rgba8Image* out, std::uint64_t* tag, bool wait) {
   const auto* data = static_cast<const std::uint8_t*>(
       glMapNamedBufferRange(ready->buffer.id(), 0, static_cast<GLsizeiptr>(out->pixels.size()), GL_MAP_READ_BIT));
   if (!data) throw EngineError("cannot map the read-back buffer");
-  // GL stores the bottom row first; pictures here start at the top.
-  for (int y = 0; y < ready->height; ++y)
-    std::copy_n(data + static_cast<std::size_t>(ready->height - 1 - y) * row, row, out->pixels.data() + y * row);
+  gl::copy_rows_top_first(data, out->pixels.data(), row, ready->height);
   glUnmapNamedBuffer(ready->buffer.id());
   glDeleteSync(ready->fence);
   ready->fence = nullptr;

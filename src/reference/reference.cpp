@@ -33,8 +33,7 @@ Launch launch_rectangle(const Scene& scene, const Geometry& geo, const Mesh& mes
   }
   const bool point = scene.light.type == LightType::point;
   const Vec3 axis = point ? glm::normalize(p.center - scene.light.position) : scene.light.direction;
-  const Vec3 helper = std::abs(axis.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-  const Vec3 e1 = glm::normalize(glm::cross(helper, axis)), e2 = glm::cross(axis, e1);
+  const auto [e1, e2] = optics::basis_around(axis);
   // Directional: project along the light. Point: project centrally onto a
   // plane just in front of the nearest corner.
   double depth = std::numeric_limits<double>::infinity();

@@ -9,8 +9,7 @@ namespace caustic {
 Mesh resample_face(const Mesh& mesh, const glm::dvec3& flat_normal, int n) {
   if (n < 2) throw std::invalid_argument("resample_face needs at least 2 x 2 vertices");
   const glm::dvec3 normal = glm::normalize(flat_normal);
-  const glm::dvec3 helper = std::abs(normal.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-  const glm::dvec3 e1 = glm::normalize(glm::cross(helper, normal)), e2 = glm::cross(normal, e1);
+  const auto [e1, e2] = optics::basis_around(normal);
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   for (const glm::dvec3 p : mesh.positions) {
     const glm::dvec3 q(glm::dot(p, e1), glm::dot(p, e2), glm::dot(p, normal));

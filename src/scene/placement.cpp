@@ -1,6 +1,7 @@
 // Where the object sits in the world, and the scene checks that need both the
 // scene and the mesh.
 #include "caustic/mesh.hpp"
+#include "caustic/optics.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -9,16 +10,8 @@
 #include <limits>
 
 namespace caustic {
-namespace {
 
-// Two unit vectors completing n to a right-handed orthonormal basis.
-std::pair<glm::dvec3, glm::dvec3> basis_around(const glm::dvec3& n) {
-  const glm::dvec3 helper = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-  const glm::dvec3 e1 = glm::normalize(glm::cross(helper, n));
-  return {e1, glm::cross(n, e1)};
-}
-
-}  // namespace
+using optics::basis_around;
 
 glm::dmat3 euler_xyz_degrees(const glm::dvec3& degrees) {
   const glm::dvec3 r = glm::radians(degrees);

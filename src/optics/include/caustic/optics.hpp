@@ -11,7 +11,9 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <optional>
+#include <utility>
 
 namespace caustic::optics {
 
@@ -71,6 +73,14 @@ inline double critical_angle(double n) { return std::asin(1.0 / n); }
 
 /// Brewster's angle (radians) for light from n1 into n2, where r_p vanishes.
 inline double brewster_angle(double n1, double n2) { return std::atan(n2 / n1); }
+
+/// Two unit vectors (e1, e2) completing unit `n` to a right-handed
+/// orthonormal basis (e1 x e2 = n).
+inline std::pair<Vec3, Vec3> basis_around(const Vec3& n) {
+  const Vec3 helper = std::abs(n.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  const Vec3 e1 = glm::normalize(glm::cross(helper, n));
+  return {e1, glm::cross(n, e1)};
+}
 
 /// A plane dot(x, normal) = offset with unit normal.
 struct Plane {
