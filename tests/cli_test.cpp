@@ -3,6 +3,7 @@
 #include "caustic/image_io.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <array>
 #include <cstdio>
@@ -85,7 +86,7 @@ TEST_F(Cli, SlabExrHoldsTheFresnelTransmittance) {
 TEST_F(Cli, SetOverridesSceneKeys) {
   const fs::path exr = dir_ / "slab.exr";
   ASSERT_EQ(causticd("render --scene " + scene("slab") + " -o " + exr.string() +
-                     " --width 64 --height 64 --set render.fresnel=false")
+                     " --width 64 --height 64 --set render.fidelity=manual --set render.fresnel=false")
                 .status,
             0);
   EXPECT_NEAR(caustic::read_hdr_image(exr).at(32, 32), 1.0, 1e-4);
@@ -145,18 +146,54 @@ TEST_F(Cli, ReferenceTracesToExrAndRejectsBadInput) {
 
 TEST_F(Cli, BenchWritesResultsAndCharts) {
   const CommandResult r = causticd("bench --out " + dir_.string() +
-                                   " --photons 20000 --frames 1 --meshes 16 --sizes 128");
+                                   " --photons 20000 --frames 1 --meshes 16 --sizes 128 --source 128");
   ASSERT_EQ(r.status, 0) << r.output;
   std::ifstream csv(dir_ / "results.csv");
   std::string header, line;
   std::getline(csv, header);
-  EXPECT_EQ(header, "setup,method,mesh,pixels,ray_ms,post_ms,relative_l1,relative_rmse");
+  EXPECT_EQ(header, "setup,method,mesh,pixels,ray_ms,post_ms,relative_l1,relative_rmse,ssim");
   int rows = 0;
   while (std::getline(csv, line)) ++rows;
-  EXPECT_EQ(rows, 6);  // six methods over three set-ups, one mesh, one size
+  EXPECT_EQ(rows, 7);  // seven methods over four set-ups, one mesh, one size
   EXPECT_GT(fs::file_size(dir_ / "accuracy.png"), 1000u);
   EXPECT_GT(fs::file_size(dir_ / "accuracy.svg"), 1000u);
+  EXPECT_GT(fs::file_size(dir_ / "convergence.png"), 1000u);
+  std::ifstream conv(dir_ / "convergence.csv");
+  std::getline(conv, header);
+  EXPECT_EQ(header, "series,x,relative_l1");
+  int reference_rows = 0;
+  while (std::getline(conv, line)) reference_rows += line.rfind("reference,", 0) == 0;
+  EXPECT_EQ(reference_rows, 4);  // photons/512 .. photons/8, four steps of 4x
   expect_rejected("bench --out " + dir_.string() + " --sizes 100", "--sizes");
+}
+
+TEST_F(Cli, CalibrateWritesWhatRenderThenUses) {
+  // A copy of the lens scene in the test folder, so the calibration lands beside it.
+  nlohmann::json j = nlohmann::json::parse(std::ifstream(scene("lens")));
+  j["mesh"] = (fs::path(CAUSTIC_ASSET_DIR) / "meshes" / "lens.obj").string();
+  std::ofstream(dir_ / "lens.json") << j.dump();
+  const std::string lens = (dir_ / "lens.json").string();
+  const CommandResult c = causticd("calibrate --scene " + lens + " --photons 200000 --max-side 64 --frames 1");
+  ASSERT_EQ(c.status, 0) << c.output;
+  EXPECT_NE(c.output.find("auto at target 0.05"), std::string::npos) << c.output;
+  const auto cal = nlohmann::json::parse(std::ifstream(dir_ / "lens.calibration.json"));
+  EXPECT_EQ(cal["entries"].size(), 12u);  // 6 levels (as loaded, 8^2 .. 128^2) x Fresnel on/off; directional light
+  const CommandResult r = causticd("render --scene " + lens + " -o " + (dir_ / "l.png").string() + " --width 64 --height 64");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("fidelity: auto"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("expected relative L1"), std::string::npos) << r.output;
+  // Moving the light takes the scene away from its calibration: the full model, uncalibrated.
+  const CommandResult moved = causticd("render --scene " + lens + " -o " + (dir_ / "l.png").string() +
+                                       " --width 64 --height 64 --set light.direction=[0.1,0,-1]");
+  EXPECT_NE(moved.output.find("mesh as loaded"), std::string::npos) << moved.output;
+  EXPECT_NE(moved.output.find("not calibrated"), std::string::npos) << moved.output;
+
+  expect_rejected("calibrate --scene " + lens + " --max-side 10", "--max-side");
+  expect_rejected("calibrate --scene " + lens + " --set render.accuracy_target=0", "render.accuracy_target");
+  expect_rejected("render --scene " + lens + " -o " + (dir_ / "l.png").string() + " --set render.mesh_resolution=1",
+                  "render.mesh_resolution");
+  std::ofstream(dir_ / "lens.calibration.json") << R"({"format": "causticd-calibration-1", "entries": 3})";
+  expect_rejected("render --scene " + lens + " -o " + (dir_ / "l.png").string(), "lens.calibration.json");
 }
 
 TEST_F(Cli, PrintsItsVersion) {

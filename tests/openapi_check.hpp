@@ -41,6 +41,7 @@ class OpenApi {
   std::string validate(const nlohmann::json& schema, const nlohmann::json& value, const std::string& where) const {
     const std::string type = schema.value("type", "");
     auto fail = [&](const std::string& why) { return where + ": " + why; };
+    if (value.is_null() && schema.value("nullable", false)) return "";
     if (type == "object" && !value.is_object()) return fail("expected an object");
     if (type == "array" && !value.is_array()) return fail("expected an array");
     if (type == "string" && !value.is_string()) return fail("expected a string");

@@ -161,6 +161,10 @@ TEST_F(Rest, PatchErrorsLeaveTheParametersUnchanged) {
       {R"({"screen": {"center": [0, 0, 1]}})", patch_type, bearer(s), 422, "screen.center"},
       {R"({"mesh": "/etc/passwd"})", patch_type, bearer(s), 422, "mesh"},
       {R"({"render": {"width": 64}})", patch_type, bearer(s), 422, "render.width"},
+      {R"({"render": {"fidelity": "best"}})", patch_type, bearer(s), 422, "render.fidelity"},
+      {R"({"render": {"accuracy_target": 0}})", patch_type, bearer(s), 422, "render.accuracy_target"},
+      {R"({"render": {"fidelity": "manual", "mesh_resolution": 999}})", patch_type, bearer(s), 422,
+       "render.mesh_resolution"},
       {R"({"object": {"ior": 1.6}})", "text/plain", bearer(s), 415, ""},
       {R"({"object": {"ior": 1.6}})", patch_type, {}, 401, ""},
       {R"({"object": {"ior": 1.6}})", patch_type, {{"Authorization", "Bearer 0123"}}, 401, ""},
@@ -179,6 +183,49 @@ TEST_F(Rest, PatchErrorsLeaveTheParametersUnchanged) {
   const json other = create("slab");
   expect_problem(http("PATCH", session_url(other) + "/params", R"({"object": {"ior": 1.6}})", patch_type, bearer(s)),
                  401);
+}
+
+TEST_F(Rest, FidelityAutoIsTheDefaultAndSaysWhatItRenders) {
+  const json s = create("lens");
+  const std::string url = session_url(s) + "/params";
+  const std::string patch_type = "application/merge-patch+json";
+  json p = s["params"];
+  const json f = p["fidelity"];
+  // The built-in scenes are calibrated at build time: a coarser level than
+  // the mesh as loaded meets 5% on the smooth lens.
+  EXPECT_EQ(f["mode"], "auto");
+  EXPECT_EQ(f["calibrated"], true);
+  EXPECT_EQ(f["calibration_matches_parameters"], true);
+  EXPECT_EQ(f["meets_target"], true);
+  EXPECT_LE(f["expected_relative_l1"].get<double>(), 0.05);
+  EXPECT_GT(f["mesh_resolution"].get<int>(), 0);
+  EXPECT_EQ(f["mesh_resolution"], p["params"]["render"]["mesh_resolution"]);
+  const auto vertices = f["vertices"].get<int>();
+
+  // A tighter target: more vertices, and an expected error within it.
+  p = http("PATCH", url, R"({"render": {"accuracy_target": 0.002}})", patch_type, bearer(s)).json();
+  EXPECT_GT(p["fidelity"]["vertices"].get<int>(), vertices);
+  EXPECT_LE(p["fidelity"]["expected_relative_l1"].get<double>(), 0.002);
+  // In auto, the three settings it owns cannot be forced: they are chosen again.
+  p = http("PATCH", url, R"({"render": {"fresnel": false}})", patch_type, bearer(s)).json();
+  EXPECT_EQ(p["params"]["render"]["fresnel"], true);
+  // Moving the light leaves the calibrated scene; the page is told.
+  p = http("PATCH", url, R"({"light": {"direction": [0.1, 0, -1]}})", patch_type, bearer(s)).json();
+  EXPECT_EQ(p["fidelity"]["calibration_matches_parameters"], false);
+  // Manual: what is written is rendered, and its calibrated error is still shown.
+  p = http("PATCH", url, R"({"render": {"fidelity": "manual", "mesh_resolution": 0, "fresnel": false}})", patch_type,
+           bearer(s)).json();
+  EXPECT_EQ(p["fidelity"]["mode"], "manual");
+  EXPECT_EQ(p["params"]["render"]["fresnel"], false);
+  EXPECT_EQ(p["fidelity"]["levels"][0], 0);
+  EXPECT_GT(p["fidelity"]["expected_relative_l1"].get<double>(), 0.05);  // Fresnel off loses 8% of the flux
+  EXPECT_EQ(p["fidelity"]["meets_target"], false);
+  // The gallery says which levels a scene offers and whether it is calibrated.
+  const json scenes = http("GET", server_.url() + "/api/v1/scenes").json()["scenes"];
+  for (const auto& scene : scenes) {
+    EXPECT_EQ(scene["calibrated"], true) << scene["id"];
+    EXPECT_GE(scene["mesh_levels"].size(), 2u) << scene["id"];
+  }
 }
 
 TEST_F(Rest, MetricsAreExposedInPrometheusFormat) {

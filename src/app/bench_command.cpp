@@ -1,12 +1,13 @@
 // `causticd bench`: the engine's frame time and its error against a
 // converged reference, over methods x mesh resolutions x render sizes, on a
-// few lens set-ups. Errors are taken at 128x128 after box filtering both
-// images. Writes results.csv and an error-against-time chart
-// (gnuplot, PNG and SVG) into the output folder; prints progress.
+// few lens set-ups, and how the reference and the engine converge. Errors
+// are taken at 128x128 after box filtering both images. Writes CSV files and
+// charts (gnuplot, PNG and SVG) into the output folder; prints progress.
 #include "commands.hpp"
 
 #include "caustic/engine.hpp"
 #include "caustic/gl_context.hpp"
+#include "caustic/image_compare.hpp"
 #include "caustic/reference.hpp"
 #include "caustic/resample.hpp"
 #include "caustic/surfaces.hpp"
@@ -27,8 +28,9 @@ struct BenchOptions {
   std::filesystem::path out;
   std::uint64_t photons = 50'000'000;
   int frames = 5;
-  std::vector<int> meshes{64, 128, 256, 512};
-  std::vector<int> sizes{256, 512, 1024};
+  int source = 2048;  // vertices per side of the lens surface everything is resampled from
+  std::vector<int> meshes{64, 128, 256, 512, 1024};
+  std::vector<int> sizes{256, 512, 1024, 2048};
 };
 
 struct Setup {
@@ -42,31 +44,6 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// Box-filters a square image down to `side` pixels (side divides its size),
-// keeping the mean: errors are compared at one resolution, where the
-// reference's photon noise is small next to the methods' differences.
-HdrImage box_down(const HdrImage& img, int side) {
-  const int f = img.width / side;
-  HdrImage out{side, side, std::vector<float>(static_cast<std::size_t>(side) * side, 0.0f)};
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x)
-      out.pixels[static_cast<std::size_t>(y / f) * side + x / f] += img.at(x, y) / static_cast<float>(f * f);
-  return out;
-}
-
-std::pair<double, double> errors(const HdrImage& full, const HdrImage& full_ref) {
-  const HdrImage a = box_down(full, 128), ref = box_down(full_ref, 128);
-  double diff = 0, sum = 0, sq = 0;
-  for (std::size_t i = 0; i < a.pixels.size(); ++i) {
-    const double d = a.pixels[i] - ref.pixels[i];
-    diff += std::abs(d);
-    sum += std::abs(ref.pixels[i]);
-    sq += d * d;
-  }
-  const double mean = sum / ref.pixels.size();
-  return {diff / sum, std::sqrt(sq / a.pixels.size()) / mean};  // RMSE relative to the mean
-}
-
 Scene lens_scene() {
   Scene s;
   s.mesh = "generated";
@@ -76,6 +53,45 @@ Scene lens_scene() {
   s.render.fresnel = true;
   s.post.bloom_strength = 0;
   return s;
+}
+
+// Error of the three measures at 128 x 128 after box filtering both images.
+ImageError errors_at_128(const HdrImage& image, const HdrImage& reference, const Scene& scene) {
+  const int f = image.width / 128;
+  return compare(box_down(image, f), box_down(reference, f), scene.post.exposure, scene.post.gamma);
+}
+
+void write_charts(const std::filesystem::path& out, const std::vector<Setup>& setups,
+                  const std::vector<std::string>& engine_series) {
+  std::string series;
+  for (const auto& setup : setups)
+    for (const auto& [method, patch] : setup.methods) series += (series.empty() ? "" : " ") + setup.name + ":" + method;
+  std::string convergence;
+  for (const auto& s : engine_series) convergence += (convergence.empty() ? "" : " ") + s;
+  std::ofstream plot(out / "chart.gp");
+  plot << "set datafile separator ','\nset key outside right\nset grid\nset logscale xy\n"
+          "set fit quiet\nset fit logfile '/dev/null'\n"
+          "files = 'png svg'\ndo for [f in files] {\n"
+          "  if (f eq 'png') { set terminal pngcairo size 1100,650 } else { set terminal svg size 1100,650 }\n"
+          "  set output 'accuracy.'.f\n"
+          "  set xlabel 'caustic pass (ms)'\n  set ylabel 'relative L1 against the reference'\n"
+          "  plot for [s in '"
+       << series
+       << "'] 'results.csv' using (strcol(1).':'.strcol(2) eq s ? $5 : 1/0):7 with points pointsize 1.2 title s\n"
+          "  set output 'convergence.'.f\n  set multiplot layout 1,2\n"
+          "  set xlabel 'reference photons'\n  set ylabel 'relative L1 against the converged reference'\n"
+          "  fit_a = 1\n  fit fit_a/sqrt(x) 'convergence.csv' using (strcol(1) eq 'reference' ? $2 : 1/0):3 via fit_a\n"
+          "  plot 'convergence.csv' using (strcol(1) eq 'reference' ? $2 : 1/0):3 with linespoints title 'reference', "
+          "fit_a/sqrt(x) title 'a / sqrt(N)' dashtype 2\n"
+          "  set xlabel 'mesh vertices'\n  set ylabel 'engine relative L1 (energy)'\n"
+          "  plot for [s in '"
+       << convergence
+       << "'] 'convergence.csv' using (strcol(1) eq s ? $2 : 1/0):3 with linespoints title s.' px'\n"
+          "  unset multiplot\n}\n";
+  plot.close();
+  const std::string command = "cd '" + out.string() + "' && gnuplot chart.gp 2>gnuplot.log";
+  if (std::system(command.c_str()) != 0)
+    std::cerr << "causticd bench: gnuplot failed (see gnuplot.log); the CSV files are complete\n";
 }
 
 int run_bench(const BenchOptions& opt) {
@@ -88,16 +104,20 @@ int run_bench(const BenchOptions& opt) {
        {{"exact", {}}, {"approximate", {{"light", {{"point_model", "approximate"}}}}}}},
       {"tilted", {{"object", {{"rotation_deg", {12, -8, 0}}}}, {"light", {{"direction", {0.15, 0.1, -1}}}}},
        {{"energy", {}}}},
+      // 8 mm before the focus, zoomed in: sharp structure, where vertices count.
+      {"focus", {{"screen", {{"center", {0, 0, -72}}, {"width", 4}, {"height", 4}}}}, {{"energy", {}}}},
   };
-  const Mesh source = grid_mesh(plano_convex_lens(40.0, 10.0), 1024, 1024);
+  const Mesh source = grid_mesh(plano_convex_lens(40.0, 10.0), opt.source, opt.source);
   std::map<int, std::shared_ptr<const Mesh>> meshes;
   for (int n : opt.meshes) meshes[n] = std::make_shared<const Mesh>(resample_face(source, {0, 0, 1}, n));
   GlContext context(egl_platform_from_environment());
   Engine engine;
-  std::ofstream csv(opt.out / "results.csv");
-  csv << "setup,method,mesh,pixels,ray_ms,post_ms,relative_l1,relative_rmse\n";
-  std::printf("renderer: %s; reference: %llu photons on the 1024^2 surface\n", context.renderer().c_str(),
-              static_cast<unsigned long long>(opt.photons));
+  std::ofstream csv(opt.out / "results.csv"), conv(opt.out / "convergence.csv");
+  csv << "setup,method,mesh,pixels,ray_ms,post_ms,relative_l1,relative_rmse,ssim\n";
+  conv << "series,x,relative_l1\n";
+  std::vector<std::string> engine_series;
+  std::printf("renderer: %s; reference: %llu photons on the %d^2 surface\n", context.renderer().c_str(),
+              static_cast<unsigned long long>(opt.photons), opt.source);
   for (const auto& setup : setups) {
     for (int size : opt.sizes) {
       Scene base = apply_merge_patch(lens_scene(), setup.patch.is_null() ? nlohmann::json::object() : setup.patch);
@@ -107,6 +127,15 @@ int run_bench(const BenchOptions& opt) {
       const ReferenceResult ref = trace_reference(base, source, ro);
       std::printf("%s %d^2: reference %.1f s (%.1f M photons/s)\n", setup.name.c_str(), size, ref.seconds,
                   ref.photons / ref.seconds / 1e6);
+      if (setup.name == "directional" && size == opt.sizes.front())
+        for (std::uint64_t n = opt.photons / 512; n <= opt.photons / 8; n *= 4) {  // the reference's own convergence
+          ReferenceOptions fewer;
+          fewer.photons = n;
+          fewer.seed = 2;
+          const double l1 = errors_at_128(trace_reference(base, source, fewer).image, ref.image, base).relative_l1;
+          conv << "reference," << n << ',' << l1 << '\n';
+          std::printf("  reference with %llu photons: L1 %.5f\n", static_cast<unsigned long long>(n), l1);
+        }
       for (const auto& [method, patch] : setup.methods) {
         const Scene scene = apply_merge_patch(base, patch.is_null() ? nlohmann::json::object() : patch);
         for (const auto& [n, mesh] : meshes) {
@@ -116,31 +145,29 @@ int run_bench(const BenchOptions& opt) {
             engine.render();
             if (f >= 2) ray.push_back(engine.stats().ray_ms), post.push_back(engine.stats().post_ms);
           }
-          const auto [l1, rmse] = errors(engine.read_hdr(), ref.image);
+          const ImageError e = errors_at_128(engine.read_hdr(), ref.image, scene);
           csv << setup.name << ',' << method << ',' << n << ',' << size << ',' << median(ray) << ',' << median(post)
-              << ',' << l1 << ',' << rmse << '\n';
-          std::printf("  %-11s %-11s mesh %4d^2: %7.1f ms  L1 %.4f  RMSE %.4f\n", setup.name.c_str(),
-                      method.c_str(), n, median(ray), l1, rmse);
+              << ',' << e.relative_l1 << ',' << e.relative_rmse << ',' << e.ssim << '\n';
+          if (method == "energy" && (setup.name == "focus" || (setup.name == "directional" && size == 1024)))
+          {
+            const std::string series = setup.name + ':' + std::to_string(size);
+            if (std::find(engine_series.begin(), engine_series.end(), series) == engine_series.end())
+              engine_series.push_back(series);
+            conv << series << ',' << mesh->positions.size() << ',' << e.relative_l1 << '\n';
+          }
+          std::printf("  %-11s %-11s %4d^2 px, mesh %4d^2: %7.1f ms  L1 %.4f  RMSE %.4f  SSIM %.4f\n",
+                      setup.name.c_str(), method.c_str(), size, n, median(ray), e.relative_l1, e.relative_rmse,
+                      e.ssim);
           std::fflush(stdout);
         }
       }
     }
   }
   csv.close();
-  // The chart: error on a log axis against frame time, one series per method and set-up.
-  std::ofstream plot(opt.out / "chart.gp");
-  plot << "set datafile separator ','\nset logscale xy\nset xlabel 'caustic pass (ms, llvmpipe)'\n"
-          "set ylabel 'relative L1 against the reference'\nset key outside right\nset grid\n"
-          "files = 'png svg'\ndo for [f in files] {\n"
-          "  if (f eq 'png') { set terminal pngcairo size 1100,650 } else { set terminal svg size 1100,650 }\n"
-          "  set output 'accuracy.'.f\n"
-          "  plot for [s in 'directional:energy directional:report directional:no-fresnel point-near:exact "
-          "point-near:approximate tilted:energy'] 'results.csv' using (strcol(1).':'.strcol(2) eq s ? $5 : 1/0):7 "
-          "with points pointsize 1.2 title s\n}\n";
-  plot.close();
-  const std::string command = "cd '" + opt.out.string() + "' && gnuplot chart.gp";
-  if (std::system(command.c_str()) != 0) std::cerr << "causticd bench: gnuplot failed; results.csv is complete\n";
-  std::printf("wrote %s/results.csv, accuracy.png, accuracy.svg\n", opt.out.string().c_str());
+  conv.close();
+  write_charts(opt.out, setups, engine_series);
+  std::printf("wrote %s/results.csv, convergence.csv, accuracy.png/.svg, convergence.png/.svg\n",
+              opt.out.string().c_str());
   return ok;
 }
 
@@ -152,6 +179,8 @@ std::function<int()> add_bench_command(CLI::App& app) {
   cmd->add_option("--out", opt->out, "Folder for results.csv and the charts")->required();
   cmd->add_option("--photons", opt->photons, "Photons for each reference")->check(CLI::Range(1000, 2'000'000'000));
   cmd->add_option("--frames", opt->frames, "Timed frames per configuration (median)")->check(CLI::Range(1, 100));
+  cmd->add_option("--source", opt->source, "Vertices per side of the surface the meshes are resampled from")
+      ->check(CLI::Range(16, 4096));
   cmd->add_option("--meshes", opt->meshes, "Mesh resolutions (vertices per side)")->check(CLI::Range(8, 2048));
   cmd->add_option("--sizes", opt->sizes, "Render sizes (pixels per side, multiples of 128)")
       ->check(CLI::Range(128, 4096) & CLI::Validator([](std::string& v) {

@@ -2,7 +2,10 @@
 // and returns the exit status when it runs.
 #pragma once
 
+#include "caustic/fidelity.hpp"
 #include "caustic/mesh.hpp"
+
+#include <optional>
 
 #include <CLI/CLI.hpp>
 
@@ -22,6 +25,23 @@ enum Exit : int { ok = 0, runtime_failure = 1, bad_input = 2 };
 bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
                          const std::vector<std::string>& assignments, Scene* scene, Mesh* mesh);
 
+/// What render.fidelity needs beside the scene: the mesh levels (the loaded
+/// mesh, the coarser grids and any level the scene names) and the scene
+/// file's calibration when one matches it.
+struct SceneLevels {
+  MeshLevels levels;
+  std::optional<Calibration> calibration;
+};
+
+/// load_scene_and_mesh, then the levels, then the calibration beside the
+/// scene file; `scene` comes back resolved (fidelity "auto" applied).
+/// Prints the problem and returns false on bad input.
+bool load_scene_levels(const char* command, const std::filesystem::path& file,
+                       const std::vector<std::string>& assignments, Scene* scene, SceneLevels* out);
+
+/// One line saying what fidelity renders and why.
+std::string describe_choice(const Scene& scene, const SceneLevels& levels);
+
 /// `causticd render`: one scene to EXR (HDR) and/or PNG (tone-mapped).
 std::function<int()> add_render_command(CLI::App& app);
 
@@ -30,6 +50,9 @@ std::function<int()> add_reference_command(CLI::App& app);
 
 /// `causticd bench`: accuracy against speed.
 std::function<int()> add_bench_command(CLI::App& app);
+
+/// `causticd calibrate`: the calibration fidelity "auto" chooses from.
+std::function<int()> add_calibrate_command(CLI::App& app);
 
 /// `causticd serve`: the streaming server.
 std::function<int()> add_serve_command(CLI::App& app);

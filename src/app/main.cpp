@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
   const std::function<int()> commands[] = {caustic::app::add_render_command(app),
                                            caustic::app::add_reference_command(app),
                                            caustic::app::add_bench_command(app),
+                                           caustic::app::add_calibrate_command(app),
                                            caustic::app::add_serve_command(app)};
   try {
     app.parse(argc, argv);

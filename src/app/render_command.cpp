@@ -30,12 +30,12 @@ double median(std::vector<double> v) {
 
 int run_render(const RenderOptions& opt) {
   Scene scene;
-  Mesh loaded;
+  SceneLevels levels;
   std::vector<std::string> assignments = opt.assignments;
   if (opt.width) assignments.push_back("render.width=" + std::to_string(opt.width));
   if (opt.height) assignments.push_back("render.height=" + std::to_string(opt.height));
-  if (!load_scene_and_mesh("render", opt.scene, assignments, &scene, &loaded)) return bad_input;
-  auto mesh = std::make_shared<const Mesh>(std::move(loaded));
+  if (!load_scene_levels("render", opt.scene, assignments, &scene, &levels)) return bad_input;
+  const auto mesh = levels.levels.at(scene.render.mesh_resolution);
   for (const auto& out : opt.outputs) {
     const auto ext = out.extension().string();
     if (ext != ".exr" && ext != ".png") {
@@ -58,6 +58,7 @@ int run_render(const RenderOptions& opt) {
     }
     const auto& st = engine.stats();
     std::printf("renderer: %s\n", context.renderer().c_str());
+    std::printf("%s\n", describe_choice(scene, levels).c_str());
     std::printf("mesh: %zu vertices, %zu triangles; target %dx%d\n", mesh->positions.size(), mesh->triangles.size(),
                 scene.render.width, scene.render.height);
     std::printf("triangles: %u drawn, %u dropped, %u folded, %u collapsed\n", st.drawn, st.dropped, st.folded,

@@ -1,6 +1,11 @@
 #include "commands.hpp"
 
+#include "caustic/resample.hpp"
+
 #include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
 
 #include <iostream>
 
@@ -17,6 +22,44 @@ bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
     std::cerr << "causticd " << command << ": " << file.string() << ": " << e.what() << "\n";
     return false;
   }
+}
+
+bool load_scene_levels(const char* command, const std::filesystem::path& file,
+                       const std::vector<std::string>& assignments, Scene* scene, SceneLevels* out) {
+  Mesh mesh;
+  if (!load_scene_and_mesh(command, file, assignments, scene, &mesh)) return false;
+  try {
+    auto source = std::make_shared<const Mesh>(std::move(mesh));
+    std::vector<int> resolutions = coarser_resolutions(*source);
+    const int named = scene->render.mesh_resolution;
+    if (named != 0 && std::find(resolutions.begin(), resolutions.end(), named) == resolutions.end())
+      resolutions.push_back(named);
+    out->levels = build_mesh_levels(source, scene->object.flat_face_normal, resolutions);
+    out->calibration = load_calibration(calibration_path(file), scene_fingerprint(*scene, *source));
+    *scene = resolve_fidelity(*scene, choose_fidelity(out->calibration ? &*out->calibration : nullptr,
+                                                      scene->render.accuracy_target, out->levels));
+    return true;
+  } catch (const SceneError& e) {
+    std::cerr << "causticd " << command << ": " << file.string() << ": " << e.what() << "\n";
+    return false;
+  }
+}
+
+std::string describe_choice(const Scene& scene, const SceneLevels& levels) {
+  const auto d = describe_fidelity(scene, *levels.levels.source, levels.levels,
+                                   levels.calibration ? &*levels.calibration : nullptr);
+  char line[300];
+  const int n = scene.render.mesh_resolution;
+  std::snprintf(line, sizeof line, "fidelity: %s; mesh %s (%zu vertices), point model %s, Fresnel %s; %s",
+                d["mode"].get<std::string>().c_str(), n ? (std::to_string(n) + "^2").c_str() : "as loaded",
+                d["vertices"].get<std::size_t>(), d["point_model"].get<std::string>().c_str(),
+                scene.render.fresnel ? "on" : "off",
+                d["expected_relative_l1"].is_number()
+                    ? ("expected relative L1 " + std::to_string(100 * d["expected_relative_l1"].get<double>()).substr(0, 5) +
+                       "% (target " + std::to_string(100 * scene.render.accuracy_target).substr(0, 4) + "%)")
+                          .c_str()
+                    : "not calibrated");
+  return line;
 }
 
 }  // namespace caustic::app

@@ -37,7 +37,7 @@ struct State {
   int width = 0, height = 0;  // 0: the scene's render size
   int fps_n = 30, fps_d = 1;
   std::shared_ptr<caustic::ParamStore> params;
-  std::shared_ptr<const caustic::Mesh> mesh;
+  std::shared_ptr<const caustic::MeshLevels> meshes;
   // Streaming thread only:
   caustic::gst::FrameSource source;
   GstVideoInfo info;
@@ -123,18 +123,20 @@ static gboolean gst_caustic_src_start(GstBaseSrc* src) {
   State& s = state_of(src);
   std::lock_guard lock(s.lock);
   s.frame_index = 0;
-  if (s.params && s.mesh) return TRUE;
+  if (s.params && s.meshes) return TRUE;
   if (s.scene_path.empty()) {
     GST_ELEMENT_ERROR(src, RESOURCE, NOT_FOUND, ("No scene"), ("set the scene property or call set_source"));
     return FALSE;
   }
   try {
     const caustic::Scene scene = caustic::load_scene(s.scene_path);
-    auto mesh = std::make_shared<const caustic::Mesh>(caustic::load_obj(scene.mesh_path()));
-    s.params = std::make_shared<caustic::ParamStore>(scene, [mesh](const caustic::Scene& candidate) {
+    auto meshes = std::make_shared<caustic::MeshLevels>();
+    meshes->source = std::make_shared<const caustic::Mesh>(caustic::load_obj(scene.mesh_path()));
+    s.params = std::make_shared<caustic::ParamStore>(scene, [meshes](const caustic::Scene& candidate) {
+      const auto mesh = meshes->at(candidate.render.mesh_resolution);  // only the mesh as loaded here
       caustic::check_geometry(candidate, *mesh, caustic::place_object(candidate.object, *mesh));
     });
-    s.mesh = std::move(mesh);
+    s.meshes = std::move(meshes);
   } catch (const std::exception& e) {
     GST_ELEMENT_ERROR(src, RESOURCE, READ, ("Cannot load scene %s", s.scene_path.c_str()), ("%s", e.what()));
     return FALSE;
@@ -170,15 +172,15 @@ static gboolean gst_caustic_src_query(GstBaseSrc* src, GstQuery* query) {
 static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
   State& s = state_of(push);
   std::shared_ptr<caustic::ParamStore> params;
-  std::shared_ptr<const caustic::Mesh> mesh;
+  std::shared_ptr<const caustic::MeshLevels> meshes;
   {
     std::lock_guard lock(s.lock);
     params = s.params;
-    mesh = s.mesh;
+    meshes = s.meshes;
   }
   GstBuffer* picture = nullptr;
   try {
-    picture = caustic::gst::produce_frame(s.source, *params, mesh, GST_VIDEO_INFO_WIDTH(&s.info),
+    picture = caustic::gst::produce_frame(s.source, *params, *meshes, GST_VIDEO_INFO_WIDTH(&s.info),
                                           GST_VIDEO_INFO_HEIGHT(&s.info));
   } catch (const std::exception& e) {
     GST_ELEMENT_ERROR(push, LIBRARY, FAILED, ("Cannot render the caustic"), ("%s", e.what()));
@@ -263,11 +265,11 @@ static State* checked_state(GstElement* element) {
   return reinterpret_cast<GstCausticSrc*>(element)->state;
 }
 
-void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const Mesh> mesh) {
+void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const MeshLevels> meshes) {
   if (State* s = checked_state(causticsrc)) {
     std::lock_guard lock(s->lock);
     s->params = std::move(params);
-    s->mesh = std::move(mesh);
+    s->meshes = std::move(meshes);
   }
 }
 

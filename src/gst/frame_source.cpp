@@ -6,8 +6,8 @@
 
 namespace caustic::gst {
 
-GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, std::shared_ptr<const Mesh> mesh,
-                         int width, int height) {
+GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const MeshLevels& meshes, int width,
+                         int height) {
   const bool changed = params.version() != source.rendered;
   if (!changed && !source.readback_pending && source.picture) return gst_buffer_ref(source.picture);
   if (!source.context) {
@@ -28,7 +28,7 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, std::sha
     snap.scene.render.height = height;
     source.rendered = snap.version;
     try {
-      source.engine->set_scene(snap.scene, std::move(mesh));
+      source.engine->set_scene(snap.scene, meshes.at(snap.scene.render.mesh_resolution));
       source.last_rejection.clear();
       const std::uint64_t before = source.engine->ray_passes();
       source.engine->render();

@@ -4,6 +4,7 @@
 
 #include "caustic/engine.hpp"
 #include "caustic/gl_context.hpp"
+#include "caustic/mesh_levels.hpp"
 #include "caustic/param_store.hpp"
 
 #include <gst/gst.h>
@@ -31,8 +32,8 @@ struct FrameSource {
 /// version moved on and queues the picture's read-back; sends the newest
 /// picture whose read-back has finished (waiting only for the very first).
 /// Creates the GL context on first use. Throws on GL failures.
-GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, std::shared_ptr<const Mesh> mesh,
-                         int width, int height);
+GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const MeshLevels& meshes, int width,
+                         int height);
 
 /// Frees the picture, the engine and the context (any thread, once streaming stopped).
 void release(FrameSource& source);

@@ -44,4 +44,19 @@ Mesh resample_face(const Mesh& mesh, const glm::dvec3& flat_normal, int n) {
   return out;
 }
 
+std::vector<int> coarser_resolutions(const Mesh& source) {
+  std::vector<int> out;
+  for (int n = 8; static_cast<std::size_t>(n) * n < source.positions.size() && n <= 1024; n *= 2) out.push_back(n);
+  return out;
+}
+
+MeshLevels build_mesh_levels(std::shared_ptr<const Mesh> source, const glm::dvec3& flat_normal,
+                             const std::vector<int>& resolutions) {
+  MeshLevels levels;
+  for (int n : resolutions)
+    if (n != 0) levels.resampled[n] = std::make_shared<const Mesh>(resample_face(*source, flat_normal, n));
+  levels.source = std::move(source);
+  return levels;
+}
+
 }  // namespace caustic

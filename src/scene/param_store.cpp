@@ -2,10 +2,16 @@
 
 namespace caustic {
 
-ParamStore::ParamStore(Scene initial, std::function<void(const Scene&)> check)
-    : scene_(std::move(initial)), check_(std::move(check)) {
-  validate_scene(scene_);
-  if (check_) check_(scene_);
+ParamStore::ParamStore(Scene initial, std::function<void(const Scene&)> check, std::function<Scene(Scene)> resolve)
+    : check_(std::move(check)), resolve_(std::move(resolve)) {
+  validate_scene(initial);
+  scene_ = admit(std::move(initial));
+}
+
+Scene ParamStore::admit(Scene candidate) const {
+  if (resolve_) candidate = resolve_(std::move(candidate));
+  if (check_) check_(candidate);
+  return candidate;
 }
 
 ParamStore::Snapshot ParamStore::snapshot() const {
@@ -15,17 +21,15 @@ ParamStore::Snapshot ParamStore::snapshot() const {
 
 std::uint64_t ParamStore::apply_patch(const nlohmann::json& patch) {
   std::lock_guard lock(mutex_);
-  Scene next = apply_merge_patch(scene_, patch);
-  if (check_) check_(next);
-  scene_ = std::move(next);
+  scene_ = admit(apply_merge_patch(scene_, patch));
   return version_.fetch_add(1, std::memory_order_acq_rel) + 1;
 }
 
 std::uint64_t ParamStore::replace(const Scene& scene) {
   validate_scene(scene);
-  if (check_) check_(scene);
+  Scene next = admit(scene);
   std::lock_guard lock(mutex_);
-  scene_ = scene;
+  scene_ = std::move(next);
   return version_.fetch_add(1, std::memory_order_acq_rel) + 1;
 }
 

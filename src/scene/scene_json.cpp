@@ -188,6 +188,10 @@ RenderParams read_render(Reader r) {
   p.intensity = r.choice("intensity", p.intensity, {{"energy", IntensityMode::energy}, {"report", IntensityMode::report}});
   p.fresnel = r.boolean("fresnel", p.fresnel);
   p.report_plane_distance = r.number("report_plane_distance", p.report_plane_distance, 0.0, kMaxCoordinate, true);
+  p.fidelity = r.choice("fidelity", p.fidelity, {{"auto", Fidelity::automatic}, {"manual", Fidelity::manual}});
+  p.accuracy_target = r.number("accuracy_target", p.accuracy_target, 0.0, 1.0, true);
+  p.mesh_resolution = r.integer("mesh_resolution", p.mesh_resolution, 0, 2048);
+  if (p.mesh_resolution == 1) throw SceneError(r.key("mesh_resolution"), "must be 0 (the mesh as loaded) or at least 2");
   r.reject_unknown();
   return p;
 }
@@ -268,7 +272,10 @@ json scene_to_json(const Scene& s) {
         {"height", s.render.height},
         {"intensity", name_of(s.render.intensity, {{"energy", IntensityMode::energy}, {"report", IntensityMode::report}})},
         {"fresnel", s.render.fresnel},
-        {"report_plane_distance", s.render.report_plane_distance}}},
+        {"report_plane_distance", s.render.report_plane_distance},
+        {"fidelity", name_of(s.render.fidelity, {{"auto", Fidelity::automatic}, {"manual", Fidelity::manual}})},
+        {"accuracy_target", s.render.accuracy_target},
+        {"mesh_resolution", s.render.mesh_resolution}}},
       {"post",
        {{"exposure", s.post.exposure},
         {"gamma", s.post.gamma},

@@ -3,6 +3,7 @@
 #include "caustic/engine.hpp"
 #include "caustic/gl_context.hpp"
 #include "caustic/image_io.hpp"
+#include "caustic/resample.hpp"
 
 #include <regex>
 
@@ -27,7 +28,18 @@ nlohmann::json describe(const GalleryEntry& e) {
           {"name", e.scene.name},
           {"description", e.scene.description},
           {"thumbnail", "/api/v1/scenes/" + e.id + "/thumbnail.png"},
-          {"proxy", e.proxy}};
+          {"proxy", e.proxy},
+          {"mesh_levels", e.levels->resolutions()},
+          {"calibrated", e.calibration.has_value()}};
+}
+
+Scene resolve_for(const GalleryEntry& entry, Scene scene) {
+  const Calibration* calibration = entry.calibration ? &*entry.calibration : nullptr;
+  return resolve_fidelity(scene, choose_fidelity(calibration, scene.render.accuracy_target, *entry.levels));
+}
+
+nlohmann::json fidelity_of(const GalleryEntry& entry, const Scene& scene) {
+  return describe_fidelity(scene, *entry.mesh, *entry.levels, entry.calibration ? &*entry.calibration : nullptr);
 }
 
 Gallery load_gallery(const std::filesystem::path& dir, int thumbnail) {
@@ -36,7 +48,7 @@ Gallery load_gallery(const std::filesystem::path& dir, int thumbnail) {
   std::vector<std::filesystem::path> files;
   std::error_code ec;
   for (const auto& f : std::filesystem::directory_iterator(dir, ec))
-    if (f.path().extension() == ".json") files.push_back(f.path());
+    if (f.path().extension() == ".json" && f.path().stem().extension() != ".calibration") files.push_back(f.path());
   if (ec) gallery.problems.push_back("cannot list " + dir.string() + ": " + ec.message());
   std::unique_ptr<GlContext> context;
   std::unique_ptr<Engine> engine;
@@ -51,6 +63,11 @@ Gallery load_gallery(const std::filesystem::path& dir, int thumbnail) {
       entry->id = id;
       entry->scene = load_scene(file);
       entry->mesh = std::make_shared<const Mesh>(load_obj(entry->scene.mesh_path()));
+      entry->levels = std::make_shared<const MeshLevels>(
+          build_mesh_levels(entry->mesh, entry->scene.object.flat_face_normal, coarser_resolutions(*entry->mesh)));
+      entry->calibration = load_calibration(calibration_path(file), scene_fingerprint(entry->scene, *entry->mesh));
+      entry->scene = resolve_for(*entry, entry->scene);
+      entry->levels->at(entry->scene.render.mesh_resolution);  // a manual scene may name a level not on offer
       entry->proxy = proxy_geometry(entry->scene, *entry->mesh);
       if (!context) {
         context = std::make_unique<GlContext>(egl_platform_from_environment());

@@ -2,7 +2,9 @@
 // rendered thumbnail each, and the proxy geometry a browser may draw.
 #pragma once
 
+#include "caustic/fidelity.hpp"
 #include "caustic/mesh.hpp"
+#include "caustic/mesh_levels.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -17,7 +19,9 @@ namespace caustic::server {
 struct GalleryEntry {
   std::string id;  ///< the scene file's name without .json
   Scene scene;
-  std::shared_ptr<const Mesh> mesh;
+  std::shared_ptr<const Mesh> mesh;           ///< as loaded
+  std::shared_ptr<const MeshLevels> levels;   ///< `mesh` and its coarser grids
+  std::optional<Calibration> calibration;     ///< from <id>.calibration.json when it matches
   std::vector<unsigned char> thumbnail_png;
   nlohmann::json proxy;  ///< outline, thickness, pose: never the mesh itself
 };
@@ -28,13 +32,21 @@ struct Gallery {
   std::string renderer;               ///< GL_RENDERER of the context that drew the thumbnails
 };
 
-/// Loads every *.json in `dir` whose name is a valid id ([a-z0-9_-]+),
-/// renders each thumbnail (thumbnail x thumbnail pixels) with a GL context
+/// Loads every *.json in `dir` whose name is a valid id ([a-z0-9_-]+)
+/// (calibrations, *.calibration.json, belong to the scene of that id),
+/// builds its mesh levels, renders each thumbnail (thumbnail x thumbnail pixels) with a GL context
 /// of its own on the calling thread. Broken scenes are skipped and reported.
 Gallery load_gallery(const std::filesystem::path& dir, int thumbnail = 256);
 
 /// The public description of an entry for GET /api/v1/scenes.
 nlohmann::json describe(const GalleryEntry& entry);
+
+/// What a session of this entry renders for `scene`: fidelity "auto"
+/// resolved against the entry's calibration and levels.
+Scene resolve_for(const GalleryEntry& entry, Scene scene);
+
+/// The fidelity block of GET .../params for `scene` (already resolved).
+nlohmann::json fidelity_of(const GalleryEntry& entry, const Scene& scene);
 
 /// Proxy geometry of a scene: outline (footprint size), thickness, flat-face
 /// normal and pose in world units.

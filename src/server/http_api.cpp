@@ -14,10 +14,11 @@ namespace {
 const char* const kFixedKeys[][2] = {{"mesh", nullptr},     {"name", nullptr},   {"description", nullptr},
                                      {"render", "width"},   {"render", "height"}};
 
-nlohmann::json public_params(const ParamStore::Snapshot& snap) {
+nlohmann::json public_params(Session& session) {
+  const ParamStore::Snapshot snap = session.params().snapshot();
   nlohmann::json params = scene_to_json(snap.scene);
   params.erase("mesh");  // a protected mesh is not even named
-  return {{"version", snap.version}, {"params", params}};
+  return {{"version", snap.version}, {"params", params}, {"fidelity", fidelity_of(session.entry(), snap.scene)}};
 }
 
 struct Route {
@@ -129,7 +130,7 @@ void create_session(ServerState& s, SoupServerMessage* msg) {
                                ("/api/v1/sessions/" + id).c_str());
   reply_json(msg, SOUP_STATUS_CREATED,
              {{"id", id}, {"token", session->token()}, {"codec", codec}, {"signal_url", signal},
-              {"params", public_params(session->params().snapshot())}});
+              {"params", public_params(*session)}});
 }
 
 void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
@@ -151,7 +152,7 @@ void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
     return reply_problem(msg, s.metrics, SOUP_STATUS_UNPROCESSABLE_ENTITY, e.what(), e.key());
   }
   ++s.metrics.parameter_updates;
-  reply_json(msg, SOUP_STATUS_OK, public_params(session.params().snapshot()));
+  reply_json(msg, SOUP_STATUS_OK, public_params(session));
 }
 
 void session_route(ServerState& s, SoupServerMessage* msg, const Route& route) {
@@ -170,7 +171,7 @@ void session_route(ServerState& s, SoupServerMessage* msg, const Route& route) {
     return;
   }
   if (route.rest == "/params" && method == "GET")
-    return reply_json(msg, SOUP_STATUS_OK, public_params(session.params().snapshot()));
+    return reply_json(msg, SOUP_STATUS_OK, public_params(session));
   if (route.rest == "/params" && method == "PATCH") return patch_params(s, msg, session);
   reply_problem(msg, s.metrics, SOUP_STATUS_METHOD_NOT_ALLOWED, method + " is not allowed here");
 }

@@ -37,10 +37,14 @@ Session::Session(std::string id, std::shared_ptr<const GalleryEntry> scene, Sess
     : id_(std::move(id)), token_(random_hex()), scene_(std::move(scene)), options_(std::move(options)),
       context_(g_main_context_ref_thread_default()), idle_since_(std::chrono::steady_clock::now()) {
   Scene initial = scene_->scene;
-  auto mesh = scene_->mesh;
-  params_ = std::make_shared<ParamStore>(initial, [mesh](const Scene& candidate) {
-    check_geometry(candidate, *mesh, place_object(candidate.object, *mesh));
-  });
+  auto entry = scene_;
+  params_ = std::make_shared<ParamStore>(
+      initial,
+      [entry](const Scene& candidate) {
+        const auto mesh = entry->levels->at(candidate.render.mesh_resolution);
+        check_geometry(candidate, *mesh, place_object(candidate.object, *mesh));
+      },
+      [entry](Scene candidate) { return resolve_for(*entry, std::move(candidate)); });
 }
 
 std::shared_ptr<Session> Session::start(const std::string& id, std::shared_ptr<const GalleryEntry> scene,
@@ -88,7 +92,7 @@ void Session::build() {
     throw std::runtime_error("cannot build the " + options_.codec + " pipeline: " + message);
   }
   GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline_), "src");
-  gst::set_source(src, params_, scene_->mesh);
+  gst::set_source(src, params_, scene_->levels);
   Metrics* metrics = options_.metrics;
   gst::set_frame_observer(src, [metrics](const FrameStats& stats, std::uint64_t) {
     ++metrics->frames_rendered;

@@ -47,6 +47,7 @@ class Session : public std::enable_shared_from_this<Session> {
   const std::string& codec() const { return options_.codec; }
   const std::string& scene_id() const { return scene_->id; }
   ParamStore& params() { return *params_; }
+  const GalleryEntry& entry() const { return *scene_; }
 
   /// The viewer's signalling socket; a second one replaces the first.
   void attach(SoupWebsocketConnection* socket);

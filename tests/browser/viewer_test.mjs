@@ -106,6 +106,12 @@ for (const codec of ['vp8', 'h264']) {
       const change = after.reduce((sum, v, i) => sum + Math.abs(v - before[i]), 0) / after.length;
       assert.ok(change > 1, `the picture barely changed (${change})`);
       assert.match(await page.textContent('#version'), /frame version [2-9]/);
+      // The stats overlay says what fidelity auto renders and that the light has left the calibration.
+      await page.evaluate(() => { document.getElementById('stats').hidden = false; });
+      await until(page, () => document.getElementById('stats').textContent.includes('fidelity'), 5, 'the stats overlay');
+      const stats = await page.textContent('#stats');
+      assert.match(stats, /fidelity auto: \d+\u00b2 mesh \(\d+ vertices\), exact point model, Fresnel on; expected L1 \d+\.\d+% \(target 5\.0%\)/);
+      assert.match(stats, /calibrated before the scene was changed/);
 
       mkdirSync(shots, { recursive: true });
       await page.screenshot({ path: `${shots}/viewer-${codec}.png` });

@@ -38,6 +38,7 @@ function patchable(params) {
 
 function onApplied(body, sentAt) {
   state.params = body.params;
+  state.fidelity = body.fidelity;
   state.version = body.version;
   // Latency: from sending the PATCH to the first frame on screen with this
   // version or a later one (the server may skip versions that came in fast).
@@ -122,6 +123,12 @@ function buildGui() {
   light.add(p.light, 'type', ['directional', 'point']).onChange((type) => {
     channel.set({ light: { type, ...room.lightFromMarker(type) } });
   });
+  const quality = gui.addFolder('Quality');
+  quality.add(p.render, 'fidelity', ['auto', 'manual']).onChange(send('render', 'fidelity'));
+  quality.add(p.render, 'accuracy_target', 0.001, 0.2, 0.001).name('target L1 (auto)').onChange(send('render', 'accuracy_target'));
+  quality.add(p.render, 'mesh_resolution', state.fidelity.levels).name('mesh level (manual)')
+    .onChange((n) => channel.set({ render: { mesh_resolution: Number(n) } }));
+  quality.add(p.render, 'fresnel').name('Fresnel (manual)').onChange(send('render', 'fresnel'));
   const post = gui.addFolder('Post-processing');
   post.add(p.post, 'exposure', 0.05, 5, 0.01).onChange(send('post', 'exposure'));
   post.add(p.post, 'gamma', 0.5, 4, 0.01).onChange(send('post', 'gamma'));
@@ -133,6 +140,18 @@ function buildGui() {
   view.add(state, 'sync').name('synchronous pose');
   view.add({ stats: false }, 'stats').name('stats overlay').onChange((on) => { statsPanel.hidden = !on; });
 }
+
+// What the server renders and how far from the reference it is expected to be.
+function fidelityText(f) {
+  if (!f) return '';
+  const mesh = f.mesh_resolution ? `${f.mesh_resolution}\u00b2 mesh` : 'mesh as loaded';
+  let text = `fidelity ${f.mode}: ${mesh} (${f.vertices} vertices), ${f.point_model} point model, Fresnel ${f.fresnel ? 'on' : 'off'}`;
+  if (f.expected_relative_l1 === null) return `${text}; not calibrated`;
+  text += `; expected L1 ${(100 * f.expected_relative_l1).toFixed(2)}% (target ${(100 * f.accuracy_target).toFixed(1)}%)`;
+  if (!f.calibration_matches_parameters) text += ', calibrated before the scene was changed';
+  return text;
+}
+state.fidelityText = () => fidelityText(state.fidelity);
 
 // Stats overlay: what the browser measures, once a second.
 let lastBytes = 0, lastTime = 0;
@@ -152,7 +171,8 @@ setInterval(async () => {
   });
   const l = [...state.latencies].sort((a, b) => a - b);
   if (l.length) text += `PATCH to frame: median ${l[l.length >> 1].toFixed(0)} ms over ${l.length}\n`;
-  text += `parameter version ${state.version}, on screen ${state.shownVersion}`;
+  text += `parameter version ${state.version}, on screen ${state.shownVersion}\n`;
+  text += fidelityText(state.fidelity);
   statsPanel.textContent = text;
 }, 1000);
 

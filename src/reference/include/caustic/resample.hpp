@@ -4,6 +4,10 @@
 #pragma once
 
 #include "caustic/mesh.hpp"
+#include "caustic/mesh_levels.hpp"
+
+#include <memory>
+#include <vector>
 
 namespace caustic {
 
@@ -12,5 +16,14 @@ namespace caustic {
 /// normal; grid points outside the face are left out with their triangles.
 /// Throws std::invalid_argument for n < 2 and SceneError when nothing is hit.
 Mesh resample_face(const Mesh& mesh, const glm::dvec3& flat_normal, int n);
+
+/// Grid sizes worth offering below a mesh: powers of two from 32 while the
+/// grid has fewer vertices than the mesh itself.
+std::vector<int> coarser_resolutions(const Mesh& source);
+
+/// Resamples `source` (mesh coordinates, flat face normal `flat_normal`) at
+/// each resolution. Throws SceneError when the face cannot be resampled.
+MeshLevels build_mesh_levels(std::shared_ptr<const Mesh> source, const glm::dvec3& flat_normal,
+                             const std::vector<int>& resolutions);
 
 }  // namespace caustic

@@ -22,9 +22,12 @@ class ParamStore {
     std::uint64_t version;
   };
 
-  /// `check` runs on every candidate scene before it is published (for
-  /// example geometry checks against the mesh); it throws SceneError to refuse.
-  explicit ParamStore(Scene initial, std::function<void(const Scene&)> check = {});
+  /// `resolve` turns every candidate scene into the one to render (for
+  /// example fidelity "auto" writing its choice in); `check` then runs on it
+  /// before it is published (for example geometry checks against the mesh)
+  /// and throws SceneError to refuse.
+  explicit ParamStore(Scene initial, std::function<void(const Scene&)> check = {},
+                      std::function<Scene(Scene)> resolve = {});
 
   Snapshot snapshot() const;
   std::uint64_t version() const { return version_.load(std::memory_order_acquire); }
@@ -41,6 +44,8 @@ class ParamStore {
   Scene scene_;
   std::atomic<std::uint64_t> version_{1};
   std::function<void(const Scene&)> check_;
+  std::function<Scene(Scene)> resolve_;
+  Scene admit(Scene candidate) const;  // resolve, check
 };
 
 }  // namespace caustic

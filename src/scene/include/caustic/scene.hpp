@@ -29,6 +29,7 @@ enum class Material { refractive, reflective };
 enum class LightType { directional, point };
 enum class PointModel { approximate, exact };
 enum class IntensityMode { energy, report };
+enum class Fidelity { automatic, manual };
 
 struct ObjectParams {
   Material material = Material::refractive;
@@ -67,6 +68,12 @@ struct RenderParams {
   IntensityMode intensity = IntensityMode::energy;
   bool fresnel = true;
   double report_plane_distance = 1.0;  ///< virtual plane behind the screen, "report" mode
+  /// "auto": the server picks mesh_resolution, light.point_model and fresnel
+  /// (the cheapest calibrated configuration meeting accuracy_target);
+  /// "manual": they are used as written. Renderers only read the three.
+  Fidelity fidelity = Fidelity::automatic;
+  double accuracy_target = 0.05;  ///< relative L1 against the reference, for "auto"
+  int mesh_resolution = 0;        ///< 0: the mesh as loaded; n: resampled on an n x n grid
 
   bool operator==(const RenderParams&) const = default;
 };

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "caustic/engine.hpp"
-#include "caustic/mesh.hpp"
+#include "caustic/mesh_levels.hpp"
 #include "caustic/param_store.hpp"
 
 #include <gst/gst.h>
@@ -17,10 +17,11 @@ namespace caustic::gst {
 /// named "caustic". Safe to call more than once; needs gst_init first.
 bool register_elements();
 
-/// Gives a causticsrc the parameters and the mesh it renders, instead of its
-/// `scene` property. Call before the element leaves the NULL state; the
-/// ParamStore stays shared, so patches applied to it show in later frames.
-void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const Mesh> mesh);
+/// Gives a causticsrc the parameters and the meshes it renders, instead of
+/// its `scene` property; each frame draws the level its scene's
+/// render.mesh_resolution names. Call before the element leaves the NULL
+/// state; the ParamStore stays shared, so patches show in later frames.
+void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const MeshLevels> meshes);
 
 /// Called on the streaming thread after every render (not for re-sent frames).
 using FrameObserver = std::function<void(const FrameStats& stats, std::uint64_t version)>;

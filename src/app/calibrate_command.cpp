@@ -1,0 +1,82 @@
+// `causticd calibrate`: measures every configuration fidelity "auto" may
+// choose for one scene against the reference tracer and writes the result
+// beside the scene file (S.json -> S.calibration.json), where `render`,
+// `serve` and the gallery find it.
+#include "commands.hpp"
+
+#include "caustic/calibrate.hpp"
+#include "caustic/engine.hpp"
+#include "caustic/gl_context.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+namespace caustic::app {
+namespace {
+
+struct CalibrateCommandOptions {
+  std::filesystem::path scene, output;
+  std::vector<std::string> assignments;
+  CalibrateOptions calibrate;
+};
+
+int run_calibrate(const CalibrateCommandOptions& opt) {
+  Scene scene;
+  SceneLevels levels;
+  if (!load_scene_levels("calibrate", opt.scene, opt.assignments, &scene, &levels)) return bad_input;
+  const std::filesystem::path output = opt.output.empty() ? calibration_path(opt.scene) : opt.output;
+  try {
+    GlContext context(egl_platform_from_environment());
+    Engine engine;
+    CalibrateOptions options = opt.calibrate;
+    options.progress = [](const std::string& line) {
+      std::printf("%s\n", line.c_str());
+      std::fflush(stdout);
+    };
+    const auto [w, h] = calibration_size(scene, options);
+    std::printf("calibrating %s at %dx%d on %s: %zu levels, reference %llu photons\n", opt.scene.string().c_str(), w,
+                h, context.renderer().c_str(), levels.levels.resolutions().size(),
+                static_cast<unsigned long long>(options.photons));
+    const Calibration c = calibrate(scene, levels.levels, engine, context.renderer(), options);
+    const std::filesystem::path partial = output.string() + ".partial";
+    {
+      std::ofstream out(partial);
+      out << calibration_to_json(c).dump(2) << "\n";
+      if (!out) throw std::runtime_error("cannot write " + partial.string());
+    }
+    std::filesystem::rename(partial, output);  // readers never see half a file
+    const FidelityChoice choice = choose_fidelity(&c, scene.render.accuracy_target, levels.levels);
+    std::printf("auto at target %.3g: mesh %d, point model %s, Fresnel %s, expected L1 %.4f%s\n",
+                scene.render.accuracy_target, choice.config.mesh_resolution,
+                choice.config.point_model == PointModel::exact ? "exact" : "approximate",
+                choice.config.fresnel ? "on" : "off", choice.expected_l1.value_or(0),
+                choice.meets_target ? "" : " (nothing met the target: the most accurate)");
+    std::printf("wrote %s\n", output.string().c_str());
+  } catch (const SceneError& e) {
+    std::cerr << "causticd calibrate: " << opt.scene.string() << ": " << e.what() << "\n";
+    return bad_input;
+  } catch (const std::exception& e) {
+    std::cerr << "causticd calibrate: " << e.what() << "\n";
+    return runtime_failure;
+  }
+  return ok;
+}
+
+}  // namespace
+
+std::function<int()> add_calibrate_command(CLI::App& app) {
+  auto opt = std::make_shared<CalibrateCommandOptions>();
+  CLI::App* cmd = app.add_subcommand("calibrate", "Measure each fidelity configuration of a scene against the reference");
+  cmd->add_option("--scene", opt->scene, "Scene file (JSON)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--output,-o", opt->output, "Calibration file (default: beside the scene, S.calibration.json)");
+  cmd->add_option("--set", opt->assignments, "Override a scene key before calibrating");
+  cmd->add_option("--photons", opt->calibrate.photons, "Photons for the reference")
+      ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1} << 36));
+  cmd->add_option("--seed", opt->calibrate.seed, "Random seed of the reference");
+  cmd->add_option("--max-side", opt->calibrate.max_side, "Render size of the longer side")->check(CLI::Range(64, 4096));
+  cmd->add_option("--frames", opt->calibrate.frames, "Timed frames per configuration")->check(CLI::Range(1, 50));
+  return [cmd, opt] { return cmd->parsed() ? run_calibrate(*opt) : -1; };
+}
+
+}  // namespace caustic::app

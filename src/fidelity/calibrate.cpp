@@ -1,0 +1,88 @@
+#include "caustic/calibrate.hpp"
+
+#include "caustic/engine.hpp"
+#include "caustic/image_compare.hpp"
+#include "caustic/reference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace caustic {
+
+std::pair<int, int> calibration_size(const Scene& scene, const CalibrateOptions& options) {
+  const int f = options.compare_factor;
+  const double longer = std::max(scene.render.width, scene.render.height);
+  auto side = [&](int pixels) {
+    return std::max(f, static_cast<int>(std::lround(options.max_side * pixels / longer / f)) * f);
+  };
+  return {side(scene.render.width), side(scene.render.height)};
+}
+
+Calibration calibrate(const Scene& scene, const MeshLevels& levels, Engine& engine, const std::string& renderer,
+                      const CalibrateOptions& options) {
+  auto say = [&](const std::string& line) {
+    if (options.progress) options.progress(line);
+  };
+  Scene truth = scene;
+  std::tie(truth.render.width, truth.render.height) = calibration_size(scene, options);
+  truth.render.intensity = IntensityMode::energy;
+  truth.render.fresnel = true;
+  truth.light.point_model = PointModel::exact;
+  truth.render.mesh_resolution = 0;
+
+  Calibration out;
+  out.fingerprint = scene_fingerprint(scene, *levels.source);
+  out.reference_photons = options.photons;
+  out.width = truth.render.width;
+  out.height = truth.render.height;
+  out.compare_factor = options.compare_factor;
+  out.renderer = renderer;
+
+  ReferenceOptions ro;
+  ro.photons = options.photons;
+  ro.seed = options.seed;
+  const ReferenceResult ref = trace_reference(truth, *levels.source, ro);
+  const HdrImage reference = box_down(ref.image, options.compare_factor);
+  char line[200];
+  std::snprintf(line, sizeof line, "reference: %llu photons in %.1f s", static_cast<unsigned long long>(ref.photons),
+                ref.seconds);
+  say(line);
+
+  std::vector<PointModel> models{PointModel::exact};
+  if (scene.light.type == LightType::point) models.push_back(PointModel::approximate);
+  for (int resolution : levels.resolutions())
+    for (PointModel model : models)
+      for (bool fresnel : {true, false}) {
+        Scene s = truth;
+        s.render.intensity = scene.render.intensity;
+        s.render.mesh_resolution = resolution;
+        s.light.point_model = model;
+        s.render.fresnel = fresnel;
+        std::vector<double> ray_ms;
+        for (int f = 0; f < options.frames + 1; ++f) {
+          engine.set_scene(s, std::make_shared<const Mesh>(*levels.at(resolution)));  // new handle: a full frame
+          engine.render();
+          if (f > 0) ray_ms.push_back(engine.stats().ray_ms);
+        }
+        std::sort(ray_ms.begin(), ray_ms.end());
+        const ImageError err = compare(box_down(engine.read_hdr(), options.compare_factor), reference,
+                                       scene.post.exposure, scene.post.gamma);
+        CalibrationEntry e;
+        e.config = {resolution, model, fresnel};
+        e.vertices = levels.vertices(resolution);
+        e.relative_l1 = err.relative_l1;
+        e.relative_rmse = err.relative_rmse;
+        e.ssim = err.ssim;
+        e.ray_ms = ray_ms[ray_ms.size() / 2];
+        out.entries.push_back(e);
+        std::snprintf(line, sizeof line, "mesh %-6s %-11s fresnel %-3s  %7.1f ms  L1 %.4f  SSIM %.4f",
+                      resolution ? (std::to_string(resolution) + "^2").c_str() : "loaded",
+                      model == PointModel::exact ? "exact" : "approximate", fresnel ? "on" : "off", e.ray_ms,
+                      e.relative_l1, e.ssim);
+        say(line);
+      }
+  return out;
+}
+
+}  // namespace caustic

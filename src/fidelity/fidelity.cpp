@@ -1,0 +1,177 @@
+#include "caustic/fidelity.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <tuple>
+
+namespace caustic {
+namespace {
+
+using nlohmann::json;
+
+constexpr const char* kFormat = "causticd-calibration-1";
+
+const char* point_model_name(PointModel m) { return m == PointModel::exact ? "exact" : "approximate"; }
+
+// FNV-1a, 64 bit: a stable identifier, not a security boundary.
+std::uint64_t fnv1a(const std::string& text, std::uint64_t h = 1469598103934665603ull) {
+  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
+std::tuple<std::size_t, int, int> cost(const CalibrationEntry& e) {
+  return {e.vertices, e.config.point_model == PointModel::exact, e.config.fresnel};
+}
+
+template <typename T>
+T field(const json& j, const std::string& key, const std::string& where) {
+  if (!j.is_object() || !j.contains(key)) throw SceneError(where + key, "is missing");
+  try {
+    return j.at(key).get<T>();
+  } catch (const json::exception&) {
+    throw SceneError(where + key, "has the wrong type");
+  }
+}
+
+}  // namespace
+
+std::string scene_fingerprint(const Scene& scene, const Mesh& mesh) {
+  json j = scene_to_json(scene);
+  for (const char* k : {"name", "description", "mesh", "post", "focus_distance"}) j.erase(k);
+  j["light"].erase("point_model");
+  for (const char* k : {"width", "height", "fresnel", "fidelity", "accuracy_target", "mesh_resolution"})
+    j["render"].erase(k);
+  std::uint64_t h = fnv1a(j.dump());
+  // The mesh by its vertex and triangle counts and a sum over its positions.
+  double sum = 0;
+  for (const glm::vec3& p : mesh.positions) sum += p.x + 2.0 * p.y + 3.0 * p.z;
+  char tail[96];
+  std::snprintf(tail, sizeof tail, "%zu/%zu/%.6e", mesh.positions.size(), mesh.triangles.size(), sum);
+  h = fnv1a(tail, h);
+  char out[17];
+  std::snprintf(out, sizeof out, "%016llx", static_cast<unsigned long long>(h));
+  return out;
+}
+
+json calibration_to_json(const Calibration& c) {
+  json entries = json::array();
+  for (const auto& e : c.entries)
+    entries.push_back({{"mesh_resolution", e.config.mesh_resolution},
+                       {"point_model", point_model_name(e.config.point_model)},
+                       {"fresnel", e.config.fresnel},
+                       {"vertices", e.vertices},
+                       {"relative_l1", e.relative_l1},
+                       {"relative_rmse", e.relative_rmse},
+                       {"ssim", e.ssim},
+                       {"ray_ms", e.ray_ms}});
+  return {{"format", kFormat},       {"fingerprint", c.fingerprint}, {"reference_photons", c.reference_photons},
+          {"width", c.width},        {"height", c.height},           {"compare_factor", c.compare_factor},
+          {"renderer", c.renderer},  {"entries", entries}};
+}
+
+Calibration calibration_from_json(const json& j) {
+  if (!j.is_object() || j.value("format", "") != kFormat)
+    throw SceneError("format", std::string("must be \"") + kFormat + "\"");
+  Calibration c;
+  c.fingerprint = field<std::string>(j, "fingerprint", "");
+  c.reference_photons = field<std::uint64_t>(j, "reference_photons", "");
+  c.width = field<int>(j, "width", "");
+  c.height = field<int>(j, "height", "");
+  c.compare_factor = field<int>(j, "compare_factor", "");
+  c.renderer = field<std::string>(j, "renderer", "");
+  const json& entries = j.contains("entries") ? j["entries"] : json();
+  if (!entries.is_array()) throw SceneError("entries", "must be an array");
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const std::string where = "entries[" + std::to_string(i) + "].";
+    CalibrationEntry e;
+    e.config.mesh_resolution = field<int>(entries[i], "mesh_resolution", where);
+    const auto model = field<std::string>(entries[i], "point_model", where);
+    if (model != "exact" && model != "approximate")
+      throw SceneError(where + "point_model", "must be \"exact\" or \"approximate\"");
+    e.config.point_model = model == "exact" ? PointModel::exact : PointModel::approximate;
+    e.config.fresnel = field<bool>(entries[i], "fresnel", where);
+    e.vertices = field<std::size_t>(entries[i], "vertices", where);
+    e.relative_l1 = field<double>(entries[i], "relative_l1", where);
+    e.relative_rmse = field<double>(entries[i], "relative_rmse", where);
+    e.ssim = field<double>(entries[i], "ssim", where);
+    e.ray_ms = field<double>(entries[i], "ray_ms", where);
+    if (!(e.relative_l1 >= 0) || !std::isfinite(e.relative_l1))
+      throw SceneError(where + "relative_l1", "must be a finite number >= 0");
+    c.entries.push_back(e);
+  }
+  return c;
+}
+
+std::optional<Calibration> load_calibration(const std::filesystem::path& file, const std::string& fingerprint) {
+  std::ifstream in(file);
+  if (!in) return std::nullopt;
+  const json j = json::parse(in, nullptr, false);
+  if (j.is_discarded()) throw SceneError("", file.filename().string() + " is not valid JSON");
+  Calibration c;
+  try {
+    c = calibration_from_json(j);
+  } catch (const SceneError& e) {
+    throw SceneError("", file.filename().string() + ": " + e.what());
+  }
+  if (c.fingerprint != fingerprint) return std::nullopt;
+  return c;
+}
+
+FidelityChoice choose_fidelity(const Calibration* calibration, double target, const MeshLevels& levels) {
+  FidelityChoice choice;
+  if (!calibration) return choice;
+  const CalibrationEntry* cheapest = nullptr;
+  const CalibrationEntry* best = nullptr;
+  for (const auto& e : calibration->entries) {
+    if (e.config.mesh_resolution != 0 && !levels.resampled.count(e.config.mesh_resolution)) continue;
+    if (!best || e.relative_l1 < best->relative_l1) best = &e;
+    if (e.relative_l1 <= target && (!cheapest || cost(e) < cost(*cheapest))) cheapest = &e;
+  }
+  const CalibrationEntry* pick = cheapest ? cheapest : best;
+  if (!pick) return choice;
+  choice.config = pick->config;
+  choice.expected_l1 = pick->relative_l1;
+  choice.meets_target = cheapest != nullptr;
+  return choice;
+}
+
+Scene resolve_fidelity(Scene scene, const FidelityChoice& choice) {
+  if (scene.render.fidelity != Fidelity::automatic) return scene;
+  scene.render.mesh_resolution = choice.config.mesh_resolution;
+  scene.light.point_model = choice.config.point_model;
+  scene.render.fresnel = choice.config.fresnel;
+  return scene;
+}
+
+json describe_fidelity(const Scene& scene, const Mesh& source, const MeshLevels& levels,
+                       const Calibration* calibration) {
+  const bool automatic = scene.render.fidelity == Fidelity::automatic;
+  json j{{"mode", automatic ? "auto" : "manual"},
+         {"accuracy_target", scene.render.accuracy_target},
+         {"mesh_resolution", scene.render.mesh_resolution},
+         {"vertices", levels.vertices(scene.render.mesh_resolution)},
+         {"point_model", point_model_name(scene.light.point_model)},
+         {"fresnel", scene.render.fresnel},
+         {"levels", levels.resolutions()},
+         {"calibrated", calibration != nullptr},
+         {"expected_relative_l1", nullptr},
+         {"meets_target", nullptr}};
+  if (!calibration) return j;
+  const FidelityConfig now{scene.render.mesh_resolution, scene.light.point_model, scene.render.fresnel};
+  for (const auto& e : calibration->entries)
+    if (e.config == now) {
+      j["expected_relative_l1"] = e.relative_l1;
+      j["meets_target"] = e.relative_l1 <= scene.render.accuracy_target;
+    }
+  // Moving the light or the object takes the scene away from what was calibrated.
+  j["calibration_matches_parameters"] = scene_fingerprint(scene, source) == calibration->fingerprint;
+  return j;
+}
+
+std::filesystem::path calibration_path(const std::filesystem::path& scene_file) {
+  std::filesystem::path p = scene_file;
+  return p.replace_extension(".calibration.json");
+}
+
+}  // namespace caustic

@@ -1,0 +1,85 @@
+// render.fidelity "auto": from a calibration (each cheaper configuration's
+// measured error against the reference tracer on one scene), choose the
+// cheapest configuration that meets the scene's accuracy target.
+//
+// Cost order, cheapest first: fewer mesh vertices (the caustic pass is
+// linear in triangles), then the approximate point-light entry (the exact
+// one solves for the entry point per vertex), then Fresnel off. Measured
+// times are kept in the calibration for people; the order does not depend
+// on them, so the same calibration gives the same choice on every machine.
+#pragma once
+
+#include "caustic/mesh_levels.hpp"
+#include "caustic/scene.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace caustic {
+
+/// What "auto" may change: the rest of the scene is the physics.
+struct FidelityConfig {
+  int mesh_resolution = 0;  ///< as render.mesh_resolution
+  PointModel point_model = PointModel::exact;
+  bool fresnel = true;
+  bool operator==(const FidelityConfig&) const = default;
+};
+
+struct CalibrationEntry {
+  FidelityConfig config;
+  std::size_t vertices = 0;    ///< of the mesh level
+  double relative_l1 = 0;      ///< against the reference (full physics)
+  double relative_rmse = 0;
+  double ssim = 1;
+  double ray_ms = 0;           ///< median caustic pass where it was calibrated
+};
+
+struct Calibration {
+  std::string fingerprint;  ///< scene_fingerprint of what was calibrated
+  std::uint64_t reference_photons = 0;
+  int width = 0, height = 0;  ///< render size of the calibration
+  int compare_factor = 1;     ///< box filter before comparing
+  std::string renderer;       ///< GL_RENDERER where ray_ms was measured
+  std::vector<CalibrationEntry> entries;
+};
+
+/// Identifies what a calibration is valid for: the object, light position or
+/// direction, screen and intensity mode, and the mesh; not the settings
+/// "auto" chooses, the render size or post-processing.
+std::string scene_fingerprint(const Scene& scene, const Mesh& mesh);
+
+nlohmann::json calibration_to_json(const Calibration& calibration);
+/// Throws SceneError (key inside the file) on a malformed calibration.
+Calibration calibration_from_json(const nlohmann::json& j);
+/// The calibration for `fingerprint` in `file`, or none when the file is
+/// missing or calibrates something else. Throws SceneError when it is malformed.
+std::optional<Calibration> load_calibration(const std::filesystem::path& file, const std::string& fingerprint);
+
+struct FidelityChoice {
+  FidelityConfig config;
+  std::optional<double> expected_l1;  ///< from the calibration; none when uncalibrated
+  bool meets_target = false;          ///< false: nothing calibrated met it, the most accurate was taken
+};
+
+/// The cheapest calibrated configuration with relative L1 <= target among
+/// the levels `levels` offers; when none meets the target, the most accurate
+/// one. Without a calibration: the full model (mesh as loaded, exact, Fresnel).
+FidelityChoice choose_fidelity(const Calibration* calibration, double target, const MeshLevels& levels);
+
+/// `scene` with the choice written into mesh_resolution, point_model and
+/// fresnel when its fidelity is "auto"; unchanged when "manual".
+Scene resolve_fidelity(Scene scene, const FidelityChoice& choice);
+
+/// The fidelity block of GET .../params: mode, target, what is rendered and
+/// its expected error, and whether the calibration covers the parameters now.
+nlohmann::json describe_fidelity(const Scene& scene, const Mesh& source, const MeshLevels& levels,
+                                 const Calibration* calibration);
+
+/// The calibration file of a scene file: S.json -> S.calibration.json.
+std::filesystem::path calibration_path(const std::filesystem::path& scene_file);
+
+}  // namespace caustic

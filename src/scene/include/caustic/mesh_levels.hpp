@@ -1,0 +1,26 @@
+// A caustic face at several vertex counts: the mesh as loaded plus the same
+// surface resampled on coarser regular grids (built by build_mesh_levels in
+// caustic/resample.hpp), so a cheaper level keeps the focus where the full
+// mesh has it.
+#pragma once
+
+#include "caustic/mesh.hpp"
+
+#include <map>
+#include <memory>
+#include <vector>
+
+namespace caustic {
+
+struct MeshLevels {
+  std::shared_ptr<const Mesh> source;                      ///< as loaded: mesh_resolution 0
+  std::map<int, std::shared_ptr<const Mesh>> resampled;    ///< n -> n x n grid
+
+  /// The mesh for `render.mesh_resolution`; throws SceneError naming
+  /// render.mesh_resolution (and the levels on offer) for one not built.
+  std::shared_ptr<const Mesh> at(int resolution) const;
+  std::vector<int> resolutions() const;  ///< 0 first, then the grids, ascending
+  std::size_t vertices(int resolution) const { return at(resolution)->positions.size(); }
+};
+
+}  // namespace caustic

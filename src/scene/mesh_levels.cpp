@@ -1,0 +1,21 @@
+#include "caustic/mesh_levels.hpp"
+
+#include <string>
+
+namespace caustic {
+
+std::shared_ptr<const Mesh> MeshLevels::at(int resolution) const {
+  if (resolution == 0) return source;
+  if (auto it = resampled.find(resolution); it != resampled.end()) return it->second;
+  std::string offered = "0";
+  for (const auto& [n, mesh] : resampled) offered += ", " + std::to_string(n);
+  throw SceneError("render.mesh_resolution", "must be one of the levels this scene offers: " + offered);
+}
+
+std::vector<int> MeshLevels::resolutions() const {
+  std::vector<int> out{0};
+  for (const auto& [n, mesh] : resampled) out.push_back(n);
+  return out;
+}
+
+}  // namespace caustic

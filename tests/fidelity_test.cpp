@@ -1,0 +1,219 @@
+// render.fidelity "auto": the choice rule on hand-made calibrations, the
+// calibration file's checks, and the physics case: a far directional light
+// on a lens needs fewer vertices than a point light imaged on the screen,
+// and both choices meet the target against a fresh reference.
+#include "gl_test_support.hpp"
+
+#include "caustic/calibrate.hpp"
+#include "caustic/fidelity.hpp"
+#include "caustic/image_compare.hpp"
+#include "caustic/reference.hpp"
+#include "caustic/resample.hpp"
+
+#include <filesystem>
+#include <fstream>
+
+using namespace caustic;
+using namespace caustic::testing;
+
+namespace {
+
+// Levels whose meshes only need their vertex counts (for the cost order).
+MeshLevels fake_levels(std::initializer_list<int> grids, std::size_t source_vertices) {
+  auto mesh_of = [](std::size_t n) {
+    Mesh m;
+    m.positions.resize(n);
+    return std::make_shared<const Mesh>(std::move(m));
+  };
+  MeshLevels levels;
+  levels.source = mesh_of(source_vertices);
+  for (int n : grids) levels.resampled[n] = mesh_of(static_cast<std::size_t>(n) * n);
+  return levels;
+}
+
+CalibrationEntry entry(int resolution, std::size_t vertices, PointModel model, bool fresnel, double l1) {
+  CalibrationEntry e;
+  e.config = {resolution, model, fresnel};
+  e.vertices = vertices;
+  e.relative_l1 = l1;
+  return e;
+}
+
+Calibration hand_made() {
+  Calibration c;
+  c.fingerprint = "f";
+  c.entries = {entry(0, 65536, PointModel::exact, true, 0.001),
+               entry(16, 256, PointModel::exact, true, 0.08),
+               entry(32, 1024, PointModel::exact, true, 0.02),
+               entry(32, 1024, PointModel::approximate, true, 0.04),
+               entry(32, 1024, PointModel::exact, false, 0.03),
+               entry(64, 4096, PointModel::approximate, false, 0.001),
+               entry(512, 262144, PointModel::exact, true, 0.0001)};  // a level the scene does not offer
+  return c;
+}
+
+}  // namespace
+
+TEST(FidelityChoice, CheapestMeetingTheTargetInCostOrder) {
+  const MeshLevels levels = fake_levels({16, 32, 64}, 65536);
+  const Calibration c = hand_made();
+  // 5%: 32^2 is the fewest vertices that qualify; among the three at 32^2 the
+  // approximate model (with Fresnel) is cheaper than the exact ones.
+  FidelityChoice choice = choose_fidelity(&c, 0.05, levels);
+  EXPECT_EQ(choice.config, (FidelityConfig{32, PointModel::approximate, true}));
+  EXPECT_DOUBLE_EQ(*choice.expected_l1, 0.04);
+  EXPECT_TRUE(choice.meets_target);
+  // 2.5%: only exact/Fresnel qualifies at 32^2.
+  choice = choose_fidelity(&c, 0.025, levels);
+  EXPECT_EQ(choice.config, (FidelityConfig{32, PointModel::exact, true}));
+  // 0.5%: 64^2 (approximate, no Fresnel) beats the mesh as loaded on vertices.
+  EXPECT_EQ(choose_fidelity(&c, 0.005, levels).config, (FidelityConfig{64, PointModel::approximate, false}));
+  // Nothing offered meets 0.01%: the most accurate offered (not the 512^2 row).
+  choice = choose_fidelity(&c, 0.0001, levels);
+  EXPECT_FALSE(choice.meets_target);
+  EXPECT_EQ(choice.config.mesh_resolution, 0);
+  EXPECT_DOUBLE_EQ(*choice.expected_l1, 0.001);
+  // No calibration: the full model, no expected error.
+  choice = choose_fidelity(nullptr, 0.05, levels);
+  EXPECT_EQ(choice.config, (FidelityConfig{0, PointModel::exact, true}));
+  EXPECT_FALSE(choice.expected_l1);
+}
+
+TEST(FidelityChoice, ResolveWritesAutoAndLeavesManualAlone) {
+  Scene s;
+  s.light.point_model = PointModel::exact;
+  FidelityChoice choice;
+  choice.config = {32, PointModel::approximate, false};
+  const Scene automatic = resolve_fidelity(s, choice);
+  EXPECT_EQ(automatic.render.mesh_resolution, 32);
+  EXPECT_EQ(automatic.light.point_model, PointModel::approximate);
+  EXPECT_FALSE(automatic.render.fresnel);
+  s.render.fidelity = Fidelity::manual;
+  EXPECT_EQ(resolve_fidelity(s, choice), s);
+}
+
+TEST(Calibration, RoundTripsAndNamesWhatIsWrongInAFile) {
+  const Calibration c = hand_made();
+  const Calibration back = calibration_from_json(nlohmann::json::parse(calibration_to_json(c).dump()));
+  ASSERT_EQ(back.entries.size(), c.entries.size());
+  EXPECT_EQ(back.entries[3].config, c.entries[3].config);
+  EXPECT_DOUBLE_EQ(back.entries[3].relative_l1, 0.04);
+
+  auto rejects = [](nlohmann::json j, const std::string& key) {
+    try {
+      calibration_from_json(j);
+      ADD_FAILURE() << "accepted " << j.dump();
+    } catch (const SceneError& e) {
+      EXPECT_EQ(e.key(), key) << e.what();
+    }
+  };
+  const nlohmann::json good = calibration_to_json(c);
+  nlohmann::json j = good;
+  j["format"] = "v0";
+  rejects(j, "format");
+  j = good;
+  j.erase("fingerprint");
+  rejects(j, "fingerprint");
+  j = good;
+  j["entries"] = 3;
+  rejects(j, "entries");
+  j = good;
+  j["entries"][1]["point_model"] = "guess";
+  rejects(j, "entries[1].point_model");
+  j = good;
+  j["entries"][2]["relative_l1"] = -1;
+  rejects(j, "entries[2].relative_l1");
+  j = good;
+  j["entries"][0]["fresnel"] = "yes";
+  rejects(j, "entries[0].fresnel");
+
+  const auto dir = std::filesystem::temp_directory_path() / "causticd_fidelity_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "c.json") << good.dump();
+  EXPECT_TRUE(load_calibration(dir / "c.json", "f"));
+  EXPECT_FALSE(load_calibration(dir / "c.json", "another scene"));
+  EXPECT_FALSE(load_calibration(dir / "missing.json", "f"));
+  std::ofstream(dir / "bad.json") << "{\"format\": ";
+  EXPECT_THROW(load_calibration(dir / "bad.json", "f"), SceneError);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Calibration, FingerprintFollowsThePhysicsNotTheChoices) {
+  const Mesh mesh = grid_mesh(plano_convex_lens(40.0, 10.0), 16, 16);
+  Scene s;
+  const std::string base = scene_fingerprint(s, mesh);
+  Scene same = s;
+  same.post.exposure = 3;
+  same.render.width = 64;
+  same.render.mesh_resolution = 32;
+  same.render.fresnel = false;
+  same.light.point_model = PointModel::approximate;
+  same.render.accuracy_target = 0.2;
+  EXPECT_EQ(scene_fingerprint(same, mesh), base);
+  Scene moved = s;
+  moved.light.direction = glm::normalize(glm::dvec3(0.1, 0, -1));
+  EXPECT_NE(scene_fingerprint(moved, mesh), base);
+  Scene glass = s;
+  glass.object.ior = 1.6;
+  EXPECT_NE(scene_fingerprint(glass, mesh), base);
+  EXPECT_NE(scene_fingerprint(s, grid_mesh(plano_convex_lens(41.0, 10.0), 16, 16)), base);
+}
+
+class FidelityAuto : public GlTest {};
+
+TEST_F(FidelityAuto, CheaperForAFarDirectionalLightThanAPointLightImagedOnTheScreen) {
+  const auto source = shared(grid_mesh(plano_convex_lens(40.0, 10.0), 256, 256));
+  const MeshLevels levels = build_mesh_levels(source, {0, 0, 1}, coarser_resolutions(*source));
+  Scene lens;
+  lens.mesh = "generated";
+  lens.object.flat_face_offset = 4.0;
+  lens.render.width = lens.render.height = 256;
+  // Far directional light, screen half-way to the focus: a smooth disc.
+  Scene far = lens;
+  far.screen.center = {0, 0, -40};
+  far.screen.width = far.screen.height = 24;
+  // Point light 200 mm above: 1/v = 1/80 - 1/200 puts its image 133 mm below.
+  Scene near = lens;
+  near.light.type = LightType::point;
+  near.light.position = {0, 0, 200};
+  near.screen.center = {0, 0, -133};
+  near.screen.width = near.screen.height = 6;
+
+  CalibrateOptions options;
+  options.photons = 4'000'000;
+  options.max_side = 256;
+  options.frames = 1;
+  struct Outcome {
+    FidelityChoice choice;
+    std::size_t vertices;
+    double l1;
+  };
+  auto run = [&](const Scene& scene) {
+    const Calibration c = calibrate(scene, levels, *engine_, context_->renderer(), options);
+    Outcome o{choose_fidelity(&c, 0.05, levels), 0, 0};
+    EXPECT_TRUE(o.choice.meets_target);
+    o.vertices = levels.vertices(o.choice.config.mesh_resolution);
+    // Judged against a reference the calibration never saw (another seed, twice the photons).
+    ReferenceOptions fresh;
+    fresh.photons = 8'000'000;
+    fresh.seed = 7;
+    const HdrImage truth = trace_reference(scene, *source, fresh).image;
+    const Scene chosen = resolve_fidelity(scene, o.choice);
+    const HdrImage image = render(chosen, levels.at(chosen.render.mesh_resolution));
+    o.l1 = compare(box_down(image, 4), box_down(truth, 4)).relative_l1;
+    std::printf("choice: mesh %d (%zu vertices), %s, Fresnel %d: expected L1 %.4f, measured %.4f\n",
+                o.choice.config.mesh_resolution, o.vertices,
+                o.choice.config.point_model == PointModel::exact ? "exact" : "approximate", o.choice.config.fresnel,
+                *o.choice.expected_l1, o.l1);
+    return o;
+  };
+  const Outcome f = run(far), n = run(near);
+  EXPECT_LT(f.vertices, n.vertices);
+  EXPECT_LE(f.l1, 0.05);
+  EXPECT_LE(n.l1, 0.05);
+  // Both sit on Fresnel: leaving it out costs 8% of the flux at n = 1.5.
+  EXPECT_TRUE(f.choice.config.fresnel);
+  EXPECT_TRUE(n.choice.config.fresnel);
+  // The report's entry-point approximation is off by more than 5% this close.
+  EXPECT_EQ(n.choice.config.point_model, PointModel::exact);
+}
