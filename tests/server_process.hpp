@@ -16,12 +16,19 @@ namespace caustic::testing {
 
 class ServerProcess {
  public:
-  explicit ServerProcess(std::vector<std::string> extra_args = {}) {
-    std::vector<const char*> argv = {CAUSTICD_BINARY, "serve", "--port", "0", "--ice-address", "127.0.0.1"};
+  /// `environment`: variables added to the test's own; `binary`: another
+  /// causticd (an installed one).
+  explicit ServerProcess(std::vector<std::string> extra_args = {},
+                         std::vector<std::pair<std::string, std::string>> environment = {},
+                         const std::string& binary = CAUSTICD_BINARY) {
+    std::vector<const char*> argv = {binary.c_str(), "serve", "--port", "0", "--ice-address", "127.0.0.1"};
     for (const auto& a : extra_args) argv.push_back(a.c_str());
     argv.push_back(nullptr);
     GError* error = nullptr;
-    process_ = g_subprocess_newv(argv.data(), G_SUBPROCESS_FLAGS_STDOUT_PIPE, &error);
+    GSubprocessLauncher* launcher = g_subprocess_launcher_new(G_SUBPROCESS_FLAGS_STDOUT_PIPE);
+    for (const auto& [key, value] : environment) g_subprocess_launcher_setenv(launcher, key.c_str(), value.c_str(), TRUE);
+    process_ = g_subprocess_launcher_spawnv(launcher, argv.data(), &error);
+    g_object_unref(launcher);
     if (!process_) {
       ADD_FAILURE() << error->message;
       g_error_free(error);
@@ -58,6 +65,15 @@ class ServerProcess {
     }
     return g_subprocess_get_identifier(process_) == nullptr;  // no pid once it exited and was reaped
   }
+
+  /// Waits up to `ms` for the process to end; its exit status, or -1 when
+  /// it is still running (or ended by a signal).
+  int wait_exit(int ms) {
+    for (int waited = 0; waited < ms && !finished(); waited += 20) g_usleep(20000);
+    if (!finished()) return -1;
+    return g_subprocess_get_if_exited(process_) ? g_subprocess_get_exit_status(process_) : -1;
+  }
+  void signal(int number) { g_subprocess_send_signal(process_, number); }
 
   const std::string& url() const { return url_; }
   GSubprocess* process() const { return process_; }

@@ -25,6 +25,7 @@ packages=(
   libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstreamer-plugins-bad1.0-dev
   gstreamer1.0-plugins-base gstreamer1.0-plugins-good gstreamer1.0-plugins-bad gstreamer1.0-plugins-ugly
   gstreamer1.0-nice gstreamer1.0-libav libsoup-3.0-dev
+  libsystemd-dev systemd
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   chromium
 )

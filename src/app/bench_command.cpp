@@ -78,7 +78,8 @@ void write_charts(const std::filesystem::path& out, const std::vector<Setup>& se
           "  plot for [s in '"
        << series
        << "'] 'results.csv' using (strcol(1).':'.strcol(2) eq s ? $5 : 1/0):7 with points pointsize 1.2 title s\n"
-          "  set output 'convergence.'.f\n  set multiplot layout 1,2\n"
+          "  set output 'convergence.'.f\n  set multiplot layout 1,2\n  set key inside top right\n"
+          "  set format x '10^{%T}'\n  set format y '10^{%T}'\n"
           "  set xlabel 'reference photons'\n  set ylabel 'relative L1 against the converged reference'\n"
           "  fit_a = 1\n  fit fit_a/sqrt(x) 'convergence.csv' using (strcol(1) eq 'reference' ? $2 : 1/0):3 via fit_a\n"
           "  plot 'convergence.csv' using (strcol(1) eq 'reference' ? $2 : 1/0):3 with linespoints title 'reference', "
@@ -87,7 +88,7 @@ void write_charts(const std::filesystem::path& out, const std::vector<Setup>& se
           "  plot for [s in '"
        << convergence
        << "'] 'convergence.csv' using (strcol(1) eq s ? $2 : 1/0):3 with linespoints title s.' px'\n"
-          "  unset multiplot\n}\n";
+          "  unset multiplot\n  set format x '%g'\n  set format y '%g'\n  set key outside right\n}\n";
   plot.close();
   const std::string command = "cd '" + out.string() + "' && gnuplot chart.gp 2>gnuplot.log";
   if (std::system(command.c_str()) != 0)

@@ -57,4 +57,7 @@ std::function<int()> add_calibrate_command(CLI::App& app);
 /// `causticd serve`: the streaming server.
 std::function<int()> add_serve_command(CLI::App& app);
 
+/// `causticd check-config`: validates a configuration file.
+std::function<int()> add_check_config_command(CLI::App& app);
+
 }  // namespace caustic::app

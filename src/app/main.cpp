@@ -11,7 +11,8 @@ int main(int argc, char** argv) {
                                            caustic::app::add_reference_command(app),
                                            caustic::app::add_bench_command(app),
                                            caustic::app::add_calibrate_command(app),
-                                           caustic::app::add_serve_command(app)};
+                                           caustic::app::add_serve_command(app),
+                                           caustic::app::add_check_config_command(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,3 +1,5 @@
+// `causticd serve` and `causticd check-config`: the streaming server and the
+// check of its configuration (docs/configuration.md, docs/operations.md).
 #include "commands.hpp"
 
 #include "caustic/gst/causticsrc.hpp"
@@ -9,6 +11,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <regex>
 
 namespace caustic::app {
 namespace {
@@ -17,19 +20,37 @@ struct ServeOptions {
   std::string config_file;
   std::map<std::string, std::string> overrides;  // config key -> value from flags
   std::vector<std::string> ice_addresses;
+  std::string instance;
 };
+
+// Defaults, then the file, then CAUSTICD_* variables, then flags: what both
+// the start and every SIGHUP read. Throws server::ConfigError.
+server::ServerConfig read_config(const ServeOptions& opt) {
+  server::ServerConfig config;
+  if (!opt.config_file.empty()) server::load_config_file(config, opt.config_file);
+  server::load_config_environment(config);
+  // A template unit's instance name: "<port>" or "<port>-gpu<N>".
+  if (!opt.instance.empty()) {
+    static const std::regex pattern("^([0-9]{1,5})(-gpu([0-9]{1,2}))?$");
+    std::smatch m;
+    if (!std::regex_match(opt.instance, m, pattern))
+      throw server::ConfigError("--instance: must be <port> or <port>-gpu<N>, got \"" + opt.instance + "\"");
+    server::set_config_value(config, "port", m[1]);
+    if (m[3].matched) server::set_config_value(config, "egl_device", m[3]);
+  }
+  for (const auto& [key, value] : opt.overrides) server::set_config_value(config, key, value);
+  if (!opt.ice_addresses.empty()) {
+    std::string joined;
+    for (const auto& a : opt.ice_addresses) joined += (joined.empty() ? "" : ",") + a;
+    server::set_config_value(config, "ice_addresses", joined);
+  }
+  return config;
+}
 
 int run_serve(const ServeOptions& opt) {
   server::ServerConfig config;
   try {
-    if (!opt.config_file.empty()) server::load_config_file(config, opt.config_file);
-    server::load_config_environment(config);
-    for (const auto& [key, value] : opt.overrides) server::set_config_value(config, key, value);
-    if (!opt.ice_addresses.empty()) {
-      std::string joined;
-      for (const auto& a : opt.ice_addresses) joined += (joined.empty() ? "" : ",") + a;
-      server::set_config_value(config, "ice_addresses", joined);
-    }
+    config = read_config(opt);
   } catch (const server::ConfigError& e) {
     std::cerr << "causticd serve: " << e.what() << "\n";
     return bad_input;
@@ -41,6 +62,7 @@ int run_serve(const ServeOptions& opt) {
   }
   try {
     server::Server server(config, server::data_dir());
+    server.set_config_reloader([opt] { return read_config(opt); });
     const std::string url = server.listen();
     std::printf("listening on %s\n", url.c_str());
     std::fflush(stdout);
@@ -49,6 +71,24 @@ int run_serve(const ServeOptions& opt) {
     std::cerr << "causticd serve: " << e.what() << "\n";
     return runtime_failure;
   }
+  std::fflush(stdout);
+  std::fflush(stderr);
+  return ok;
+}
+
+int run_check_config(const std::string& file) {
+  try {
+    server::ServerConfig config;
+    server::load_config_file(config, file);
+    server::check_config(config, server::data_dir());
+  } catch (const server::ConfigError& e) {
+    std::cerr << "causticd check-config: " << e.what() << "\n";
+    return bad_input;
+  } catch (const std::exception& e) {
+    std::cerr << "causticd check-config: " << e.what() << "\n";
+    return runtime_failure;
+  }
+  std::printf("%s: ok\n", file.c_str());
   return ok;
 }
 
@@ -63,7 +103,8 @@ std::function<int()> add_serve_command(CLI::App& app) {
       {"--codec", "codec"},           {"--bitrate", "bitrate_kbps"}, {"--framerate", "framerate"},
       {"--width", "width"},           {"--height", "height"},       {"--stun-server", "stun_server"},
       {"--turn-server", "turn_server"}, {"--idle-timeout", "idle_timeout_s"}, {"--scenes-dir", "scenes_dir"},
-      {"--web-dir", "web_dir"}};
+      {"--web-dir", "web_dir"},       {"--log-level", "log_level"}, {"--keyframe-interval", "keyframe_interval"},
+      {"--egl-device", "egl_device"}};
   for (const auto& [flag, key] : flags) {
     const std::string k = key;
     cmd->add_option_function<std::string>(
@@ -71,7 +112,15 @@ std::function<int()> add_serve_command(CLI::App& app) {
         "Overrides the config key " + k);
   }
   cmd->add_option("--ice-address", opt->ice_addresses, "Local address ICE may use (repeatable; default: all)");
+  cmd->add_option("--instance", opt->instance, "Instance name of causticd@.service: <port> or <port>-gpu<N>");
   return [cmd, opt] { return cmd->parsed() ? run_serve(*opt) : -1; };
+}
+
+std::function<int()> add_check_config_command(CLI::App& app) {
+  auto file = std::make_shared<std::string>("/etc/causticd/causticd.conf");
+  CLI::App* cmd = app.add_subcommand("check-config", "Validate a configuration file and exit");
+  cmd->add_option("config", *file, "Config file (default /etc/causticd/causticd.conf)");
+  return [cmd, file] { return cmd->parsed() ? run_check_config(*file) : -1; };
 }
 
 }  // namespace caustic::app

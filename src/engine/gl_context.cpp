@@ -26,8 +26,21 @@ std::string egl_error_text() {
   return buf;
 }
 
-// First EGL device that is not a software renderer, if the driver lists any.
+// CAUSTICD_EGL_DEVICE: which hardware device (0, 1, ...) to use; -1: the first.
+int wanted_device() {
+  const char* value = std::getenv("CAUSTICD_EGL_DEVICE");
+  if (!value || !*value) return -1;
+  char* end = nullptr;
+  const long n = std::strtol(value, &end, 10);
+  if (*end || n < -1 || n > 63)
+    throw GlContextError(std::string("CAUSTICD_EGL_DEVICE must be an integer in [-1, 63], got \"") + value + "\"");
+  return static_cast<int>(n);
+}
+
+// The wanted EGL device that is not a software renderer (the first without
+// CAUSTICD_EGL_DEVICE), if the driver lists any.
 EGLDisplay hardware_device_display() {
+  const int wanted = wanted_device();
   const char* client_ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (!has_extension(client_ext, "EGL_EXT_device_enumeration") || !has_extension(client_ext, "EGL_EXT_platform_device"))
     return EGL_NO_DISPLAY;
@@ -39,12 +52,17 @@ EGLDisplay hardware_device_display() {
   if (!query_devices(0, nullptr, &count) || count <= 0) return EGL_NO_DISPLAY;
   std::vector<EGLDeviceEXT> devices(static_cast<std::size_t>(count));
   query_devices(count, devices.data(), &count);
+  int hardware = 0;
   for (EGLint i = 0; i < count; ++i) {
     const char* ext = query_device_string(devices[i], EGL_EXTENSIONS);
     if (has_extension(ext, "EGL_MESA_device_software")) continue;
+    if (wanted >= 0 && hardware++ != wanted) continue;
     EGLDisplay display = eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
     if (display != EGL_NO_DISPLAY) return display;
   }
+  if (wanted >= 0)
+    throw GlContextError("CAUSTICD_EGL_DEVICE=" + std::to_string(wanted) + ", but there are " +
+                         std::to_string(hardware) + " hardware EGL devices");
   return EGL_NO_DISPLAY;
 }
 
@@ -69,6 +87,8 @@ EglPlatform egl_platform_from_environment() {
 GlContext::GlContext(EglPlatform platform) : state_(std::make_unique<State>()) {
   EGLDisplay display = EGL_NO_DISPLAY;
   if (platform != EglPlatform::surfaceless) display = hardware_device_display();
+  if (display == EGL_NO_DISPLAY && platform != EglPlatform::surfaceless && wanted_device() >= 0)
+    throw GlContextError("CAUSTICD_EGL_DEVICE is set, but EGL lists no hardware device");
   if (display == EGL_NO_DISPLAY && platform == EglPlatform::device)
     throw GlContextError("no hardware EGL device found (EGL_EXT_platform_device)");
   if (display == EGL_NO_DISPLAY) {

@@ -40,7 +40,8 @@ const std::vector<std::string>& config_keys() {
   static const std::vector<std::string> keys = {
       "bind_address", "port",        "max_sessions",      "codec",       "bitrate_kbps",   "framerate",
       "width",        "height",      "keyframe_interval", "stun_server", "turn_server",    "ice_addresses",
-      "idle_timeout_s", "max_body_bytes", "scenes_dir",     "web_dir"};
+      "idle_timeout_s", "max_body_bytes", "scenes_dir",     "web_dir",     "log_level",      "egl_device",
+      "stall_timeout_s"};
   return keys;
 }
 
@@ -95,6 +96,15 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
     c.scenes_dir = value;
   } else if (key == "web_dir") {
     c.web_dir = value;
+  } else if (key == "log_level") {
+    static const std::regex level("^(error|warning|notice|info|debug)$");
+    if (!std::regex_match(value, level))
+      throw ConfigError(key + ": must be error, warning, notice, info or debug, got \"" + value + "\"");
+    c.log_level = value;
+  } else if (key == "egl_device") {
+    c.egl_device = parse_int(key, value, -1, 63);
+  } else if (key == "stall_timeout_s") {
+    c.stall_timeout_s = parse_int(key, value, 2, 3600);
   } else {
     throw ConfigError(key + ": unknown key");
   }
@@ -118,6 +128,15 @@ void load_config_file(ServerConfig& config, const std::filesystem::path& file) {
     }
   }
   config = next;
+}
+
+void check_config(const ServerConfig& c, const std::filesystem::path& data_dir) {
+  const auto scenes = c.scenes_dir.empty() ? data_dir / "assets" / "scenes" : c.scenes_dir;
+  const auto web = c.web_dir.empty() ? data_dir / "web" : c.web_dir;
+  if (!std::filesystem::is_directory(scenes)) throw ConfigError("scenes_dir: " + scenes.string() + " is not a folder");
+  if (!std::filesystem::is_directory(web)) throw ConfigError("web_dir: " + web.string() + " is not a folder");
+  if (!std::filesystem::is_regular_file(data_dir / "pipelines" / (c.codec + ".pipeline")))
+    throw ConfigError("codec: no pipeline " + c.codec + ".pipeline in " + (data_dir / "pipelines").string());
 }
 
 void load_config_environment(ServerConfig& config) {

@@ -10,6 +10,8 @@ enum class Level { error = 3, warning = 4, notice = 5, info = 6, debug = 7 };
 
 /// Events above `level` are dropped.
 void set_log_level(Level level);
+/// "error" .. "debug" (the config key log_level); throws std::invalid_argument.
+Level level_from_name(const std::string& name);
 void log(Level level, const std::string& message);
 
 }  // namespace caustic::server

@@ -1,10 +1,13 @@
 #include "caustic/server/server.hpp"
 
 #include "log.hpp"
+#include "notify.hpp"
 #include "server_state.hpp"
 
 #include <glib-unix.h>
 #include <gst/gst.h>
+
+#include <cstdlib>
 
 namespace caustic::server {
 
@@ -25,18 +28,52 @@ void ServerState::end_session(const std::string& id, const std::string& reason) 
 struct Server::State {
   ServerState shared;
   GMainLoop* loop = nullptr;
-  guint reaper = 0, sigint = 0, sigterm = 0;
+  guint reaper = 0, sigint = 0, sigterm = 0, sighup = 0, watchdog = 0;
+  std::function<ServerConfig()> reloader;
 };
+
+namespace {
+
+std::filesystem::path scenes_dir(const ServerState& s) {
+  return s.config.scenes_dir.empty() ? s.data_dir / "assets" / "scenes" : s.config.scenes_dir;
+}
+
+std::shared_ptr<const Gallery> load_checked_gallery(const ServerState& s) {
+  auto gallery = std::make_shared<Gallery>(load_gallery(scenes_dir(s)));
+  for (const auto& problem : gallery->problems) log(Level::warning, "scene skipped: " + problem);
+  if (gallery->entries.empty()) throw std::runtime_error("no usable scene in " + scenes_dir(s).string());
+  return gallery;
+}
+
+std::string status_line(const ServerState& s) {
+  return "STATUS=" + std::to_string(s.sessions.size()) + " sessions, " + std::to_string(s.gallery->entries.size()) +
+         " scenes, " + s.renderer;
+}
+
+// True when every session that has streamed has done so recently: a
+// streaming thread stuck in a render (or a dead GPU) withholds the ping.
+bool sessions_alive(const ServerState& s) {
+  const auto now = std::chrono::steady_clock::now();
+  for (const auto& [id, session] : s.sessions)
+    if (auto last = session->last_frame(); last && now - *last > std::chrono::seconds(s.config.stall_timeout_s)) {
+      log(Level::error, "session " + id + ": no frame for " + std::to_string(s.config.stall_timeout_s) +
+                            " s; withholding the watchdog ping");
+      return false;
+    }
+  return true;
+}
+
+}  // namespace
 
 Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std::make_unique<State>()) {
   auto& s = state_->shared;
   s.config = std::move(config);
   s.data_dir = std::move(data_dir);
   s.web_dir = s.config.web_dir.empty() ? s.data_dir / "web" : s.config.web_dir;
-  const auto scenes = s.config.scenes_dir.empty() ? s.data_dir / "assets" / "scenes" : s.config.scenes_dir;
-  auto gallery = std::make_shared<Gallery>(load_gallery(scenes));
-  for (const auto& problem : gallery->problems) log(Level::warning, "scene skipped: " + problem);
-  if (gallery->entries.empty()) throw std::runtime_error("no usable scene in " + scenes.string());
+  set_log_level(level_from_name(s.config.log_level));
+  // Read by every GL context the process creates, before the first exists.
+  if (s.config.egl_device >= 0) setenv("CAUSTICD_EGL_DEVICE", std::to_string(s.config.egl_device).c_str(), 1);
+  auto gallery = load_checked_gallery(s);
   s.renderer = gallery->renderer;
   s.gallery = std::move(gallery);
   s.soup = soup_server_new("server-header", "causticd", nullptr);
@@ -53,7 +90,7 @@ Server::~Server() {
   auto& s = state_->shared;
   for (auto& [id, session] : s.sessions) session->close("server shutting down");
   s.sessions.clear();
-  for (guint source : {state_->reaper, state_->sigint, state_->sigterm})
+  for (guint source : {state_->reaper, state_->sigint, state_->sigterm, state_->sighup, state_->watchdog})
     if (source) g_source_remove(source);
   if (s.soup) {
     soup_server_disconnect(s.soup);
@@ -102,12 +139,70 @@ void Server::run() {
       },
       &s);
   auto quit = [](gpointer loop) -> gboolean {
+    notify("STOPPING=1");
+    log(Level::notice, "stopping: closing every session");
     g_main_loop_quit(static_cast<GMainLoop*>(loop));
     return G_SOURCE_CONTINUE;
   };
   state_->sigint = g_unix_signal_add(SIGINT, quit, state_->loop);
   state_->sigterm = g_unix_signal_add(SIGTERM, quit, state_->loop);
+  state_->sighup = g_unix_signal_add(
+      SIGHUP,
+      [](gpointer self) -> gboolean {
+        static_cast<Server*>(self)->reload();
+        return G_SOURCE_CONTINUE;
+      },
+      this);
+  if (const auto interval = watchdog_interval()) {
+    // Ping at half the interval systemd waits, from the main loop: a blocked
+    // loop misses pings as surely as a stalled session withholds them.
+    const auto period = std::max<long long>(1, std::chrono::duration_cast<std::chrono::milliseconds>(*interval).count() / 2);
+    state_->watchdog = g_timeout_add(
+        static_cast<guint>(period),
+        [](gpointer data) -> gboolean {
+          auto& st = *static_cast<ServerState*>(data);
+          if (sessions_alive(st)) notify("WATCHDOG=1\n" + status_line(st));
+          return G_SOURCE_CONTINUE;
+        },
+        &s);
+    log(Level::info, "watchdog: pinging every " + std::to_string(period) + " ms");
+  }
+  // The HTTP server listens and the gallery's GL context rendered every
+  // thumbnail: the service is ready.
+  notify("READY=1\n" + status_line(s));
   g_main_loop_run(state_->loop);
+}
+
+void Server::set_config_reloader(std::function<ServerConfig()> reload) { state_->reloader = std::move(reload); }
+
+void Server::reload() {
+  auto& s = state_->shared;
+  notify_reloading();
+  log(Level::notice, "reloading the configuration and the gallery");
+  if (state_->reloader) {
+    try {
+      ServerConfig next = state_->reloader();
+      check_config(next, s.data_dir);
+      if (next.bind_address != s.config.bind_address || next.port != s.config.port || next.egl_device != s.config.egl_device) {
+        log(Level::warning, "bind_address, port and egl_device take effect at the next restart; kept as they are");
+        next.bind_address = s.config.bind_address;
+        next.port = s.config.port;
+        next.egl_device = s.config.egl_device;
+      }
+      s.config = std::move(next);
+      s.web_dir = s.config.web_dir.empty() ? s.data_dir / "web" : s.config.web_dir;
+      set_log_level(level_from_name(s.config.log_level));
+    } catch (const ConfigError& e) {
+      log(Level::error, std::string("reload: the configuration is kept: ") + e.what());
+    }
+  }
+  try {
+    s.gallery = load_checked_gallery(s);  // running sessions keep their own entries
+    log(Level::info, "gallery reloaded: " + std::to_string(s.gallery->entries.size()) + " scenes");
+  } catch (const std::exception& e) {
+    log(Level::error, std::string("reload: the gallery is kept: ") + e.what());
+  }
+  notify("READY=1\n" + status_line(s));
 }
 
 void Server::quit() { g_main_loop_quit(state_->loop); }

@@ -33,7 +33,14 @@ struct ServerConfig {
   std::size_t max_body_bytes = 64 * 1024;
   std::filesystem::path scenes_dir;       ///< empty: <data>/assets/scenes
   std::filesystem::path web_dir;          ///< empty: <data>/web
+  std::string log_level = "info";         ///< error, warning, notice, info or debug
+  int egl_device = -1;                    ///< index of the hardware EGL device; -1: the first usable
+  int stall_timeout_s = 20;               ///< a session without a frame this long stops the watchdog pings
 };
+
+/// Checks what a file alone cannot: the folders exist and the default
+/// codec's pipeline is among the data files. Throws ConfigError naming the key.
+void check_config(const ServerConfig& config, const std::filesystem::path& data_dir);
 
 /// Sets one key from text, checking type and range. Throws ConfigError that
 /// names the key.

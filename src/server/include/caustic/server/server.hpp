@@ -5,6 +5,7 @@
 #include "caustic/server/config.hpp"
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -20,8 +21,20 @@ class Server {
 
   /// Starts listening; returns the URL (with the real port when port is 0).
   std::string listen();
-  /// Runs the main loop until quit() (SIGINT and SIGTERM call it too).
+  /// Runs the main loop until quit(): SIGINT and SIGTERM call it too, after
+  /// telling systemd STOPPING=1; the destructor then closes every session.
+  /// Sends READY=1 (sd_notify) when the loop starts, WATCHDOG=1 while every
+  /// session's streaming thread keeps producing frames, and reloads on SIGHUP.
   void run();
+
+  /// What SIGHUP re-reads: the configuration (file, environment, flags).
+  /// Without one, SIGHUP reloads only the gallery.
+  void set_config_reloader(std::function<ServerConfig()> reload);
+
+  /// Re-reads the configuration and the gallery without touching running
+  /// sessions (they keep their scene); a bad configuration or an empty
+  /// gallery is logged and the old one kept. Main loop thread only.
+  void reload();
   void quit();
 
  private:

@@ -1,0 +1,95 @@
+// `cmake --install` into a temporary prefix: the installed binary finds its
+// data under that prefix and serves the gallery; the installed systemd units
+// pass `systemd-analyze verify`, and their exposure score is printed.
+#include "server_process.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <regex>
+
+#include <unistd.h>
+
+using caustic::testing::http;
+using caustic::testing::ServerProcess;
+namespace fs = std::filesystem;
+
+namespace {
+
+int run(const std::string& command, std::string* output) {
+  gchar *out = nullptr, *err = nullptr;
+  gint status = 0;
+  GError* error = nullptr;
+  if (!g_spawn_command_line_sync(command.c_str(), &out, &err, &status, &error)) {
+    *output = error->message;
+    g_error_free(error);
+    return -1;
+  }
+  *output = std::string(out ? out : "") + (err ? err : "");
+  g_free(out);
+  g_free(err);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+class Installed : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    // One prefix per test process: ctest runs the cases of this file side by side.
+    prefix_ = fs::temp_directory_path() / ("causticd_install_test_" + std::to_string(getpid()));
+    fs::remove_all(prefix_);
+    std::string output;
+    const int status = run(std::string(CMAKE_COMMAND) + " --install " + CAUSTIC_BUILD_DIR + " --prefix " +
+                               prefix_.string(), &output);
+    ASSERT_EQ(status, 0) << output;
+  }
+  static void TearDownTestSuite() { fs::remove_all(prefix_); }
+  static inline fs::path prefix_;
+};
+
+}  // namespace
+
+TEST_F(Installed, FhsLayoutHoldsEverythingTheServerNeeds) {
+  for (const char* file : {"bin/causticd", "share/causticd/assets/scenes/lens.json",
+                           "share/causticd/assets/scenes/lens.calibration.json", "share/causticd/assets/meshes/lens.obj",
+                           "share/causticd/pipelines/vp8.pipeline", "share/causticd/pipelines/h264.pipeline",
+                           "share/causticd/web/index.html", "share/causticd/web/vendor/three/build/three.module.js",
+                           "lib/systemd/system/causticd.service", "lib/systemd/system/causticd@.service",
+                           "etc/causticd/causticd.conf", "share/doc/causticd/operations.md"})
+    EXPECT_TRUE(fs::is_regular_file(prefix_ / file)) << file;
+}
+
+TEST_F(Installed, TheInstalledBinaryServesTheGalleryFromThePrefix) {
+  // Nothing of the build tree is reachable: the data comes from <prefix>/share/causticd.
+  ServerProcess server({"--config", (prefix_ / "etc/causticd/causticd.conf").string()},
+                       {{"CAUSTICD_DATA_DIR", ""}}, (prefix_ / "bin/causticd").string());
+  ASSERT_FALSE(server.url().empty());
+  const auto scenes = http("GET", server.url() + "/api/v1/scenes").json()["scenes"];
+  EXPECT_EQ(scenes.size(), 4u);
+  const auto page = http("GET", server.url() + "/");
+  EXPECT_EQ(page.status, 200u);
+  EXPECT_NE(page.body.find("<html"), std::string::npos);
+  std::string output;
+  EXPECT_EQ(run((prefix_ / "bin/causticd").string() + " check-config " + (prefix_ / "etc/causticd/causticd.conf").string(),
+                &output),
+            0)
+      << output;
+}
+
+TEST_F(Installed, SystemdUnitsVerifyAndReportTheirExposure) {
+  const fs::path units = prefix_ / "lib/systemd/system";
+  // A template is verified through an instance of it.
+  fs::create_symlink(units / "causticd@.service", units / "causticd@8081-gpu1.service");
+  std::string output;
+  const int status = run("systemd-analyze verify --man=no " + (units / "causticd.service").string() + " " +
+                             (units / "causticd@8081-gpu1.service").string(), &output);
+  EXPECT_EQ(status, 0) << output;
+  // Anything verify says is a problem with the units (it stays quiet on good ones).
+  EXPECT_EQ(output.find("causticd"), std::string::npos) << output;
+
+  ASSERT_EQ(run("systemd-analyze security --offline=true --no-pager " + (units / "causticd.service").string(), &output), 0)
+      << output;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(output, m, std::regex("Overall exposure level for causticd.service: ([0-9.]+)"))) << output;
+  const double exposure = std::stod(m[1]);
+  std::printf("systemd-analyze security: exposure %.1f\n", exposure);
+  EXPECT_LT(exposure, 2.0) << output;
+}

@@ -1,0 +1,201 @@
+// causticd as a systemd service, tested as a plain process: sd_notify
+// readiness and watchdog on a test NOTIFY_SOCKET, SIGTERM with open
+// sessions, SIGHUP reloading the gallery under a running session, and
+// `check-config`. Every wait is bounded; traffic stays on 127.0.0.1.
+#include "server_process.hpp"
+
+#include <gio/gunixsocketaddress.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+
+using caustic::testing::http;
+using caustic::testing::ServerProcess;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+// The receiving end of sd_notify: a Unix datagram socket.
+class NotifySocket {
+ public:
+  explicit NotifySocket(const fs::path& path) : path_(path) {
+    fs::remove(path_);
+    socket_ = g_socket_new(G_SOCKET_FAMILY_UNIX, G_SOCKET_TYPE_DATAGRAM, G_SOCKET_PROTOCOL_DEFAULT, nullptr);
+    GSocketAddress* address = g_unix_socket_address_new(path_.c_str());
+    EXPECT_TRUE(g_socket_bind(socket_, address, TRUE, nullptr));
+    g_object_unref(address);
+  }
+  ~NotifySocket() {
+    g_object_unref(socket_);
+    fs::remove(path_);
+  }
+  /// The next datagram, or "" after `ms` milliseconds without one.
+  std::string next(int ms) {
+    g_socket_set_timeout(socket_, 0);
+    GCancellable* none = nullptr;
+    if (!g_socket_condition_timed_wait(socket_, G_IO_IN, static_cast<gint64>(ms) * 1000, none, nullptr)) return "";
+    char buf[4096];
+    const gssize n = g_socket_receive(socket_, buf, sizeof buf, nullptr, nullptr);
+    return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : "";
+  }
+  /// Waits up to `ms` for a datagram containing `what`.
+  bool wait_for(const std::string& what, int ms) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(ms);
+    while (std::chrono::steady_clock::now() < end) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
+      if (next(static_cast<int>(std::max<long long>(1, left.count()))).find(what) != std::string::npos) return true;
+    }
+    return false;
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+  GSocket* socket_ = nullptr;
+};
+
+// A scene folder with copies of built-in scenes whose mesh paths are absolute.
+fs::path scene_folder(const std::string& name, std::initializer_list<const char*> scenes) {
+  const fs::path dir = fs::temp_directory_path() / ("causticd_service_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const char* id : scenes) {
+    json j = json::parse(std::ifstream(std::string(CAUSTIC_ASSET_DIR) + "/scenes/" + id + ".json"));
+    j["mesh"] = std::string(CAUSTIC_ASSET_DIR) + "/meshes/" + id + ".obj";
+    std::ofstream(dir / (std::string(id) + ".json")) << j.dump();
+  }
+  return dir;
+}
+
+json create_session(const std::string& url, const std::string& scene) {
+  const auto r = http("POST", url + "/api/v1/sessions", json{{"scene", scene}, {"codec", "vp8"}}.dump());
+  EXPECT_EQ(r.status, 201u) << r.body;
+  return r.json();
+}
+
+std::vector<std::string> scene_ids(const std::string& url) {
+  std::vector<std::string> ids;
+  const json body = http("GET", url + "/api/v1/scenes").json();  // kept: the loop walks into it
+  for (const auto& s : body["scenes"]) ids.push_back(s["id"]);
+  return ids;
+}
+
+}  // namespace
+
+TEST(Service, ReadyOnlyOnceListeningThenWatchdogPings) {
+  NotifySocket notify(fs::temp_directory_path() / "causticd_notify_ready.sock");
+  ServerProcess server({}, {{"NOTIFY_SOCKET", notify.path().string()}, {"WATCHDOG_USEC", "400000"}});
+  ASSERT_FALSE(server.url().empty());
+  ASSERT_TRUE(notify.wait_for("READY=1", 10000));
+  // READY=1 promises a listening server with a GL context behind it.
+  const json health = http("GET", server.url() + "/api/v1/health").json();
+  EXPECT_EQ(health["status"], "ok");
+  EXPECT_FALSE(health["renderer"].get<std::string>().empty());
+  // Pings at half of WATCHDOG_USEC: several within 2 s, also with a session streaming.
+  const json session = create_session(server.url(), "lens");
+  int pings = 0;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  while (std::chrono::steady_clock::now() < end) pings += notify.next(500).find("WATCHDOG=1") != std::string::npos;
+  EXPECT_GE(pings, 3);
+}
+
+TEST(Service, SigtermClosesOpenSessionsAndExitsZeroWithinTwoSeconds) {
+  NotifySocket notify(fs::temp_directory_path() / "causticd_notify_term.sock");
+  ServerProcess server({}, {{"NOTIFY_SOCKET", notify.path().string()}});
+  ASSERT_TRUE(notify.wait_for("READY=1", 10000));
+  create_session(server.url(), "lens");
+  create_session(server.url(), "wavy");
+  const auto start = std::chrono::steady_clock::now();
+  server.signal(SIGTERM);
+  EXPECT_TRUE(notify.wait_for("STOPPING=1", 2000));
+  const int status = server.wait_exit(2000);
+  const auto took = std::chrono::steady_clock::now() - start;
+  EXPECT_EQ(status, 0);
+  EXPECT_LT(took, std::chrono::seconds(2));
+}
+
+TEST(Service, SighupAddsASceneWithoutDroppingTheRunningSession) {
+  const fs::path scenes = scene_folder("hup", {"lens"});
+  NotifySocket notify(fs::temp_directory_path() / "causticd_notify_hup.sock");
+  ServerProcess server({"--scenes-dir", scenes.string()}, {{"NOTIFY_SOCKET", notify.path().string()}});
+  ASSERT_TRUE(notify.wait_for("READY=1", 10000));
+  EXPECT_EQ(scene_ids(server.url()), std::vector<std::string>{"lens"});
+  const json session = create_session(server.url(), "lens");
+  const std::string params = server.url() + "/api/v1/sessions/" + session["id"].get<std::string>() + "/params";
+  const std::vector<std::pair<std::string, std::string>> bearer = {{"Authorization", "Bearer " + session["token"].get<std::string>()}};
+
+  scene_folder("hup_extra", {"wavy"});
+  fs::copy_file(fs::temp_directory_path() / "causticd_service_hup_extra" / "wavy.json", scenes / "wavy.json");
+  server.signal(SIGHUP);
+  EXPECT_TRUE(notify.wait_for("RELOADING=1", 5000));
+  EXPECT_TRUE(notify.wait_for("READY=1", 20000));
+  EXPECT_EQ(scene_ids(server.url()), (std::vector<std::string>{"lens", "wavy"}));
+  // The session lives on and still takes patches.
+  const auto patched = http("PATCH", params, R"({"object": {"ior": 1.6}})", "application/merge-patch+json", bearer);
+  EXPECT_EQ(patched.status, 200u) << patched.body;
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/health").json()["sessions"], 1);
+  // A gallery that loses every scene is not taken: the old one stays.
+  fs::remove(scenes / "lens.json");
+  fs::remove(scenes / "wavy.json");
+  server.signal(SIGHUP);
+  EXPECT_TRUE(notify.wait_for("READY=1", 20000));
+  EXPECT_EQ(scene_ids(server.url()), (std::vector<std::string>{"lens", "wavy"}));
+  EXPECT_EQ(server.wait_exit(0), -1);  // still running
+}
+
+TEST(Service, SighupRereadsTheConfigurationAndKeepsItWhenBroken) {
+  const fs::path dir = scene_folder("conf", {"lens"});
+  const fs::path conf = dir / "causticd.conf";
+  std::ofstream(conf) << "max_sessions = 1\n";
+  NotifySocket notify(fs::temp_directory_path() / "causticd_notify_conf.sock");
+  ServerProcess server({"--config", conf.string()}, {{"NOTIFY_SOCKET", notify.path().string()}});
+  ASSERT_TRUE(notify.wait_for("READY=1", 10000));
+  create_session(server.url(), "lens");
+  const auto post = [&] {
+    return http("POST", server.url() + "/api/v1/sessions", json{{"scene", "lens"}}.dump()).status;
+  };
+  EXPECT_EQ(post(), 503u);
+  std::ofstream(conf) << "max_sessions = 2\n";
+  server.signal(SIGHUP);
+  ASSERT_TRUE(notify.wait_for("READY=1", 20000));
+  EXPECT_EQ(post(), 201u);
+  std::ofstream(conf) << "max_sessions = many\n";
+  server.signal(SIGHUP);
+  ASSERT_TRUE(notify.wait_for("READY=1", 20000));
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/health").json()["sessions"], 2);  // nothing dropped
+  EXPECT_EQ(post(), 503u);  // still 2, not reset
+}
+
+TEST(CheckConfig, AcceptsTheShippedFileAndNamesTheKeyOfABrokenOne) {
+  auto run = [](const std::string& args, std::string* output) {
+    gchar *out = nullptr, *err = nullptr;
+    gint status = 0;
+    const std::string command = std::string(CAUSTICD_BINARY) + " check-config " + args;
+    g_spawn_command_line_sync(command.c_str(), &out, &err, &status, nullptr);
+    *output = std::string(out ? out : "") + (err ? err : "");
+    g_free(out);
+    g_free(err);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  std::string output;
+  EXPECT_EQ(run(CAUSTIC_SOURCE_DIR "/systemd/causticd.conf", &output), 0) << output;
+  EXPECT_NE(output.find(": ok"), std::string::npos) << output;
+  const fs::path dir = fs::temp_directory_path() / "causticd_check_config";
+  fs::create_directories(dir);
+  const std::pair<const char*, const char*> broken[] = {
+      {"port = 80800", "port"}, {"codec = av1", "codec"}, {"scenes_dir = /nonexistent", "scenes_dir"},
+      {"colour = red", "colour: unknown key"}, {"log_level = loud", "log_level"}, {"port", "expected key = value"}};
+  for (const auto& [line, named] : broken) {
+    std::ofstream(dir / "broken.conf") << "# a comment\n" << line << "\n";
+    EXPECT_EQ(run((dir / "broken.conf").string(), &output), 2) << line;
+    EXPECT_NE(output.find(named), std::string::npos) << output;
+    if (std::string(named) != "scenes_dir") {  // the folder check has no line to name
+      EXPECT_NE(output.find("broken.conf:2"), std::string::npos) << output;
+    }
+  }
+  EXPECT_EQ(run("/nonexistent.conf", &output), 2);
+  EXPECT_NE(output.find("/nonexistent.conf"), std::string::npos) << output;
+  fs::remove_all(dir);
+}
