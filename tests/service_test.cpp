@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 
 using caustic::testing::http;
@@ -101,12 +102,60 @@ TEST(Service, ReadyOnlyOnceListeningThenWatchdogPings) {
   EXPECT_GE(pings, 3);
 }
 
+// A viewer's signalling socket that only listens.
+struct Listener {
+  SoupSession* http = soup_session_new();
+  SoupWebsocketConnection* socket = nullptr;
+  std::vector<std::string> messages;
+
+  explicit Listener(const std::string& ws_url) {
+    SoupMessage* msg = soup_message_new("GET", ws_url.c_str());
+    soup_session_websocket_connect_async(
+        http, msg, nullptr, nullptr, G_PRIORITY_DEFAULT, nullptr,
+        [](GObject* source, GAsyncResult* result, gpointer data) {
+          auto* self = static_cast<Listener*>(data);
+          self->socket = soup_session_websocket_connect_finish(SOUP_SESSION(source), result, nullptr);
+          if (!self->socket) return;
+          g_signal_connect(self->socket, "message",
+                           G_CALLBACK(+[](SoupWebsocketConnection*, gint, GBytes* bytes, gpointer me) {
+                             gsize size = 0;
+                             const auto* text = static_cast<const char*>(g_bytes_get_data(bytes, &size));
+                             static_cast<Listener*>(me)->messages.emplace_back(text, size);
+                           }),
+                           self);
+        },
+        this);
+    g_object_unref(msg);
+    spin([&] { return socket != nullptr; }, 5000);
+  }
+  ~Listener() {
+    if (socket) g_object_unref(socket);
+    g_object_unref(http);
+  }
+  bool spin(const std::function<bool()>& done, int ms) {
+    for (int waited = 0; waited < ms && !done(); waited += 10) {
+      while (g_main_context_iteration(nullptr, FALSE)) {
+      }
+      g_usleep(10000);
+    }
+    return done();
+  }
+  bool heard(const std::string& what) const {
+    for (const auto& m : messages)
+      if (m.find(what) != std::string::npos) return true;
+    return false;
+  }
+};
+
 TEST(Service, SigtermClosesOpenSessionsAndExitsZeroWithinTwoSeconds) {
   NotifySocket notify(fs::temp_directory_path() / "causticd_notify_term.sock");
   ServerProcess server({}, {{"NOTIFY_SOCKET", notify.path().string()}});
   ASSERT_TRUE(notify.wait_for("READY=1", 10000));
-  create_session(server.url(), "lens");
+  const json viewed = create_session(server.url(), "lens");
   create_session(server.url(), "wavy");
+  Listener viewer("ws" + server.url().substr(4) + viewed["signal_url"].get<std::string>());
+  ASSERT_NE(viewer.socket, nullptr);
+  viewer.spin([&] { return viewer.heard("offer"); }, 10000);  // the session is live
   const auto start = std::chrono::steady_clock::now();
   server.signal(SIGTERM);
   EXPECT_TRUE(notify.wait_for("STOPPING=1", 2000));
@@ -114,6 +163,8 @@ TEST(Service, SigtermClosesOpenSessionsAndExitsZeroWithinTwoSeconds) {
   const auto took = std::chrono::steady_clock::now() - start;
   EXPECT_EQ(status, 0);
   EXPECT_LT(took, std::chrono::seconds(2));
+  // The connected viewer was told before the server went.
+  EXPECT_TRUE(viewer.spin([&] { return viewer.heard("\"bye\""); }, 1000));
 }
 
 TEST(Service, SighupAddsASceneWithoutDroppingTheRunningSession) {

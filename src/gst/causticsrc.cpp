@@ -180,8 +180,17 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
   }
   GstBuffer* picture = nullptr;
   try {
+    const std::uint64_t renders = s.source.renders;
     picture = caustic::gst::produce_frame(s.source, *params, *meshes, GST_VIDEO_INFO_WIDTH(&s.info),
                                           GST_VIDEO_INFO_HEIGHT(&s.info));
+    if (s.source.renders != renders)
+      GST_DEBUG_OBJECT(push, "frame %" G_GUINT64_FORMAT ": rendered version %" G_GUINT64_FORMAT, s.frame_index,
+                       s.source.rendered);
+    else
+      GST_LOG_OBJECT(push, "frame %" G_GUINT64_FORMAT ": re-sent version %" G_GUINT64_FORMAT, s.frame_index,
+                     s.source.version);
+    if (!s.source.last_rejection.empty())
+      GST_WARNING_OBJECT(push, "parameters not rendered: %s", s.source.last_rejection.c_str());
   } catch (const std::exception& e) {
     GST_ELEMENT_ERROR(push, LIBRARY, FAILED, ("Cannot render the caustic"), ("%s", e.what()));
     return GST_FLOW_ERROR;
