@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -61,6 +62,9 @@ int main(int argc, char** argv) {
   app.add_option("--seconds", seconds, "Length of the steady-state measurement")->check(CLI::Range(1.0, 600.0));
   app.add_option("--patches", patches, "PATCHes for the latency measurement")->check(CLI::Range(1, 10000));
   app.add_option("--spacing-ms", spacing_ms, "Pause between PATCHes")->check(CLI::Range(0.0, 10000.0));
+  double drag_seconds = 0;
+  app.add_option("--drag-seconds", drag_seconds, "Then patch the light at 30 Hz without waiting, this long")
+      ->check(CLI::Range(0.0, 600.0));
   CLI11_PARSE(app, argc, argv);
   gst_init(nullptr, nullptr);
 
@@ -126,5 +130,31 @@ int main(int argc, char** argv) {
               100.0 * (cpu_seconds(pid) - cpu0) / wall);
   std::printf("PATCH -> first frame with the new version: median %.0f ms, p95 %.0f ms (%zu of %d seen)\n",
               percentile(latency_ms, 0.5), percentile(latency_ms, 0.95), latency_ms.size(), patches);
+  if (drag_seconds <= 0) return 0;
+
+  // A light drag: a PATCH every 33 ms whatever the frames do, then stillness.
+  std::printf("drag: patching the light at 30 Hz for %.0f s ...\n", drag_seconds);
+  const int drag_frames0 = peer.decoded(), previews0 = peer.previews();
+  const double drag_cpu0 = cpu_seconds(pid);
+  const auto drag_start = std::chrono::steady_clock::now();
+  std::uint64_t last = 0;
+  for (int i = 0; std::chrono::steady_clock::now() - drag_start < std::chrono::duration<double>(drag_seconds); ++i) {
+    const auto due = drag_start + std::chrono::microseconds(33333LL * i);
+    while (std::chrono::steady_clock::now() < due) peer.wait_for_frames(1000000, 0.002);
+    const double a = 0.3 * std::sin(i * 0.05), b = 0.3 * std::cos(i * 0.031);
+    const auto r = http("PATCH", params, json{{"light", {{"direction", {a, b, -1.0}}}}}.dump(),
+                        "application/merge-patch+json", auth);
+    if (r.status == 200) last = r.json()["version"];
+    if (i % 300 == 299) std::printf("  %.0f s\n", (i + 1) / 30.0);
+  }
+  const auto stopped = std::chrono::steady_clock::now();
+  const double drag_wall = std::chrono::duration<double>(stopped - drag_start).count();
+  const bool full = peer.wait_for_version(last, 10.0, true);
+  const double settle_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - stopped).count();
+  std::printf("while dragging: %.1f fps decoded, server CPU %.0f%% of one core, %d of the frames previews\n",
+              (peer.decoded() - drag_frames0) / drag_wall, 100.0 * (cpu_seconds(pid) - drag_cpu0) / drag_wall,
+              peer.previews() - previews0);
+  std::printf("last PATCH -> full-quality frame of it on the peer: %s%.0f ms\n", full ? "" : "not seen after ",
+              settle_ms);
   return 0;
 }

@@ -8,6 +8,11 @@
 #include <gst/gst.h>
 #include <gtest/gtest.h>
 
+#include "caustic/engine.hpp"
+#include "caustic/gl_context.hpp"
+
+#include <algorithm>
+#include <cstdlib>
 #include <memory>
 #include <vector>
 
@@ -59,6 +64,7 @@ std::string scene(const char* name) { return std::string(CAUSTIC_ASSET_DIR) + "/
 struct Frame {
   GstClockTime pts;
   std::uint64_t version;
+  std::uint32_t level;
   std::vector<guint8> pixels;
   int width, height;
 };
@@ -72,6 +78,7 @@ Frame take(GstSample* sample) {
   f.pts = GST_BUFFER_PTS(buffer);
   auto* meta = caustic_buffer_get_frame_meta(buffer);
   f.version = meta ? meta->version : 0;
+  f.level = meta ? meta->level : 99;
   GstMapInfo map;
   gst_buffer_map(buffer, &map, GST_MAP_READ);
   f.pixels.assign(map.data, map.data + map.size);
@@ -102,7 +109,8 @@ TEST_F(CausticSrc, DeliversFramesAtTheConfiguredSizeAndRate) {
 }
 
 TEST_F(CausticSrc, PatchShowsInTheNextFramesWithItsVersion) {
-  start("causticsrc name=src scene=" + scene("wavy") + " width=64 height=64 framerate=30/1 ! appsink name=sink");
+  start("causticsrc name=src scene=" + scene("wavy") +
+        " width=64 height=64 framerate=30/1 progressive=false ! appsink name=sink");
   const Frame first = take(pull());
   auto params = caustic::gst::param_store(src_);
   ASSERT_TRUE(params);
@@ -123,6 +131,53 @@ TEST_F(CausticSrc, NoRenderWhileTheParametersStandStill) {
   caustic::gst::param_store(src_)->apply_patch({{"post", {{"exposure", 2.0}}}});
   for (int i = 0; i < 4; ++i) gst_sample_unref(pull());
   EXPECT_EQ(renders(), 1u);  // post-processing only: no new caustic pass
+}
+
+TEST_F(CausticSrc, PreviewsWhilePatchesArriveThenTheFullFrame) {
+  start("causticsrc name=src scene=" + scene("lens") +
+        " width=128 height=128 framerate=30/1 settle-ms=150 ! appsink name=sink sync=true");
+  auto params = caustic::gst::param_store(src_);
+  ASSERT_TRUE(params);
+  std::vector<Frame> frames{take(pull())};
+  EXPECT_EQ(frames[0].level, 0u);  // the first picture is a full one
+  // A light drag: one patch per frame interval (30 Hz) for 60 frames.
+  for (int i = 0; i < 60; ++i) {
+    params->apply_patch({{"light", {{"direction", {0.002 * i, 0.0, -1.0}}}}});
+    GstSample* s = pull();
+    ASSERT_NE(s, nullptr) << "frame " << i;
+    frames.push_back(take(s));
+  }
+  const std::uint64_t last = params->version();
+  // Then stillness: the full frame of the last parameters follows.
+  Frame settled{};
+  for (int i = 0; i < 60 && !(settled.version == last && settled.level == 0); ++i) {
+    frames.push_back(take(pull()));
+    settled = frames.back();
+  }
+  ASSERT_EQ(settled.version, last);
+  ASSERT_EQ(settled.level, 0u);
+  // Every frame came, one frame interval apart: no gaps, no repeats.
+  for (std::size_t i = 1; i < frames.size(); ++i)
+    EXPECT_EQ(frames[i].pts - frames[i - 1].pts, gst_util_uint64_scale(i, GST_SECOND, 30) -
+                                                     gst_util_uint64_scale(i - 1, GST_SECOND, 30)) << i;
+  int previews = 0;
+  for (std::size_t i = 1; i <= 60; ++i) previews += frames[i].level == 1;
+  EXPECT_GT(previews, 40) << "the drag was shown mostly as previews";
+
+  // The settled frame is exactly a full-quality render of the same parameters.
+  caustic::GlContext context(caustic::egl_platform_from_environment());
+  caustic::Engine engine;
+  caustic::Scene s = params->snapshot().scene;
+  s.render.width = s.render.height = 128;
+  engine.set_scene(s, std::make_shared<const caustic::Mesh>(caustic::load_obj(s.mesh_path())));
+  engine.render();
+  const caustic::Rgba8Image full = engine.read_ldr();
+  ASSERT_EQ(full.pixels.size(), settled.pixels.size());
+  int worst = 0;
+  for (std::size_t i = 0; i < full.pixels.size(); ++i) worst = std::max(worst, std::abs(full.pixels[i] - settled.pixels[i]));
+  EXPECT_LE(worst, 1);
+  // A preview differs from it (half the resolution, upsampled), but not by much.
+  EXPECT_NE(frames[30].pixels, settled.pixels);
 }
 
 TEST_F(CausticSrc, MissingSceneIsAnErrorOnTheBus) {

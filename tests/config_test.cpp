@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 using namespace caustic::server;
 
@@ -36,13 +37,30 @@ TEST(Config, FileSetsEveryKindOfValue) {
   load_config_file(c, write_config("causticd_good.conf",
                                    "# comment\nport = 9000\nbind_address=0.0.0.0\ncodec = h264  # inline comment\n"
                                    "ice_addresses = 127.0.0.1, ::1\nstun_server = stun://stun.example:3478\n"
-                                   "max_sessions = 7\n\n"));
+                                   "max_sessions = 7\nlog_level = debug\negl_device = 1\nsettle_ms = 0\n"
+                                   "stall_timeout_s = 5\n\n"));
   EXPECT_EQ(c.port, 9000);
   EXPECT_EQ(c.bind_address, "0.0.0.0");
   EXPECT_EQ(c.codec, "h264");
   EXPECT_EQ(c.ice_addresses, (std::vector<std::string>{"127.0.0.1", "::1"}));
   EXPECT_EQ(c.stun_server, "stun://stun.example:3478");
   EXPECT_EQ(c.max_sessions, 7);
+  EXPECT_EQ(c.log_level, "debug");
+  EXPECT_EQ(c.egl_device, 1);
+  EXPECT_EQ(c.settle_ms, 0);
+  EXPECT_EQ(c.stall_timeout_s, 5);
+}
+
+TEST(Config, TheShippedFileNamesEveryKeyAndHoldsTheDefaults) {
+  ServerConfig defaults, shipped;
+  load_config_file(shipped, CAUSTIC_SOURCE_DIR "/systemd/causticd.conf");
+  std::ifstream in(CAUSTIC_SOURCE_DIR "/systemd/causticd.conf");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const auto& key : config_keys()) EXPECT_NE(text.find("\n" + key + " ="), std::string::npos) << key;
+  EXPECT_EQ(shipped.port, defaults.port);
+  EXPECT_EQ(shipped.settle_ms, defaults.settle_ms);
+  EXPECT_EQ(shipped.stall_timeout_s, defaults.stall_timeout_s);
+  EXPECT_EQ(shipped.log_level, defaults.log_level);
 }
 
 TEST(Config, BadFileNamesFileLineAndKeyAndChangesNothing) {

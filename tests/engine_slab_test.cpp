@@ -210,16 +210,68 @@ TEST_F(RenderBookkeeping, AsynchronousReadBackDeliversTheNewestPicture) {
   engine_->set_scene(s, mesh);
   engine_->render();
   const Rgba8Image first = engine_->read_ldr();
-  engine_->start_ldr_readback(7);
+  engine_->start_readback(7);
   s.post.exposure = 3.0;
   engine_->set_scene(s, mesh);
   engine_->render();
   const Rgba8Image second = engine_->read_ldr();
   ASSERT_NE(first.pixels, second.pixels);
-  engine_->start_ldr_readback(8);
+  engine_->start_readback(8);
   ASSERT_TRUE(engine_->poll_ldr_readback(&picture, &tag, true));
   EXPECT_EQ(tag, 8u);  // the newer picture; the older one is dropped
   EXPECT_EQ(picture.width, 64);
   EXPECT_EQ(picture.pixels, second.pixels);
   EXPECT_FALSE(engine_->poll_ldr_readback(&picture, &tag, false));
+}
+
+// The GPU's I420 against the tone-mapped RGBA converted here on the CPU
+// (BT.601 limited range: Y = 16 + 219 Y', chroma 128 + 224 (B'-Y')/1.772 and
+// (R'-Y')/1.402 over each 2x2 block), plane by plane.
+TEST_F(FlatSlab, I420ReadBackIsTheToneMappedPictureConvertedOnTheGpu) {
+  const auto mesh = shared(grid_mesh(plano_convex_lens(40.0, 10.0), 64, 64));
+  Scene s = straight_down_scene(4.0, 60.0, 30.0, 64);
+  s.render.width = 72;  // not square, width a multiple of 8 but not of 16, height even but not a multiple of 4
+  s.render.height = 50;
+  s.render.fresnel = true;
+  s.post.exposure = 0.7;
+  engine_->set_scene(s, mesh);
+  engine_->render();
+  const Rgba8Image rgba = engine_->read_ldr();
+  const int w = 72, h = 50;
+  ASSERT_EQ(engine_->picture_bytes(PixelFormat::i420), static_cast<std::size_t>(w * h * 3 / 2));
+  std::vector<std::uint8_t> i420(engine_->picture_bytes(PixelFormat::i420));
+  std::uint64_t tag = 0;
+  engine_->start_readback(3, PixelFormat::i420);
+  ASSERT_TRUE(engine_->poll_readback(i420.data(), i420.size(), &tag, true));
+  EXPECT_EQ(tag, 3u);
+  auto channel = [&](int x, int y, int c) { return rgba.pixels[(static_cast<std::size_t>(y) * w + x) * 4 + c] / 255.0; };
+  auto luma = [&](int x, int y) { return 0.299 * channel(x, y, 0) + 0.587 * channel(x, y, 1) + 0.114 * channel(x, y, 2); };
+  int worst = 0, lit = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int expected = static_cast<int>(std::lround(16 + 219 * luma(x, y)));
+      worst = std::max(worst, std::abs(expected - i420[static_cast<std::size_t>(y) * w + x]));
+      lit += expected > 40;
+    }
+  const std::size_t u0 = static_cast<std::size_t>(w) * h, v0 = u0 + static_cast<std::size_t>(w / 2) * (h / 2);
+  for (int y = 0; y < h / 2; ++y)
+    for (int x = 0; x < w / 2; ++x) {
+      double yy = 0, b = 0, r = 0;
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+          yy += luma(2 * x + dx, 2 * y + dy) / 4;
+          b += channel(2 * x + dx, 2 * y + dy, 2) / 4;
+          r += channel(2 * x + dx, 2 * y + dy, 0) / 4;
+        }
+      const std::size_t i = static_cast<std::size_t>(y) * (w / 2) + x;
+      worst = std::max(worst, std::abs(static_cast<int>(std::lround(128 + 224 * (b - yy) / 1.772)) - i420[u0 + i]));
+      worst = std::max(worst, std::abs(static_cast<int>(std::lround(128 + 224 * (r - yy) / 1.402)) - i420[v0 + i]));
+    }
+  EXPECT_LE(worst, 1);
+  EXPECT_GT(lit, 100);  // the lens's disc, not a black frame
+  // A size the packed layout cannot hold is refused.
+  s.render.width = 68;
+  engine_->set_scene(s, mesh);
+  engine_->render();
+  EXPECT_THROW(engine_->start_readback(4, PixelFormat::i420), EngineError);
 }

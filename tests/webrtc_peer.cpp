@@ -33,6 +33,8 @@ WebRtcPeer::WebRtcPeer(const std::string& codec, const std::string& ws_url)
                                         ++me->frame_messages_;
                                         const std::uint64_t v = m["version"];
                                         if (v > me->version_) me->version_ = v;
+                                        if (m.value("level", 0) != 0) ++me->previews_;
+                                        else if (v > me->full_version_) me->full_version_ = v;
                                       }),
                                       self);
                    }),
@@ -181,13 +183,14 @@ bool WebRtcPeer::wait_for_frames(int frames, double seconds) {
   return decoded_ >= target;
 }
 
-bool WebRtcPeer::wait_for_version(std::uint64_t version, double seconds) {
+bool WebRtcPeer::wait_for_version(std::uint64_t version, double seconds, bool full_quality) {
+  const auto& seen = full_quality ? full_version_ : version_;
   const gint64 deadline = g_get_monotonic_time() + static_cast<gint64>(seconds * 1e6);
-  while (version_ < version && g_get_monotonic_time() < deadline) {
+  while (seen < version && g_get_monotonic_time() < deadline) {
     g_main_context_iteration(context_, FALSE);
     g_usleep(500);
   }
-  return version_ >= version;
+  return seen >= version;
 }
 
 std::vector<guint8> WebRtcPeer::last_picture() {

@@ -34,9 +34,12 @@ class WebRtcPeer {
   /// Newest parameter version announced on the "frames" data channel (0: none yet).
   std::uint64_t version() const { return version_.load(); }
   int frame_messages() const { return frame_messages_.load(); }
+  /// Frame messages of previews (level 1) so far.
+  int previews() const { return previews_.load(); }
   /// Iterates the main loop until a frame message with at least `version`
-  /// arrived or `seconds` passed; returns whether it did.
-  bool wait_for_version(std::uint64_t version, double seconds);
+  /// (and level 0 when `full_quality`) arrived or `seconds` passed; returns
+  /// whether it did.
+  bool wait_for_version(std::uint64_t version, double seconds, bool full_quality = false);
 
   /// Closes the signalling socket (the server then ends the session).
   void hang_up();
@@ -55,6 +58,8 @@ class WebRtcPeer {
   SoupWebsocketConnection* socket_ = nullptr;
   std::atomic<int> decoded_{0};
   std::atomic<std::uint64_t> version_{0};
+  std::atomic<std::uint64_t> full_version_{0};
+  std::atomic<int> previews_{0};
   std::atomic<int> frame_messages_{0};
   std::mutex lock_;
   std::vector<guint8> picture_;

@@ -25,12 +25,15 @@ bool same_caustic(const Scene& a, const Scene& b) {
 struct Engine::Impl {
   RayPass ray;
   PostPass post;
-  gl::RenderTarget hdr, ldr;
+  gl::RenderTarget hdr, ldr, i420;
+  gl::Program to_i420{{{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"i420.frag"}}}};
+  gl::VertexArray empty_vao;
   Readback readback;
   std::optional<Scene> scene;
   std::shared_ptr<const Mesh> mesh;
   Placement placement;
   bool ray_dirty = false, post_dirty = false;
+  int divisor = 1;  // preview: caustic at 1/divisor of the output size
   FrameStats stats;
   std::uint64_t ray_passes = 0;
 };
@@ -49,15 +52,24 @@ void Engine::set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh) {
   const bool new_size = !s.scene || s.scene->render.width != scene.render.width ||
                         s.scene->render.height != scene.render.height;
   if (new_mesh) s.ray.upload(*mesh);
-  if (new_size) {
-    s.hdr = gl::RenderTarget(GL_R32F, scene.render.width, scene.render.height);
-    s.ldr = gl::RenderTarget(GL_RGBA8, scene.render.width, scene.render.height);
-  }
-  s.ray_dirty = s.ray_dirty || new_mesh || new_size || !same_caustic(*s.scene, scene);
+  if (new_size) s.ldr = gl::RenderTarget(GL_RGBA8, scene.render.width, scene.render.height);
+  const int hdr_w = std::max(1, scene.render.width / s.divisor), hdr_h = std::max(1, scene.render.height / s.divisor);
+  const bool new_hdr = s.hdr.texture.width() != hdr_w || s.hdr.texture.height() != hdr_h;
+  // Linear filtering serves the preview's upsampling; full frames read texels exactly.
+  if (new_hdr) s.hdr = gl::RenderTarget(GL_R32F, hdr_w, hdr_h, GL_LINEAR);
+  s.ray_dirty = s.ray_dirty || new_mesh || new_size || new_hdr || !same_caustic(*s.scene, scene);
   s.post_dirty = s.post_dirty || s.ray_dirty || s.scene->post != scene.post;
   s.scene = scene;
   s.mesh = std::move(mesh);
   s.placement = placement;
+}
+
+void Engine::set_preview_divisor(int divisor) {
+  if (divisor < 1) throw EngineError("preview divisor must be at least 1");
+  auto& s = *impl_;
+  if (divisor == s.divisor) return;
+  s.divisor = divisor;
+  if (s.scene) set_scene(*s.scene, s.mesh);  // new caustic target size, dirty frame
 }
 
 bool Engine::dirty() const { return impl_->ray_dirty || impl_->post_dirty; }
@@ -78,7 +90,9 @@ bool Engine::render() {
     ++s.ray_passes;
   }
   const auto start = std::chrono::steady_clock::now();
-  s.post.run(s.scene->post, s.hdr.texture, s.ldr);
+  PostParams post = s.scene->post;
+  if (s.divisor > 1) post.bloom_strength = 0;  // a preview skips the glow
+  s.post.run(post, s.hdr.texture, s.ldr);
   glFinish();
   s.stats.post_ms = elapsed_ms(start);
   if (!s.ray_dirty) s.stats.ray_ms = 0;
@@ -110,10 +124,44 @@ Rgba8Image Engine::read_ldr() const {
   return img;
 }
 
-void Engine::start_ldr_readback(std::uint64_t tag) { impl_->readback.start(impl_->ldr.texture, tag); }
+std::size_t Engine::picture_bytes(PixelFormat format) const {
+  const std::size_t w = impl_->ldr.texture.width(), h = impl_->ldr.texture.height();
+  return format == PixelFormat::rgba ? w * h * 4 : w * h * 3 / 2;
+}
+
+void Engine::start_readback(std::uint64_t tag, PixelFormat format) {
+  auto& s = *impl_;
+  if (format == PixelFormat::rgba) return s.readback.start(s.ldr.texture, tag);
+  const int w = s.ldr.texture.width(), h = s.ldr.texture.height();
+  if (w % 8 || h % 2) throw EngineError("I420 needs a width divisible by 8 and an even height");
+  if (s.i420.texture.width() != w || s.i420.texture.height() != h * 3 / 2)
+    s.i420 = gl::RenderTarget(GL_R8, w, h * 3 / 2);
+  // One pass writes the three planes in memory order, so the read-back is a
+  // straight copy of 1.5 bytes a pixel instead of 4.
+  s.i420.bind();
+  glDisable(GL_BLEND);
+  glBindVertexArray(s.empty_vao.id());
+  s.to_i420.use();
+  glBindTextureUnit(0, s.ldr.texture.id());
+  s.to_i420.set("uPicture", 0);
+  s.to_i420.set("uSize", glm::ivec2(w, h));
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  gl::check_errors("I420 conversion");
+  s.readback.start(s.i420.texture, tag, 1);
+}
+
+bool Engine::poll_readback(std::uint8_t* dest, std::size_t bytes, std::uint64_t* tag, bool wait) {
+  return impl_->readback.poll(dest, bytes, tag, wait);
+}
 
 bool Engine::poll_ldr_readback(Rgba8Image* picture, std::uint64_t* tag, bool wait) {
-  return impl_->readback.poll(picture, tag, wait);
+  const std::size_t bytes = impl_->readback.queued_bytes();
+  if (bytes == 0) return false;
+  picture->width = impl_->ldr.texture.width();
+  picture->height = impl_->ldr.texture.height();
+  picture->pixels.resize(bytes);
+  return impl_->readback.poll(picture->pixels.data(), bytes, tag, wait);
 }
 
 const FrameStats& Engine::stats() const { return impl_->stats; }

@@ -52,6 +52,7 @@ void PostPass::run(const PostParams& post, const gl::Texture& hdr, const gl::Ren
   tonemap_.set("uBloomStrength", bloom ? static_cast<float>(post.bloom_strength) : 0.0f);
   tonemap_.set("uExposure", static_cast<float>(post.exposure));
   tonemap_.set("uGamma", static_cast<float>(post.gamma));
+  tonemap_.set("uOutputSize", glm::vec2(ldr.texture.width(), ldr.texture.height()));
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
   gl::check_errors("post-processing");

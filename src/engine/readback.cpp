@@ -13,8 +13,14 @@ bool Readback::pending() const {
   return std::any_of(slots_.begin(), slots_.end(), [](const Slot& s) { return s.fence != nullptr; });
 }
 
-void Readback::start(const gl::Texture& texture, std::uint64_t tag) {
-  const std::size_t bytes = static_cast<std::size_t>(texture.width()) * texture.height() * 4;
+std::size_t Readback::queued_bytes() const {
+  for (const auto& s : slots_)
+    if (s.fence && s.order == started_) return static_cast<std::size_t>(s.width) * s.height * s.texel_bytes;
+  return 0;
+}
+
+void Readback::start(const gl::Texture& texture, std::uint64_t tag, int bytes_per_texel) {
+  const std::size_t bytes = static_cast<std::size_t>(texture.width()) * texture.height() * bytes_per_texel;
   if (bytes != capacity_) {
     for (auto& s : slots_) {
       if (s.fence) glDeleteSync(s.fence);
@@ -34,17 +40,19 @@ void Readback::start(const gl::Texture& texture, std::uint64_t tag) {
   }
   glBindBuffer(GL_PIXEL_PACK_BUFFER, slot->buffer.id());
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(texture.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(bytes), nullptr);
+  glGetTextureImage(texture.id(), 0, bytes_per_texel == 4 ? GL_RGBA : GL_RED, GL_UNSIGNED_BYTE,
+                    static_cast<GLsizei>(bytes), nullptr);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
   slot->fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
   slot->tag = tag;
   slot->order = ++started_;
   slot->width = texture.width();
   slot->height = texture.height();
+  slot->texel_bytes = bytes_per_texel;
   gl::check_errors("read-back start");
 }
 
-bool Readback::poll(Rgba8Image* out, std::uint64_t* tag, bool wait) {
+bool Readback::poll(std::uint8_t* dest, std::size_t bytes, std::uint64_t* tag, bool wait) {
   // The newest finished copy wins; older ones are dropped unread.
   Slot* ready = nullptr;
   for (auto& s : slots_) {
@@ -59,14 +67,14 @@ bool Readback::poll(Rgba8Image* out, std::uint64_t* tag, bool wait) {
       glDeleteSync(s.fence);
       s.fence = nullptr;
     }
-  const std::size_t row = static_cast<std::size_t>(ready->width) * 4;
-  out->width = ready->width;
-  out->height = ready->height;
-  out->pixels.resize(row * ready->height);
+  const std::size_t row = static_cast<std::size_t>(ready->width) * ready->texel_bytes;
+  if (bytes != row * ready->height)
+    throw EngineError("read-back of " + std::to_string(row * ready->height) + " bytes into " + std::to_string(bytes));
   const auto* data = static_cast<const std::uint8_t*>(
-      glMapNamedBufferRange(ready->buffer.id(), 0, static_cast<GLsizeiptr>(out->pixels.size()), GL_MAP_READ_BIT));
+      glMapNamedBufferRange(ready->buffer.id(), 0, static_cast<GLsizeiptr>(bytes), GL_MAP_READ_BIT));
   if (!data) throw EngineError("cannot map the read-back buffer");
-  gl::copy_rows_top_first(data, out->pixels.data(), row, ready->height);
+  if (ready->texel_bytes == 4) gl::copy_rows_top_first(data, dest, row, ready->height);
+  else std::copy_n(data, bytes, dest);
   glUnmapNamedBuffer(ready->buffer.id());
   glDeleteSync(ready->fence);
   ready->fence = nullptr;

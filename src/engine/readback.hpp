@@ -20,11 +20,17 @@ class Readback {
   Readback(const Readback&) = delete;
   Readback& operator=(const Readback&) = delete;
 
-  /// Queues a copy of `texture` (RGBA8) tagged with `tag`.
-  void start(const gl::Texture& texture, std::uint64_t tag);
-  /// The oldest queued copy, once ready (or after waiting when `wait`).
-  /// Returns false when none is ready; `tag` is what start() was given.
-  bool poll(Rgba8Image* out, std::uint64_t* tag, bool wait);
+  /// Queues a copy of `texture` tagged with `tag`: RGBA8 (rows turned top
+  /// first on the way out) or, with `bytes_per_texel` 1, an R8 texture whose
+  /// rows are already in memory order (the I420 layout).
+  void start(const gl::Texture& texture, std::uint64_t tag, int bytes_per_texel = 4);
+  /// Copies the newest finished picture into `dest` (exactly `bytes` long:
+  /// its one copy on the way out of GL), once ready or after waiting when
+  /// `wait`. Returns false when none is ready; `tag` is what start() got.
+  /// Throws EngineError when `bytes` is not the picture's size.
+  bool poll(std::uint8_t* dest, std::size_t bytes, std::uint64_t* tag, bool wait);
+  /// The size in bytes of what poll() will deliver next (0: nothing queued).
+  std::size_t queued_bytes() const;
   bool pending() const;
 
  private:
@@ -34,6 +40,7 @@ class Readback {
     std::uint64_t tag = 0;
     std::uint64_t order = 0;
     int width = 0, height = 0;
+    int texel_bytes = 4;
   };
   std::array<Slot, 2> slots_;
   std::uint64_t started_ = 0;

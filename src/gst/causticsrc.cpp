@@ -7,11 +7,20 @@
  * EGL context of its own (a GPU when there is one, llvmpipe otherwise). It
  * renders again only when the parameters changed and otherwise re-sends the
  * last picture; every buffer carries a CausticFrameMeta with the parameter
- * version it shows.
+ * version it shows and its fidelity level. While the parameters keep
+ * changing (progressive=true), frames are previews (level 1: a coarser mesh
+ * level, the caustic at 1/preview-divisor of the size, no bloom); once they
+ * have been still for settle-ms, one full-quality frame (level 0) follows.
  *
  * ## Example launch line
  * |[
  * gst-launch-1.0 causticsrc scene=assets/scenes/lens.json framerate=30/1 ! videoconvert ! autovideosink
+ * ]|
+ * It produces RGBA or I420; I420 is converted on the GPU (BT.601, limited
+ * range) and read back at 1.5 bytes a pixel, so an encoder needs no
+ * videoconvert in front of it:
+ * |[
+ * causticsrc scene=... width=1024 height=1024 ! video/x-raw,format=I420 ! vp8enc ! ...
  * ]|
  * (inside causticd, which registers the element as a static plugin).
  */
@@ -56,11 +65,12 @@ struct GstCausticSrcClass {
 
 G_DEFINE_TYPE(GstCausticSrc, gst_caustic_src, GST_TYPE_PUSH_SRC)
 
-enum { PROP_0, PROP_SCENE, PROP_WIDTH, PROP_HEIGHT, PROP_FRAMERATE, PROP_RENDERS };
+enum { PROP_0, PROP_SCENE, PROP_WIDTH, PROP_HEIGHT, PROP_FRAMERATE, PROP_RENDERS, PROP_PROGRESSIVE, PROP_SETTLE_MS,
+       PROP_PREVIEW_DIVISOR, PROP_PREVIEW_MESH };
 
 static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
     "src", GST_PAD_SRC, GST_PAD_ALWAYS,
-    GST_STATIC_CAPS("video/x-raw, format=(string)RGBA, width=(int)[16, 8192], height=(int)[16, 8192], "
+    GST_STATIC_CAPS("video/x-raw, format=(string){ RGBA, I420 }, width=(int)[16, 8192], height=(int)[16, 8192], "
                     "framerate=(fraction)[1/1, 240/1]"));
 
 static State& state_of(gpointer self) { return *reinterpret_cast<GstCausticSrc*>(self)->state; }
@@ -76,6 +86,11 @@ static void gst_caustic_src_set_property(GObject* object, guint id, const GValue
       s.fps_n = gst_value_get_fraction_numerator(value);
       s.fps_d = gst_value_get_fraction_denominator(value);
       break;
+    // Mutable in READY only: the streaming thread reads these without a lock.
+    case PROP_PROGRESSIVE: s.source.progressive.enabled = g_value_get_boolean(value); break;
+    case PROP_SETTLE_MS: s.source.progressive.settle = std::chrono::milliseconds(g_value_get_uint(value)); break;
+    case PROP_PREVIEW_DIVISOR: s.source.progressive.divisor = g_value_get_int(value); break;
+    case PROP_PREVIEW_MESH: s.source.progressive.mesh = g_value_get_int(value); break;
     default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
 }
@@ -89,6 +104,10 @@ static void gst_caustic_src_get_property(GObject* object, guint id, GValue* valu
     case PROP_HEIGHT: g_value_set_int(value, s.height); break;
     case PROP_FRAMERATE: gst_value_set_fraction(value, s.fps_n, s.fps_d); break;
     case PROP_RENDERS: g_value_set_uint64(value, s.source.renders.load()); break;
+    case PROP_PROGRESSIVE: g_value_set_boolean(value, s.source.progressive.enabled); break;
+    case PROP_SETTLE_MS: g_value_set_uint(value, static_cast<guint>(s.source.progressive.settle.count())); break;
+    case PROP_PREVIEW_DIVISOR: g_value_set_int(value, s.source.progressive.divisor); break;
+    case PROP_PREVIEW_MESH: g_value_set_int(value, s.source.progressive.mesh); break;
     default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
 }
@@ -115,6 +134,18 @@ static GstCaps* gst_caustic_src_fixate(GstBaseSrc* src, GstCaps* caps) {
 static gboolean gst_caustic_src_set_caps(GstBaseSrc* src, GstCaps* caps) {
   State& s = state_of(src);
   if (!gst_video_info_from_caps(&s.info, caps) || GST_VIDEO_INFO_FPS_N(&s.info) <= 0) return FALSE;
+  if (GST_VIDEO_INFO_FORMAT(&s.info) == GST_VIDEO_FORMAT_I420) {
+    // The GPU writes the planes packed; GStreamer's layout must be that one.
+    const int w = GST_VIDEO_INFO_WIDTH(&s.info), h = GST_VIDEO_INFO_HEIGHT(&s.info);
+    if (w % 8 || h % 2) {
+      GST_ELEMENT_ERROR(src, CORE, NEGOTIATION, ("I420 needs a width divisible by 8 and an even height"),
+                        ("got %dx%d", w, h));
+      return FALSE;
+    }
+    s.source.format = caustic::PixelFormat::i420;
+  } else {
+    s.source.format = caustic::PixelFormat::rgba;
+  }
   gst_base_src_set_blocksize(src, static_cast<guint>(GST_VIDEO_INFO_SIZE(&s.info)));
   return TRUE;
 }
@@ -235,6 +266,22 @@ static void gst_caustic_src_class_init(GstCausticSrcClass* klass) {
       gobject, PROP_RENDERS,
       g_param_spec_uint64("renders", "Renders", "Caustic passes drawn so far (unchanged frames are re-sent)", 0,
                           G_MAXUINT64, 0, static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
+  g_object_class_install_property(
+      gobject, PROP_PROGRESSIVE,
+      g_param_spec_boolean("progressive", "Progressive", "Cheap previews while the parameters change, then one full frame",
+                           TRUE, rw));
+  g_object_class_install_property(
+      gobject, PROP_SETTLE_MS,
+      g_param_spec_uint("settle-ms", "Settle time", "Stillness (ms) after which the full-quality frame is drawn", 0,
+                        10000, 80, rw));
+  g_object_class_install_property(
+      gobject, PROP_PREVIEW_DIVISOR,
+      g_param_spec_int("preview-divisor", "Preview divisor", "Previews draw the caustic at 1/N of the size per side",
+                       1, 16, 2, rw));
+  g_object_class_install_property(
+      gobject, PROP_PREVIEW_MESH,
+      g_param_spec_int("preview-mesh", "Preview mesh", "Mesh level of previews (vertices per side) when coarser", 2,
+                       2048, 32, rw));
   gst_element_class_set_static_metadata(element, "Caustic source", "Source/Video",
                                         "Renders the caustic of a refractive or reflective object, live",
                                         "causticd developers");

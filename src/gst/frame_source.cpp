@@ -6,9 +6,37 @@
 
 namespace caustic::gst {
 
+namespace {
+
+// Read-back tags carry the level beside the version.
+std::uint64_t tag_of(std::uint64_t version, std::uint32_t level) { return version << 4 | level; }
+
+// The preview's mesh: the configured level when the scene's is finer.
+std::shared_ptr<const Mesh> preview_mesh(const MeshLevels& meshes, const Scene& scene, int level) {
+  auto full = meshes.at(scene.render.mesh_resolution);
+  auto it = meshes.resampled.find(level);
+  return it != meshes.resampled.end() && it->second->positions.size() < full->positions.size() ? it->second : full;
+}
+
+}  // namespace
+
 GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const MeshLevels& meshes, int width,
                          int height) {
-  const bool changed = params.version() != source.rendered;
+  const auto now = std::chrono::steady_clock::now();
+  const std::uint64_t newest = params.version();
+  if (newest != source.seen) {
+    // Post-processing alone is no motion: the engine redoes only the tone map.
+    ParamStore::Snapshot snap = params.snapshot();
+    Scene caustic = snap.scene, before = source.seen_scene;
+    caustic.post = before.post = PostParams{};
+    if (source.seen == 0 || caustic != before) source.changed_at = now;
+    source.seen = newest;
+    source.seen_scene = std::move(snap.scene);
+  }
+  // The first picture is a full one; after that, recent changes mean motion.
+  const bool moving = source.progressive.enabled && source.picture && now - source.changed_at < source.progressive.settle;
+  const std::uint32_t want = moving ? preview : full_quality;
+  const bool changed = newest != source.rendered || want != source.rendered_level;
   if (!changed && !source.readback_pending && source.picture) return gst_buffer_ref(source.picture);
   if (!source.context) {
     source.context = std::make_unique<GlContext>(egl_platform_from_environment());
@@ -27,14 +55,17 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     snap.scene.render.width = width;  // the negotiated caps decide the size
     snap.scene.render.height = height;
     source.rendered = snap.version;
+    source.rendered_level = want;
     try {
-      source.engine->set_scene(snap.scene, meshes.at(snap.scene.render.mesh_resolution));
+      source.engine->set_preview_divisor(want == preview ? source.progressive.divisor : 1);
+      source.engine->set_scene(snap.scene, want == preview ? preview_mesh(meshes, snap.scene, source.progressive.mesh)
+                                                           : meshes.at(snap.scene.render.mesh_resolution));
       source.last_rejection.clear();
       const std::uint64_t before = source.engine->ray_passes();
       source.engine->render();
       source.renders += source.engine->ray_passes() - before;
       if (source.observer) source.observer(source.engine->stats(), snap.version);
-      source.engine->start_ldr_readback(snap.version);
+      source.engine->start_readback(tag_of(snap.version, want), source.format);
       source.readback_pending = true;
     } catch (const SceneError& e) {
       // Keep showing the last good picture; the store's own checks make this rare.
@@ -42,16 +73,35 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
       if (!source.picture) throw;
     }
   }
-  Rgba8Image image;
-  std::uint64_t version = 0;
-  if (source.readback_pending && source.engine->poll_ldr_readback(&image, &version, !source.picture)) {
+  if (source.readback_pending) {
+    // The picture goes from the pixel buffer object straight into the
+    // GstBuffer: its only copy on the way out of GL.
+    const std::size_t bytes = source.engine->picture_bytes(source.format);
+    GstBuffer* buffer = gst_buffer_new_allocate(nullptr, bytes, nullptr);
+    GstMapInfo map;
+    gst_buffer_map(buffer, &map, GST_MAP_WRITE);
+    std::uint64_t tag = 0;
+    bool ready = false;
+    try {
+      ready = source.engine->poll_readback(map.data, bytes, &tag, !source.picture);
+    } catch (...) {
+      gst_buffer_unmap(buffer, &map);
+      gst_buffer_unref(buffer);
+      throw;
+    }
+    gst_buffer_unmap(buffer, &map);
+    if (!ready) {
+      gst_buffer_unref(buffer);
+      return gst_buffer_ref(source.picture);
+    }
+    const std::uint64_t version = tag >> 4;
+    const auto level = static_cast<std::uint32_t>(tag & 0xf);
     source.readback_pending = false;
-    GstBuffer* buffer = gst_buffer_new_allocate(nullptr, image.pixels.size(), nullptr);
-    gst_buffer_fill(buffer, 0, image.pixels.data(), image.pixels.size());
-    caustic_buffer_set_frame_meta(buffer, version, 0);
+    caustic_buffer_set_frame_meta(buffer, version, level);
     if (source.picture) gst_buffer_unref(source.picture);
     source.picture = buffer;
     source.version = version;
+    source.level = level;
   }
   return gst_buffer_ref(source.picture);
 }
@@ -65,7 +115,8 @@ void release(FrameSource& source) {
     source.context->release_current();
     source.context.reset();
   }
-  source.version = source.rendered = 0;
+  source.version = source.rendered = source.seen = 0;
+  source.level = source.rendered_level = full_quality;
   source.readback_pending = false;
 }
 

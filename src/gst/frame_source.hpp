@@ -10,18 +10,38 @@
 #include <gst/gst.h>
 
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <string>
 
 namespace caustic::gst {
 
+/// Progressive fidelity: while parameters keep changing, frames are cheap
+/// previews; once they have been still for `settle`, one full frame.
+struct Progressive {
+  bool enabled = true;
+  std::chrono::milliseconds settle{80};
+  int divisor = 2;   ///< preview caustic at 1/divisor of the output size per side
+  int mesh = 32;     ///< preview mesh level, when it is coarser than the scene's
+};
+
+/// Fidelity levels in CausticFrameMeta.level.
+enum FrameLevel : std::uint32_t { full_quality = 0, preview = 1 };
+
 struct FrameSource {
+  Progressive progressive;
+  PixelFormat format = PixelFormat::rgba;  // as negotiated; set before streaming
   std::unique_ptr<GlContext> context;
   std::unique_ptr<Engine> engine;
   GstBuffer* picture = nullptr;  // RGBA, tagged with its version
   std::uint64_t version = 0;     // version `picture` shows
+  std::uint32_t level = full_quality;  // level `picture` shows
   std::uint64_t rendered = 0;    // version last drawn (its read-back may still be on the way)
+  std::uint32_t rendered_level = full_quality;
+  std::uint64_t seen = 0;        // newest version noticed
+  Scene seen_scene;              // its scene
+  std::chrono::steady_clock::time_point changed_at;  // when the caustic last changed (not post-processing)
   bool readback_pending = false;
   std::atomic<std::uint64_t> renders{0};  // caustic passes so far (read from any thread)
   std::string last_rejection;    // why the newest parameters were not rendered
@@ -29,8 +49,10 @@ struct FrameSource {
 };
 
 /// A new reference to the frame to send now: renders when the ParamStore's
-/// version moved on and queues the picture's read-back; sends the newest
-/// picture whose read-back has finished (waiting only for the very first).
+/// version moved on (a preview while changes keep coming, see Progressive)
+/// or when a preview is to be replaced by the full frame, and queues the
+/// picture's read-back; sends the newest picture whose read-back has
+/// finished (waiting only for the very first).
 /// Creates the GL context on first use. Throws on GL failures.
 GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const MeshLevels& meshes, int width,
                          int height);

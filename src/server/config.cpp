@@ -41,7 +41,7 @@ const std::vector<std::string>& config_keys() {
       "bind_address", "port",        "max_sessions",      "codec",       "bitrate_kbps",   "framerate",
       "width",        "height",      "keyframe_interval", "stun_server", "turn_server",    "ice_addresses",
       "idle_timeout_s", "max_body_bytes", "scenes_dir",     "web_dir",     "log_level",      "egl_device",
-      "stall_timeout_s"};
+      "stall_timeout_s", "settle_ms"};
   return keys;
 }
 
@@ -63,9 +63,12 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
   } else if (key == "framerate") {
     c.framerate = parse_int(key, value, 1, 120);
   } else if (key == "width") {
+    // The GPU writes I420 planes packed: widths in steps of 8, even heights.
     c.width = parse_int(key, value, 16, 4096);
+    if (c.width % 8) throw ConfigError(key + ": must be a multiple of 8, got " + value);
   } else if (key == "height") {
     c.height = parse_int(key, value, 16, 4096);
+    if (c.height % 2) throw ConfigError(key + ": must be even, got " + value);
   } else if (key == "keyframe_interval") {
     c.keyframe_interval = parse_int(key, value, 1, 10000);
   } else if (key == "stun_server") {
@@ -103,6 +106,8 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
     c.log_level = value;
   } else if (key == "egl_device") {
     c.egl_device = parse_int(key, value, -1, 63);
+  } else if (key == "settle_ms") {
+    c.settle_ms = parse_int(key, value, 0, 10000);
   } else if (key == "stall_timeout_s") {
     c.stall_timeout_s = parse_int(key, value, 2, 3600);
   } else {

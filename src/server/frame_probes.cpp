@@ -38,7 +38,7 @@ void install_frame_probes(GstElement* pipeline, Metrics* metrics, FrameTold tell
   struct EncodeClock {
     std::mutex lock;
     std::map<GstClockTime, gint64> entered;           // running time -> monotonic time
-    std::map<GstClockTime, std::uint64_t> versions;   // running time -> parameter version
+    std::map<GstClockTime, std::pair<std::uint64_t, std::uint32_t>> versions;  // running time -> version, level
     Metrics* metrics;
   };
   auto clock = std::make_shared<EncodeClock>();
@@ -96,7 +96,7 @@ void install_frame_probes(GstElement* pipeline, Metrics* metrics, FrameTold tell
         GstBuffer* buffer = GST_PAD_PROBE_INFO_BUFFER(info);
         if (auto* meta = caustic_buffer_get_frame_meta(buffer)) {
           std::lock_guard lock(c.lock);
-          remember(c.versions, running_time(pad, buffer), meta->version);
+          remember(c.versions, running_time(pad, buffer), std::pair{meta->version, meta->level});
         }
         return GST_PAD_PROBE_OK;
       },
@@ -117,14 +117,14 @@ void install_frame_probes(GstElement* pipeline, Metrics* metrics, FrameTold tell
         if (t->any && timestamp == t->last_timestamp) return GST_PAD_PROBE_OK;
         t->any = true;
         t->last_timestamp = timestamp;
-        std::uint64_t version = 0;
+        std::pair<std::uint64_t, std::uint32_t> frame;
         {
           std::lock_guard lock(t->clock->lock);
           auto it = t->clock->versions.find(running_time(pad, buffer));
           if (it == t->clock->versions.end()) return GST_PAD_PROBE_OK;
-          version = it->second;
+          frame = it->second;
         }
-        t->tell(timestamp, version);
+        t->tell(timestamp, frame.first, frame.second);
         return GST_PAD_PROBE_OK;
       },
       new FrameTeller{clock, std::move(tell)}, [](gpointer d) { delete static_cast<FrameTeller*>(d); });

@@ -11,8 +11,9 @@
 
 namespace caustic::server {
 
-/// Called on a streaming thread once per new RTP timestamp.
-using FrameTold = std::function<void(guint32 rtp_timestamp, std::uint64_t version)>;
+/// Called on a streaming thread once per new RTP timestamp, with the
+/// parameter version and fidelity level (0 full, 1 preview) of its frame.
+using FrameTold = std::function<void(guint32 rtp_timestamp, std::uint64_t version, std::uint32_t level)>;
 
 /// Needs elements named "encoder" and "pay" in `pipeline`.
 void install_frame_probes(GstElement* pipeline, Metrics* metrics, FrameTold tell);

@@ -93,6 +93,7 @@ void Session::build() {
   }
   GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline_), "src");
   gst::set_source(src, params_, scene_->levels);
+  g_object_set(src, "progressive", c.settle_ms > 0, "settle-ms", static_cast<guint>(c.settle_ms), nullptr);
   Metrics* metrics = options_.metrics;
   gst::set_frame_observer(src, [metrics](const FrameStats& stats, std::uint64_t) {
     ++metrics->frames_rendered;
@@ -101,8 +102,8 @@ void Session::build() {
   gst_object_unref(src);
 
   Ref self_ref = weak_from_this();
-  install_frame_probes(pipeline_, metrics, [self_ref](guint32 rtp_timestamp, std::uint64_t version) {
-    if (auto s = self_ref.lock()) s->tell_frame(rtp_timestamp, version);
+  install_frame_probes(pipeline_, metrics, [self_ref](guint32 rtp_timestamp, std::uint64_t version, std::uint32_t level) {
+    if (auto s = self_ref.lock()) s->tell_frame(rtp_timestamp, version, level);
   });
 
   webrtc_ = gst_bin_get_by_name(GST_BIN(pipeline_), "webrtc");
@@ -234,7 +235,7 @@ std::optional<std::chrono::steady_clock::time_point> Session::last_frame() const
   return std::chrono::steady_clock::time_point(std::chrono::steady_clock::duration(ticks));
 }
 
-void Session::tell_frame(guint32 rtp_timestamp, std::uint64_t version) {
+void Session::tell_frame(guint32 rtp_timestamp, std::uint64_t version, std::uint32_t level) {
   // The watchdog's proof that this session's streaming thread still renders.
   last_frame_.store(std::chrono::steady_clock::now().time_since_epoch().count(), std::memory_order_relaxed);
   std::lock_guard lock(channel_lock_);
@@ -242,7 +243,8 @@ void Session::tell_frame(guint32 rtp_timestamp, std::uint64_t version) {
   GstWebRTCDataChannelState state;
   g_object_get(channel_, "ready-state", &state, nullptr);
   if (state != GST_WEBRTC_DATA_CHANNEL_STATE_OPEN) return;
-  const std::string text = nlohmann::json{{"rtp_timestamp", rtp_timestamp}, {"version", version}}.dump();
+  const std::string text =
+      nlohmann::json{{"rtp_timestamp", rtp_timestamp}, {"version", version}, {"level", level}}.dump();
   gst_webrtc_data_channel_send_string(channel_, text.c_str());
 }
 

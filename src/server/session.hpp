@@ -59,9 +59,9 @@ class Session : public std::enable_shared_from_this<Session> {
   /// When the pipeline last sent a frame (any thread); none before the first.
   std::optional<std::chrono::steady_clock::time_point> last_frame() const;
 
-  /// Sends {"rtp_timestamp", "version"} on the "frames" data channel
-  /// (any thread; dropped while the channel is not open).
-  void tell_frame(guint32 rtp_timestamp, std::uint64_t version);
+  /// Sends {"rtp_timestamp", "version", "level"} on the "frames" data
+  /// channel (any thread; dropped while the channel is not open).
+  void tell_frame(guint32 rtp_timestamp, std::uint64_t version, std::uint32_t level);
 
   /// Tells the viewer the session ends (if connected) and stops the pipeline.
   void close(const std::string& reason);

@@ -8,7 +8,7 @@ export class Stream {
     this.video = video;
     this.onState = onState;
     this.onFrameVersion = onFrameVersion;
-    this.versions = new Map();  // rtp timestamp -> version
+    this.versions = new Map();  // rtp timestamp -> { version, level }
     this.closed = false;
   }
 
@@ -24,8 +24,8 @@ export class Stream {
     };
     this.pc.ondatachannel = ({ channel }) => {
       channel.onmessage = ({ data }) => {
-        const { rtp_timestamp: rtp, version } = JSON.parse(data);
-        this.versions.set(rtp, version);
+        const { rtp_timestamp: rtp, version, level } = JSON.parse(data);
+        this.versions.set(rtp, { version, level });
         if (this.versions.size > 512) this.versions.delete(this.versions.keys().next().value);
       };
     };
@@ -63,8 +63,8 @@ export class Stream {
     if (!('requestVideoFrameCallback' in this.video)) return;
     const onFrame = (now, meta) => {
       if (this.closed) return;
-      const version = this.versions.get(meta.rtpTimestamp);
-      if (version !== undefined) this.onFrameVersion(version, now);
+      const frame = this.versions.get(meta.rtpTimestamp);
+      if (frame !== undefined) this.onFrameVersion(frame.version, now, frame.level);
       this.video.requestVideoFrameCallback(onFrame);
     };
     this.video.requestVideoFrameCallback(onFrame);

@@ -17,7 +17,7 @@ const statsPanel = document.getElementById('stats');
 // What the page knows, also read by the browser tests through window.caustic.
 const state = {
   connection: 'connecting', codec: query.get('codec') ?? 'vp8', params: null, version: 0, shownVersion: 0,
-  sync: false, poses: new Map(), sentAt: new Map(), shownLog: [], latencies: [], framesShown: 0,
+  sync: false, poses: new Map(), sentAt: new Map(), shownLog: [], latencies: [], framesShown: 0, shownLevel: 0,
 };
 window.caustic = state;
 
@@ -50,8 +50,9 @@ function onApplied(body, sentAt) {
   if (state.sync && room && state.shownVersion >= body.version) room.showPose(state.poses.get(body.version));
 }
 
-function onFrameVersion(version, now) {
+function onFrameVersion(version, now, level) {
   state.framesShown += 1;
+  state.shownLevel = level;  // 0: full quality, 1: a preview drawn while the scene moves
   if (version === state.shownVersion) return;
   state.shownVersion = version;
   versionLabel.textContent = `frame version ${version}`;
@@ -171,7 +172,8 @@ setInterval(async () => {
   });
   const l = [...state.latencies].sort((a, b) => a - b);
   if (l.length) text += `PATCH to frame: median ${l[l.length >> 1].toFixed(0)} ms over ${l.length}\n`;
-  text += `parameter version ${state.version}, on screen ${state.shownVersion}\n`;
+  text += `parameter version ${state.version}, on screen ${state.shownVersion}`;
+  text += state.shownLevel === 1 ? ' (preview while moving)\n' : ' (full quality)\n';
   text += fidelityText(state.fidelity);
   statsPanel.textContent = text;
 }, 1000);

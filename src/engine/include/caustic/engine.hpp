@@ -35,6 +35,9 @@ struct Rgba8Image {
   std::vector<std::uint8_t> pixels;
 };
 
+/// How a read-back delivers the picture.
+enum class PixelFormat { rgba, i420 };
+
 /// What the last render did.
 struct FrameStats {
   double ray_ms = 0;          ///< caustic pass, GPU work finished
@@ -57,6 +60,12 @@ class Engine {
   /// Marks the frame dirty only when something changed.
   void set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh);
 
+  /// A cheaper frame for interaction: the caustic drawn at 1/divisor of the
+  /// output size per side, no bloom, bilinearly upsampled by the tone map
+  /// into the full-size picture (read_hdr then returns the small image).
+  /// 1 (the default) is full quality. Marks the frame dirty when it changes.
+  void set_preview_divisor(int divisor);
+
   /// True when the next render() will draw.
   bool dirty() const;
 
@@ -68,10 +77,17 @@ class Engine {
   Rgba8Image read_ldr() const;
 
   /// Streaming read-back without waiting for the GPU: queue a copy of the
-  /// current tone-mapped picture tagged `tag` (e.g. its parameter version)...
-  void start_ldr_readback(std::uint64_t tag);
-  /// ...and take the newest finished copy, if any (waits when `wait`).
+  /// current tone-mapped picture tagged `tag` (e.g. its parameter version),
+  /// as RGBA or converted on the GPU to I420 (BT.601 limited range, planes
+  /// Y, U, V packed without padding; width a multiple of 8, height even)...
+  void start_readback(std::uint64_t tag, PixelFormat format = PixelFormat::rgba);
+  /// ...and copy the newest finished one into `dest` (`bytes` long: the
+  /// picture's size in its format), if any (waits when `wait`).
+  bool poll_readback(std::uint8_t* dest, std::size_t bytes, std::uint64_t* tag, bool wait);
+  /// The same into an image (RGBA pictures).
   bool poll_ldr_readback(Rgba8Image* picture, std::uint64_t* tag, bool wait);
+  /// Bytes of a picture of this engine's size in `format`.
+  std::size_t picture_bytes(PixelFormat format) const;
   const FrameStats& stats() const;
   /// Number of caustic passes drawn so far.
   std::uint64_t ray_passes() const;

@@ -1,0 +1,27 @@
+// Tone-mapped RGBA -> I420 (BT.601, limited range), all three planes in one
+// R8 target of width W and height 3H/2 whose rows are the buffer's memory
+// order: Y (W x H), then U and V ((W/2) x (H/2) each, chroma averaged over
+// each 2x2 block), packed without padding. Rows of the picture texture run
+// bottom-up (GL), the planes top-down (video).
+uniform sampler2D uPicture;
+uniform ivec2 uSize;  // W, H of the picture
+layout(location = 0) out float outByte;
+
+vec3 rgb(ivec2 p) { return texelFetch(uPicture, ivec2(p.x, uSize.y - 1 - p.y), 0).rgb; }
+
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  int w = uSize.x, h = uSize.y;
+  if (p.y < h) {
+    outByte = 16.0 / 255.0 + dot(rgb(p), vec3(0.256788, 0.504129, 0.097906));
+    return;
+  }
+  int k = (p.y - h) * w + p.x;  // byte index after the Y plane
+  int plane = (w / 2) * (h / 2);
+  bool is_v = k >= plane;
+  if (is_v) k -= plane;
+  ivec2 c = 2 * ivec2(k % (w / 2), k / (w / 2));
+  vec3 mean = 0.25 * (rgb(c) + rgb(c + ivec2(1, 0)) + rgb(c + ivec2(0, 1)) + rgb(c + ivec2(1, 1)));
+  outByte = 128.0 / 255.0 + (is_v ? dot(mean, vec3(0.439216, -0.367788, -0.071427))
+                                  : dot(mean, vec3(-0.148223, -0.290993, 0.439216)));
+}
