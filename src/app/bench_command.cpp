@@ -4,6 +4,7 @@
 // are taken at 128x128 after box filtering both images. Writes CSV files and
 // charts (gnuplot, PNG and SVG) into the output folder; prints progress.
 #include "commands.hpp"
+#include "perf_bench.hpp"
 
 #include "caustic/engine.hpp"
 #include "caustic/gl_context.hpp"
@@ -176,8 +177,10 @@ int run_bench(const BenchOptions& opt) {
 
 std::function<int()> add_bench_command(CLI::App& app) {
   auto opt = std::make_shared<BenchOptions>();
+  auto perf = std::make_shared<bool>(false);
   CLI::App* cmd = app.add_subcommand("bench", "Frame time and error against the reference over methods and sizes");
   cmd->add_option("--out", opt->out, "Folder for results.csv and the charts")->required();
+  cmd->add_flag("--perf", *perf, "Frame costs instead (caustic, post, read-back, I420) over --meshes and --sizes: perf.csv");
   cmd->add_option("--photons", opt->photons, "Photons for each reference")->check(CLI::Range(1000, 2'000'000'000));
   cmd->add_option("--frames", opt->frames, "Timed frames per configuration (median)")->check(CLI::Range(1, 100));
   cmd->add_option("--source", opt->source, "Vertices per side of the surface the meshes are resampled from")
@@ -187,9 +190,10 @@ std::function<int()> add_bench_command(CLI::App& app) {
       ->check(CLI::Range(128, 4096) & CLI::Validator([](std::string& v) {
                 return std::stoi(v) % 128 ? std::string("must be a multiple of 128") : std::string();
               }, "MULTIPLE OF 128"));
-  return [cmd, opt] {
+  return [cmd, opt, perf] {
     if (!cmd->parsed()) return -1;
     try {
+      if (*perf) return run_perf_bench({opt->out, opt->frames, opt->meshes, opt->sizes});
       return run_bench(*opt);
     } catch (const std::exception& e) {
       std::cerr << "causticd bench: " << e.what() << "\n";

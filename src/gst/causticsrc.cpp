@@ -27,11 +27,12 @@
 #include "caustic/gst/causticsrc.hpp"
 
 #include "caustic/gst/frame_meta.hpp"
-#include "frame_source.hpp"
+#include "frame_worker.hpp"
 
 #include <gst/base/gstpushsrc.h>
 #include <gst/video/video.h>
 
+#include <atomic>
 #include <mutex>
 #include <string>
 
@@ -47,10 +48,14 @@ struct State {
   int fps_n = 30, fps_d = 1;
   std::shared_ptr<caustic::ParamStore> params;
   std::shared_ptr<const caustic::MeshLevels> meshes;
-  // Streaming thread only:
+  std::function<void()> on_overrun;  // set before streaming
+  // Streaming thread only (the worker owns `source` while it runs):
   caustic::gst::FrameSource source;
+  std::unique_ptr<caustic::gst::FrameWorker> worker;
   GstVideoInfo info;
   guint64 frame_index = 0;
+  std::uint64_t overruns_told = 0, renders_logged = 0;
+  std::atomic<std::uint64_t> overruns{0};  // read from any thread
 };
 
 }  // namespace
@@ -65,7 +70,7 @@ struct GstCausticSrcClass {
 
 G_DEFINE_TYPE(GstCausticSrc, gst_caustic_src, GST_TYPE_PUSH_SRC)
 
-enum { PROP_0, PROP_SCENE, PROP_WIDTH, PROP_HEIGHT, PROP_FRAMERATE, PROP_RENDERS, PROP_PROGRESSIVE, PROP_SETTLE_MS,
+enum { PROP_0, PROP_SCENE, PROP_WIDTH, PROP_HEIGHT, PROP_FRAMERATE, PROP_RENDERS, PROP_OVERRUNS, PROP_PROGRESSIVE, PROP_SETTLE_MS,
        PROP_PREVIEW_DIVISOR, PROP_PREVIEW_MESH };
 
 static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
@@ -104,6 +109,7 @@ static void gst_caustic_src_get_property(GObject* object, guint id, GValue* valu
     case PROP_HEIGHT: g_value_set_int(value, s.height); break;
     case PROP_FRAMERATE: gst_value_set_fraction(value, s.fps_n, s.fps_d); break;
     case PROP_RENDERS: g_value_set_uint64(value, s.source.renders.load()); break;
+    case PROP_OVERRUNS: g_value_set_uint64(value, s.overruns.load()); break;
     case PROP_PROGRESSIVE: g_value_set_boolean(value, s.source.progressive.enabled); break;
     case PROP_SETTLE_MS: g_value_set_uint(value, static_cast<guint>(s.source.progressive.settle.count())); break;
     case PROP_PREVIEW_DIVISOR: g_value_set_int(value, s.source.progressive.divisor); break;
@@ -176,7 +182,9 @@ static gboolean gst_caustic_src_start(GstBaseSrc* src) {
 }
 
 static gboolean gst_caustic_src_stop(GstBaseSrc* src) {
-  caustic::gst::release(state_of(src).source);
+  State& s = state_of(src);
+  s.worker.reset();  // joins the render thread, which frees its GL context
+  caustic::gst::release(s.source);
   return TRUE;
 }
 
@@ -209,19 +217,31 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
     params = s.params;
     meshes = s.meshes;
   }
+  const gint n = GST_VIDEO_INFO_FPS_N(&s.info), d = GST_VIDEO_INFO_FPS_D(&s.info);
+  const int width = GST_VIDEO_INFO_WIDTH(&s.info), height = GST_VIDEO_INFO_HEIGHT(&s.info);
   GstBuffer* picture = nullptr;
   try {
+    if (!s.worker || s.worker->width() != width || s.worker->height() != height) {
+      s.worker.reset();
+      s.worker = std::make_unique<caustic::gst::FrameWorker>(s.source, params, meshes, width, height);
+    }
+    picture = s.worker->latest(std::chrono::nanoseconds(gst_util_uint64_scale(GST_SECOND, d, n)));
+    const CausticFrameMeta* meta = caustic_buffer_get_frame_meta(picture);
     const std::uint64_t renders = s.source.renders;
-    picture = caustic::gst::produce_frame(s.source, *params, *meshes, GST_VIDEO_INFO_WIDTH(&s.info),
-                                          GST_VIDEO_INFO_HEIGHT(&s.info));
-    if (s.source.renders != renders)
-      GST_DEBUG_OBJECT(push, "frame %" G_GUINT64_FORMAT ": rendered version %" G_GUINT64_FORMAT, s.frame_index,
-                       s.source.rendered);
+    if (renders != s.renders_logged)
+      GST_DEBUG_OBJECT(push, "frame %" G_GUINT64_FORMAT ": %" G_GUINT64_FORMAT " new render(s), showing version %"
+                       G_GUINT64_FORMAT " level %u", s.frame_index, renders - s.renders_logged, meta->version,
+                       meta->level);
     else
       GST_LOG_OBJECT(push, "frame %" G_GUINT64_FORMAT ": re-sent version %" G_GUINT64_FORMAT, s.frame_index,
-                     s.source.version);
-    if (!s.source.last_rejection.empty())
-      GST_WARNING_OBJECT(push, "parameters not rendered: %s", s.source.last_rejection.c_str());
+                     meta->version);
+    s.renders_logged = renders;
+    for (; s.overruns_told < s.worker->overruns(); ++s.overruns_told) {
+      GST_DEBUG_OBJECT(push, "frame %" G_GUINT64_FORMAT ": render overran the frame interval; previous picture re-sent",
+                       s.frame_index);
+      ++s.overruns;
+      if (s.on_overrun) s.on_overrun();
+    }
   } catch (const std::exception& e) {
     GST_ELEMENT_ERROR(push, LIBRARY, FAILED, ("Cannot render the caustic"), ("%s", e.what()));
     return GST_FLOW_ERROR;
@@ -229,7 +249,6 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
   // A shallow copy shares the pixels; timestamps are this frame's own.
   GstBuffer* buffer = gst_buffer_copy(picture);
   gst_buffer_unref(picture);
-  const gint n = GST_VIDEO_INFO_FPS_N(&s.info), d = GST_VIDEO_INFO_FPS_D(&s.info);
   GST_BUFFER_PTS(buffer) = gst_util_uint64_scale(s.frame_index * GST_SECOND, d, n);
   GST_BUFFER_DURATION(buffer) = gst_util_uint64_scale((s.frame_index + 1) * GST_SECOND, d, n) - GST_BUFFER_PTS(buffer);
   GST_BUFFER_OFFSET(buffer) = s.frame_index;
@@ -240,6 +259,7 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
 
 static void gst_caustic_src_finalize(GObject* object) {
   auto* self = reinterpret_cast<GstCausticSrc*>(object);
+  self->state->worker.reset();
   caustic::gst::release(self->state->source);
   delete self->state;
   G_OBJECT_CLASS(gst_caustic_src_parent_class)->finalize(object);
@@ -266,6 +286,11 @@ static void gst_caustic_src_class_init(GstCausticSrcClass* klass) {
       gobject, PROP_RENDERS,
       g_param_spec_uint64("renders", "Renders", "Caustic passes drawn so far (unchanged frames are re-sent)", 0,
                           G_MAXUINT64, 0, static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
+  g_object_class_install_property(
+      gobject, PROP_OVERRUNS,
+      g_param_spec_uint64("overruns", "Overruns",
+                          "Frames sent while a render outlasted its frame interval (the previous picture went out again)",
+                          0, G_MAXUINT64, 0, static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
   g_object_class_install_property(
       gobject, PROP_PROGRESSIVE,
       g_param_spec_boolean("progressive", "Progressive", "Cheap previews while the parameters change, then one full frame",
@@ -327,6 +352,10 @@ void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std:
     s->params = std::move(params);
     s->meshes = std::move(meshes);
   }
+}
+
+void set_overrun_observer(GstElement* causticsrc, std::function<void()> observer) {
+  if (State* s = checked_state(causticsrc)) s->on_overrun = std::move(observer);
 }
 
 void set_frame_observer(GstElement* causticsrc, FrameObserver observer) {

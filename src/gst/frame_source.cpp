@@ -21,7 +21,7 @@ std::shared_ptr<const Mesh> preview_mesh(const MeshLevels& meshes, const Scene& 
 }  // namespace
 
 GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const MeshLevels& meshes, int width,
-                         int height) {
+                         int height, bool wait) {
   const auto now = std::chrono::steady_clock::now();
   const std::uint64_t newest = params.version();
   if (newest != source.seen) {
@@ -83,7 +83,7 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     std::uint64_t tag = 0;
     bool ready = false;
     try {
-      ready = source.engine->poll_readback(map.data, bytes, &tag, !source.picture);
+      ready = source.engine->poll_readback(map.data, bytes, &tag, wait || !source.picture);
     } catch (...) {
       gst_buffer_unmap(buffer, &map);
       gst_buffer_unref(buffer);

@@ -54,8 +54,10 @@ struct FrameSource {
 /// picture's read-back; sends the newest picture whose read-back has
 /// finished (waiting only for the very first).
 /// Creates the GL context on first use. Throws on GL failures.
+/// `wait`: wait for the read-back (a render thread can); otherwise only the
+/// very first picture is waited for.
 GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const MeshLevels& meshes, int width,
-                         int height);
+                         int height, bool wait = false);
 
 /// Frees the picture, the engine and the context (any thread, once streaming stopped).
 void release(FrameSource& source);

@@ -35,6 +35,8 @@ std::string Metrics::render(std::size_t sessions) const {
   counter("causticd_sessions_rejected_total", "Session requests refused because the server was full.",
           sessions_rejected);
   counter("causticd_frames_rendered_total", "Caustic passes drawn.", frames_rendered);
+  counter("causticd_render_overruns_total", "Frames sent while a render outlasted its frame interval (the previous picture went out again).",
+          render_overruns);
   counter("causticd_frames_sent_total", "Encoded frames handed to the RTP payloader.", frames_sent);
   counter("causticd_parameter_updates_total", "Accepted parameter patches.", parameter_updates);
   counter("causticd_http_errors_total", "HTTP answers with a 4xx or 5xx status.", http_errors);

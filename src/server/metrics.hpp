@@ -28,6 +28,7 @@ struct Metrics {
   std::atomic<std::uint64_t> sessions_created{0};
   std::atomic<std::uint64_t> sessions_rejected{0};
   std::atomic<std::uint64_t> frames_rendered{0};  ///< caustic passes
+  std::atomic<std::uint64_t> render_overruns{0};  ///< frames re-sent because a render outlasted its interval
   std::atomic<std::uint64_t> frames_sent{0};      ///< encoded frames handed to the payloader
   std::atomic<std::uint64_t> parameter_updates{0};
   std::atomic<std::uint64_t> http_errors{0};      ///< 4xx and 5xx answers

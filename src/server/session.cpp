@@ -99,6 +99,7 @@ void Session::build() {
     ++metrics->frames_rendered;
     metrics->render_ms.observe(stats.ray_ms + stats.post_ms);
   });
+  gst::set_overrun_observer(src, [metrics] { ++metrics->render_overruns; });
   gst_object_unref(src);
 
   Ref self_ref = weak_from_this();

@@ -23,7 +23,11 @@ bool register_elements();
 /// state; the ParamStore stays shared, so patches show in later frames.
 void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const MeshLevels> meshes);
 
-/// Called on the streaming thread after every render (not for re-sent frames).
+/// Called on the streaming thread for every frame sent while a render has
+/// overrun its frame interval (the previous picture goes out instead).
+void set_overrun_observer(GstElement* causticsrc, std::function<void()> observer);
+
+/// Called on the render thread after every render (not for re-sent frames).
 using FrameObserver = std::function<void(const FrameStats& stats, std::uint64_t version)>;
 void set_frame_observer(GstElement* causticsrc, FrameObserver observer);
 

@@ -1,0 +1,20 @@
+// `causticd bench --perf`: frame costs as the mesh and the picture grow.
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+namespace caustic::app {
+
+struct PerfOptions {
+  std::filesystem::path out;
+  int frames = 5;
+  std::vector<int> meshes{64, 128, 256, 512, 1024};
+  std::vector<int> sizes{256, 512, 1024, 2048};
+};
+
+/// Prints one line per (mesh, size) and writes perf.csv and perf.png/.svg
+/// into `out`. Throws on GL failures.
+int run_perf_bench(const PerfOptions& options);
+
+}  // namespace caustic::app

@@ -1,0 +1,63 @@
+#include "frame_worker.hpp"
+
+namespace caustic::gst {
+
+FrameWorker::FrameWorker(FrameSource& source, std::shared_ptr<const ParamStore> params,
+                         std::shared_ptr<const MeshLevels> meshes, int width, int height)
+    : source_(source), params_(std::move(params)), meshes_(std::move(meshes)), width_(width), height_(height),
+      thread_([this] { run(); }) {}
+
+FrameWorker::~FrameWorker() {
+  {
+    std::lock_guard lock(lock_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+  if (picture_) gst_buffer_unref(picture_);
+}
+
+void FrameWorker::run() {
+  std::unique_lock lock(lock_);
+  while (!stop_) {
+    lock.unlock();
+    GstBuffer* picture = nullptr;
+    std::string error;
+    busy_since_ = std::chrono::steady_clock::now().time_since_epoch().count();
+    try {
+      picture = produce_frame(source_, *params_, *meshes_, width_, height_, true);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    busy_since_ = 0;
+    lock.lock();
+    if (picture) {
+      if (picture_) gst_buffer_unref(picture_);
+      picture_ = picture;
+    }
+    if (!error.empty()) error_ = error;
+    ready_.notify_all();
+    if (!error.empty()) break;
+    // Parameters have no change signal: look again when the streaming
+    // thread asks for a frame, or after a few milliseconds.
+    wake_.wait_for(lock, std::chrono::milliseconds(4), [this] { return stop_ || kicked_; });
+    kicked_ = false;
+  }
+  lock.unlock();
+  release(source_);  // the GL context goes on the thread that made it
+}
+
+GstBuffer* FrameWorker::latest(std::chrono::nanoseconds frame_interval) {
+  const std::int64_t since = busy_since_.load();
+  if (since != 0 && std::chrono::steady_clock::now().time_since_epoch().count() - since >
+                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(frame_interval).count())
+    ++overruns_;
+  std::unique_lock lock(lock_);
+  kicked_ = true;
+  wake_.notify_all();
+  ready_.wait(lock, [this] { return picture_ || !error_.empty(); });
+  if (!picture_) throw std::runtime_error(error_);
+  return gst_buffer_ref(picture_);
+}
+
+}  // namespace caustic::gst

@@ -1,0 +1,53 @@
+// The render thread behind causticsrc: it owns the GL context and draws
+// (produce_frame) whenever the parameters call for it, while the streaming
+// thread only picks up the newest finished picture, so a slow render never
+// holds up the encoder: the previous picture goes out again, on time.
+#pragma once
+
+#include "frame_source.hpp"
+
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+
+namespace caustic::gst {
+
+class FrameWorker {
+ public:
+  /// Starts the thread; `source` must outlive the worker and is used only
+  /// by it from now on (its GL context is made and freed on that thread).
+  FrameWorker(FrameSource& source, std::shared_ptr<const ParamStore> params, std::shared_ptr<const MeshLevels> meshes,
+              int width, int height);
+  /// Stops and joins the thread.
+  ~FrameWorker();
+  FrameWorker(const FrameWorker&) = delete;
+  FrameWorker& operator=(const FrameWorker&) = delete;
+
+  /// A new reference to the newest finished picture (waiting only for the
+  /// very first); wakes the thread to look at the parameters. Counts an
+  /// overrun when the thread has been in one render for more than
+  /// `frame_interval`. Throws std::runtime_error with the thread's error.
+  GstBuffer* latest(std::chrono::nanoseconds frame_interval);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  std::uint64_t overruns() const { return overruns_.load(); }
+
+ private:
+  void run();
+
+  FrameSource& source_;
+  std::shared_ptr<const ParamStore> params_;
+  std::shared_ptr<const MeshLevels> meshes_;
+  int width_, height_;
+  std::mutex lock_;
+  std::condition_variable wake_, ready_;
+  bool stop_ = false, kicked_ = false;
+  GstBuffer* picture_ = nullptr;  // newest finished, guarded by lock_
+  std::string error_;
+  std::atomic<std::int64_t> busy_since_{0};  // steady-clock ticks when the current render began; 0: idle
+  std::atomic<std::uint64_t> overruns_{0};
+  std::thread thread_;
+};
+
+}  // namespace caustic::gst
