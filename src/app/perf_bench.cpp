@@ -28,6 +28,7 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 }
 
 void write_perf_chart(const std::filesystem::path& out, const std::vector<int>& sizes, const std::vector<int>& meshes) {
+  const int mesh = meshes[meshes.size() / 2];  // the per-pixel stages, at a middle mesh
   std::ofstream plot(out / "perf.gp");
   plot << "set datafile separator ','\nset grid\nset logscale xy\nset key inside top left\n"
           "set format x '10^{%T}'\nfiles = 'png svg'\ndo for [f in files] {\n"
@@ -35,12 +36,12 @@ void write_perf_chart(const std::filesystem::path& out, const std::vector<int>& 
           "  set output 'perf.'.f\n  set multiplot layout 1,2\n"
           "  set xlabel 'triangles'\n  set ylabel 'caustic pass (ms)'\n  plot ";
   for (std::size_t i = 0; i < sizes.size(); ++i)
-    plot << (i ? ", " : "") << "'perf.csv' using ($2 == " << sizes[i] << " ? $3 : 1/0):4 with linespoints title '"
+    plot << (i ? ", " : "") << "'perf.csv' using ($2 == " << sizes[i] << " ? $3 : 1/0):4 with points pointsize 1.3 title '"
          << sizes[i] << "^2 px'";
-  plot << "\n  set xlabel 'pixels'\n  set ylabel 'ms per frame (mesh " << meshes.front() << "^2)'\n"
-       << "  plot 'perf.csv' using ($1 == " << meshes.front() << " ? $2*$2 : 1/0):5 with linespoints title 'post', "
-       << "'' using ($1 == " << meshes.front() << " ? $2*$2 : 1/0):6 with linespoints title 'RGBA read-back', "
-       << "'' using ($1 == " << meshes.front() << " ? $2*$2 : 1/0):7 with linespoints title 'I420 convert + read-back'\n"
+  plot << "\n  set xlabel 'pixels'\n  set ylabel 'ms per frame (mesh " << mesh << "^2)'\n"
+       << "  plot 'perf.csv' using ($1 == " << mesh << " ? $2*$2 : 1/0):5 with linespoints title 'post', "
+       << "'' using ($1 == " << mesh << " ? $2*$2 : 1/0):6 with linespoints title 'RGBA read-back', "
+       << "'' using ($1 == " << mesh << " ? $2*$2 : 1/0):7 with linespoints title 'I420 convert + read-back'\n"
        << "  unset multiplot\n}\n";
   plot.close();
   const std::string command = "cd '" + out.string() + "' && gnuplot perf.gp 2>gnuplot-perf.log";
