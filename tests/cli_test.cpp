@@ -167,6 +167,19 @@ TEST_F(Cli, BenchWritesResultsAndCharts) {
   expect_rejected("bench --out " + dir_.string() + " --sizes 100", "--sizes");
 }
 
+TEST_F(Cli, PerfBenchWritesFrameCosts) {
+  const CommandResult r = causticd("bench --perf --out " + dir_.string() + " --frames 1 --meshes 16 32 --sizes 128");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream csv(dir_ / "perf.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "mesh,pixels,triangles,ray_ms,post_ms,rgba_readback_ms,i420_ms");
+  int rows = 0;
+  while (std::getline(csv, line)) ++rows;
+  EXPECT_EQ(rows, 2);
+  EXPECT_GT(fs::file_size(dir_ / "perf.png"), 1000u);
+}
+
 TEST_F(Cli, CalibrateWritesWhatRenderThenUses) {
   // A copy of the lens scene in the test folder, so the calibration lands beside it.
   nlohmann::json j = nlohmann::json::parse(std::ifstream(scene("lens")));
