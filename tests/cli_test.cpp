@@ -144,25 +144,29 @@ TEST_F(Cli, ReferenceTracesToExrAndRejectsBadInput) {
   expect_rejected("reference --scene " + scene("slab") + " -o " + exr.string() + " --set object.ior=0", "object.ior");
 }
 
+std::vector<std::string> csv_lines(const fs::path& file) {
+  std::ifstream in(file);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
 TEST_F(Cli, BenchWritesResultsAndCharts) {
   const CommandResult r = causticd("bench --out " + dir_.string() +
                                    " --photons 20000 --frames 1 --meshes 16 --sizes 128 --source 128");
   ASSERT_EQ(r.status, 0) << r.output;
-  std::ifstream csv(dir_ / "results.csv");
-  std::string header, line;
-  std::getline(csv, header);
-  EXPECT_EQ(header, "setup,method,mesh,pixels,ray_ms,post_ms,relative_l1,relative_rmse,ssim");
-  int rows = 0;
-  while (std::getline(csv, line)) ++rows;
-  EXPECT_EQ(rows, 7);  // seven methods over four set-ups, one mesh, one size
+  const auto results = csv_lines(dir_ / "results.csv");
+  ASSERT_FALSE(results.empty());
+  EXPECT_EQ(results[0], "setup,method,mesh,pixels,ray_ms,post_ms,relative_l1,relative_rmse,ssim");
+  EXPECT_EQ(results.size(), 8u);  // the header and seven methods over four set-ups, one mesh, one size
   EXPECT_GT(fs::file_size(dir_ / "accuracy.png"), 1000u);
   EXPECT_GT(fs::file_size(dir_ / "accuracy.svg"), 1000u);
   EXPECT_GT(fs::file_size(dir_ / "convergence.png"), 1000u);
-  std::ifstream conv(dir_ / "convergence.csv");
-  std::getline(conv, header);
-  EXPECT_EQ(header, "series,x,relative_l1");
+  const auto convergence = csv_lines(dir_ / "convergence.csv");
+  ASSERT_FALSE(convergence.empty());
+  EXPECT_EQ(convergence[0], "series,x,relative_l1");
   int reference_rows = 0;
-  while (std::getline(conv, line)) reference_rows += line.rfind("reference,", 0) == 0;
+  for (const auto& line : convergence) reference_rows += line.rfind("reference,", 0) == 0;
   EXPECT_EQ(reference_rows, 4);  // photons/512 .. photons/8, four steps of 4x
   expect_rejected("bench --out " + dir_.string() + " --sizes 100", "--sizes");
 }
@@ -170,13 +174,10 @@ TEST_F(Cli, BenchWritesResultsAndCharts) {
 TEST_F(Cli, PerfBenchWritesFrameCosts) {
   const CommandResult r = causticd("bench --perf --out " + dir_.string() + " --frames 1 --meshes 16 32 --sizes 128");
   ASSERT_EQ(r.status, 0) << r.output;
-  std::ifstream csv(dir_ / "perf.csv");
-  std::string header, line;
-  std::getline(csv, header);
-  EXPECT_EQ(header, "mesh,pixels,triangles,ray_ms,post_ms,rgba_readback_ms,i420_ms");
-  int rows = 0;
-  while (std::getline(csv, line)) ++rows;
-  EXPECT_EQ(rows, 2);
+  const auto perf = csv_lines(dir_ / "perf.csv");
+  ASSERT_FALSE(perf.empty());
+  EXPECT_EQ(perf[0], "mesh,pixels,triangles,ray_ms,post_ms,rgba_readback_ms,i420_ms");
+  EXPECT_EQ(perf.size(), 3u);  // the header and two meshes at one size
   EXPECT_GT(fs::file_size(dir_ / "perf.png"), 1000u);
 }
 
