@@ -155,6 +155,18 @@ test('the synchronous pose holds the drawn slab until its frame arrives', async 
     await page.waitForTimeout(100);
     const moved = await page.evaluate(() => window.caustic.drawnProxy());
     assert.ok(Math.abs(moved[0] - before[0] - 3) < 1e-6, `drawn at ${moved}, requested ${before[0] + 3}`);
+    // A turn happens about the object's origin, as the server turns it: the
+    // slab's middle keeps its distance from the origin and moves around it.
+    const origin = await page.evaluate(() => window.caustic.params.object.position);
+    await page.evaluate(() => window.caustic.rotateObject(0, 30, 0));
+    await until(page, () => window.caustic.version >= 3 && window.caustic.shownVersion >= window.caustic.version,
+                30, 'the turned frame on screen');
+    await page.waitForTimeout(100);
+    const turned = await page.evaluate(() => window.caustic.drawnProxy());
+    const from = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+    assert.ok(from(moved, origin) > 0.5, `the slab's middle sits on the origin (${moved} vs ${origin})`);
+    assert.ok(Math.abs(from(turned, origin) - from(moved, origin)) < 1e-6, `turned ${turned}, origin ${origin}`);
+    assert.ok(from(turned, moved) > 0.5, `the middle stayed at ${turned}: turned about itself`);
     await page.close();
   } finally {
     server.kill('SIGTERM');

@@ -34,12 +34,20 @@ export class CausticRoom {
     const glass = new THREE.MeshPhysicalMaterial({ color: 0xddeeff, transmission: 0.9, roughness: 0.05,
                                                    thickness: 2, transparent: true, opacity: 0.6 });
     this.proxy = new THREE.Mesh(new THREE.BoxGeometry(proxy.outline[0], proxy.outline[1], proxy.thickness), glass);
-    this.proxy.rotation.order = 'XYZ';
-    // The gizmos move `handle`; the drawn proxy follows it, or in synchronous
-    // mode the pose of the frame on screen.
+    // The server turns the object about its own origin (object.position), not
+    // about the slab's middle: the slab hangs in a frame at that origin, at
+    // its offset in object coordinates (undoing the pose the proxy came with).
+    this.drawnPose = new THREE.Object3D();
+    this.drawnPose.rotation.order = 'XYZ';
+    this.drawnPose.add(this.proxy);
+    const turned = new THREE.Euler(...proxy.rotation_deg.map(THREE.MathUtils.degToRad), 'XYZ');
+    this.proxy.position.copy(vec(proxy.center).sub(vec(proxy.position))
+      .applyQuaternion(new THREE.Quaternion().setFromEuler(turned).invert()));
+    // The gizmos move `handle` (the object's origin and rotation); the drawn
+    // slab follows it, or in synchronous mode the pose of the frame on screen.
     this.handle = new THREE.Object3D();
-    this.world.add(this.proxy, this.handle);
-    this.proxyOffset = vec(proxy.center).sub(vec(proxy.position));
+    this.handle.rotation.order = 'XYZ';
+    this.world.add(this.drawnPose, this.handle);
 
     this.sun = new THREE.DirectionalLight(0xffffff, 1.2);
     this.lightMarker = new THREE.Mesh(new THREE.SphereGeometry(3, 16, 12),
@@ -90,7 +98,7 @@ export class CausticRoom {
       this.target = target;
     }
     const o = params.object;
-    this.handle.position.copy(vec(o.position)).add(this.proxyOffset);
+    this.handle.position.copy(vec(o.position));
     this.handle.rotation.set(...o.rotation_deg.map(THREE.MathUtils.degToRad), 'XYZ');
     this.placeLight(params.light);
   }
@@ -108,9 +116,8 @@ export class CausticRoom {
 
   // Scene-format values for what the gizmos changed.
   objectPose() {
-    const p = this.handle.position.clone().sub(this.proxyOffset);
     const r = this.handle.rotation;
-    return { position: p.toArray(), rotation_deg: [r.x, r.y, r.z].map(THREE.MathUtils.radToDeg) };
+    return { position: this.handle.position.toArray(), rotation_deg: [r.x, r.y, r.z].map(THREE.MathUtils.radToDeg) };
   }
 
   lightFromMarker(type) {
@@ -122,13 +129,18 @@ export class CausticRoom {
 
   showPose(pose) {
     if (!pose) return;
-    this.proxy.position.copy(vec(pose.position)).add(this.proxyOffset);
-    this.proxy.rotation.set(...pose.rotation_deg.map(THREE.MathUtils.degToRad), 'XYZ');
+    this.drawnPose.position.copy(vec(pose.position));
+    this.drawnPose.rotation.set(...pose.rotation_deg.map(THREE.MathUtils.degToRad), 'XYZ');
   }
 
   followHandle() {
-    this.proxy.position.copy(this.handle.position);
-    this.proxy.rotation.copy(this.handle.rotation);
+    this.drawnPose.position.copy(this.handle.position);
+    this.drawnPose.rotation.copy(this.handle.rotation);
+  }
+
+  // Where the slab's middle is drawn, in scene coordinates.
+  drawnCentre() {
+    return this.world.worldToLocal(this.proxy.getWorldPosition(new THREE.Vector3())).toArray();
   }
 
   render() { this.renderer.render(this.scene, this.camera); }

@@ -189,7 +189,13 @@ state.moveObject = (dx, dy, dz) => {
   channel.set({ object: room.objectPose() });
 };
 // Where the slab is drawn (scene coordinates of its centre).
-state.drawnProxy = () => room.proxy.position.toArray();
+state.drawnProxy = () => room.drawnCentre();
+// The same path a rotate-gizmo drag takes (degrees about the object's own axes, XYZ order).
+state.rotateObject = (dx, dy, dz) => {
+  const r = room.handle.rotation;
+  r.set(r.x + dx * Math.PI / 180, r.y + dy * Math.PI / 180, r.z + dz * Math.PI / 180, 'XYZ');
+  channel.set({ object: room.objectPose() });
+};
 
 // Closes the signalling socket as a network failure would (browser tests).
 state.dropSignalling = () => stream?.socket.close();
