@@ -298,7 +298,7 @@ static void gst_caustic_src_class_init(GstCausticSrcClass* klass) {
   g_object_class_install_property(
       gobject, PROP_SETTLE_MS,
       g_param_spec_uint("settle-ms", "Settle time", "Stillness (ms) after which the full-quality frame is drawn", 0,
-                        10000, 60, rw));
+                        10000, 40, rw));
   g_object_class_install_property(
       gobject, PROP_PREVIEW_DIVISOR,
       g_param_spec_int("preview-divisor", "Preview divisor", "Previews draw the caustic at 1/N of the size per side",

@@ -21,7 +21,7 @@ namespace caustic::gst {
 /// previews; once they have been still for `settle`, one full frame.
 struct Progressive {
   bool enabled = true;
-  std::chrono::milliseconds settle{60};
+  std::chrono::milliseconds settle{40};
   int divisor = 2;   ///< preview caustic at 1/divisor of the output size per side
   int mesh = 32;     ///< preview mesh level, when it is coarser than the scene's
 };

@@ -36,7 +36,7 @@ struct ServerConfig {
   std::string log_level = "info";         ///< error, warning, notice, info or debug
   int egl_device = -1;                    ///< index of the hardware EGL device; -1: the first usable
   int stall_timeout_s = 20;               ///< a session without a frame this long stops the watchdog pings
-  int settle_ms = 60;                     ///< still this long -> the full frame after previews; 0: no previews
+  int settle_ms = 40;                     ///< still this long -> the full frame after previews; 0: no previews
 };
 
 /// Checks what a file alone cannot: the folders exist and the default
