@@ -87,15 +87,19 @@ std::vector<std::string> scene_ids(const std::string& url) {
 
 TEST(Service, ReadyOnlyOnceListeningThenWatchdogPings) {
   NotifySocket notify(fs::temp_directory_path() / "causticd_notify_ready.sock");
-  ServerProcess server({}, {{"NOTIFY_SOCKET", notify.path().string()}, {"WATCHDOG_USEC", "400000"}});
+  ServerProcess server({}, {{"NOTIFY_SOCKET", notify.path().string()}, {"WATCHDOG_USEC", "400000"},
+                           {"CAUSTICD_STALL_TIMEOUT_S", "2"}});
   ASSERT_FALSE(server.url().empty());
   ASSERT_TRUE(notify.wait_for("READY=1", 10000));
   // READY=1 promises a listening server with a GL context behind it.
   const json health = http("GET", server.url() + "/api/v1/health").json();
   EXPECT_EQ(health["status"], "ok");
   EXPECT_FALSE(health["renderer"].get<std::string>().empty());
-  // Pings at half of WATCHDOG_USEC: several within 2 s, also with a session streaming.
+  // Pings at half of WATCHDOG_USEC: several within 2 s, also with a session
+  // whose viewer never came, past the 2 s stall limit (its render thread is
+  // idle, not stuck; its pipeline waits for a peer).
   const json session = create_session(server.url(), "lens");
+  notify.wait_for("never", 2500);
   int pings = 0;
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(2);
   while (std::chrono::steady_clock::now() < end) pings += notify.next(500).find("WATCHDOG=1") != std::string::npos;

@@ -56,6 +56,7 @@ struct State {
   guint64 frame_index = 0;
   std::uint64_t overruns_told = 0, renders_logged = 0;
   std::atomic<std::uint64_t> overruns{0};  // read from any thread
+  std::atomic<std::int64_t> heartbeat{0};  // the render thread's, read from any thread
 };
 
 }  // namespace
@@ -223,7 +224,7 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
   try {
     if (!s.worker || s.worker->width() != width || s.worker->height() != height) {
       s.worker.reset();
-      s.worker = std::make_unique<caustic::gst::FrameWorker>(s.source, params, meshes, width, height);
+      s.worker = std::make_unique<caustic::gst::FrameWorker>(s.source, params, meshes, width, height, &s.heartbeat);
     }
     picture = s.worker->latest(std::chrono::nanoseconds(gst_util_uint64_scale(GST_SECOND, d, n)));
     const CausticFrameMeta* meta = caustic_buffer_get_frame_meta(picture);
@@ -352,6 +353,13 @@ void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std:
     s->params = std::move(params);
     s->meshes = std::move(meshes);
   }
+}
+
+std::optional<std::chrono::steady_clock::time_point> render_heartbeat(GstElement* causticsrc) {
+  State* s = checked_state(causticsrc);
+  const std::int64_t ticks = s ? s->heartbeat.load() : 0;
+  if (ticks == 0) return std::nullopt;
+  return std::chrono::steady_clock::time_point(std::chrono::steady_clock::duration(ticks));
 }
 
 void set_overrun_observer(GstElement* causticsrc, std::function<void()> observer) {

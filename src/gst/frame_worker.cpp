@@ -3,9 +3,10 @@
 namespace caustic::gst {
 
 FrameWorker::FrameWorker(FrameSource& source, std::shared_ptr<const ParamStore> params,
-                         std::shared_ptr<const MeshLevels> meshes, int width, int height)
+                         std::shared_ptr<const MeshLevels> meshes, int width, int height,
+                         std::atomic<std::int64_t>* heartbeat)
     : source_(source), params_(std::move(params)), meshes_(std::move(meshes)), width_(width), height_(height),
-      thread_([this] { run(); }) {}
+      heartbeat_(heartbeat), thread_([this] { run(); }) {}
 
 FrameWorker::~FrameWorker() {
   {
@@ -21,6 +22,7 @@ void FrameWorker::run() {
   std::unique_lock lock(lock_);
   while (!stop_) {
     lock.unlock();
+    *heartbeat_ = std::chrono::steady_clock::now().time_since_epoch().count();
     GstBuffer* picture = nullptr;
     std::string error;
     busy_since_ = std::chrono::steady_clock::now().time_since_epoch().count();
@@ -44,6 +46,7 @@ void FrameWorker::run() {
     kicked_ = false;
   }
   lock.unlock();
+  *heartbeat_ = 0;
   release(source_);  // the GL context goes on the thread that made it
 }
 

@@ -16,8 +16,10 @@ class FrameWorker {
  public:
   /// Starts the thread; `source` must outlive the worker and is used only
   /// by it from now on (its GL context is made and freed on that thread).
+  /// `heartbeat` (steady-clock ticks, 0: not running) is set each time the
+  /// thread comes round its loop: proof, for a watchdog, that it is not stuck.
   FrameWorker(FrameSource& source, std::shared_ptr<const ParamStore> params, std::shared_ptr<const MeshLevels> meshes,
-              int width, int height);
+              int width, int height, std::atomic<std::int64_t>* heartbeat);
   /// Stops and joins the thread.
   ~FrameWorker();
   FrameWorker(const FrameWorker&) = delete;
@@ -47,6 +49,7 @@ class FrameWorker {
   std::string error_;
   std::atomic<std::int64_t> busy_since_{0};  // steady-clock ticks when the current render began; 0: idle
   std::atomic<std::uint64_t> overruns_{0};
+  std::atomic<std::int64_t>* heartbeat_;
   std::thread thread_;
 };
 

@@ -50,13 +50,15 @@ std::string status_line(const ServerState& s) {
          " scenes, " + s.renderer;
 }
 
-// True when every session that has streamed has done so recently: a
-// streaming thread stuck in a render (or a dead GPU) withholds the ping.
+// True when every session's render thread came round its loop recently: one
+// stuck in a render (a hung GPU, a driver deadlock) withholds the ping. A
+// session whose viewer takes no frames still passes: its render thread
+// keeps looking at the parameters.
 bool sessions_alive(const ServerState& s) {
   const auto now = std::chrono::steady_clock::now();
   for (const auto& [id, session] : s.sessions)
-    if (auto last = session->last_frame(); last && now - *last > std::chrono::seconds(s.config.stall_timeout_s)) {
-      log(Level::error, "session " + id + ": no frame for " + std::to_string(s.config.stall_timeout_s) +
+    if (auto beat = session->render_heartbeat(); beat && now - *beat > std::chrono::seconds(s.config.stall_timeout_s)) {
+      log(Level::error, "session " + id + ": render thread stuck for over " + std::to_string(s.config.stall_timeout_s) +
                             " s; withholding the watchdog ping");
       return false;
     }

@@ -230,15 +230,16 @@ void Session::offer_created(GstPromise* promise) {
   on_main([message](Session& me) { me.send(message); });
 }
 
-std::optional<std::chrono::steady_clock::time_point> Session::last_frame() const {
-  const auto ticks = last_frame_.load(std::memory_order_relaxed);
-  if (ticks == 0) return std::nullopt;
-  return std::chrono::steady_clock::time_point(std::chrono::steady_clock::duration(ticks));
+std::optional<std::chrono::steady_clock::time_point> Session::render_heartbeat() const {
+  if (!pipeline_) return std::nullopt;
+  GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline_), "src");
+  if (!src) return std::nullopt;
+  const auto beat = gst::render_heartbeat(src);
+  gst_object_unref(src);
+  return beat;
 }
 
 void Session::tell_frame(guint32 rtp_timestamp, std::uint64_t version, std::uint32_t level) {
-  // The watchdog's proof that this session's streaming thread still renders.
-  last_frame_.store(std::chrono::steady_clock::now().time_since_epoch().count(), std::memory_order_relaxed);
   std::lock_guard lock(channel_lock_);
   if (!channel_) return;
   GstWebRTCDataChannelState state;

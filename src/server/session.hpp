@@ -56,8 +56,10 @@ class Session : public std::enable_shared_from_this<Session> {
   /// True while a viewer's socket is attached; idle_since() says since when none has been.
   bool connected() const { return socket_ != nullptr; }
   std::chrono::steady_clock::time_point idle_since() const { return idle_since_; }
-  /// When the pipeline last sent a frame (any thread); none before the first.
-  std::optional<std::chrono::steady_clock::time_point> last_frame() const;
+  /// When the session's render thread last proved alive (main thread);
+  /// none before it started. It comes round every few milliseconds even
+  /// while no viewer takes frames, so only a stuck render leaves it old.
+  std::optional<std::chrono::steady_clock::time_point> render_heartbeat() const;
 
   /// Sends {"rtp_timestamp", "version", "level"} on the "frames" data
   /// channel (any thread; dropped while the channel is not open).
@@ -89,7 +91,6 @@ class Session : public std::enable_shared_from_this<Session> {
   gulong socket_message_ = 0, socket_closed_ = 0;
   std::vector<nlohmann::json> outbox_;  // messages that wait for a socket
   std::chrono::steady_clock::time_point idle_since_;
-  std::atomic<std::chrono::steady_clock::rep> last_frame_{0};  // 0: no frame yet
   bool offered_ = false, closed_ = false;
   std::mutex channel_lock_;
   GstWebRTCDataChannel* channel_ = nullptr;  // the "frames" channel

@@ -8,7 +8,9 @@
 
 #include <gst/gst.h>
 
+#include <chrono>
 #include <functional>
+#include <optional>
 #include <memory>
 
 namespace caustic::gst {
@@ -22,6 +24,11 @@ bool register_elements();
 /// render.mesh_resolution names. Call before the element leaves the NULL
 /// state; the ParamStore stays shared, so patches show in later frames.
 void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const MeshLevels> meshes);
+
+/// When the element's render thread last came round its loop (every few
+/// milliseconds, and after each render): a watchdog's proof that rendering
+/// is not stuck. None before streaming started or after it stopped.
+std::optional<std::chrono::steady_clock::time_point> render_heartbeat(GstElement* causticsrc);
 
 /// Called on the streaming thread for every frame sent while a render has
 /// overrun its frame interval (the previous picture goes out instead).

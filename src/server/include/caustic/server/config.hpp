@@ -35,7 +35,7 @@ struct ServerConfig {
   std::filesystem::path web_dir;          ///< empty: <data>/web
   std::string log_level = "info";         ///< error, warning, notice, info or debug
   int egl_device = -1;                    ///< index of the hardware EGL device; -1: the first usable
-  int stall_timeout_s = 20;               ///< a session without a frame this long stops the watchdog pings
+  int stall_timeout_s = 20;               ///< a render thread stuck this long stops the watchdog pings
   int settle_ms = 40;                     ///< still this long -> the full frame after previews; 0: no previews
 };
 
