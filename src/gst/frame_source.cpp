@@ -29,12 +29,17 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     ParamStore::Snapshot snap = params.snapshot();
     Scene caustic = snap.scene, before = source.seen_scene;
     caustic.post = before.post = PostParams{};
-    if (source.seen == 0 || caustic != before) source.changed_at = now;
+    if (source.seen == 0 || caustic != before) {
+      // A change long after the last one is a click, not a drag: worth its full frame at once.
+      source.isolated = source.seen == 0 || now - source.changed_at >= source.progressive.lone;
+      source.changed_at = now;
+    }
     source.seen = newest;
     source.seen_scene = std::move(snap.scene);
   }
   // The first picture is a full one; after that, recent changes mean motion.
-  const bool moving = source.progressive.enabled && source.picture && now - source.changed_at < source.progressive.settle;
+  const bool moving = source.progressive.enabled && source.picture && !source.isolated &&
+                      now - source.changed_at < source.progressive.settle;
   const std::uint32_t want = moving ? preview : full_quality;
   const bool changed = newest != source.rendered || want != source.rendered_level;
   if (!changed && !source.readback_pending && source.picture) return gst_buffer_ref(source.picture);

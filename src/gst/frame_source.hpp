@@ -18,10 +18,14 @@
 namespace caustic::gst {
 
 /// Progressive fidelity: while parameters keep changing, frames are cheap
-/// previews; once they have been still for `settle`, one full frame.
+/// previews; once they have been still for `settle`, one full frame. A lone
+/// change (the first for `lone`) gets its full frame at once: a click, not a
+/// drag. `lone` is generous because a loaded server answers a drag's
+/// changes late, and previews are what keeps it from overloading.
 struct Progressive {
   bool enabled = true;
   std::chrono::milliseconds settle{40};
+  std::chrono::milliseconds lone{250};
   int divisor = 2;   ///< preview caustic at 1/divisor of the output size per side
   int mesh = 32;     ///< preview mesh level, when it is coarser than the scene's
 };
@@ -42,6 +46,7 @@ struct FrameSource {
   std::uint64_t seen = 0;        // newest version noticed
   Scene seen_scene;              // its scene
   std::chrono::steady_clock::time_point changed_at;  // when the caustic last changed (not post-processing)
+  bool isolated = true;          // that change came after a still spell: no preview for it
   bool readback_pending = false;
   std::atomic<std::uint64_t> renders{0};  // caustic passes so far (read from any thread)
   std::string last_rejection;    // why the newest parameters were not rendered
