@@ -179,6 +179,14 @@ TEST_F(CausticSrc, PreviewsWhilePatchesArriveThenTheFullFrame) {
   EXPECT_LE(worst, 1);
   // A preview differs from it (half the resolution, upsampled), but not by much.
   EXPECT_NE(frames[30].pixels, settled.pixels);
+
+  // After a still spell, a lone change (a click) is drawn in full at once: no preview of it.
+  for (int i = 0; i < 12; ++i) gst_sample_unref(pull());  // 400 ms of stillness
+  const std::uint64_t click = params->apply_patch({{"light", {{"direction", {-0.05, 0.0, -1.0}}}}});
+  Frame shown = take(pull());
+  for (int i = 0; i < 30 && shown.version != click; ++i) shown = take(pull());
+  ASSERT_EQ(shown.version, click);
+  EXPECT_EQ(shown.level, 0u);
 }
 
 TEST_F(CausticSrc, ASlowRenderNeverHoldsUpTheStream) {
