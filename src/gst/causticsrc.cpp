@@ -36,7 +36,7 @@
 #include <mutex>
 #include <string>
 
-GST_DEBUG_CATEGORY_STATIC(caustic_src_debug);
+GST_DEBUG_CATEGORY(caustic_src_debug);  // frame_source.cpp logs into it too
 #define GST_CAT_DEFAULT caustic_src_debug
 
 namespace {

@@ -4,6 +4,8 @@
 
 #include <cstring>
 
+GST_DEBUG_CATEGORY_EXTERN(caustic_src_debug);
+
 namespace caustic::gst {
 
 namespace {
@@ -65,7 +67,6 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
       source.engine->set_preview_divisor(want == preview ? source.progressive.divisor : 1);
       source.engine->set_scene(snap.scene, want == preview ? preview_mesh(meshes, snap.scene, source.progressive.mesh)
                                                            : meshes.at(snap.scene.render.mesh_resolution));
-      source.last_rejection.clear();
       const std::uint64_t before = source.engine->ray_passes();
       source.engine->render();
       source.renders += source.engine->ray_passes() - before;
@@ -74,7 +75,8 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
       source.readback_pending = true;
     } catch (const SceneError& e) {
       // Keep showing the last good picture; the store's own checks make this rare.
-      source.last_rejection = e.what();
+      GST_CAT_WARNING(caustic_src_debug, "parameters version %" G_GUINT64_FORMAT " not rendered: %s", snap.version,
+                      e.what());
       if (!source.picture) throw;
     }
   }
@@ -105,8 +107,6 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     caustic_buffer_set_frame_meta(buffer, version, level);
     if (source.picture) gst_buffer_unref(source.picture);
     source.picture = buffer;
-    source.version = version;
-    source.level = level;
   }
   return gst_buffer_ref(source.picture);
 }
@@ -120,8 +120,8 @@ void release(FrameSource& source) {
     source.context->release_current();
     source.context.reset();
   }
-  source.version = source.rendered = source.seen = 0;
-  source.level = source.rendered_level = full_quality;
+  source.rendered = source.seen = 0;
+  source.rendered_level = full_quality;
   source.readback_pending = false;
 }
 

@@ -38,9 +38,7 @@ struct FrameSource {
   PixelFormat format = PixelFormat::rgba;  // as negotiated; set before streaming
   std::unique_ptr<GlContext> context;
   std::unique_ptr<Engine> engine;
-  GstBuffer* picture = nullptr;  // RGBA, tagged with its version
-  std::uint64_t version = 0;     // version `picture` shows
-  std::uint32_t level = full_quality;  // level `picture` shows
+  GstBuffer* picture = nullptr;  // in `format`; its CausticFrameMeta says the version and level it shows
   std::uint64_t rendered = 0;    // version last drawn (its read-back may still be on the way)
   std::uint32_t rendered_level = full_quality;
   std::uint64_t seen = 0;        // newest version noticed
@@ -49,7 +47,6 @@ struct FrameSource {
   bool isolated = true;          // that change came after a still spell: no preview for it
   bool readback_pending = false;
   std::atomic<std::uint64_t> renders{0};  // caustic passes so far (read from any thread)
-  std::string last_rejection;    // why the newest parameters were not rendered
   std::function<void(const FrameStats&, std::uint64_t)> observer;  // after each render
 };
 

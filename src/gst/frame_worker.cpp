@@ -33,12 +33,18 @@ void FrameWorker::run() {
     }
     busy_since_ = 0;
     lock.lock();
-    if (picture) {
+    // Most turns find nothing new: the same picture comes back.
+    if (picture == picture_) {
+      gst_buffer_unref(picture);
+    } else if (picture) {
       if (picture_) gst_buffer_unref(picture_);
       picture_ = picture;
+      ready_.notify_all();
     }
-    if (!error.empty()) error_ = error;
-    ready_.notify_all();
+    if (!error.empty()) {
+      error_ = error;
+      ready_.notify_all();
+    }
     if (!error.empty()) break;
     // Parameters have no change signal: look again when the streaming
     // thread asks for a frame, or after a few milliseconds.
