@@ -170,10 +170,9 @@ static gboolean gst_caustic_src_start(GstBaseSrc* src) {
     const caustic::Scene scene = caustic::load_scene(s.scene_path);
     auto meshes = std::make_shared<caustic::MeshLevels>();
     meshes->source = std::make_shared<const caustic::Mesh>(caustic::load_obj(scene.mesh_path()));
-    s.params = std::make_shared<caustic::ParamStore>(scene, [meshes](const caustic::Scene& candidate) {
-      const auto mesh = meshes->at(candidate.render.mesh_resolution);  // only the mesh as loaded here
-      caustic::check_geometry(candidate, *mesh, caustic::place_object(candidate.object, *mesh));
-    });
+    // Only the mesh as loaded here: a scene naming a coarser level is refused.
+    s.params = std::make_shared<caustic::ParamStore>(
+        scene, [meshes](const caustic::Scene& candidate) { caustic::check_geometry(candidate, *meshes); });
     s.meshes = std::move(meshes);
   } catch (const std::exception& e) {
     GST_ELEMENT_ERROR(src, RESOURCE, READ, ("Cannot load scene %s", s.scene_path.c_str()), ("%s", e.what()));

@@ -12,6 +12,11 @@ std::shared_ptr<const Mesh> MeshLevels::at(int resolution) const {
   throw SceneError("render.mesh_resolution", "must be one of the levels this scene offers: " + offered);
 }
 
+void check_geometry(const Scene& scene, const MeshLevels& levels) {
+  const auto mesh = levels.at(scene.render.mesh_resolution);
+  check_geometry(scene, *mesh, place_object(scene.object, *mesh));
+}
+
 std::vector<int> MeshLevels::resolutions() const {
   std::vector<int> out{0};
   for (const auto& [n, mesh] : resampled) out.push_back(n);

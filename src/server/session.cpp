@@ -40,10 +40,7 @@ Session::Session(std::string id, std::shared_ptr<const GalleryEntry> scene, Sess
   auto entry = scene_;
   params_ = std::make_shared<ParamStore>(
       initial,
-      [entry](const Scene& candidate) {
-        const auto mesh = entry->levels->at(candidate.render.mesh_resolution);
-        check_geometry(candidate, *mesh, place_object(candidate.object, *mesh));
-      },
+      [entry](const Scene& candidate) { check_geometry(candidate, *entry->levels); },
       [entry](Scene candidate) { return resolve_for(*entry, std::move(candidate)); });
 }
 

@@ -23,4 +23,8 @@ struct MeshLevels {
   std::size_t vertices(int resolution) const { return at(resolution)->positions.size(); }
 };
 
+/// check_geometry against the level `scene` names (render.mesh_resolution):
+/// what a parameter store checks before it publishes a scene. Throws SceneError.
+void check_geometry(const Scene& scene, const MeshLevels& levels);
+
 }  // namespace caustic
