@@ -59,22 +59,22 @@ TEST(FidelityChoice, CheapestMeetingTheTargetInCostOrder) {
   const Calibration c = hand_made();
   // 5%: 32^2 is the fewest vertices that qualify; among the three at 32^2 the
   // approximate model (with Fresnel) is cheaper than the exact ones.
-  FidelityChoice choice = choose_fidelity(&c, 0.05, levels);
+  FidelityChoice choice = choose_fidelity(c, 0.05, levels);
   EXPECT_EQ(choice.config, (FidelityConfig{32, PointModel::approximate, true}));
   EXPECT_DOUBLE_EQ(*choice.expected_l1, 0.04);
   EXPECT_TRUE(choice.meets_target);
   // 2.5%: only exact/Fresnel qualifies at 32^2.
-  choice = choose_fidelity(&c, 0.025, levels);
+  choice = choose_fidelity(c, 0.025, levels);
   EXPECT_EQ(choice.config, (FidelityConfig{32, PointModel::exact, true}));
   // 0.5%: 64^2 (approximate, no Fresnel) beats the mesh as loaded on vertices.
-  EXPECT_EQ(choose_fidelity(&c, 0.005, levels).config, (FidelityConfig{64, PointModel::approximate, false}));
+  EXPECT_EQ(choose_fidelity(c, 0.005, levels).config, (FidelityConfig{64, PointModel::approximate, false}));
   // Nothing offered meets 0.01%: the most accurate offered (not the 512^2 row).
-  choice = choose_fidelity(&c, 0.0001, levels);
+  choice = choose_fidelity(c, 0.0001, levels);
   EXPECT_FALSE(choice.meets_target);
   EXPECT_EQ(choice.config.mesh_resolution, 0);
   EXPECT_DOUBLE_EQ(*choice.expected_l1, 0.001);
   // No calibration: the full model, no expected error.
-  choice = choose_fidelity(nullptr, 0.05, levels);
+  choice = choose_fidelity(std::nullopt, 0.05, levels);
   EXPECT_EQ(choice.config, (FidelityConfig{0, PointModel::exact, true}));
   EXPECT_FALSE(choice.expected_l1);
 }
@@ -190,7 +190,7 @@ TEST_F(FidelityAuto, CheaperForAFarDirectionalLightThanAPointLightImagedOnTheScr
   };
   auto run = [&](const Scene& scene) {
     const Calibration c = calibrate(scene, levels, *engine_, context_->renderer(), options);
-    Outcome o{choose_fidelity(&c, 0.05, levels), 0, 0};
+    Outcome o{choose_fidelity(c, 0.05, levels), 0, 0};
     EXPECT_TRUE(o.choice.meets_target);
     o.vertices = levels.vertices(o.choice.config.mesh_resolution);
     // Judged against a reference the calibration never saw (another seed, twice the photons).

@@ -46,7 +46,7 @@ int run_calibrate(const CalibrateCommandOptions& opt) {
       if (!out) throw std::runtime_error("cannot write " + partial.string());
     }
     std::filesystem::rename(partial, output);  // readers never see half a file
-    const FidelityChoice choice = choose_fidelity(&c, scene.render.accuracy_target, levels.levels);
+    const FidelityChoice choice = choose_fidelity(c, scene.render.accuracy_target, levels.levels);
     std::printf("auto at target %.3g: mesh %d, point model %s, Fresnel %s, expected L1 %.4f%s\n",
                 scene.render.accuracy_target, choice.config.mesh_resolution,
                 choice.config.point_model == PointModel::exact ? "exact" : "approximate",

@@ -36,8 +36,7 @@ bool load_scene_levels(const char* command, const std::filesystem::path& file,
       resolutions.push_back(named);
     out->levels = build_mesh_levels(source, scene->object.flat_face_normal, resolutions);
     out->calibration = load_calibration(calibration_path(file), scene_fingerprint(*scene, *source));
-    *scene = resolve_fidelity(*scene, choose_fidelity(out->calibration ? &*out->calibration : nullptr,
-                                                      scene->render.accuracy_target, out->levels));
+    *scene = resolve_fidelity(*scene, choose_fidelity(out->calibration, scene->render.accuracy_target, out->levels));
     return true;
   } catch (const SceneError& e) {
     std::cerr << "causticd " << command << ": " << file.string() << ": " << e.what() << "\n";
@@ -46,8 +45,7 @@ bool load_scene_levels(const char* command, const std::filesystem::path& file,
 }
 
 std::string describe_choice(const Scene& scene, const SceneLevels& levels) {
-  const auto d = describe_fidelity(scene, *levels.levels.source, levels.levels,
-                                   levels.calibration ? &*levels.calibration : nullptr);
+  const auto d = describe_fidelity(scene, *levels.levels.source, levels.levels, levels.calibration);
   char line[300];
   const int n = scene.render.mesh_resolution;
   std::snprintf(line, sizeof line, "fidelity: %s; mesh %s (%zu vertices), point model %s, Fresnel %s; %s",

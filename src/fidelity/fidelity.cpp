@@ -118,7 +118,7 @@ std::optional<Calibration> load_calibration(const std::filesystem::path& file, c
   return c;
 }
 
-FidelityChoice choose_fidelity(const Calibration* calibration, double target, const MeshLevels& levels) {
+FidelityChoice choose_fidelity(const std::optional<Calibration>& calibration, double target, const MeshLevels& levels) {
   FidelityChoice choice;
   if (!calibration) return choice;
   const CalibrationEntry* cheapest = nullptr;
@@ -145,7 +145,7 @@ Scene resolve_fidelity(Scene scene, const FidelityChoice& choice) {
 }
 
 json describe_fidelity(const Scene& scene, const Mesh& source, const MeshLevels& levels,
-                       const Calibration* calibration) {
+                       const std::optional<Calibration>& calibration) {
   const bool automatic = scene.render.fidelity == Fidelity::automatic;
   json j{{"mode", automatic ? "auto" : "manual"},
          {"accuracy_target", scene.render.accuracy_target},
@@ -154,7 +154,7 @@ json describe_fidelity(const Scene& scene, const Mesh& source, const MeshLevels&
          {"point_model", point_model_name(scene.light.point_model)},
          {"fresnel", scene.render.fresnel},
          {"levels", levels.resolutions()},
-         {"calibrated", calibration != nullptr},
+         {"calibrated", calibration.has_value()},
          {"expected_relative_l1", nullptr},
          {"meets_target", nullptr}};
   if (!calibration) return j;

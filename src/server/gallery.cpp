@@ -34,12 +34,11 @@ nlohmann::json describe(const GalleryEntry& e) {
 }
 
 Scene resolve_for(const GalleryEntry& entry, Scene scene) {
-  const Calibration* calibration = entry.calibration ? &*entry.calibration : nullptr;
-  return resolve_fidelity(scene, choose_fidelity(calibration, scene.render.accuracy_target, *entry.levels));
+  return resolve_fidelity(scene, choose_fidelity(entry.calibration, scene.render.accuracy_target, *entry.levels));
 }
 
 nlohmann::json fidelity_of(const GalleryEntry& entry, const Scene& scene) {
-  return describe_fidelity(scene, *entry.mesh, *entry.levels, entry.calibration ? &*entry.calibration : nullptr);
+  return describe_fidelity(scene, *entry.mesh, *entry.levels, entry.calibration);
 }
 
 Gallery load_gallery(const std::filesystem::path& dir, int thumbnail) {

@@ -68,7 +68,7 @@ struct FidelityChoice {
 /// The cheapest calibrated configuration with relative L1 <= target among
 /// the levels `levels` offers; when none meets the target, the most accurate
 /// one. Without a calibration: the full model (mesh as loaded, exact, Fresnel).
-FidelityChoice choose_fidelity(const Calibration* calibration, double target, const MeshLevels& levels);
+FidelityChoice choose_fidelity(const std::optional<Calibration>& calibration, double target, const MeshLevels& levels);
 
 /// `scene` with the choice written into mesh_resolution, point_model and
 /// fresnel when its fidelity is "auto"; unchanged when "manual".
@@ -77,7 +77,7 @@ Scene resolve_fidelity(Scene scene, const FidelityChoice& choice);
 /// The fidelity block of GET .../params: mode, target, what is rendered and
 /// its expected error, and whether the calibration covers the parameters now.
 nlohmann::json describe_fidelity(const Scene& scene, const Mesh& source, const MeshLevels& levels,
-                                 const Calibration* calibration);
+                                 const std::optional<Calibration>& calibration);
 
 /// The calibration file of a scene file: S.json -> S.calibration.json.
 std::filesystem::path calibration_path(const std::filesystem::path& scene_file);
