@@ -135,9 +135,17 @@ void load_config_file(ServerConfig& config, const std::filesystem::path& file) {
   config = next;
 }
 
+std::filesystem::path scenes_folder(const ServerConfig& c, const std::filesystem::path& data_dir) {
+  return c.scenes_dir.empty() ? data_dir / "assets" / "scenes" : c.scenes_dir;
+}
+
+std::filesystem::path web_folder(const ServerConfig& c, const std::filesystem::path& data_dir) {
+  return c.web_dir.empty() ? data_dir / "web" : c.web_dir;
+}
+
 void check_config(const ServerConfig& c, const std::filesystem::path& data_dir) {
-  const auto scenes = c.scenes_dir.empty() ? data_dir / "assets" / "scenes" : c.scenes_dir;
-  const auto web = c.web_dir.empty() ? data_dir / "web" : c.web_dir;
+  const auto scenes = scenes_folder(c, data_dir);
+  const auto web = web_folder(c, data_dir);
   if (!std::filesystem::is_directory(scenes)) throw ConfigError("scenes_dir: " + scenes.string() + " is not a folder");
   if (!std::filesystem::is_directory(web)) throw ConfigError("web_dir: " + web.string() + " is not a folder");
   if (!std::filesystem::is_regular_file(data_dir / "pipelines" / (c.codec + ".pipeline")))

@@ -216,7 +216,7 @@ void handle_http(SoupServer*, SoupServerMessage* msg, const char* raw_path, GHas
                          known ? method + " is not allowed here" : "no such endpoint");
   }
   if (!read) return reply_problem(msg, s.metrics, SOUP_STATUS_METHOD_NOT_ALLOWED, method + " is not allowed here");
-  serve_static(s.web_dir, path, msg, s.metrics);
+  serve_static(web_folder(s.config, s.data_dir), path, msg, s.metrics);
 }
 
 void handle_signal_socket(SoupServer*, SoupServerMessage* msg, const char* raw_path, SoupWebsocketConnection* socket,

@@ -34,14 +34,11 @@ struct Server::State {
 
 namespace {
 
-std::filesystem::path scenes_dir(const ServerState& s) {
-  return s.config.scenes_dir.empty() ? s.data_dir / "assets" / "scenes" : s.config.scenes_dir;
-}
-
 std::shared_ptr<const Gallery> load_checked_gallery(const ServerState& s) {
-  auto gallery = std::make_shared<Gallery>(load_gallery(scenes_dir(s)));
+  const auto dir = scenes_folder(s.config, s.data_dir);
+  auto gallery = std::make_shared<Gallery>(load_gallery(dir));
   for (const auto& problem : gallery->problems) log(Level::warning, "scene skipped: " + problem);
-  if (gallery->entries.empty()) throw std::runtime_error("no usable scene in " + scenes_dir(s).string());
+  if (gallery->entries.empty()) throw std::runtime_error("no usable scene in " + dir.string());
   return gallery;
 }
 
@@ -71,7 +68,6 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
   auto& s = state_->shared;
   s.config = std::move(config);
   s.data_dir = std::move(data_dir);
-  s.web_dir = s.config.web_dir.empty() ? s.data_dir / "web" : s.config.web_dir;
   set_log_level(level_from_name(s.config.log_level));
   // Read by every GL context the process creates, before the first exists.
   if (s.config.egl_device >= 0) setenv("CAUSTICD_EGL_DEVICE", std::to_string(s.config.egl_device).c_str(), 1);
@@ -192,7 +188,6 @@ void Server::reload() {
         next.egl_device = s.config.egl_device;
       }
       s.config = std::move(next);
-      s.web_dir = s.config.web_dir.empty() ? s.data_dir / "web" : s.config.web_dir;
       set_log_level(level_from_name(s.config.log_level));
     } catch (const ConfigError& e) {
       log(Level::error, std::string("reload: the configuration is kept: ") + e.what());

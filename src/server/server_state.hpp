@@ -17,7 +17,6 @@ namespace caustic::server {
 struct ServerState {
   ServerConfig config;
   std::filesystem::path data_dir;
-  std::filesystem::path web_dir;
   std::shared_ptr<const Gallery> gallery;
   std::string renderer;
   std::map<std::string, std::shared_ptr<Session>> sessions;

@@ -39,6 +39,11 @@ struct ServerConfig {
   int settle_ms = 40;                     ///< still this long -> the full frame after previews; 0: no previews
 };
 
+/// The gallery folder: scenes_dir, or <data>/assets/scenes when empty.
+std::filesystem::path scenes_folder(const ServerConfig& config, const std::filesystem::path& data_dir);
+/// The folder served as static files: web_dir, or <data>/web when empty.
+std::filesystem::path web_folder(const ServerConfig& config, const std::filesystem::path& data_dir);
+
 /// Checks what a file alone cannot: the folders exist and the default
 /// codec's pipeline is among the data files. Throws ConfigError naming the key.
 void check_config(const ServerConfig& config, const std::filesystem::path& data_dir);
