@@ -40,11 +40,6 @@ struct Setup {
   std::vector<std::pair<std::string, nlohmann::json>> methods;  // name -> patch
 };
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
 Scene lens_scene() {
   Scene s;
   s.mesh = "generated";
@@ -148,8 +143,8 @@ int run_bench(const BenchOptions& opt) {
             if (f >= 2) ray.push_back(engine.stats().ray_ms), post.push_back(engine.stats().post_ms);
           }
           const ImageError e = errors_at_128(engine.read_hdr(), ref.image, scene);
-          csv << setup.name << ',' << method << ',' << n << ',' << size << ',' << median(ray) << ',' << median(post)
-              << ',' << e.relative_l1 << ',' << e.relative_rmse << ',' << e.ssim << '\n';
+          csv << setup.name << ',' << method << ',' << n << ',' << size << ',' << middle_sample(ray) << ','
+              << middle_sample(post) << ',' << e.relative_l1 << ',' << e.relative_rmse << ',' << e.ssim << '\n';
           if (method == "energy" && (setup.name == "focus" || (setup.name == "directional" && size == 1024)))
           {
             const std::string series = setup.name + ':' + std::to_string(size);
@@ -158,7 +153,7 @@ int run_bench(const BenchOptions& opt) {
             conv << series << ',' << mesh->positions.size() << ',' << e.relative_l1 << '\n';
           }
           std::printf("  %-11s %-11s %4d^2 px, mesh %4d^2: %7.1f ms  L1 %.4f  RMSE %.4f  SSIM %.4f\n",
-                      setup.name.c_str(), method.c_str(), size, n, median(ray), e.relative_l1, e.relative_rmse,
+                      setup.name.c_str(), method.c_str(), size, n, middle_sample(ray), e.relative_l1, e.relative_rmse,
                       e.ssim);
           std::fflush(stdout);
         }

@@ -26,7 +26,7 @@ int run_calibrate(const CalibrateCommandOptions& opt) {
   SceneLevels levels;
   if (!load_scene_levels("calibrate", opt.scene, opt.assignments, &scene, &levels)) return bad_input;
   const std::filesystem::path output = opt.output.empty() ? calibration_path(opt.scene) : opt.output;
-  try {
+  return run_reporting("calibrate", opt.scene, [&] {
     GlContext context(egl_platform_from_environment());
     Engine engine;
     CalibrateOptions options = opt.calibrate;
@@ -53,14 +53,7 @@ int run_calibrate(const CalibrateCommandOptions& opt) {
                 choice.config.fresnel ? "on" : "off", choice.expected_l1.value_or(0),
                 choice.meets_target ? "" : " (nothing met the target: the most accurate)");
     std::printf("wrote %s\n", output.string().c_str());
-  } catch (const SceneError& e) {
-    std::cerr << "causticd calibrate: " << opt.scene.string() << ": " << e.what() << "\n";
-    return bad_input;
-  } catch (const std::exception& e) {
-    std::cerr << "causticd calibrate: " << e.what() << "\n";
-    return runtime_failure;
-  }
-  return ok;
+  });
 }
 
 }  // namespace

@@ -25,6 +25,13 @@ enum Exit : int { ok = 0, runtime_failure = 1, bad_input = 2 };
 bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
                          const std::vector<std::string>& assignments, Scene* scene, Mesh* mesh);
 
+/// Runs `body` and turns what it throws into the exit status: a SceneError
+/// is bad input (the message names `scene`), anything else a runtime failure.
+/// The message goes to stderr as "causticd <command>: ...", after `prefix`
+/// (a newline when a progress bar may be on the line). Returns ok otherwise.
+int run_reporting(const char* command, const std::filesystem::path& scene, const std::function<void()>& body,
+                  const char* prefix = "");
+
 /// What render.fidelity needs beside the scene: the mesh levels (the loaded
 /// mesh, the coarser grids and any level the scene names) and the scene
 /// file's calibration when one matches it.

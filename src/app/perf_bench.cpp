@@ -18,11 +18,6 @@
 namespace caustic::app {
 namespace {
 
-double median_of(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -89,11 +84,11 @@ int run_perf_bench(const PerfOptions& opt) {
         i420.push_back(i420_ms);
       }
       const std::size_t triangles = mesh->triangles.size();
-      csv << n << ',' << size << ',' << triangles << ',' << median_of(ray) << ',' << median_of(post) << ','
-          << median_of(rgba) << ',' << median_of(i420) << '\n';
+      csv << n << ',' << size << ',' << triangles << ',' << middle_sample(ray) << ',' << middle_sample(post) << ','
+          << middle_sample(rgba) << ',' << middle_sample(i420) << '\n';
       std::printf("mesh %4d^2 (%8zu triangles), %4d^2 px: caustic %7.1f ms  post %6.1f ms  RGBA read-back %6.1f ms  "
                   "I420 %6.1f ms\n",
-                  n, triangles, size, median_of(ray), median_of(post), median_of(rgba), median_of(i420));
+                  n, triangles, size, middle_sample(ray), middle_sample(post), middle_sample(rgba), middle_sample(i420));
       std::fflush(stdout);
     }
   }

@@ -1,10 +1,18 @@
 // `causticd bench --perf`: frame costs as the mesh and the picture grow.
 #pragma once
 
+#include <algorithm>
 #include <filesystem>
 #include <vector>
 
 namespace caustic::app {
+
+/// The median of timed frames as both benches report it: the middle sample
+/// (the upper one of the two middle samples for an even count).
+inline double middle_sample(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
 
 struct PerfOptions {
   std::filesystem::path out;

@@ -37,7 +37,7 @@ int run_reference(const ReferenceCommandOptions& opt) {
                  100 * done);
     std::fflush(stderr);
   };
-  try {
+  return run_reporting("reference", opt.scene, [&] {
     const ReferenceResult r = trace_reference(scene, mesh, options);
     std::fprintf(stderr, "\n");
     write_exr(r.image, opt.output);
@@ -45,14 +45,7 @@ int run_reference(const ReferenceCommandOptions& opt) {
                 static_cast<unsigned long long>(r.photons), static_cast<unsigned long long>(r.photons_on_screen),
                 r.seconds, r.photons / r.seconds / 1e6);
     std::printf("wrote %s\n", opt.output.string().c_str());
-  } catch (const SceneError& e) {
-    std::cerr << "\ncausticd reference: " << opt.scene.string() << ": " << e.what() << "\n";
-    return bad_input;
-  } catch (const std::exception& e) {
-    std::cerr << "\ncausticd reference: " << e.what() << "\n";
-    return runtime_failure;
-  }
-  return ok;
+  }, "\n");
 }
 
 }  // namespace

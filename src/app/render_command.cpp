@@ -43,7 +43,7 @@ int run_render(const RenderOptions& opt) {
       return bad_input;
     }
   }
-  try {
+  return run_reporting("render", opt.scene, [&] {
     GlContext context(egl_platform_from_environment());
     Engine engine;
     engine.set_scene(scene, mesh);
@@ -70,14 +70,7 @@ int run_render(const RenderOptions& opt) {
       else write_png(engine.read_ldr(), out);
       std::printf("wrote %s\n", out.string().c_str());
     }
-  } catch (const SceneError& e) {
-    std::cerr << "causticd render: " << opt.scene.string() << ": " << e.what() << "\n";
-    return bad_input;
-  } catch (const std::exception& e) {
-    std::cerr << "causticd render: " << e.what() << "\n";
-    return runtime_failure;
-  }
-  return ok;
+  });
 }
 
 }  // namespace

@@ -24,6 +24,20 @@ bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
   }
 }
 
+int run_reporting(const char* command, const std::filesystem::path& scene, const std::function<void()>& body,
+                  const char* prefix) {
+  try {
+    body();
+    return ok;
+  } catch (const SceneError& e) {
+    std::cerr << prefix << "causticd " << command << ": " << scene.string() << ": " << e.what() << "\n";
+    return bad_input;
+  } catch (const std::exception& e) {
+    std::cerr << prefix << "causticd " << command << ": " << e.what() << "\n";
+    return runtime_failure;
+  }
+}
+
 bool load_scene_levels(const char* command, const std::filesystem::path& file,
                        const std::vector<std::string>& assignments, Scene* scene, SceneLevels* out) {
   Mesh mesh;
