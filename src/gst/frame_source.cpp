@@ -25,8 +25,7 @@ std::shared_ptr<const Mesh> preview_mesh(const MeshLevels& meshes, const Scene& 
 GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const MeshLevels& meshes, int width,
                          int height, bool wait) {
   const auto now = std::chrono::steady_clock::now();
-  const std::uint64_t newest = params.version();
-  if (newest != source.seen) {
+  if (params.version() != source.seen) {
     // Post-processing alone is no motion: the engine redoes only the tone map.
     ParamStore::Snapshot snap = params.snapshot();
     Scene caustic = snap.scene, before = source.seen_scene;
@@ -36,14 +35,14 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
       source.isolated = source.seen == 0 || now - source.changed_at >= source.progressive.lone;
       source.changed_at = now;
     }
-    source.seen = newest;
+    source.seen = snap.version;
     source.seen_scene = std::move(snap.scene);
   }
   // The first picture is a full one; after that, recent changes mean motion.
   const bool moving = source.progressive.enabled && source.picture && !source.isolated &&
                       now - source.changed_at < source.progressive.settle;
   const std::uint32_t want = moving ? preview : full_quality;
-  const bool changed = newest != source.rendered || want != source.rendered_level;
+  const bool changed = source.seen != source.rendered || want != source.rendered_level;
   if (!changed && !source.readback_pending && source.picture) return gst_buffer_ref(source.picture);
   if (!source.context) {
     source.context = std::make_unique<GlContext>(egl_platform_from_environment());
@@ -58,24 +57,25 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
   } release_guard{source.context.get()};
 
   if (changed) {
-    ParamStore::Snapshot snap = params.snapshot();
-    snap.scene.render.width = width;  // the negotiated caps decide the size
-    snap.scene.render.height = height;
-    source.rendered = snap.version;
+    // The scene noticed above is the one to draw (one snapshot per version).
+    Scene scene = source.seen_scene;
+    scene.render.width = width;  // the negotiated caps decide the size
+    scene.render.height = height;
+    const std::uint64_t version = source.rendered = source.seen;
     source.rendered_level = want;
     try {
       source.engine->set_preview_divisor(want == preview ? source.progressive.divisor : 1);
-      source.engine->set_scene(snap.scene, want == preview ? preview_mesh(meshes, snap.scene, source.progressive.mesh)
-                                                           : meshes.at(snap.scene.render.mesh_resolution));
+      source.engine->set_scene(scene, want == preview ? preview_mesh(meshes, scene, source.progressive.mesh)
+                                                      : meshes.at(scene.render.mesh_resolution));
       const std::uint64_t before = source.engine->ray_passes();
       source.engine->render();
       source.renders += source.engine->ray_passes() - before;
-      if (source.observer) source.observer(source.engine->stats(), snap.version);
-      source.engine->start_readback(tag_of(snap.version, want), source.format);
+      if (source.observer) source.observer(source.engine->stats(), version);
+      source.engine->start_readback(tag_of(version, want), source.format);
       source.readback_pending = true;
     } catch (const SceneError& e) {
       // Keep showing the last good picture; the store's own checks make this rare.
-      GST_CAT_WARNING(caustic_src_debug, "parameters version %" G_GUINT64_FORMAT " not rendered: %s", snap.version,
+      GST_CAT_WARNING(caustic_src_debug, "parameters version %" G_GUINT64_FORMAT " not rendered: %s", version,
                       e.what());
       if (!source.picture) throw;
     }

@@ -41,8 +41,8 @@ struct FrameSource {
   GstBuffer* picture = nullptr;  // in `format`; its CausticFrameMeta says the version and level it shows
   std::uint64_t rendered = 0;    // version last drawn (its read-back may still be on the way)
   std::uint32_t rendered_level = full_quality;
-  std::uint64_t seen = 0;        // newest version noticed
-  Scene seen_scene;              // its scene
+  std::uint64_t seen = 0;        // newest version noticed (one snapshot each)
+  Scene seen_scene;              // its scene: what the next render draws
   std::chrono::steady_clock::time_point changed_at;  // when the caustic last changed (not post-processing)
   bool isolated = true;          // that change came after a still spell: no preview for it
   bool readback_pending = false;
