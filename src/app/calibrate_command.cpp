@@ -49,7 +49,7 @@ int run_calibrate(const CalibrateCommandOptions& opt) {
     const FidelityChoice choice = choose_fidelity(c, scene.render.accuracy_target, levels.levels);
     std::printf("auto at target %.3g: mesh %d, point model %s, Fresnel %s, expected L1 %.4f%s\n",
                 scene.render.accuracy_target, choice.config.mesh_resolution,
-                choice.config.point_model == PointModel::exact ? "exact" : "approximate",
+                point_model_name(choice.config.point_model),
                 choice.config.fresnel ? "on" : "off", choice.expected_l1.value_or(0),
                 choice.meets_target ? "" : " (nothing met the target: the most accurate)");
     std::printf("wrote %s\n", output.string().c_str());

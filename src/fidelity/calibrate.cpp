@@ -78,7 +78,7 @@ Calibration calibrate(const Scene& scene, const MeshLevels& levels, Engine& engi
         out.entries.push_back(e);
         std::snprintf(line, sizeof line, "mesh %-6s %-11s fresnel %-3s  %7.1f ms  L1 %.4f  SSIM %.4f",
                       resolution ? (std::to_string(resolution) + "^2").c_str() : "loaded",
-                      model == PointModel::exact ? "exact" : "approximate", fresnel ? "on" : "off", e.ray_ms,
+                      point_model_name(model), fresnel ? "on" : "off", e.ray_ms,
                       e.relative_l1, e.ssim);
         say(line);
       }

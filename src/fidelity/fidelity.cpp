@@ -12,7 +12,6 @@ using nlohmann::json;
 
 constexpr const char* kFormat = "causticd-calibration-1";
 
-const char* point_model_name(PointModel m) { return m == PointModel::exact ? "exact" : "approximate"; }
 
 // FNV-1a, 64 bit: a stable identifier, not a security boundary.
 std::uint64_t fnv1a(const std::string& text, std::uint64_t h = 1469598103934665603ull) {
@@ -35,6 +34,8 @@ T field(const json& j, const std::string& key, const std::string& where) {
 }
 
 }  // namespace
+
+const char* point_model_name(PointModel m) { return m == PointModel::exact ? "exact" : "approximate"; }
 
 std::string scene_fingerprint(const Scene& scene, const Mesh& mesh) {
   json j = scene_to_json(scene);

@@ -47,6 +47,9 @@ struct Calibration {
   std::vector<CalibrationEntry> entries;
 };
 
+/// "exact" or "approximate", as the scene format and calibrations spell it.
+const char* point_model_name(PointModel model);
+
 /// Identifies what a calibration is valid for: the object, light position or
 /// direction, screen and intensity mode, and the mesh; not the settings
 /// "auto" chooses, the render size or post-processing.
