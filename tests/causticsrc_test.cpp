@@ -1,6 +1,6 @@
 // causticsrc in a pipeline: frames at the configured size and rate, a patch
-// visible in the next frames with its version, and no rendering while the
-// parameters stand still.
+// visible in the next frames with its version, each frame taking the newest
+// picture when it is due, and no rendering while the parameters stand still.
 #include "caustic/gst/causticsrc.hpp"
 #include "caustic/gst/frame_meta.hpp"
 
@@ -123,6 +123,23 @@ TEST_F(CausticSrc, PatchShowsInTheNextFramesWithItsVersion) {
   EXPECT_EQ(later.version, version);
   EXPECT_NE(later.pixels, first.pixels);
   EXPECT_EQ(renders(), 2u);
+}
+
+TEST_F(CausticSrc, EachFrameTakesThePictureNewestWhenItIsDue) {
+  // 4 fps: a patch made 50 ms after a frame left is drawn long before the
+  // next one is due (a 64x64 picture), so that next frame must show it, not
+  // a picture taken when the previous frame left.
+  start("causticsrc name=src scene=" + scene("slab") +
+        " width=64 height=64 framerate=4/1 ! appsink name=sink sync=false");
+  auto params = caustic::gst::param_store(src_);
+  ASSERT_TRUE(params);
+  gst_sample_unref(pull());
+  for (int k = 0; k < 3; ++k) {
+    gst_sample_unref(pull());
+    g_usleep(50'000);
+    const std::uint64_t version = params->apply_patch({{"light", {{"direction", {0.01 * (k + 1), 0.0, -1.0}}}}});
+    EXPECT_EQ(take(pull()).version, version) << k;
+  }
 }
 
 TEST_F(CausticSrc, NoRenderWhileTheParametersStandStill) {

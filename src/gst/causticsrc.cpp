@@ -57,6 +57,9 @@ struct State {
   std::uint64_t overruns_told = 0, renders_logged = 0;
   std::atomic<std::uint64_t> overruns{0};  // read from any thread
   std::atomic<std::int64_t> heartbeat{0};  // the render thread's, read from any thread
+  GstClockTime first_due = 0;     // running time of frame 0: when it was ready
+  GstClockID due_wait = nullptr;  // under `lock`: the wait unlock() cuts short
+  bool flushing = false;          // under `lock`
 };
 
 }  // namespace
@@ -161,6 +164,7 @@ static gboolean gst_caustic_src_start(GstBaseSrc* src) {
   State& s = state_of(src);
   std::lock_guard lock(s.lock);
   s.frame_index = 0;
+  s.first_due = 0;
   if (s.params && s.meshes) return TRUE;
   if (s.scene_path.empty()) {
     GST_ELEMENT_ERROR(src, RESOURCE, NOT_FOUND, ("No scene"), ("set the scene property or call set_source"));
@@ -208,6 +212,54 @@ static gboolean gst_caustic_src_query(GstBaseSrc* src, GstQuery* query) {
   return GST_BASE_SRC_CLASS(gst_caustic_src_parent_class)->query(src, query);
 }
 
+// The running time now (0 without a clock).
+static GstClockTime running_time_now(GstBaseSrc* src) {
+  GstClock* clock = gst_element_get_clock(GST_ELEMENT(src));
+  if (!clock) return 0;
+  const GstClockTime now = gst_clock_get_time(clock), base = gst_element_get_base_time(GST_ELEMENT(src));
+  gst_object_unref(clock);
+  return now > base ? now - base : 0;
+}
+
+// GstBaseSrc asks for a frame as soon as the previous one left, a whole
+// interval before it is due, and then holds it until then. Waiting here first
+// sends the newest picture instead of one that is an interval old.
+static GstFlowReturn wait_until_due(GstBaseSrc* src, State& s, GstClockTime running_time) {
+  constexpr GstClockTime margin = 2 * GST_MSECOND;  // taking the picture is a reference count
+  GstClock* clock = gst_element_get_clock(GST_ELEMENT(src));
+  if (!clock) return GST_FLOW_OK;
+  GstClockID id = nullptr;
+  if (running_time > margin)
+    id = gst_clock_new_single_shot_id(clock, gst_element_get_base_time(GST_ELEMENT(src)) + running_time - margin);
+  gst_object_unref(clock);
+  if (!id) return GST_FLOW_OK;
+  bool wait = false;
+  {
+    std::lock_guard lock(s.lock);
+    if ((wait = !s.flushing)) s.due_wait = id;
+  }
+  if (wait) gst_clock_id_wait(id, nullptr);
+  std::lock_guard lock(s.lock);
+  s.due_wait = nullptr;
+  gst_clock_id_unref(id);
+  return s.flushing ? GST_FLOW_FLUSHING : GST_FLOW_OK;
+}
+
+static gboolean gst_caustic_src_unlock(GstBaseSrc* src) {
+  State& s = state_of(src);
+  std::lock_guard lock(s.lock);
+  s.flushing = true;
+  if (s.due_wait) gst_clock_id_unschedule(s.due_wait);
+  return TRUE;
+}
+
+static gboolean gst_caustic_src_unlock_stop(GstBaseSrc* src) {
+  State& s = state_of(src);
+  std::lock_guard lock(s.lock);
+  s.flushing = false;
+  return TRUE;
+}
+
 static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
   State& s = state_of(push);
   std::shared_ptr<caustic::ParamStore> params;
@@ -219,6 +271,12 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
   }
   const gint n = GST_VIDEO_INFO_FPS_N(&s.info), d = GST_VIDEO_INFO_FPS_D(&s.info);
   const int width = GST_VIDEO_INFO_WIDTH(&s.info), height = GST_VIDEO_INFO_HEIGHT(&s.info);
+  // Frame 0 is stamped when its picture is ready and the rest follow at the
+  // frame rate, so that a frame's timestamp is when it leaves: GstBaseSrc
+  // then waits for exactly that time (its start-up offset stays near zero).
+  GstClockTime due = s.first_due + gst_util_uint64_scale(s.frame_index * GST_SECOND, d, n);
+  if (s.frame_index > 0)
+    if (const GstFlowReturn r = wait_until_due(GST_BASE_SRC(push), s, due); r != GST_FLOW_OK) return r;
   GstBuffer* picture = nullptr;
   try {
     if (!s.worker || s.worker->width() != width || s.worker->height() != height) {
@@ -226,6 +284,7 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
       s.worker = std::make_unique<caustic::gst::FrameWorker>(s.source, params, meshes, width, height, &s.heartbeat);
     }
     picture = s.worker->latest(std::chrono::nanoseconds(gst_util_uint64_scale(GST_SECOND, d, n)));
+    if (s.frame_index == 0) due = s.first_due = running_time_now(GST_BASE_SRC(push));
     const CausticFrameMeta* meta = caustic_buffer_get_frame_meta(picture);
     const std::uint64_t renders = s.source.renders;
     if (renders != s.renders_logged)
@@ -249,8 +308,9 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
   // A shallow copy shares the pixels; timestamps are this frame's own.
   GstBuffer* buffer = gst_buffer_copy(picture);
   gst_buffer_unref(picture);
-  GST_BUFFER_PTS(buffer) = gst_util_uint64_scale(s.frame_index * GST_SECOND, d, n);
-  GST_BUFFER_DURATION(buffer) = gst_util_uint64_scale((s.frame_index + 1) * GST_SECOND, d, n) - GST_BUFFER_PTS(buffer);
+  GST_BUFFER_PTS(buffer) = due;
+  GST_BUFFER_DURATION(buffer) = gst_util_uint64_scale((s.frame_index + 1) * GST_SECOND, d, n) -
+                                gst_util_uint64_scale(s.frame_index * GST_SECOND, d, n);
   GST_BUFFER_OFFSET(buffer) = s.frame_index;
   GST_BUFFER_OFFSET_END(buffer) = ++s.frame_index;
   *out = buffer;
@@ -317,6 +377,8 @@ static void gst_caustic_src_class_init(GstCausticSrcClass* klass) {
   basesrc->stop = gst_caustic_src_stop;
   basesrc->get_times = gst_caustic_src_get_times;
   basesrc->query = gst_caustic_src_query;
+  basesrc->unlock = gst_caustic_src_unlock;
+  basesrc->unlock_stop = gst_caustic_src_unlock_stop;
   GST_PUSH_SRC_CLASS(klass)->create = gst_caustic_src_create;
   GST_DEBUG_CATEGORY_INIT(caustic_src_debug, "causticsrc", 0, "caustic source");
 }
