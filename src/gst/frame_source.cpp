@@ -31,9 +31,11 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     Scene caustic = snap.scene, before = source.seen_scene;
     caustic.post = before.post = PostParams{};
     if (source.seen == 0 || caustic != before) {
-      // A change long after the last one is a click, not a drag: worth its full frame at once.
-      source.isolated = source.seen == 0 || now - source.changed_at >= source.progressive.lone;
-      source.changed_at = now;
+      // A change long after the last one is a click, not a drag: worth its
+      // full frame at once. Stillness counts from when the change was made,
+      // not from when this thread, busy drawing, got round to noticing it.
+      source.isolated = source.seen == 0 || snap.published - source.changed_at >= source.progressive.lone;
+      source.changed_at = snap.published;
     }
     source.seen = snap.version;
     source.seen_scene = std::move(snap.scene);

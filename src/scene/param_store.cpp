@@ -16,12 +16,13 @@ Scene ParamStore::admit(Scene candidate) const {
 
 ParamStore::Snapshot ParamStore::snapshot() const {
   std::lock_guard lock(mutex_);
-  return {scene_, version_.load(std::memory_order_relaxed)};
+  return {scene_, version_.load(std::memory_order_relaxed), published_};
 }
 
 std::uint64_t ParamStore::apply_patch(const nlohmann::json& patch) {
   std::lock_guard lock(mutex_);
   scene_ = admit(apply_merge_patch(scene_, patch));
+  published_ = std::chrono::steady_clock::now();
   return version_.fetch_add(1, std::memory_order_acq_rel) + 1;
 }
 
@@ -30,6 +31,7 @@ std::uint64_t ParamStore::replace(const Scene& scene) {
   Scene next = admit(scene);
   std::lock_guard lock(mutex_);
   scene_ = std::move(next);
+  published_ = std::chrono::steady_clock::now();
   return version_.fetch_add(1, std::memory_order_acq_rel) + 1;
 }
 

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <mutex>
@@ -20,6 +21,9 @@ class ParamStore {
   struct Snapshot {
     Scene scene;
     std::uint64_t version;
+    /// When this version was published: a renderer that notices it late
+    /// still knows how long the parameters have been still.
+    std::chrono::steady_clock::time_point published;
   };
 
   /// `resolve` turns every candidate scene into the one to render (for
@@ -42,6 +46,7 @@ class ParamStore {
  private:
   mutable std::mutex mutex_;
   Scene scene_;
+  std::chrono::steady_clock::time_point published_ = std::chrono::steady_clock::now();
   std::atomic<std::uint64_t> version_{1};
   std::function<void(const Scene&)> check_;
   std::function<Scene(Scene)> resolve_;
