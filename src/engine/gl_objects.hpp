@@ -106,9 +106,6 @@ class Program {
   void set(const char* name, const glm::vec2& v) const { glProgramUniform2f(id_, location(name), v.x, v.y); }
   void set(const char* name, const glm::ivec2& v) const { glProgramUniform2i(id_, location(name), v.x, v.y); }
   void set(const char* name, const glm::vec3& v) const { glProgramUniform3f(id_, location(name), v.x, v.y, v.z); }
-  void set(const char* name, const std::vector<float>& v) const {
-    glProgramUniform1fv(id_, location(name), static_cast<GLsizei>(v.size()), v.data());
-  }
   void set(const char* name, const glm::mat3& m) const;
   void set(const char* name, const glm::mat4& m) const;
 

@@ -29,13 +29,13 @@ class RayPass {
 class PostPass {
  public:
   PostPass();
-  /// Bright pass and blur at half resolution, then tone mapping into `ldr`.
+  /// Bright pass and blur at reduced resolution, then tone mapping into `ldr`.
   void run(const PostParams& post, const gl::Texture& hdr, const gl::RenderTarget& ldr);
 
  private:
   gl::Program bright_, blur_, tonemap_;
   gl::VertexArray empty_vao_;
-  gl::RenderTarget half_a_, half_b_;
+  gl::RenderTarget bloom_a_, bloom_b_;
 };
 
 }  // namespace caustic

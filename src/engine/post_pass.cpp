@@ -15,38 +15,43 @@ void PostPass::run(const PostParams& post, const gl::Texture& hdr, const gl::Ren
   glBindVertexArray(empty_vao_.id());
   const bool bloom = post.bloom_strength > 0 && post.bloom_radius > 0;
   if (bloom) {
-    // Bloom at half resolution: a full-resolution float blur costs as much as
-    // the caustic itself on a CPU renderer, and a glow needs no fine detail.
-    const int hw = std::max(1, hdr.width() / 2), hh = std::max(1, hdr.height() / 2);
-    if (half_a_.texture.width() != hw || half_a_.texture.height() != hh) {
-      half_a_ = gl::RenderTarget(GL_R16F, hw, hh, GL_LINEAR);
-      half_b_ = gl::RenderTarget(GL_R16F, hw, hh, GL_LINEAR);
+    // The glow is computed on a smaller image: a full-resolution float blur
+    // costs as much as the caustic itself on a CPU renderer, and a glow needs
+    // no fine detail. Half, quarter or eighth size, keeping the Gaussian at
+    // least 2 texels wide so that the bilinear upsampling in the tone map
+    // stays smooth; each step down makes the blur ~8x cheaper.
+    const int shrink = post.bloom_radius < 8 ? 2 : post.bloom_radius < 16 ? 4 : 8;
+    const int bw = std::max(1, hdr.width() / shrink), bh = std::max(1, hdr.height() / shrink);
+    if (bloom_a_.texture.width() != bw || bloom_a_.texture.height() != bh) {
+      bloom_a_ = gl::RenderTarget(GL_R16F, bw, bh, GL_LINEAR);
+      bloom_b_ = gl::RenderTarget(GL_R16F, bw, bh, GL_LINEAR);
     }
-    half_a_.bind();
+    bloom_a_.bind();
     bright_.use();
     bright_.set("uThreshold", static_cast<float>(post.bloom_threshold));
+    bright_.set("uShrink", shrink);
     glBindTextureUnit(0, hdr.id());
     bright_.set("uHdr", 0);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 
-    const float sigma = static_cast<float>(post.bloom_radius / 2.0);  // in half-resolution texels
+    const float sigma = static_cast<float>(post.bloom_radius / shrink);  // in texels of the small image
     blur_.use();
     blur_.set("uSource", 0);
     blur_.set("uSigma", sigma);
     blur_.set("uRadius", std::clamp(static_cast<int>(std::ceil(3.0f * sigma)), 1, 48));
-    half_b_.bind();
-    glBindTextureUnit(0, half_a_.texture.id());
+    bloom_b_.bind();
+    glBindTextureUnit(0, bloom_a_.texture.id());
     blur_.set("uStep", glm::ivec2(1, 0));
     glDrawArrays(GL_TRIANGLES, 0, 3);
-    half_a_.bind();
-    glBindTextureUnit(0, half_b_.texture.id());
+    bloom_a_.bind();
+    glBindTextureUnit(0, bloom_b_.texture.id());
     blur_.set("uStep", glm::ivec2(0, 1));
     glDrawArrays(GL_TRIANGLES, 0, 3);
   }
   ldr.bind();
   tonemap_.use();
   glBindTextureUnit(0, hdr.id());
-  glBindTextureUnit(1, bloom ? half_a_.texture.id() : hdr.id());
+  glBindTextureUnit(1, bloom ? bloom_a_.texture.id() : hdr.id());
   tonemap_.set("uHdr", 0);
   tonemap_.set("uBloom", 1);
   tonemap_.set("uBloomStrength", bloom ? static_cast<float>(post.bloom_strength) : 0.0f);
