@@ -16,11 +16,15 @@ void main() {
     outByte = 16.0 / 255.0 + dot(rgb(p), vec3(0.256788, 0.504129, 0.097906));
     return;
   }
-  int k = (p.y - h) * w + p.x;  // byte index after the Y plane
-  int plane = (w / 2) * (h / 2);
-  bool is_v = k >= plane;
-  if (is_v) k -= plane;
-  ivec2 c = 2 * ivec2(k % (w / 2), k / (w / 2));
+  // Each row of the target past the Y plane holds two chroma rows (W/2
+  // wide): rows 0..H/2-1 are U, then V. No integer division (scalar on a
+  // CPU renderer).
+  int half_w = w / 2;
+  bool right = p.x >= half_w;
+  int q = 2 * (p.y - h) + (right ? 1 : 0);  // chroma row over U then V
+  bool is_v = q >= h / 2;
+  if (is_v) q -= h / 2;
+  ivec2 c = 2 * ivec2(right ? p.x - half_w : p.x, q);
   vec3 mean = 0.25 * (rgb(c) + rgb(c + ivec2(1, 0)) + rgb(c + ivec2(0, 1)) + rgb(c + ivec2(1, 1)));
   outByte = 128.0 / 255.0 + (is_v ? dot(mean, vec3(0.439216, -0.367788, -0.071427))
                                   : dot(mean, vec3(-0.148223, -0.290993, 0.439216)));
