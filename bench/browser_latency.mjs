@@ -28,7 +28,7 @@ try {
   await page.waitForFunction(() => window.caustic.connection === 'live' && window.caustic.shownVersion >= 1,
                              null, { timeout: 60000 });
   for (let i = 0; i < changes; ++i) {
-    await page.evaluate((k) => window.caustic.moveLight(5 * Math.sin(k), 5 * Math.cos(k), 0), i);
+    await page.evaluate((k) => window.caustic.moveLight(0.6 * Math.sin(k), 0.6 * Math.cos(k), 0), i);
     // Wait (bounded) for this change on screen before the next one.
     await page.waitForFunction(() => window.caustic.shownVersion >= window.caustic.version, null, { timeout: 10000 })
         .catch(() => {});

@@ -98,7 +98,7 @@ for (const codec of ['vp8', 'h264']) {
       await until(page, () => window.caustic.shownVersion === 1, 20, 'frame version 1 on screen');
 
       const before = await page.evaluate(videoPixels);
-      await page.evaluate(() => window.caustic.moveLight(40, 25, 0));
+      await page.evaluate(() => window.caustic.moveLight(4, 2.5, 0));
       await until(page, () => window.caustic.version >= 2 && window.caustic.shownVersion >= window.caustic.version,
                   30, 'the new version on screen');
       await page.waitForTimeout(300);
@@ -136,6 +136,38 @@ for (const codec of ['vp8', 'h264']) {
     }
   });
 }
+
+test('dragging the light gizmo with the pointer moves the light on the server', async () => {
+  const server = await startServer();
+  try {
+    const page = await browser.newPage();
+    await page.setViewportSize({ width: 1000, height: 700 });
+    await page.goto(`${server.url}/viewer.html?scene=wavy&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'live' && window.caustic.shownVersion === 1, 30, 'live');
+    const before = await page.evaluate(() => window.caustic.params.light.direction);
+    await page.keyboard.press('l');  // light mode: the translate gizmo sits on the light marker
+    await page.waitForTimeout(200);
+    const [x, y] = await page.evaluate(() => window.caustic.pagePoint('light'));
+    assert.ok(x > 0 && x < 1000 && y > 0 && y < 700, `the light marker is off the page at ${x}, ${y}`);
+    // Grab the gizmo's centre (free movement in the view plane) and pull it to the right.
+    await page.mouse.move(x, y);
+    await page.mouse.down();
+    await page.mouse.move(x + 80, y, { steps: 8 });
+    await page.mouse.up();
+    await until(page, () => window.caustic.version >= 2 && window.caustic.shownVersion >= window.caustic.version,
+                30, 'the dragged light on screen');
+    const after = await page.evaluate(() => window.caustic.params.light.direction);
+    const turned = Math.acos(before.reduce((s, v, i) => s + v * after[i], 0) /
+                             (Math.hypot(...before) * Math.hypot(...after))) * 180 / Math.PI;
+    assert.ok(turned > 1, `the light turned only ${turned} degrees (${before} -> ${after})`);
+    // The marker followed the pointer on the page.
+    const [x2] = await page.evaluate(() => window.caustic.pagePoint('light'));
+    assert.ok(x2 > x + 40, `the marker stayed at ${x2} (grabbed at ${x})`);
+    await page.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
 
 test('the synchronous pose holds the drawn slab until its frame arrives', async () => {
   const server = await startServer();

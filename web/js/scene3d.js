@@ -86,14 +86,21 @@ export class CausticRoom {
     this.screenBox.quaternion.copy(this.lightmap.quaternion);
     this.screenBox.scale.set(s.width * 1.15, s.height * 1.15, 2);
 
+    // A directional light has no position: its marker hangs this far from
+    // the object, close enough to be framed with it and grabbed.
+    const object = vec(params.object.position);
+    const reach = Math.max(s.width, s.height, object.distanceTo(vec(s.center)));
+    this.lightDistance = 0.75 * reach;
+    this.lightMarker.scale.setScalar(reach / 40);
     if (!this.framed) {
-      // Look at the space between object and screen from a distance that fits both.
+      // Look at object, screen and light from a distance that fits them all.
       this.framed = true;
-      const object = vec(params.object.position);
-      const middle = object.clone().add(vec(s.center)).multiplyScalar(0.5);
-      const reach = Math.max(s.width, s.height, object.distanceTo(vec(s.center)));
-      const target = middle.clone().applyMatrix4(this.world.matrixWorld);
-      this.camera.position.copy(target).add(new THREE.Vector3(0.9, 0.6, 1.2).multiplyScalar(1.8 * reach));
+      const box = new THREE.Box3().setFromPoints([object, vec(s.center), this.lightPosition(params.light, object)]);
+      const sphere = box.getBoundingSphere(new THREE.Sphere());
+      const radius = Math.hypot(sphere.radius, 0.5 * Math.max(s.width, s.height));
+      const target = sphere.center.clone().applyMatrix4(this.world.matrixWorld);
+      const distance = (1.1 * radius) / Math.tan(THREE.MathUtils.degToRad(this.camera.fov / 2));
+      this.camera.position.copy(target).addScaledVector(new THREE.Vector3(0.9, 0.6, 1.2).normalize(), distance);
       this.camera.lookAt(target);
       this.target = target;
     }
@@ -103,13 +110,19 @@ export class CausticRoom {
     this.placeLight(params.light);
   }
 
+  // Where the light (or, for a directional one, its marker) is.
+  lightPosition(light, target) {
+    if (light.type === 'point') return vec(light.position);
+    return target.clone().addScaledVector(vec(light.direction).normalize(), -this.lightDistance);
+  }
+
   placeLight(light) {
     const target = this.handle.position;
-    const point = light.type === 'point';
-    const position = point ? vec(light.position) : target.clone().addScaledVector(vec(light.direction).normalize(), -150);
+    const position = this.lightPosition(light, target);
     this.lightMarker.position.copy(position);
     this.lightArrow.position.copy(position);
     this.lightArrow.setDirection(target.clone().sub(position).normalize());
+    this.lightArrow.setLength(0.6 * Math.max(1e-3, position.distanceTo(target)));
     this.sun.position.copy(position);
     this.sun.target.position.copy(target);
   }
@@ -141,6 +154,13 @@ export class CausticRoom {
   // Where the slab's middle is drawn, in scene coordinates.
   drawnCentre() {
     return this.world.worldToLocal(this.proxy.getWorldPosition(new THREE.Vector3())).toArray();
+  }
+
+  // Where an object of the room is drawn on the page, in CSS pixels.
+  pagePoint(object) {
+    const p = object.getWorldPosition(new THREE.Vector3()).project(this.camera);
+    const r = this.renderer.domElement.getBoundingClientRect();
+    return [r.left + ((p.x + 1) / 2) * r.width, r.top + ((1 - p.y) / 2) * r.height];
   }
 
   render() { this.renderer.render(this.scene, this.camera); }

@@ -188,6 +188,8 @@ state.moveObject = (dx, dy, dz) => {
   room.handle.position.add({ x: dx, y: dy, z: dz });
   channel.set({ object: room.objectPose() });
 };
+// Where the light marker and the object's handle are on the page (pointer-driven tests).
+state.pagePoint = (what) => room.pagePoint(what === 'light' ? room.lightMarker : room.handle);
 // Where the slab is drawn (scene coordinates of its centre).
 state.drawnProxy = () => room.drawnCentre();
 // The same path a rotate-gizmo drag takes (degrees about the object's own axes, XYZ order).
