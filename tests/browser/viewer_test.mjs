@@ -35,9 +35,9 @@ before(async () => {
 after(async () => { await browser?.close(); });
 
 // Polls `fn` in the page until it returns a truthy value or `seconds` pass.
-async function until(page, fn, seconds, what) {
+async function until(page, fn, seconds, what, arg) {
   for (let waited = 0; waited < seconds * 1000; waited += 250) {
-    const value = await page.evaluate(fn);
+    const value = await page.evaluate(fn, arg);
     if (value) return value;
     await page.waitForTimeout(250);
   }
@@ -137,7 +137,7 @@ for (const codec of ['vp8', 'h264']) {
   });
 }
 
-test('dragging the light gizmo with the pointer moves the light on the server', async () => {
+test('dragging the gizmos with the pointer moves the light and the object on the server', async () => {
   const server = await startServer();
   try {
     const page = await browser.newPage();
@@ -163,6 +163,21 @@ test('dragging the light gizmo with the pointer moves the light on the server', 
     // The marker followed the pointer on the page.
     const [x2] = await page.evaluate(() => window.caustic.pagePoint('light'));
     assert.ok(x2 > x + 40, `the marker stayed at ${x2} (grabbed at ${x})`);
+
+    // The object's translate gizmo the same way ('t').
+    const version = await page.evaluate(() => window.caustic.version);
+    const from = await page.evaluate(() => window.caustic.params.object.position);
+    await page.keyboard.press('t');
+    await page.waitForTimeout(200);
+    const [ox, oy] = await page.evaluate(() => window.caustic.pagePoint('object'));
+    await page.mouse.move(ox, oy);
+    await page.mouse.down();
+    await page.mouse.move(ox - 60, oy + 20, { steps: 8 });
+    await page.mouse.up();
+    await until(page, (v) => window.caustic.version > v && window.caustic.shownVersion >= window.caustic.version,
+                30, 'the moved object on screen', version);
+    const to = await page.evaluate(() => window.caustic.params.object.position);
+    assert.ok(Math.hypot(to[0] - from[0], to[1] - from[1], to[2] - from[2]) > 1, `the object stayed at ${to}`);
     await page.close();
   } finally {
     server.kill('SIGTERM');
