@@ -203,7 +203,8 @@ static void gst_caustic_src_get_times(GstBaseSrc*, GstBuffer* buffer, GstClockTi
 static gboolean gst_caustic_src_query(GstBaseSrc* src, GstQuery* query) {
   State& s = state_of(src);
   if (GST_QUERY_TYPE(query) == GST_QUERY_LATENCY && GST_VIDEO_INFO_FPS_N(&s.info) > 0) {
-    // A frame is rendered up to one frame interval before it is due.
+    // A frame leaves when due, with a picture finished before that: within
+    // one frame interval unless a render overran.
     const GstClockTime frame =
         gst_util_uint64_scale(GST_SECOND, GST_VIDEO_INFO_FPS_D(&s.info), GST_VIDEO_INFO_FPS_N(&s.info));
     gst_query_set_latency(query, TRUE, frame, frame);
