@@ -137,7 +137,7 @@ for (const codec of ['vp8', 'h264']) {
   });
 }
 
-test('dragging the gizmos with the pointer moves the light and the object on the server', async () => {
+test('dragging the gizmos with the pointer moves the light and moves and turns the object on the server', async () => {
   const server = await startServer();
   try {
     const page = await browser.newPage();
@@ -178,6 +178,21 @@ test('dragging the gizmos with the pointer moves the light and the object on the
                 30, 'the moved object on screen', version);
     const to = await page.evaluate(() => window.caustic.params.object.position);
     assert.ok(Math.hypot(to[0] - from[0], to[1] - from[1], to[2] - from[2]) > 1, `the object stayed at ${to}`);
+
+    // And the rotate gizmo ('r'): its centre turns the object freely.
+    const moved = await page.evaluate(() => window.caustic.version);
+    const pose = await page.evaluate(() => window.caustic.params.object.rotation_deg);
+    await page.keyboard.press('r');
+    await page.waitForTimeout(200);
+    const [rx, ry] = await page.evaluate(() => window.caustic.pagePoint('object'));
+    await page.mouse.move(rx, ry);
+    await page.mouse.down();
+    await page.mouse.move(rx + 50, ry + 30, { steps: 8 });
+    await page.mouse.up();
+    await until(page, (v) => window.caustic.version > v && window.caustic.shownVersion >= window.caustic.version,
+                30, 'the turned object on screen', moved);
+    const turnedTo = await page.evaluate(() => window.caustic.params.object.rotation_deg);
+    assert.ok(Math.max(...turnedTo.map((a, i) => Math.abs(a - pose[i]))) > 1, `the object kept its rotation ${turnedTo}`);
     await page.close();
   } finally {
     server.kill('SIGTERM');
