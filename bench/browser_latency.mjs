@@ -38,6 +38,18 @@ try {
   const at = (p) => l[Math.min(l.length - 1, Math.round(p * (l.length - 1)))];
   console.log(`${codec} ${size}x${size}: light change -> frame on screen: median ${at(0.5).toFixed(0)} ms, ` +
               `p95 ${at(0.95).toFixed(0)} ms over ${l.length} changes`);
+  // Where the browser's share goes: its jitter buffer and its decoder.
+  const r = await page.evaluate(async () => {
+    let v = null;
+    (await window.caustic.peer.getStats()).forEach((s) => { if (s.type === 'inbound-rtp' && s.kind === 'video') v = s; });
+    return v;
+  });
+  if (r) {
+    console.log(`  browser: decoder ${r.decoderImplementation}, ${r.framesDecoded} frames decoded, ` +
+                `${(1000 * r.totalDecodeTime / r.framesDecoded).toFixed(1)} ms decoding each, ` +
+                `${(1000 * r.jitterBufferDelay / r.jitterBufferEmittedCount).toFixed(0)} ms in the jitter buffer each, ` +
+                `${r.framesDropped ?? 0} dropped, ${r.freezeCount ?? 0} freezes`);
+  }
 } finally {
   await browser.close();
   server.kill('SIGTERM');
