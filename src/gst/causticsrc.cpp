@@ -27,6 +27,7 @@
 #include "caustic/gst/causticsrc.hpp"
 
 #include "caustic/gst/frame_meta.hpp"
+#include "due_wait.hpp"
 #include "frame_worker.hpp"
 
 #include <gst/base/gstpushsrc.h>
@@ -57,9 +58,8 @@ struct State {
   std::uint64_t overruns_told = 0, renders_logged = 0;
   std::atomic<std::uint64_t> overruns{0};  // read from any thread
   std::atomic<std::int64_t> heartbeat{0};  // the render thread's, read from any thread
-  GstClockTime first_due = 0;     // running time of frame 0: when it was ready
-  GstClockID due_wait = nullptr;  // under `lock`: the wait unlock() cuts short
-  bool flushing = false;          // under `lock`
+  GstClockTime first_due = 0;  // running time of frame 0: when it was ready
+  caustic::gst::DueWait due_wait;
 };
 
 }  // namespace
@@ -213,51 +213,13 @@ static gboolean gst_caustic_src_query(GstBaseSrc* src, GstQuery* query) {
   return GST_BASE_SRC_CLASS(gst_caustic_src_parent_class)->query(src, query);
 }
 
-// The running time now (0 without a clock).
-static GstClockTime running_time_now(GstBaseSrc* src) {
-  GstClock* clock = gst_element_get_clock(GST_ELEMENT(src));
-  if (!clock) return 0;
-  const GstClockTime now = gst_clock_get_time(clock), base = gst_element_get_base_time(GST_ELEMENT(src));
-  gst_object_unref(clock);
-  return now > base ? now - base : 0;
-}
-
-// GstBaseSrc asks for a frame as soon as the previous one left, a whole
-// interval before it is due, and then holds it until then. Waiting here first
-// sends the newest picture instead of one that is an interval old.
-static GstFlowReturn wait_until_due(GstBaseSrc* src, State& s, GstClockTime running_time) {
-  constexpr GstClockTime margin = 2 * GST_MSECOND;  // taking the picture is a reference count
-  GstClock* clock = gst_element_get_clock(GST_ELEMENT(src));
-  if (!clock) return GST_FLOW_OK;
-  GstClockID id = nullptr;
-  if (running_time > margin)
-    id = gst_clock_new_single_shot_id(clock, gst_element_get_base_time(GST_ELEMENT(src)) + running_time - margin);
-  gst_object_unref(clock);
-  if (!id) return GST_FLOW_OK;
-  bool wait = false;
-  {
-    std::lock_guard lock(s.lock);
-    if ((wait = !s.flushing)) s.due_wait = id;
-  }
-  if (wait) gst_clock_id_wait(id, nullptr);
-  std::lock_guard lock(s.lock);
-  s.due_wait = nullptr;
-  gst_clock_id_unref(id);
-  return s.flushing ? GST_FLOW_FLUSHING : GST_FLOW_OK;
-}
-
 static gboolean gst_caustic_src_unlock(GstBaseSrc* src) {
-  State& s = state_of(src);
-  std::lock_guard lock(s.lock);
-  s.flushing = true;
-  if (s.due_wait) gst_clock_id_unschedule(s.due_wait);
+  state_of(src).due_wait.unlock();
   return TRUE;
 }
 
 static gboolean gst_caustic_src_unlock_stop(GstBaseSrc* src) {
-  State& s = state_of(src);
-  std::lock_guard lock(s.lock);
-  s.flushing = false;
+  state_of(src).due_wait.unlock_stop();
   return TRUE;
 }
 
@@ -277,7 +239,7 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
   // then waits for exactly that time (its start-up offset stays near zero).
   GstClockTime due = s.first_due + gst_util_uint64_scale(s.frame_index * GST_SECOND, d, n);
   if (s.frame_index > 0)
-    if (const GstFlowReturn r = wait_until_due(GST_BASE_SRC(push), s, due); r != GST_FLOW_OK) return r;
+    if (const GstFlowReturn r = s.due_wait.wait(GST_ELEMENT(push), due); r != GST_FLOW_OK) return r;
   GstBuffer* picture = nullptr;
   try {
     if (!s.worker || s.worker->width() != width || s.worker->height() != height) {
@@ -285,7 +247,7 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
       s.worker = std::make_unique<caustic::gst::FrameWorker>(s.source, params, meshes, width, height, &s.heartbeat);
     }
     picture = s.worker->latest(std::chrono::nanoseconds(gst_util_uint64_scale(GST_SECOND, d, n)));
-    if (s.frame_index == 0) due = s.first_due = running_time_now(GST_BASE_SRC(push));
+    if (s.frame_index == 0) due = s.first_due = caustic::gst::running_time_now(GST_ELEMENT(push));
     const CausticFrameMeta* meta = caustic_buffer_get_frame_meta(picture);
     const std::uint64_t renders = s.source.renders;
     if (renders != s.renders_logged)
