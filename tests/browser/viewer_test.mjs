@@ -137,6 +137,26 @@ for (const codec of ['vp8', 'h264']) {
   });
 }
 
+// Switches the viewer to a control mode (its key), grabs the gizmo's centre
+// on `what` ('light' or 'object') with the mouse, drags it by (dx, dy) pixels
+// and waits for the resulting parameter version on screen. Returns where it
+// grabbed.
+async function dragGizmo(page, key, what, dx, dy) {
+  const version = await page.evaluate(() => window.caustic.version);
+  await page.keyboard.press(key);
+  await page.waitForTimeout(200);
+  const [x, y] = await page.evaluate((w) => window.caustic.pagePoint(w), what);
+  const { width, height } = page.viewportSize();
+  assert.ok(x > 0 && x < width && y > 0 && y < height, `the ${what} is off the page at ${x}, ${y}`);
+  await page.mouse.move(x, y);
+  await page.mouse.down();
+  await page.mouse.move(x + dx, y + dy, { steps: 8 });
+  await page.mouse.up();
+  await until(page, (v) => window.caustic.version > v && window.caustic.shownVersion >= window.caustic.version,
+              30, `the dragged ${what} on screen`, version);
+  return [x, y];
+}
+
 test('dragging the gizmos with the pointer moves the light and moves and turns the object on the server', async () => {
   const server = await startServer();
   try {
@@ -144,18 +164,10 @@ test('dragging the gizmos with the pointer moves the light and moves and turns t
     await page.setViewportSize({ width: 1000, height: 700 });
     await page.goto(`${server.url}/viewer.html?scene=wavy&codec=vp8`);
     await until(page, () => window.caustic.connection === 'live' && window.caustic.shownVersion === 1, 30, 'live');
+    // Light mode ('l'): the translate gizmo sits on the light marker; its
+    // centre moves freely in the view plane. Pull it to the right.
     const before = await page.evaluate(() => window.caustic.params.light.direction);
-    await page.keyboard.press('l');  // light mode: the translate gizmo sits on the light marker
-    await page.waitForTimeout(200);
-    const [x, y] = await page.evaluate(() => window.caustic.pagePoint('light'));
-    assert.ok(x > 0 && x < 1000 && y > 0 && y < 700, `the light marker is off the page at ${x}, ${y}`);
-    // Grab the gizmo's centre (free movement in the view plane) and pull it to the right.
-    await page.mouse.move(x, y);
-    await page.mouse.down();
-    await page.mouse.move(x + 80, y, { steps: 8 });
-    await page.mouse.up();
-    await until(page, () => window.caustic.version >= 2 && window.caustic.shownVersion >= window.caustic.version,
-                30, 'the dragged light on screen');
+    const [x] = await dragGizmo(page, 'l', 'light', 80, 0);
     const after = await page.evaluate(() => window.caustic.params.light.direction);
     const turned = Math.acos(before.reduce((s, v, i) => s + v * after[i], 0) /
                              (Math.hypot(...before) * Math.hypot(...after))) * 180 / Math.PI;
@@ -165,32 +177,14 @@ test('dragging the gizmos with the pointer moves the light and moves and turns t
     assert.ok(x2 > x + 40, `the marker stayed at ${x2} (grabbed at ${x})`);
 
     // The object's translate gizmo the same way ('t').
-    const version = await page.evaluate(() => window.caustic.version);
     const from = await page.evaluate(() => window.caustic.params.object.position);
-    await page.keyboard.press('t');
-    await page.waitForTimeout(200);
-    const [ox, oy] = await page.evaluate(() => window.caustic.pagePoint('object'));
-    await page.mouse.move(ox, oy);
-    await page.mouse.down();
-    await page.mouse.move(ox - 60, oy + 20, { steps: 8 });
-    await page.mouse.up();
-    await until(page, (v) => window.caustic.version > v && window.caustic.shownVersion >= window.caustic.version,
-                30, 'the moved object on screen', version);
+    await dragGizmo(page, 't', 'object', -60, 20);
     const to = await page.evaluate(() => window.caustic.params.object.position);
     assert.ok(Math.hypot(to[0] - from[0], to[1] - from[1], to[2] - from[2]) > 1, `the object stayed at ${to}`);
 
     // And the rotate gizmo ('r'): its centre turns the object freely.
-    const moved = await page.evaluate(() => window.caustic.version);
     const pose = await page.evaluate(() => window.caustic.params.object.rotation_deg);
-    await page.keyboard.press('r');
-    await page.waitForTimeout(200);
-    const [rx, ry] = await page.evaluate(() => window.caustic.pagePoint('object'));
-    await page.mouse.move(rx, ry);
-    await page.mouse.down();
-    await page.mouse.move(rx + 50, ry + 30, { steps: 8 });
-    await page.mouse.up();
-    await until(page, (v) => window.caustic.version > v && window.caustic.shownVersion >= window.caustic.version,
-                30, 'the turned object on screen', moved);
+    await dragGizmo(page, 'r', 'object', 50, 30);
     const turnedTo = await page.evaluate(() => window.caustic.params.object.rotation_deg);
     assert.ok(Math.max(...turnedTo.map((a, i) => Math.abs(a - pose[i]))) > 1, `the object kept its rotation ${turnedTo}`);
     await page.close();
