@@ -94,7 +94,6 @@ TEST(Service, ReadyOnlyOnceListeningThenWatchdogPings) {
   // READY=1 promises a listening server with a GL context behind it.
   const json health = http("GET", server.url() + "/api/v1/health").json();
   EXPECT_EQ(health["status"], "ok");
-  EXPECT_FALSE(health["renderer"].get<std::string>().empty());
   // Pings at half of WATCHDOG_USEC: several within 2 s, also with a session
   // whose viewer never came, past the 2 s stall limit (its render thread is
   // idle, not stuck; its pipeline waits for a peer).

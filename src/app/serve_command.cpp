@@ -7,6 +7,9 @@
 #include "caustic/server/data_files.hpp"
 #include "caustic/server/server.hpp"
 
+#include <malloc.h>
+#include <sys/resource.h>
+
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -54,6 +57,22 @@ int run_serve(const ServeOptions& opt) {
   } catch (const server::ConfigError& e) {
     std::cerr << "causticd serve: " << e.what() << "\n";
     return bad_input;
+  }
+  // glibc gives threads arenas of their own and keeps what they free; with
+  // a pipeline's threads per session, RSS then climbs with every session
+  // that comes and goes. Two arenas keep it flat (docs/reliability.md).
+  mallopt(M_ARENA_MAX, 2);
+  // Connections and sessions need descriptors: take the hard limit, and say
+  // when even that cannot hold the configured connections.
+  rlimit files{};
+  if (getrlimit(RLIMIT_NOFILE, &files) == 0) {
+    files.rlim_cur = files.rlim_max;
+    setrlimit(RLIMIT_NOFILE, &files);
+    const rlim_t needed = static_cast<rlim_t>(config.max_connections) + 64 * static_cast<rlim_t>(config.max_sessions) + 64;
+    if (files.rlim_cur != RLIM_INFINITY && files.rlim_cur < needed)
+      std::cerr << "causticd serve: warning: max_connections " << config.max_connections << " and max_sessions "
+                << config.max_sessions << " need about " << needed << " file descriptors; the limit is "
+                << files.rlim_cur << " (raise LimitNOFILE)\n";
   }
   gst_init(nullptr, nullptr);
   if (!gst::register_elements()) {
@@ -111,6 +130,16 @@ std::function<int()> add_serve_command(CLI::App& app) {
         flag, [opt, k](const std::string& value) { opt->overrides[k] = value; },
         "Overrides the config key " + k);
   }
+  cmd->add_option_function<std::vector<std::string>>(
+      "--set",
+      [opt](const std::vector<std::string>& items) {
+        for (const auto& item : items) {
+          const auto eq = item.find('=');
+          // A missing '=' leaves the value empty: set_config_value names the key in its error.
+          opt->overrides[item.substr(0, eq)] = eq == std::string::npos ? "" : item.substr(eq + 1);
+        }
+      },
+      "Sets any config key: --set key=value (repeatable; docs/configuration.md)");
   cmd->add_option("--ice-address", opt->ice_addresses, "Local address ICE may use (repeatable; default: all)");
   cmd->add_option("--instance", opt->instance, "Instance name of causticd@.service: <port> or <port>-gpu<N>");
   return [cmd, opt] { return cmd->parsed() ? run_serve(*opt) : -1; };

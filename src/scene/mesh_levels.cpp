@@ -17,6 +17,11 @@ void check_geometry(const Scene& scene, const MeshLevels& levels) {
   check_geometry(scene, *mesh, place_object(scene.object, *mesh));
 }
 
+void check_geometry_public(const Scene& scene, const MeshLevels& levels) {
+  levels.at(scene.render.mesh_resolution);
+  check_geometry_public(scene, place_object(scene.object, *levels.source));
+}
+
 std::vector<int> MeshLevels::resolutions() const {
   std::vector<int> out{0};
   for (const auto& [n, mesh] : resampled) out.push_back(n);

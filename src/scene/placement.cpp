@@ -56,8 +56,29 @@ Placement place_object(const ObjectParams& object, const Mesh& mesh) {
   out.center = glm::dvec3(m * glm::dvec4(centre_mesh, 1.0));
   out.max_depth = (offset_mesh - lo.z) * out.scale;
   out.footprint = glm::dvec2(hi.x - lo.x, hi.y - lo.y) * out.scale;
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 corner = ((i & 1) ? hi.x : lo.x) * e1 + ((i & 2) ? hi.y : lo.y) * e2 +
+                              ((i & 4) ? std::max(offset_mesh, hi.z) : lo.z) * n;
+    out.box[static_cast<std::size_t>(i)] = glm::dvec3(m * glm::dvec4(corner, 1.0));
+  }
   return out;
 }
+
+namespace {
+
+// The light must stay outside the slab; the slab's depth is public.
+void check_point_light(const Scene& scene, const Placement& placement) {
+  const glm::dvec3 nf = placement.flat_normal;
+  if (scene.light.type == LightType::point && scene.object.material == Material::refractive) {
+    const double h = glm::dot(scene.light.position, nf) - placement.flat_offset;
+    const double eps = 1e-6 * std::max(1.0, placement.max_depth);
+    if (std::abs(h) <= eps) throw SceneError("light.position", "the point light lies on the object's flat face");
+    if (h < 0 && h > -placement.max_depth - eps)
+      throw SceneError("light.position", "the point light lies inside the object's slab");
+  }
+}
+
+}  // namespace
 
 void check_geometry(const Scene& scene, const Mesh& mesh, const Placement& placement) {
   const glm::dvec3 nf = placement.flat_normal;
@@ -81,13 +102,19 @@ void check_geometry(const Scene& scene, const Mesh& mesh, const Placement& place
                      "the flat face cuts through the mesh (a vertex lies on its outer side); raise the offset");
   if (screen_min < 0 && screen_max > 0)
     throw SceneError("screen.center", "the screen plane crosses the object");
-  if (scene.light.type == LightType::point && scene.object.material == Material::refractive) {
-    const double h = glm::dot(scene.light.position, nf) - placement.flat_offset;
-    const double eps = 1e-6 * std::max(1.0, placement.max_depth);
-    if (std::abs(h) <= eps) throw SceneError("light.position", "the point light lies on the object's flat face");
-    if (h < 0 && h > -placement.max_depth - eps)
-      throw SceneError("light.position", "the point light lies inside the object's slab");
+  check_point_light(scene, placement);
+}
+
+void check_geometry_public(const Scene& scene, const Placement& placement) {
+  double screen_min = std::numeric_limits<double>::infinity(), screen_max = -screen_min;
+  for (const glm::dvec3& q : placement.box) {
+    const double s = glm::dot(q - scene.screen.center, scene.screen.normal);
+    screen_min = std::min(screen_min, s);
+    screen_max = std::max(screen_max, s);
   }
+  if (screen_min < 0 && screen_max > 0)
+    throw SceneError("screen.center", "the screen plane crosses the object's bounding box");
+  check_point_light(scene, placement);
 }
 
 }  // namespace caustic

@@ -41,7 +41,9 @@ const std::vector<std::string>& config_keys() {
       "bind_address", "port",        "max_sessions",      "codec",       "bitrate_kbps",   "framerate",
       "width",        "height",      "keyframe_interval", "stun_server", "turn_server",    "ice_addresses",
       "idle_timeout_s", "max_body_bytes", "scenes_dir",     "web_dir",     "log_level",      "egl_device",
-      "stall_timeout_s", "settle_ms"};
+      "stall_timeout_s", "settle_ms",     "max_connections", "max_connections_per_address", "header_timeout_s",
+      "body_timeout_s", "connection_idle_timeout_s", "max_ws_message_bytes", "rate_limit_per_s", "rate_limit_burst",
+      "max_sessions_per_address", "viewer_timeout_s", "session_create_token"};
   return keys;
 }
 
@@ -110,6 +112,31 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
     c.settle_ms = parse_int(key, value, 0, 10000);
   } else if (key == "stall_timeout_s") {
     c.stall_timeout_s = parse_int(key, value, 2, 3600);
+  } else if (key == "max_connections") {
+    c.max_connections = parse_int(key, value, 8, 100000);
+  } else if (key == "max_connections_per_address") {
+    c.max_connections_per_address = parse_int(key, value, 1, 100000);
+  } else if (key == "header_timeout_s") {
+    c.header_timeout_s = parse_int(key, value, 1, 600);
+  } else if (key == "body_timeout_s") {
+    c.body_timeout_s = parse_int(key, value, 1, 3600);
+  } else if (key == "connection_idle_timeout_s") {
+    c.connection_idle_timeout_s = parse_int(key, value, 1, 3600);
+  } else if (key == "max_ws_message_bytes") {
+    c.max_ws_message_bytes = static_cast<std::size_t>(parse_int(key, value, 4096, 16 * 1024 * 1024));
+  } else if (key == "rate_limit_per_s") {
+    c.rate_limit_per_s = parse_int(key, value, 1, 100000);
+  } else if (key == "rate_limit_burst") {
+    c.rate_limit_burst = parse_int(key, value, 1, 100000);
+  } else if (key == "max_sessions_per_address") {
+    c.max_sessions_per_address = parse_int(key, value, 1, 1000);
+  } else if (key == "viewer_timeout_s") {
+    c.viewer_timeout_s = parse_int(key, value, 2, 3600);
+  } else if (key == "session_create_token") {
+    static const std::regex token("^[A-Za-z0-9._~+/=-]{16,256}$");
+    if (!value.empty() && !std::regex_match(value, token))
+      throw ConfigError(key + ": must be 16 to 256 characters of A-Z a-z 0-9 . _ ~ + / = -");
+    c.session_create_token = value;
   } else {
     throw ConfigError(key + ": unknown key");
   }

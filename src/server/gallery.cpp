@@ -41,7 +41,7 @@ nlohmann::json fidelity_of(const GalleryEntry& entry, const Scene& scene) {
   return describe_fidelity(scene, *entry.mesh, *entry.levels, entry.calibration);
 }
 
-Gallery load_gallery(const std::filesystem::path& dir, int thumbnail) {
+Gallery load_gallery(const std::filesystem::path& dir, int thumbnail, const std::atomic<bool>* cancel) {
   Gallery gallery;
   static const std::regex id_pattern("[a-z0-9_-]{1,64}");
   std::vector<std::filesystem::path> files;
@@ -52,6 +52,7 @@ Gallery load_gallery(const std::filesystem::path& dir, int thumbnail) {
   std::unique_ptr<GlContext> context;
   std::unique_ptr<Engine> engine;
   for (const auto& file : files) {
+    if (cancel && *cancel) break;
     const std::string id = file.stem().string();
     if (!std::regex_match(id, id_pattern)) {
       gallery.problems.push_back(file.filename().string() + ": not a valid scene id");

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -36,7 +37,9 @@ struct Gallery {
 /// (calibrations, *.calibration.json, belong to the scene of that id),
 /// builds its mesh levels, renders each thumbnail (thumbnail x thumbnail pixels) with a GL context
 /// of its own on the calling thread. Broken scenes are skipped and reported.
-Gallery load_gallery(const std::filesystem::path& dir, int thumbnail = 256);
+/// `cancel`, when given and set, stops it between scenes (a shutdown during
+/// a reload).
+Gallery load_gallery(const std::filesystem::path& dir, int thumbnail = 256, const std::atomic<bool>* cancel = nullptr);
 
 /// The public description of an entry for GET /api/v1/scenes.
 nlohmann::json describe(const GalleryEntry& entry);

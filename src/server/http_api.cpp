@@ -1,4 +1,5 @@
 // The REST API of docs/api.md (openapi.yaml).
+#include "caustic/json_text.hpp"
 #include "http_util.hpp"
 #include "log.hpp"
 #include "server_state.hpp"
@@ -9,10 +10,14 @@
 namespace caustic::server {
 namespace {
 
-// Keys a session's viewer may not patch: the mesh and the gallery text
-// belong to the scene, the size to the negotiated stream.
-const char* const kFixedKeys[][2] = {{"mesh", nullptr},     {"name", nullptr},   {"description", nullptr},
-                                     {"render", "width"},   {"render", "height"}};
+// Keys a session's viewer may not patch: the mesh, its flat face and the
+// gallery text belong to the scene (moving the flat face and watching which
+// offsets are refused would map the hidden surface), the size to the
+// negotiated stream.
+const char* const kFixedKeys[][2] = {{"mesh", nullptr},           {"name", nullptr},
+                                     {"description", nullptr},    {"render", "width"},
+                                     {"render", "height"},        {"object", "flat_face_normal"},
+                                     {"object", "flat_face_offset"}};
 
 nlohmann::json public_params(Session& session) {
   const ParamStore::Snapshot snap = session.params().snapshot();
@@ -42,7 +47,7 @@ std::string query_token(SoupServerMessage* msg) {
 void health(ServerState& s, SoupServerMessage* msg) {
   reply_json(msg, SOUP_STATUS_OK,
              {{"status", "ok"}, {"version", CAUSTICD_VERSION}, {"sessions", s.sessions.size()},
-              {"max_sessions", s.config.max_sessions}, {"renderer", s.renderer}});
+              {"max_sessions", s.config.max_sessions}});
 }
 
 void scenes(ServerState& s, SoupServerMessage* msg) {
@@ -72,20 +77,33 @@ bool read_json_body(ServerState& s, SoupServerMessage* msg, std::initializer_lis
     return false;
   }
   SoupMessageBody* body = soup_server_message_get_request_body(msg);
+  // The accept path refused longer bodies before they were read; this
+  // guards a body that arrives some other way.
   if (body->length > static_cast<goffset>(s.config.max_body_bytes)) {
     reply_problem(msg, s.metrics, SOUP_STATUS_REQUEST_ENTITY_TOO_LARGE,
                   "the body is larger than " + std::to_string(s.config.max_body_bytes) + " bytes");
     return false;
   }
-  *out = nlohmann::json::parse(body->data, body->data + body->length, nullptr, false);
-  if (out->is_discarded() || !out->is_object()) {
+  JsonTextError error;
+  auto parsed = parse_json_text(std::string_view(body->data, static_cast<std::size_t>(body->length)), &error);
+  if (!parsed) {
+    reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST,
+                  "the body is not JSON: " + error.message + " at byte " + std::to_string(error.offset));
+    return false;
+  }
+  if (!parsed->is_object()) {
     reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST, "the body must be a JSON object");
     return false;
   }
+  *out = std::move(*parsed);
   return true;
 }
 
 void create_session(ServerState& s, SoupServerMessage* msg) {
+  if (!s.config.session_create_token.empty() && !same_secret(bearer_token(msg), s.config.session_create_token)) {
+    soup_message_headers_replace(soup_server_message_get_response_headers(msg), "WWW-Authenticate", "Bearer");
+    return reply_problem(msg, s.metrics, SOUP_STATUS_UNAUTHORIZED, "creating a session needs this server's bearer token");
+  }
   nlohmann::json body;
   if (!read_json_body(s, msg, {"application/json"}, &body)) return;
   for (const auto& [key, value] : body.items())
@@ -111,9 +129,18 @@ void create_session(ServerState& s, SoupServerMessage* msg) {
     return reply_problem(msg, s.metrics, SOUP_STATUS_SERVICE_UNAVAILABLE,
                          "the server is full (" + std::to_string(s.config.max_sessions) + " sessions)");
   }
+  const std::string address = client_address(msg);
+  int held = 0;
+  for (const auto& [sid, session] : s.sessions) held += session->client_address() == address;
+  if (held >= s.config.max_sessions_per_address) {
+    ++s.metrics.sessions_rejected;
+    soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After", "10");
+    return reply_problem(msg, s.metrics, 429,
+                         "your address holds " + std::to_string(held) + " sessions already (the limit); end one first");
+  }
   const std::string id = random_hex();
   ServerState* state = &s;
-  SessionOptions options{codec, &s.config, s.data_dir, &s.metrics,
+  SessionOptions options{codec, address, &s.config, s.data_dir, &s.metrics,
                          [state](const std::string& sid, const std::string& why) { state->end_session(sid, why); }};
   std::shared_ptr<Session> session;
   try {
@@ -155,93 +182,131 @@ void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
   reply_json(msg, SOUP_STATUS_OK, public_params(session));
 }
 
+// One answer for an unknown session and for a wrong token: which session
+// ids exist is nobody's business but their holders'.
+void refuse_session(ServerState& s, SoupServerMessage* msg) {
+  soup_message_headers_replace(soup_server_message_get_response_headers(msg), "WWW-Authenticate", "Bearer");
+  reply_problem(msg, s.metrics, SOUP_STATUS_UNAUTHORIZED, "no session with this id and token");
+}
+
+void not_allowed(ServerState& s, SoupServerMessage* msg, const char* allow) {
+  soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Allow", allow);
+  reply_problem(msg, s.metrics, SOUP_STATUS_METHOD_NOT_ALLOWED, std::string("this resource allows ") + allow);
+}
+
 void session_route(ServerState& s, SoupServerMessage* msg, const Route& route) {
   auto it = s.sessions.find(route.session);
-  if (it == s.sessions.end()) return reply_problem(msg, s.metrics, SOUP_STATUS_NOT_FOUND, "no such session");
-  Session& session = *it->second;
   const std::string token = bearer_token(msg);
-  if (token.empty() || !same_secret(token, session.token())) {
-    soup_message_headers_replace(soup_server_message_get_response_headers(msg), "WWW-Authenticate", "Bearer");
-    return reply_problem(msg, s.metrics, SOUP_STATUS_UNAUTHORIZED, "a valid bearer token for this session is needed");
-  }
+  if (it == s.sessions.end() || token.empty() || !same_secret(token, it->second->token())) return refuse_session(s, msg);
+  Session& session = *it->second;
   const std::string method = method_of(msg);
-  if (route.rest.empty() && method == "DELETE") {
+  if (route.rest.empty()) {
+    if (method != "DELETE") return not_allowed(s, msg, "DELETE");
     s.end_session(route.session, "deleted by its viewer");
     soup_server_message_set_status(msg, SOUP_STATUS_NO_CONTENT, nullptr);
     return;
   }
-  if (route.rest == "/params" && method == "GET")
-    return reply_json(msg, SOUP_STATUS_OK, public_params(session));
-  if (route.rest == "/params" && method == "PATCH") return patch_params(s, msg, session);
-  reply_problem(msg, s.metrics, SOUP_STATUS_METHOD_NOT_ALLOWED, method + " is not allowed here");
+  if (method == "GET" || method == "HEAD") return reply_json(msg, SOUP_STATUS_OK, public_params(session));
+  if (method == "PATCH") return patch_params(s, msg, session);
+  not_allowed(s, msg, "GET, HEAD, PATCH");
+}
+
+// What a mutating request costs: a token from its address's bucket.
+bool within_rate(ServerState& s, SoupServerMessage* msg) {
+  int retry = 1;
+  if (s.rate_limiter.admit(client_address(msg), s.config.rate_limit_per_s, s.config.rate_limit_burst, &retry))
+    return true;
+  ++s.metrics.rate_limited;
+  soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After",
+                               std::to_string(retry).c_str());
+  reply_problem(msg, s.metrics, 429, "too many requests from your address; retry after " + std::to_string(retry) + " s");
+  return false;
+}
+
+void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path) {
+  const std::string method = method_of(msg);
+  static const std::regex session_path("^/api/v1/sessions/([0-9a-f]{32})(/params)?$");
+  static const std::regex thumbnail_path("^/api/v1/scenes/([a-z0-9_-]{1,64})/thumbnail\\.png$");
+  static const std::regex signal_path("^/api/v1/sessions/([0-9a-f]{32})/signal$");
+  std::smatch m;
+  const bool read = method == "GET" || method == "HEAD";
+  const bool mutating = method == "POST" || method == "PATCH" || method == "DELETE" || method == "PUT";
+  if (mutating && !within_rate(s, msg)) return;
+  if (path == "/api/v1/health") return read ? health(s, msg) : not_allowed(s, msg, "GET, HEAD");
+  if (path == "/api/v1/scenes") return read ? scenes(s, msg) : not_allowed(s, msg, "GET, HEAD");
+  if (std::regex_match(path, m, thumbnail_path)) return read ? thumbnail(s, msg, m[1]) : not_allowed(s, msg, "GET, HEAD");
+  if (path == "/api/v1/sessions") return method == "POST" ? create_session(s, msg) : not_allowed(s, msg, "POST");
+  if (std::regex_match(path, m, session_path)) return session_route(s, msg, {m[1], m[2]});
+  if (std::regex_match(path, m, signal_path)) {
+    if (method != "GET") return not_allowed(s, msg, "GET");
+    // libsoup asks this handler first: leaving the status unset lets the
+    // WebSocket handshake go ahead; any answer refuses it.
+    auto it = s.sessions.find(m[1]);
+    if (it == s.sessions.end() || !same_secret(query_token(msg), it->second->token())) return refuse_session(s, msg);
+    const char* upgrade = soup_message_headers_get_one(soup_server_message_get_request_headers(msg), "Upgrade");
+    if (!upgrade || g_ascii_strcasecmp(upgrade, "websocket") != 0)
+      return reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST, "this is a WebSocket endpoint");
+    return;
+  }
+  if (path == "/metrics") {
+    if (!read) return not_allowed(s, msg, "GET, HEAD");
+    const std::string text =
+        s.metrics.render(s.sessions.size(), s.listener ? static_cast<std::size_t>(s.listener->open_connections()) : 0);
+    return reply_bytes(msg, SOUP_STATUS_OK, "text/plain; version=0.0.4", text.data(), text.size());
+  }
+  if (path.rfind("/api/", 0) == 0) return reply_problem(msg, s.metrics, SOUP_STATUS_NOT_FOUND, "no such endpoint");
+  if (!read) return not_allowed(s, msg, "GET, HEAD");
+  serve_static(web_folder(s.config, s.data_dir), path, msg, s.metrics);
 }
 
 }  // namespace
 
 void handle_http(SoupServer*, SoupServerMessage* msg, const char* raw_path, GHashTable*, gpointer data) {
   auto& s = *static_cast<ServerState*>(data);
-  const std::string path = raw_path;
-  const std::string method = method_of(msg);
-  static const std::regex session_path("^/api/v1/sessions/([0-9a-f]{32})(/params)?$");
-  static const std::regex thumbnail_path("^/api/v1/scenes/([a-z0-9_-]{1,64})/thumbnail\\.png$");
-  std::smatch m;
-  const bool read = method == "GET" || method == "HEAD";
-  if (path == "/api/v1/health" && read) return health(s, msg);
-  if (path == "/api/v1/scenes" && read) return scenes(s, msg);
-  if (std::regex_match(path, m, thumbnail_path) && read) return thumbnail(s, msg, m[1]);
-  if (path == "/api/v1/sessions" && method == "POST") return create_session(s, msg);
-  if (std::regex_match(path, m, session_path)) return session_route(s, msg, {m[1], m[2]});
-  static const std::regex signal_path("^/api/v1/sessions/([0-9a-f]{32})/signal$");
-  if (std::regex_match(path, m, signal_path) && method == "GET") {
-    // libsoup asks this handler first: leaving the status unset lets the
-    // WebSocket handshake go ahead; any answer refuses it.
-    auto it = s.sessions.find(m[1]);
-    if (it == s.sessions.end()) return reply_problem(msg, s.metrics, SOUP_STATUS_NOT_FOUND, "no such session");
-    if (!same_secret(query_token(msg), it->second->token()))
-      return reply_problem(msg, s.metrics, SOUP_STATUS_UNAUTHORIZED, "the token does not match the session");
-    const char* upgrade =
-        soup_message_headers_get_one(soup_server_message_get_request_headers(msg), "Upgrade");
-    if (!upgrade || g_ascii_strcasecmp(upgrade, "websocket") != 0)
-      return reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST, "this is a WebSocket endpoint");
-    return;
+  // Nothing may leave a C callback as an exception: it would end the
+  // process. A failure here is the server's fault, and says so.
+  try {
+    route_http(s, msg, raw_path ? raw_path : "");
+  } catch (const std::exception& e) {
+    log(Level::error, std::string("request failed: ") + e.what());
+    reply_problem(msg, s.metrics, SOUP_STATUS_INTERNAL_SERVER_ERROR, "the request failed inside the server");
+  } catch (...) {
+    log(Level::error, "request failed with an unknown exception");
+    reply_problem(msg, s.metrics, SOUP_STATUS_INTERNAL_SERVER_ERROR, "the request failed inside the server");
   }
-  if (path == "/metrics" && read) {
-    const std::string text = s.metrics.render(s.sessions.size());
-    return reply_bytes(msg, SOUP_STATUS_OK, "text/plain; version=0.0.4", text.data(), text.size());
-  }
-  if (path.rfind("/api/", 0) == 0) {
-    const bool known = path == "/api/v1/health" || path == "/api/v1/scenes" || path == "/api/v1/sessions" ||
-                       std::regex_match(path, thumbnail_path);
-    return reply_problem(msg, s.metrics, known ? SOUP_STATUS_METHOD_NOT_ALLOWED : SOUP_STATUS_NOT_FOUND,
-                         known ? method + " is not allowed here" : "no such endpoint");
-  }
-  if (!read) return reply_problem(msg, s.metrics, SOUP_STATUS_METHOD_NOT_ALLOWED, method + " is not allowed here");
-  serve_static(web_folder(s.config, s.data_dir), path, msg, s.metrics);
 }
 
 void handle_signal_socket(SoupServer*, SoupServerMessage* msg, const char* raw_path, SoupWebsocketConnection* socket,
                           gpointer data) {
   auto& s = *static_cast<ServerState*>(data);
-  static const std::regex signal_path("^/api/v1/sessions/([0-9a-f]{32})/signal$");
-  std::smatch m;
-  const std::string path = raw_path;
-  const std::string token = query_token(msg);
-  auto it = std::regex_match(path, m, signal_path) ? s.sessions.find(m[1]) : s.sessions.end();
-  if (it == s.sessions.end() || !same_secret(token, it->second->token())) {
-    ++s.metrics.http_errors;
-    soup_websocket_connection_close(socket, SOUP_WEBSOCKET_CLOSE_POLICY_VIOLATION, "unknown session or wrong token");
-    return;
+  try {
+    static const std::regex signal_path("^/api/v1/sessions/([0-9a-f]{32})/signal$");
+    std::smatch m;
+    const std::string path = raw_path ? raw_path : "";
+    const std::string token = query_token(msg);
+    auto it = std::regex_match(path, m, signal_path) ? s.sessions.find(m[1]) : s.sessions.end();
+    if (it == s.sessions.end() || !same_secret(token, it->second->token())) {
+      ++s.metrics.http_errors;
+      soup_websocket_connection_close(socket, SOUP_WEBSOCKET_CLOSE_POLICY_VIOLATION, "unknown session or wrong token");
+      return;
+    }
+    it->second->attach(socket);
+  } catch (const std::exception& e) {
+    log(Level::error, std::string("signalling socket failed: ") + e.what());
+    soup_websocket_connection_close(socket, SOUP_WEBSOCKET_CLOSE_SERVER_ERROR, "server error");
   }
-  it->second->attach(socket);
 }
 
-void handle_early(SoupServer*, SoupServerMessage* msg, const char*, GHashTable*, gpointer data) {
-  auto& s = *static_cast<ServerState*>(data);
-  SoupMessageHeaders* headers = soup_server_message_get_request_headers(msg);
-  const goffset length = soup_message_headers_get_content_length(headers);
-  if (length > static_cast<goffset>(s.config.max_body_bytes))
-    reply_problem(msg, s.metrics, SOUP_STATUS_REQUEST_ENTITY_TOO_LARGE,
-                  "the body is larger than " + std::to_string(s.config.max_body_bytes) + " bytes");
+void on_request_started(SoupServer*, SoupServerMessage* msg, gpointer) {
+  // Every plain answer closes its connection: libsoup 3.2 leaks the socket
+  // of a keep-alive connection that the client closes (fixed in 3.3), and
+  // one request per connection is what the accept path's limits count.
+  SoupMessageHeaders* headers = soup_server_message_get_response_headers(msg);
+  soup_message_headers_replace(headers, "Connection", "close");
+  soup_message_headers_replace(headers, "X-Content-Type-Options", "nosniff");
+  soup_message_headers_replace(headers, "Referrer-Policy", "no-referrer");
+  soup_message_headers_replace(headers, "X-Frame-Options", "DENY");
+  soup_message_headers_replace(headers, "Content-Security-Policy", kContentSecurityPolicy);
 }
 
 }  // namespace caustic::server

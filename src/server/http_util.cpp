@@ -1,5 +1,7 @@
 #include "http_util.hpp"
 
+#include "caustic/json_text.hpp"
+
 namespace caustic::server {
 
 void reply_bytes(SoupServerMessage* msg, guint status, const std::string& content_type, const void* data,
@@ -12,7 +14,7 @@ void reply_bytes(SoupServerMessage* msg, guint status, const std::string& conten
 }
 
 void reply_json(SoupServerMessage* msg, guint status, const nlohmann::json& body) {
-  const std::string text = body.dump();
+  const std::string text = dump_json(body);
   reply_bytes(msg, status, "application/json", text.data(), text.size());
 }
 
@@ -24,7 +26,7 @@ void reply_problem(SoupServerMessage* msg, Metrics& metrics, guint status, const
                          {"status", status},
                          {"detail", detail}};
   if (!key.empty()) body["key"] = key;
-  const std::string text = body.dump();
+  const std::string text = dump_json(body);
   reply_bytes(msg, status, "application/problem+json", text.data(), text.size());
 }
 
@@ -32,8 +34,14 @@ std::string bearer_token(SoupServerMessage* msg) {
   const char* value = soup_message_headers_get_one(soup_server_message_get_request_headers(msg), "Authorization");
   if (!value) return "";
   const std::string text = value;
-  const std::string prefix = "Bearer ";
-  return text.rfind(prefix, 0) == 0 ? text.substr(prefix.size()) : "";
+  if (text.size() < 8 || g_ascii_strncasecmp(text.c_str(), "Bearer ", 7) != 0) return "";
+  const auto start = text.find_first_not_of(' ', 7);
+  return start == std::string::npos ? "" : text.substr(start);
+}
+
+std::string client_address(SoupServerMessage* msg) {
+  const char* host = soup_server_message_get_remote_host(msg);
+  return host ? host : "unknown";
 }
 
 bool same_secret(const std::string& a, const std::string& b) {

@@ -17,8 +17,19 @@ void reply_problem(SoupServerMessage* msg, Metrics& metrics, guint status, const
 void reply_bytes(SoupServerMessage* msg, guint status, const std::string& content_type, const void* data,
                  std::size_t size);
 
-/// The bearer token of the request, or "".
+/// The bearer token of the request, or "" (the scheme is case-insensitive,
+/// RFC 9110 11.1).
 std::string bearer_token(SoupServerMessage* msg);
+/// The client's IP address as text ("unknown" when the library has none).
+std::string client_address(SoupServerMessage* msg);
+
+/// Pages load scripts, styles and images from this server only; the video
+/// arrives over WebRTC and the viewer talks to the API and its WebSocket.
+/// lil-gui sets inline styles, hence 'unsafe-inline' for styles alone.
+inline constexpr const char* kContentSecurityPolicy =
+    "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
+    "media-src 'self' blob: mediastream:; connect-src 'self'; object-src 'none'; base-uri 'none'; "
+    "frame-ancestors 'none'; form-action 'self'";
 /// Compares in time independent of where the strings differ.
 bool same_secret(const std::string& a, const std::string& b);
 

@@ -24,13 +24,15 @@ std::string Histogram::render(const std::string& name, const std::string& help) 
   return out.str();
 }
 
-std::string Metrics::render(std::size_t sessions) const {
+std::string Metrics::render(std::size_t sessions, std::size_t connections) const {
   std::ostringstream out;
   auto counter = [&](const char* name, const char* help, std::uint64_t value) {
     out << "# HELP " << name << " " << help << "\n# TYPE " << name << " counter\n" << name << " " << value << "\n";
   };
   out << "# HELP causticd_sessions Sessions now open.\n# TYPE causticd_sessions gauge\ncausticd_sessions " << sessions
       << "\n";
+  out << "# HELP causticd_connections Client connections now open.\n# TYPE causticd_connections gauge\ncausticd_connections "
+      << connections << "\n";
   counter("causticd_sessions_created_total", "Sessions created.", sessions_created);
   counter("causticd_sessions_rejected_total", "Session requests refused because the server was full.",
           sessions_rejected);
@@ -41,6 +43,15 @@ std::string Metrics::render(std::size_t sessions) const {
   counter("causticd_parameter_updates_total", "Accepted parameter patches.", parameter_updates);
   counter("causticd_http_errors_total", "HTTP answers with a 4xx or 5xx status.", http_errors);
   counter("causticd_pipeline_errors_total", "Errors posted by session pipelines.", pipeline_errors);
+  counter("causticd_connections_accepted_total", "Client connections admitted.", connections_accepted);
+  counter("causticd_connections_refused_total", "Connections answered and closed by the accept path (limits, malformed heads).",
+          connections_refused);
+  counter("causticd_connections_timed_out_total", "Connections closed because the request or the answer took too long.",
+          connections_timed_out);
+  counter("causticd_accept_failures_total", "Accepts that failed for want of file descriptors.", accept_failures);
+  counter("causticd_rate_limited_total", "Requests answered 429 by the per-address rate limit.", rate_limited);
+  counter("causticd_sessions_reclaimed_total", "Sessions ended because their viewer was absent or silent.",
+          sessions_reclaimed);
   out << render_ms.render("causticd_render_seconds", "Time to render one frame (caustic pass and post-processing).");
   out << encode_ms.render("causticd_encode_seconds", "Time from raw frame to encoded frame.");
   return out.str();

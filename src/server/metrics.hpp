@@ -33,11 +33,17 @@ struct Metrics {
   std::atomic<std::uint64_t> parameter_updates{0};
   std::atomic<std::uint64_t> http_errors{0};      ///< 4xx and 5xx answers
   std::atomic<std::uint64_t> pipeline_errors{0};
+  std::atomic<std::uint64_t> connections_accepted{0};
+  std::atomic<std::uint64_t> connections_refused{0};    ///< answered by the accept path itself (limits, bad heads)
+  std::atomic<std::uint64_t> connections_timed_out{0};  ///< closed for a late head or answer
+  std::atomic<std::uint64_t> accept_failures{0};        ///< accepts that failed for want of descriptors
+  std::atomic<std::uint64_t> rate_limited{0};           ///< 429 answers
+  std::atomic<std::uint64_t> sessions_reclaimed{0};     ///< ended for an idle or silent viewer
   Histogram render_ms;
   Histogram encode_ms;
 
-  /// Everything in Prometheus text format; `sessions` is the live count.
-  std::string render(std::size_t sessions) const;
+  /// Everything in Prometheus text format; `sessions` and `connections` are the live counts.
+  std::string render(std::size_t sessions, std::size_t connections) const;
 };
 
 }  // namespace caustic::server

@@ -5,9 +5,12 @@
 #include "server_state.hpp"
 
 #include <glib-unix.h>
+#include <malloc.h>
 #include <gst/gst.h>
 
+#include <atomic>
 #include <cstdlib>
+#include <thread>
 
 namespace caustic::server {
 
@@ -25,18 +28,37 @@ void ServerState::end_session(const std::string& id, const std::string& reason) 
       [](gpointer data) { delete static_cast<std::shared_ptr<Session>*>(data); });
 }
 
+ListenerLimits listener_limits(const ServerConfig& c) {
+  ListenerLimits l;
+  l.max_connections = c.max_connections;
+  l.max_connections_per_address = c.max_connections_per_address;
+  l.header_timeout_s = c.header_timeout_s;
+  l.body_timeout_s = c.body_timeout_s;
+  l.connection_idle_timeout_s = c.connection_idle_timeout_s;
+  l.max_ws_message_bytes = c.max_ws_message_bytes;
+  l.head.max_body_bytes = c.max_body_bytes;
+  return l;
+}
+
 struct Server::State {
   ServerState shared;
   GMainLoop* loop = nullptr;
   guint reaper = 0, sigint = 0, sigterm = 0, sighup = 0, watchdog = 0;
   std::function<ServerConfig()> reloader;
+  // The gallery is re-read (meshes, thumbnails: seconds on a CPU) on a
+  // thread of its own, so requests and pings go on meanwhile.
+  std::thread gallery_loader;
+  std::atomic<bool> loader_cancel{false};
+  bool reload_again = false;
+  std::shared_ptr<State*> alive = std::make_shared<State*>(this);
+  Server* owner = nullptr;
 };
 
 namespace {
 
-std::shared_ptr<const Gallery> load_checked_gallery(const ServerState& s) {
-  const auto dir = scenes_folder(s.config, s.data_dir);
-  auto gallery = std::make_shared<Gallery>(load_gallery(dir));
+std::shared_ptr<const Gallery> load_checked_gallery(const std::filesystem::path& dir,
+                                                   const std::atomic<bool>* cancel = nullptr) {
+  auto gallery = std::make_shared<Gallery>(load_gallery(dir, 256, cancel));
   for (const auto& problem : gallery->problems) log(Level::warning, "scene skipped: " + problem);
   if (gallery->entries.empty()) throw std::runtime_error("no usable scene in " + dir.string());
   return gallery;
@@ -65,17 +87,19 @@ bool sessions_alive(const ServerState& s) {
 }  // namespace
 
 Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std::make_unique<State>()) {
+  state_->owner = this;
   auto& s = state_->shared;
   s.config = std::move(config);
   s.data_dir = std::move(data_dir);
   set_log_level(level_from_name(s.config.log_level));
   // Read by every GL context the process creates, before the first exists.
   if (s.config.egl_device >= 0) setenv("CAUSTICD_EGL_DEVICE", std::to_string(s.config.egl_device).c_str(), 1);
-  auto gallery = load_checked_gallery(s);
+  auto gallery = load_checked_gallery(scenes_folder(s.config, s.data_dir));
   s.renderer = gallery->renderer;
   s.gallery = std::move(gallery);
   s.soup = soup_server_new("server-header", "causticd", nullptr);
-  soup_server_add_early_handler(s.soup, nullptr, handle_early, &s, nullptr);
+  g_signal_connect(s.soup, "request-started", G_CALLBACK(on_request_started), &s);
+  s.listener = std::make_unique<Listener>(s.soup, s.metrics, listener_limits(s.config));
   soup_server_add_websocket_handler(s.soup, "/api/v1/sessions", nullptr, nullptr, handle_signal_socket, &s, nullptr);
   // The same path also carries plain requests (POST, and everything under
   // /api/v1/sessions/{id}): a handler entry with both callbacks takes both.
@@ -86,10 +110,14 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
 
 Server::~Server() {
   auto& s = state_->shared;
+  state_->alive.reset();
+  state_->loader_cancel = true;
+  if (state_->gallery_loader.joinable()) state_->gallery_loader.join();
   for (auto& [id, session] : s.sessions) session->close("server shutting down");
   s.sessions.clear();
   for (guint source : {state_->reaper, state_->sigint, state_->sigterm, state_->sighup, state_->watchdog})
     if (source) g_source_remove(source);
+  s.listener.reset();
   if (s.soup) {
     soup_server_disconnect(s.soup);
     g_object_unref(s.soup);
@@ -102,37 +130,32 @@ Server::~Server() {
 
 std::string Server::listen() {
   auto& s = state_->shared;
-  GError* error = nullptr;
-  GSocketAddress* address =
-      g_inet_socket_address_new_from_string(s.config.bind_address.c_str(), static_cast<guint>(s.config.port));
-  if (!address) throw std::runtime_error("cannot use bind address " + s.config.bind_address);
-  const gboolean ok = soup_server_listen(s.soup, address, static_cast<SoupServerListenOptions>(0), &error);
-  g_object_unref(address);
-  if (!ok) {
-    std::string message = error->message;
-    g_error_free(error);
-    throw std::runtime_error("cannot listen on " + s.config.bind_address + ":" + std::to_string(s.config.port) +
-                             ": " + message);
-  }
-  GSList* uris = soup_server_get_uris(s.soup);
-  std::string url = uris ? g_uri_to_string(static_cast<GUri*>(uris->data)) : "";
-  g_slist_free_full(uris, reinterpret_cast<GDestroyNotify>(g_uri_unref));
-  return url;
+  return s.listener->listen(s.config.bind_address, s.config.port);
 }
 
 void Server::run() {
   auto& s = state_->shared;
-  // Reclaim sessions whose viewer never connected or went away.
+  // Reclaim sessions whose viewer never connected, went away, or stopped
+  // showing signs of life (a frozen tab, a socket that never answers).
   state_->reaper = g_timeout_add_seconds(
       1,
       [](gpointer data) -> gboolean {
         auto& st = *static_cast<ServerState*>(data);
         const auto now = std::chrono::steady_clock::now();
-        std::vector<std::string> idle;
-        for (const auto& [id, session] : st.sessions)
+        std::vector<std::pair<std::string, std::string>> doomed;
+        for (const auto& [id, session] : st.sessions) {
           if (!session->connected() && now - session->idle_since() > std::chrono::seconds(st.config.idle_timeout_s))
-            idle.push_back(id);
-        for (const auto& id : idle) st.end_session(id, "idle: no viewer connected");
+            doomed.emplace_back(id, "idle: no viewer connected");
+          else if (session->connected() &&
+                   now - session->last_sign_of_life() > std::chrono::seconds(st.config.viewer_timeout_s))
+            doomed.emplace_back(id, "silent: the viewer showed no sign of life for " +
+                                        std::to_string(st.config.viewer_timeout_s) + " s");
+        }
+        for (const auto& [id, why] : doomed) {
+          ++st.metrics.sessions_reclaimed;
+          st.end_session(id, why);
+        }
+        if (!doomed.empty()) malloc_trim(0);
         return G_SOURCE_CONTINUE;
       },
       &s);
@@ -159,7 +182,9 @@ void Server::run() {
         static_cast<guint>(period),
         [](gpointer data) -> gboolean {
           auto& st = *static_cast<ServerState*>(data);
-          if (sessions_alive(st)) notify("WATCHDOG=1\n" + status_line(st));
+          // A listener that cannot accept (no descriptors left) is as dead
+          // to its clients as a stalled loop: let systemd restart it.
+          if (sessions_alive(st) && st.listener->accepting()) notify("WATCHDOG=1\n" + status_line(st));
           return G_SOURCE_CONTINUE;
         },
         &s);
@@ -193,13 +218,53 @@ void Server::reload() {
       log(Level::error, std::string("reload: the configuration is kept: ") + e.what());
     }
   }
-  try {
-    s.gallery = load_checked_gallery(s);  // running sessions keep their own entries
-    log(Level::info, "gallery reloaded: " + std::to_string(s.gallery->entries.size()) + " scenes");
-  } catch (const std::exception& e) {
-    log(Level::error, std::string("reload: the gallery is kept: ") + e.what());
+  s.listener->set_limits(listener_limits(s.config));
+  start_gallery_reload();
+}
+
+void Server::start_gallery_reload() {
+  auto& st = *state_;
+  if (st.gallery_loader.joinable()) {
+    st.reload_again = true;  // the one running may have read the folder already
+    return;
   }
-  notify("READY=1\n" + status_line(s));
+  const auto dir = scenes_folder(st.shared.config, st.shared.data_dir);
+  std::weak_ptr<State*> owner = st.alive;
+  const std::atomic<bool>* cancel = &st.loader_cancel;
+  st.gallery_loader = std::thread([dir, owner, cancel] {
+    auto result = std::make_shared<std::pair<std::shared_ptr<const Gallery>, std::string>>();
+    try {
+      result->first = load_checked_gallery(dir, cancel);
+    } catch (const std::exception& e) {
+      result->second = e.what();
+    }
+    // Back on the main loop: swap the gallery in (running sessions keep
+    // their own entries) and tell systemd the reload is over.
+    auto* job = new std::pair<std::weak_ptr<State*>, decltype(result)>(owner, result);
+    g_main_context_invoke_full(
+        nullptr, G_PRIORITY_DEFAULT,
+        [](gpointer data) -> gboolean {
+          auto* j = static_cast<std::pair<std::weak_ptr<State*>, decltype(result)>*>(data);
+          auto state = j->first.lock();
+          if (!state) return G_SOURCE_REMOVE;
+          State& st = **state;
+          if (st.gallery_loader.joinable()) st.gallery_loader.join();
+          if (j->second->first) {
+            st.shared.gallery = j->second->first;
+            log(Level::info, "gallery reloaded: " + std::to_string(st.shared.gallery->entries.size()) + " scenes");
+          } else if (!st.loader_cancel) {
+            log(Level::error, "reload: the gallery is kept: " + j->second->second);
+          }
+          if (st.reload_again && !st.loader_cancel) {
+            st.reload_again = false;
+            st.owner->start_gallery_reload();
+            return G_SOURCE_REMOVE;
+          }
+          notify("READY=1\n" + status_line(st.shared));
+          return G_SOURCE_REMOVE;
+        },
+        job, [](gpointer data) { delete static_cast<std::pair<std::weak_ptr<State*>, decltype(result)>*>(data); });
+  });
 }
 
 void Server::quit() { g_main_loop_quit(state_->loop); }

@@ -3,7 +3,9 @@
 
 #include "caustic/server/config.hpp"
 #include "gallery.hpp"
+#include "listener.hpp"
 #include "metrics.hpp"
+#include "rate_limit.hpp"
 #include "session.hpp"
 
 #include <libsoup/soup.h>
@@ -22,6 +24,8 @@ struct ServerState {
   std::map<std::string, std::shared_ptr<Session>> sessions;
   Metrics metrics;
   SoupServer* soup = nullptr;
+  std::unique_ptr<Listener> listener;
+  RateLimiter rate_limiter;
 
   /// Removes a session on the next main loop iteration (never from inside
   /// one of its own callbacks).
@@ -33,7 +37,9 @@ void handle_http(SoupServer*, SoupServerMessage* msg, const char* path, GHashTab
 /// Accepts a signalling WebSocket on /api/v1/sessions/{id}/signal?token=T.
 void handle_signal_socket(SoupServer*, SoupServerMessage* msg, const char* path, SoupWebsocketConnection* socket,
                           gpointer state);
-/// Refuses request bodies larger than the configured limit before they are read.
-void handle_early(SoupServer*, SoupServerMessage* msg, const char* path, GHashTable* query, gpointer state);
+/// Sets the headers every answer carries (connected to "request-started").
+void on_request_started(SoupServer*, SoupServerMessage* msg, gpointer state);
+/// What the accept path enforces, from the configuration.
+ListenerLimits listener_limits(const ServerConfig& config);
 
 }  // namespace caustic::server

@@ -4,6 +4,7 @@
 #include "caustic/server/data_files.hpp"
 #include "frame_probes.hpp"
 #include "log.hpp"
+#include "signal_message.hpp"
 
 #define GST_USE_UNSTABLE_API
 #include <gst/sdp/sdp.h>
@@ -40,7 +41,7 @@ Session::Session(std::string id, std::shared_ptr<const GalleryEntry> scene, Sess
   auto entry = scene_;
   params_ = std::make_shared<ParamStore>(
       initial,
-      [entry](const Scene& candidate) { check_geometry(candidate, *entry->levels); },
+      [entry](const Scene& candidate) { check_geometry_public(candidate, *entry->levels); },
       [entry](Scene candidate) { return resolve_for(*entry, std::move(candidate)); });
 }
 
@@ -105,6 +106,19 @@ void Session::build() {
   });
 
   webrtc_ = gst_bin_get_by_name(GST_BIN(pipeline_), "webrtc");
+  // Every RTCP packet from the viewer's receiver (receiver reports arrive
+  // about once a second from any WebRTC peer) proves it is still there.
+  if (GstElement* rtpbin = gst_bin_get_by_name(GST_BIN(webrtc_), "rtpbin")) {
+    g_signal_connect_data(
+        rtpbin, "on-ssrc-active",
+        G_CALLBACK((+[](GstElement*, guint, guint, gpointer data) {
+          if (auto s = static_cast<Ref*>(data)->lock()) s->alive_now();
+        })),
+        new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
+    gst_object_unref(rtpbin);
+  } else {
+    log(Level::warning, "session " + id_ + ": no rtpbin inside webrtcbin; only signalling pings show the viewer alive");
+  }
   if (!c.ice_addresses.empty()) {
     // libnice gathers on every interface otherwise; tests pin it to loopback.
     GstWebRTCICE* ice = nullptr;
@@ -261,9 +275,19 @@ void Session::attach(SoupWebsocketConnection* socket) {
     g_signal_handler_disconnect(socket_, socket_closed_);
     soup_websocket_connection_close(socket_, SOUP_WEBSOCKET_CLOSE_NORMAL, "replaced by a new connection");
     g_object_unref(socket_);
+    socket_ = nullptr;
   }
+  if (had_viewer_) {
+    // The old peer's offer, ICE state and data channel mean nothing to the
+    // new one: start its stream afresh with the same parameters.
+    teardown_pipeline();
+    outbox_.clear();
+    build();
+  }
+  had_viewer_ = true;
+  alive_now();
   socket_ = G_TYPE_CHECK_INSTANCE_CAST(g_object_ref(socket), SOUP_TYPE_WEBSOCKET_CONNECTION, SoupWebsocketConnection);
-  soup_websocket_connection_set_max_incoming_payload_size(socket_, 256 * 1024);
+  soup_websocket_connection_set_max_incoming_payload_size(socket_, kMaxSignalMessageBytes);
   socket_message_ = g_signal_connect_data(
       socket_, "message",
       G_CALLBACK((+[](SoupWebsocketConnection*, gint type, GBytes* bytes, gpointer data) {
@@ -286,36 +310,35 @@ void Session::attach(SoupWebsocketConnection* socket) {
 }
 
 void Session::on_socket_message(const std::string& text) {
-  const nlohmann::json message = nlohmann::json::parse(text, nullptr, false);
-  auto reject = [&](const std::string& why) { send({{"type", "error"}, {"message", why}}); };
-  if (!message.is_object() || !message.contains("type") || !message["type"].is_string())
-    return reject("a signalling message is a JSON object with a string \"type\"");
-  const std::string type = message["type"];
-  if (type == "answer") {
-    if (!message.contains("sdp") || !message["sdp"].is_string()) return reject("answer: \"sdp\" must be a string");
+  const SignalMessage message = parse_signal_message(text);
+  if (const auto* error = std::get_if<SignalError>(&message)) {
+    send({{"type", "error"}, {"message", error->message}});
+    return;
+  }
+  alive_now();
+  if (const auto* answer = std::get_if<SignalAnswer>(&message)) {
     GstSDPMessage* sdp = nullptr;
     gst_sdp_message_new(&sdp);
-    const std::string body = message["sdp"];
-    if (gst_sdp_message_parse_buffer(reinterpret_cast<const guint8*>(body.data()), static_cast<guint>(body.size()),
-                                     sdp) != GST_SDP_OK) {
-      gst_sdp_message_free(sdp);
-      return reject("answer: \"sdp\" is not valid SDP");
-    }
-    GstWebRTCSessionDescription* answer = gst_webrtc_session_description_new(GST_WEBRTC_SDP_TYPE_ANSWER, sdp);
+    gst_sdp_message_parse_buffer(reinterpret_cast<const guint8*>(answer->sdp.data()),
+                                 static_cast<guint>(answer->sdp.size()), sdp);
+    GstWebRTCSessionDescription* description = gst_webrtc_session_description_new(GST_WEBRTC_SDP_TYPE_ANSWER, sdp);
     GstPromise* done = gst_promise_new();
-    g_signal_emit_by_name(webrtc_, "set-remote-description", answer, done);
+    g_signal_emit_by_name(webrtc_, "set-remote-description", description, done);
     gst_promise_unref(done);
-    gst_webrtc_session_description_free(answer);
-  } else if (type == "ice") {
-    if (!message.contains("candidate") || !message["candidate"].is_string() || !message.contains("sdpMLineIndex") ||
-        !message["sdpMLineIndex"].is_number_unsigned())
-      return reject("ice: needs a string \"candidate\" and an unsigned \"sdpMLineIndex\"");
-    const std::string candidate = message["candidate"];
-    if (candidate.empty()) return;  // end of candidates
-    g_signal_emit_by_name(webrtc_, "add-ice-candidate", message["sdpMLineIndex"].get<guint>(), candidate.c_str());
-  } else {
-    reject("unknown message type \"" + type + "\"");
+    gst_webrtc_session_description_free(description);
+  } else if (const auto* ice = std::get_if<SignalIce>(&message)) {
+    if (ice->candidate.empty()) return;  // end of candidates
+    g_signal_emit_by_name(webrtc_, "add-ice-candidate", ice->mline, ice->candidate.c_str());
   }
+}
+
+void Session::alive_now() {
+  alive_ns_.store(std::chrono::steady_clock::now().time_since_epoch().count(), std::memory_order_relaxed);
+}
+
+std::chrono::steady_clock::time_point Session::last_sign_of_life() const {
+  return std::chrono::steady_clock::time_point(
+      std::chrono::steady_clock::duration(alive_ns_.load(std::memory_order_relaxed)));
 }
 
 void Session::close(const std::string& reason) {
@@ -331,6 +354,22 @@ void Session::close(const std::string& reason) {
   std::lock_guard lock(channel_lock_);
   if (channel_) g_object_unref(channel_);
   channel_ = nullptr;
+}
+
+void Session::teardown_pipeline() {
+  {
+    std::lock_guard lock(channel_lock_);
+    if (channel_) g_object_unref(channel_);
+    channel_ = nullptr;
+  }
+  if (bus_watch_) g_source_remove(bus_watch_);
+  bus_watch_ = 0;
+  if (pipeline_) gst_element_set_state(pipeline_, GST_STATE_NULL);
+  if (webrtc_) gst_object_unref(webrtc_);
+  if (pipeline_) gst_object_unref(pipeline_);
+  webrtc_ = nullptr;
+  pipeline_ = nullptr;
+  offered_ = false;
 }
 
 Session::~Session() {

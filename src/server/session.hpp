@@ -29,6 +29,7 @@ namespace caustic::server {
 
 struct SessionOptions {
   std::string codec;  ///< vp8 | h264
+  std::string client_address;  ///< who created it (per-address limits)
   const ServerConfig* config;
   std::filesystem::path data_dir;
   Metrics* metrics;
@@ -47,12 +48,19 @@ class Session : public std::enable_shared_from_this<Session> {
   const std::string& id() const { return id_; }
   const std::string& token() const { return token_; }
   const std::string& codec() const { return options_.codec; }
+  const std::string& client_address() const { return options_.client_address; }
   const std::string& scene_id() const { return scene_->id; }
   ParamStore& params() { return *params_; }
   const GalleryEntry& entry() const { return *scene_; }
 
-  /// The viewer's signalling socket; a second one replaces the first.
+  /// The viewer's signalling socket. A second one replaces the first and
+  /// gets a fresh stream (a new pipeline, the same parameters) and offer:
+  /// a reloaded page is a new peer.
   void attach(SoupWebsocketConnection* socket);
+  /// When the attached viewer last showed it is there: a signalling message
+  /// or an RTCP packet from its WebRTC receiver. A frozen or vanished
+  /// viewer shows neither.
+  std::chrono::steady_clock::time_point last_sign_of_life() const;
   /// True while a viewer's socket is attached; idle_since() says since when none has been.
   bool connected() const { return socket_ != nullptr; }
   std::chrono::steady_clock::time_point idle_since() const { return idle_since_; }
@@ -71,6 +79,8 @@ class Session : public std::enable_shared_from_this<Session> {
  private:
   Session(std::string id, std::shared_ptr<const GalleryEntry> scene, SessionOptions options);
   void build();
+  void teardown_pipeline();
+  void alive_now();
   void send(const nlohmann::json& message);
   void on_socket_message(const std::string& text);
   void negotiate();
@@ -91,7 +101,8 @@ class Session : public std::enable_shared_from_this<Session> {
   gulong socket_message_ = 0, socket_closed_ = 0;
   std::vector<nlohmann::json> outbox_;  // messages that wait for a socket
   std::chrono::steady_clock::time_point idle_since_;
-  bool offered_ = false, closed_ = false;
+  bool offered_ = false, closed_ = false, had_viewer_ = false;
+  std::atomic<std::int64_t> alive_ns_{0};  // steady clock; written from streaming threads too
   std::mutex channel_lock_;
   GstWebRTCDataChannel* channel_ = nullptr;  // the "frames" channel
 };

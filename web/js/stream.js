@@ -2,6 +2,8 @@
 // the "frames" data channel that says which parameter version each RTP
 // timestamp shows.
 
+const PING_INTERVAL_MS = 5000;
+
 export class Stream {
   constructor(session, video, { onState, onFrameVersion }) {
     this.session = session;
@@ -38,6 +40,11 @@ export class Stream {
       if (state === 'failed' || state === 'disconnected') this.fail('the connection was lost');
     };
     this.socket.onmessage = (event) => this.onSignal(JSON.parse(event.data));
+    // The server ends a session whose viewer shows no sign of life; the
+    // video's RTCP reports usually suffice, this covers the time before.
+    this.socket.onopen = () => {
+      this.pinger = setInterval(() => this.send({ type: 'ping' }), PING_INTERVAL_MS);
+    };
     this.socket.onclose = () => this.fail('the signalling connection closed');
   }
 
@@ -78,6 +85,7 @@ export class Stream {
 
   close() {
     this.closed = true;
+    clearInterval(this.pinger);
     this.socket?.close();
     this.pc?.close();
   }

@@ -6,6 +6,8 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
+
 #include <cstdint>
 #include <filesystem>
 #include <vector>
@@ -55,6 +57,9 @@ struct Placement {
   glm::dvec3 center{0, 0, 0};       ///< footprint centre, world (reference for point lights)
   double max_depth = 0.0;           ///< largest depth of a vertex below the flat face, world
   glm::dvec2 footprint{0.0};        ///< extent across the flat-face normal, world units
+  /// The slab's bounding box in the world: footprint x [deepest vertex, flat
+  /// face]. It is what the public proxy describes, nothing more.
+  std::array<glm::dvec3, 8> box{};
 };
 
 /// Rotation matrix of three.js Euler angles in order "XYZ" (degrees): Rx * Ry * Rz.
@@ -69,5 +74,13 @@ Placement place_object(const ObjectParams& object, const Mesh& mesh);
 /// flat plane or inside the object, a screen plane that crosses the object, a
 /// mesh vertex on the light side of its own flat face. Throws SceneError.
 void check_geometry(const Scene& scene, const Mesh& mesh, const Placement& placement);
+
+/// The same checks against the slab's bounding box (Placement::box) instead
+/// of the vertices: what a client may be told. Answers that depend on the
+/// vertices would let a client map the hidden surface by bisection (its
+/// support function, so its convex hull); the box is public anyway. Stricter
+/// than check_geometry: whatever passes here passes there. The flat face is
+/// not checked: sessions may not move it.
+void check_geometry_public(const Scene& scene, const Placement& placement);
 
 }  // namespace caustic

@@ -27,4 +27,9 @@ struct MeshLevels {
 /// what a parameter store checks before it publishes a scene. Throws SceneError.
 void check_geometry(const Scene& scene, const MeshLevels& levels);
 
+/// What a session's parameter store checks: the level exists, and
+/// check_geometry_public against the source mesh's bounding box (the box the
+/// public proxy describes), so an answer never depends on the vertices.
+void check_geometry_public(const Scene& scene, const MeshLevels& levels);
+
 }  // namespace caustic

@@ -37,6 +37,19 @@ struct ServerConfig {
   int egl_device = -1;                    ///< index of the hardware EGL device; -1: the first usable
   int stall_timeout_s = 20;               ///< a render thread stuck this long stops the watchdog pings
   int settle_ms = 40;                     ///< still this long -> the full frame after previews; 0: no previews
+  // Limits on what clients may hold or send (docs/reliability.md says why
+  // each default is where it is).
+  int max_connections = 512;              ///< open client connections in total; 503 beyond
+  int max_connections_per_address = 64;   ///< open connections from one client address; 503 beyond
+  int header_timeout_s = 10;              ///< a request head must arrive within this
+  int body_timeout_s = 30;                ///< from the head to the answer sent
+  int connection_idle_timeout_s = 10;     ///< no byte moving on a plain HTTP connection this long
+  std::size_t max_ws_message_bytes = 64 * 1024;  ///< a signalling message, all its fragments
+  int rate_limit_per_s = 60;              ///< mutating requests per client address and second
+  int rate_limit_burst = 120;             ///< ... and how many may come at once
+  int max_sessions_per_address = 2;       ///< sessions one client address may hold
+  int viewer_timeout_s = 15;              ///< a connected viewer silent this long loses its session
+  std::string session_create_token;       ///< when set, creating a session needs it as a bearer token
 };
 
 /// The gallery folder: scenes_dir, or <data>/assets/scenes when empty.

@@ -31,13 +31,16 @@ class Server {
   /// Without one, SIGHUP reloads only the gallery.
   void set_config_reloader(std::function<ServerConfig()> reload);
 
-  /// Re-reads the configuration and the gallery without touching running
-  /// sessions (they keep their scene); a bad configuration or an empty
-  /// gallery is logged and the old one kept. Main loop thread only.
+  /// Re-reads the configuration at once and the gallery on a thread of its
+  /// own (requests are answered meanwhile from the old one), without
+  /// touching running sessions (they keep their scene); a bad configuration
+  /// or an empty gallery is logged and the old one kept. READY=1 follows
+  /// once the new gallery is in. Main loop thread only.
   void reload();
   void quit();
 
  private:
+  void start_gallery_reload();
   struct State;
   std::unique_ptr<State> state_;
 };

@@ -1,0 +1,37 @@
+// Every JSON text that comes from outside (request bodies, signalling
+// messages, scene and calibration files) is parsed here, never with
+// json::parse directly, because the library's own parser has three traits
+// that an exposed server cannot live with:
+// - it treats a NUL byte as the end of the input, so "{...}\0junk" parses;
+// - it nests without limit, and every later recursive walk (merge patch,
+//   dump, destruction) then needs stack in proportion;
+// - it throws, and an exception that crosses a C callback kills the process.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace caustic {
+
+/// Nesting deeper than any scene, patch or signalling message needs.
+inline constexpr int kMaxJsonDepth = 32;
+
+struct JsonTextError {
+  std::string message;  ///< ASCII only: never echoes the input's bytes
+  std::size_t offset;   ///< byte offset where the text broke (0-based)
+};
+
+/// Parses `text`; arrays and objects may nest at most `max_depth` deep. NUL
+/// bytes, invalid UTF-8, trailing content and excess depth are errors.
+/// Never throws: returns std::nullopt and fills `*error` (when given).
+std::optional<nlohmann::json> parse_json_text(std::string_view text, JsonTextError* error = nullptr,
+                                              int max_depth = kMaxJsonDepth);
+
+/// `value.dump()` that never throws: invalid UTF-8 in strings is replaced.
+std::string dump_json(const nlohmann::json& value);
+
+}  // namespace caustic

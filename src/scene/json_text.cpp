@@ -1,0 +1,114 @@
+#include "caustic/json_text.hpp"
+
+#include <vector>
+
+namespace caustic {
+namespace {
+
+using json = nlohmann::json;
+
+// Builds the DOM like the library's own SAX DOM parser, counting depth and
+// stopping the parse (return false) at the first problem.
+class LimitedDom : public nlohmann::json_sax<json> {
+ public:
+  explicit LimitedDom(int max_depth) : max_depth_(max_depth) {}
+
+  bool null() override { return put(json(nullptr)); }
+  bool boolean(bool v) override { return put(json(v)); }
+  bool number_integer(number_integer_t v) override { return put(json(v)); }
+  bool number_unsigned(number_unsigned_t v) override { return put(json(v)); }
+  bool number_float(number_float_t v, const string_t&) override { return put(json(v)); }
+  bool string(string_t& v) override { return put(json(std::move(v))); }
+  bool binary(binary_t&) override { return fail("binary values are not JSON"); }
+  bool start_object(std::size_t) override { return open(json::object()); }
+  bool key(string_t& k) override {
+    key_ = std::move(k);
+    return true;
+  }
+  bool end_object() override { return close(); }
+  bool start_array(std::size_t) override { return open(json::array()); }
+  bool end_array() override { return close(); }
+  bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception& e) override {
+    // The library's message ends in "last read: '<input>'", which would echo
+    // the client's bytes; keep only its own words before that.
+    const std::string what = e.what();
+    const auto from = what.find("syntax error while parsing");
+    std::string message = "not valid JSON";
+    if (from != std::string::npos) {
+      message = what.substr(from, what.find("; last read", from) - from);
+      for (char& ch : message)
+        if (static_cast<unsigned char>(ch) < 0x20 || static_cast<unsigned char>(ch) >= 0x7f) ch = '?';
+    }
+    error_ = {message, position ? position - 1 : 0};
+    return false;
+  }
+
+  json result;
+  JsonTextError error_{"", 0};
+  bool failed = false;
+
+ private:
+  bool fail(const std::string& why) {
+    failed = true;
+    if (error_.message.empty()) error_.message = why;
+    return false;
+  }
+  bool open(json value) {
+    if (static_cast<int>(stack_.size()) >= max_depth_)
+      return fail("nested deeper than " + std::to_string(max_depth_) + " levels");
+    if (!put(std::move(value))) return false;
+    stack_.push_back(last_);
+    return true;
+  }
+  bool close() {
+    stack_.pop_back();
+    return true;
+  }
+  bool put(json value) {
+    if (stack_.empty()) {
+      result = std::move(value);
+      last_ = &result;
+    } else if (stack_.back()->is_object()) {
+      last_ = &((*stack_.back())[key_] = std::move(value));
+    } else {
+      stack_.back()->push_back(std::move(value));
+      last_ = &stack_.back()->back();
+    }
+    return true;
+  }
+
+  int max_depth_;
+  std::vector<json*> stack_;
+  json* last_ = nullptr;
+  string_t key_;
+};
+
+}  // namespace
+
+std::optional<nlohmann::json> parse_json_text(std::string_view text, JsonTextError* error, int max_depth) {
+  if (const auto nul = text.find('\0'); nul != std::string_view::npos) {
+    if (error) *error = {"a NUL byte is not allowed in JSON text", nul};
+    return std::nullopt;
+  }
+  LimitedDom dom(max_depth);
+  bool ok = false;
+  try {
+    ok = json::sax_parse(text.begin(), text.end(), &dom, nlohmann::detail::input_format_t::json, true);
+  } catch (const std::exception&) {
+    ok = false;  // the SAX interface reports through parse_error; this is belt and braces
+  }
+  if (!ok) {
+    if (error) {
+      *error = dom.error_;
+      if (error->message.empty()) error->message = "not valid JSON";
+    }
+    return std::nullopt;
+  }
+  return std::move(dom.result);
+}
+
+std::string dump_json(const nlohmann::json& value) {
+  return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+}  // namespace caustic

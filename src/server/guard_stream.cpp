@@ -1,0 +1,127 @@
+#include "guard_stream.hpp"
+
+#include "request_head.hpp"
+
+#include <memory>
+
+namespace caustic::server {
+namespace {
+
+struct GuardInput {
+  GFilterInputStream parent;
+  GSocketConnection* connection;
+  std::size_t skip;                          // head bytes still to pass unchecked
+  std::unique_ptr<WebSocketGuard>* frames;   // null: plain HTTP
+};
+struct GuardInputClass {
+  GFilterInputStreamClass parent_class;
+};
+
+GType guard_input_get_type();
+void guard_input_pollable_init(GPollableInputStreamInterface* iface);
+
+G_DEFINE_TYPE_WITH_CODE(GuardInput, guard_input, G_TYPE_FILTER_INPUT_STREAM,
+                        G_IMPLEMENT_INTERFACE(G_TYPE_POLLABLE_INPUT_STREAM, guard_input_pollable_init))
+
+GuardInput* self_of(gpointer p) { return reinterpret_cast<GuardInput*>(p); }
+GInputStream* base_of(gpointer p) { return g_filter_input_stream_get_base_stream(G_FILTER_INPUT_STREAM(p)); }
+
+// Checks what a read returned before the library sees it.
+gssize inspect(GuardInput* self, const void* buffer, gssize n, GError** error) {
+  if (n <= 0 || !self->frames) return n;
+  const auto* bytes = static_cast<const unsigned char*>(buffer);
+  std::size_t from = 0;
+  if (self->skip) {
+    from = std::min<std::size_t>(self->skip, static_cast<std::size_t>(n));
+    self->skip -= from;
+  }
+  WebSocketGuard& guard = **self->frames;
+  if (!guard.feed(bytes + from, static_cast<std::size_t>(n) - from)) {
+    g_set_error_literal(error, G_IO_ERROR, G_IO_ERROR_MESSAGE_TOO_LARGE, guard.error().c_str());
+    return -1;
+  }
+  return n;
+}
+
+gssize guard_read(GInputStream* stream, void* buffer, gsize count, GCancellable* cancellable, GError** error) {
+  const gssize n = g_input_stream_read(base_of(stream), buffer, count, cancellable, error);
+  return inspect(self_of(stream), buffer, n, error);
+}
+
+gboolean guard_close(GInputStream* stream, GCancellable* cancellable, GError** error) {
+  GuardInput* self = self_of(stream);
+  gboolean ok = G_INPUT_STREAM_CLASS(guard_input_parent_class)->close_fn(stream, cancellable, error);
+  // The library closes the stream it was given; closing the connection here
+  // closes the descriptor even where the library keeps a reference.
+  if (self->connection) g_io_stream_close(G_IO_STREAM(self->connection), nullptr, nullptr);
+  return ok;
+}
+
+gboolean guard_can_poll(GPollableInputStream* stream) {
+  return G_IS_POLLABLE_INPUT_STREAM(base_of(stream)) &&
+         g_pollable_input_stream_can_poll(G_POLLABLE_INPUT_STREAM(base_of(stream)));
+}
+
+gboolean guard_is_readable(GPollableInputStream* stream) {
+  return g_pollable_input_stream_is_readable(G_POLLABLE_INPUT_STREAM(base_of(stream)));
+}
+
+GSource* guard_create_source(GPollableInputStream* stream, GCancellable* cancellable) {
+  GSource* base = g_pollable_input_stream_create_source(G_POLLABLE_INPUT_STREAM(base_of(stream)), cancellable);
+  GSource* source = g_pollable_source_new_full(stream, base, cancellable);
+  g_source_unref(base);
+  return source;
+}
+
+gssize guard_read_nonblocking(GPollableInputStream* stream, void* buffer, gsize count, GError** error) {
+  const gssize n =
+      g_pollable_input_stream_read_nonblocking(G_POLLABLE_INPUT_STREAM(base_of(stream)), buffer, count, nullptr, error);
+  return inspect(self_of(stream), buffer, n, error);
+}
+
+void guard_input_pollable_init(GPollableInputStreamInterface* iface) {
+  iface->can_poll = guard_can_poll;
+  iface->is_readable = guard_is_readable;
+  iface->create_source = guard_create_source;
+  iface->read_nonblocking = guard_read_nonblocking;
+}
+
+void guard_finalize(GObject* object) {
+  GuardInput* self = self_of(object);
+  delete self->frames;
+  g_clear_object(&self->connection);
+  G_OBJECT_CLASS(guard_input_parent_class)->finalize(object);
+}
+
+void guard_input_class_init(GuardInputClass* klass) {
+  G_OBJECT_CLASS(klass)->finalize = guard_finalize;
+  G_INPUT_STREAM_CLASS(klass)->read_fn = guard_read;
+  G_INPUT_STREAM_CLASS(klass)->close_fn = guard_close;
+}
+
+void guard_input_init(GuardInput* self) {
+  self->connection = nullptr;
+  self->skip = 0;
+  self->frames = nullptr;
+}
+
+}  // namespace
+
+GIOStream* guarded_stream_new(GSocketConnection* connection, std::size_t websocket_after,
+                              std::uint64_t max_message_bytes) {
+  GIOStream* io = G_IO_STREAM(connection);
+  auto* input = self_of(g_object_new(guard_input_get_type(), "base-stream", g_io_stream_get_input_stream(io),
+                                     "close-base-stream", TRUE, nullptr));
+  input->connection = G_SOCKET_CONNECTION(g_object_ref(connection));
+  if (websocket_after) {
+    input->skip = websocket_after;
+    // Frames are at most the message limit too: one frame is one message.
+    input->frames = new std::unique_ptr<WebSocketGuard>(
+        std::make_unique<WebSocketGuard>(max_message_bytes, max_message_bytes));
+  }
+  GIOStream* stream = g_simple_io_stream_new(G_INPUT_STREAM(input), g_io_stream_get_output_stream(io));
+  g_object_unref(input);
+  return stream;
+}
+
+}  // namespace caustic::server

@@ -1,0 +1,76 @@
+// The server's own accept path in front of the HTTP library. The library's
+// listener gives up for good after one failed accept (descriptor
+// exhaustion), has a backlog of 10, no limit on connections and no timeout
+// on a client that trickles its request; this one accepts with a large
+// backlog, counts connections in total and per client address (503 beyond),
+// reads and checks each request head itself before the library sees it
+// (request_head.hpp), closes clients that are too slow, backs off and
+// recovers when descriptors run out, and hands every admitted connection to
+// the library through a guarded stream (guard_stream.hpp).
+#pragma once
+
+#include "metrics.hpp"
+#include "request_head.hpp"
+
+#include <libsoup/soup.h>
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <memory>
+#include <string>
+
+namespace caustic::server {
+
+struct ListenerLimits {
+  int max_connections = 512;
+  int max_connections_per_address = 64;
+  int header_timeout_s = 10;           ///< the request head must arrive within this
+  int body_timeout_s = 30;             ///< head to answer sent, plain HTTP
+  int connection_idle_timeout_s = 10;  ///< no byte moving for this long, plain HTTP
+  std::uint64_t max_ws_message_bytes = 64 * 1024;
+  HeadLimits head;
+};
+
+class Listener {
+ public:
+  Listener(SoupServer* server, Metrics& metrics, ListenerLimits limits);
+  ~Listener();
+  Listener(const Listener&) = delete;
+  Listener& operator=(const Listener&) = delete;
+
+  /// Binds and listens (backlog 1024); returns the URL with the real port.
+  /// Throws std::runtime_error.
+  std::string listen(const std::string& address, int port);
+  /// Limits for connections accepted from now on.
+  void set_limits(const ListenerLimits& limits) { limits_ = limits; }
+  /// False while accepting has failed (no descriptors left) for over `grace`.
+  bool accepting(std::chrono::seconds grace = std::chrono::seconds(5)) const;
+  int open_connections() const { return static_cast<int>(connections_.size()); }
+
+ private:
+  struct Connection;
+  void arm_accept();
+  void accept_some();
+  void admit(GSocket* socket);
+  void peek(std::uint64_t id);
+  void refuse(GSocket* socket, unsigned status, const std::string& detail, const std::string& headers = "");
+  void hand_over(std::uint64_t id, const RequestHead& head);
+  void drop(std::uint64_t id);
+  static void socket_gone(gpointer data, GObject* where);
+
+  SoupServer* server_;
+  Metrics& metrics_;
+  ListenerLimits limits_;
+  GSocket* socket_ = nullptr;
+  GSource* accept_source_ = nullptr;
+  guint retry_ = 0;
+  std::optional<std::chrono::steady_clock::time_point> failing_since_;
+  std::map<std::uint64_t, std::unique_ptr<Connection>> connections_;
+  std::map<std::string, int> per_address_;
+  std::uint64_t next_id_ = 1;
+  std::shared_ptr<Listener*> alive_;  // callbacks hold a weak copy
+};
+
+}  // namespace caustic::server

@@ -1,0 +1,189 @@
+#include "request_head.hpp"
+
+#include <libsoup/soup.h>
+
+#include <nlohmann/json.hpp>
+
+namespace caustic::server {
+namespace {
+
+bool is_tchar(unsigned char c) {
+  return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+         std::string_view("!#$%&'*+-.^_`|~").find(static_cast<char>(c)) != std::string_view::npos;
+}
+
+bool iequals(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (g_ascii_tolower(a[i]) != g_ascii_tolower(b[i])) return false;
+  return true;
+}
+
+std::string_view trim_ows(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
+RequestHead refuse(unsigned status, std::string detail) {
+  RequestHead head;
+  head.state = RequestHead::State::refused;
+  head.status = status;
+  head.detail = std::move(detail);
+  return head;
+}
+
+}  // namespace
+
+RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) {
+  const auto end = bytes.find("\r\n\r\n");
+  if (end == std::string_view::npos) {
+    if (bytes.size() >= limits.max_head_bytes)
+      return refuse(431, "the request head is larger than " + std::to_string(limits.max_head_bytes) + " bytes");
+    // A bare LF where CRLF belongs never becomes a valid head: say so now
+    // rather than when the timeout strikes.
+    for (std::size_t i = 0; i < bytes.size(); ++i)
+      if (bytes[i] == '\n' && (i == 0 || bytes[i - 1] != '\r')) return refuse(400, "lines must end in CRLF");
+    return {};
+  }
+  if (end + 4 > limits.max_head_bytes)
+    return refuse(431, "the request head is larger than " + std::to_string(limits.max_head_bytes) + " bytes");
+  const std::string_view head = bytes.substr(0, end + 2);  // every line with its CRLF
+  std::size_t pos = head.find("\r\n");
+  const std::string_view line = head.substr(0, pos);
+  pos += 2;
+
+  // request-line = method SP request-target SP HTTP-version
+  const auto sp1 = line.find(' ');
+  const auto sp2 = sp1 == std::string_view::npos ? sp1 : line.find(' ', sp1 + 1);
+  if (sp1 == std::string_view::npos || sp2 == std::string_view::npos || line.find(' ', sp2 + 1) != std::string_view::npos)
+    return refuse(400, "the request line must be: method, target and version, separated by single spaces");
+  const std::string_view method = line.substr(0, sp1), target = line.substr(sp1 + 1, sp2 - sp1 - 1),
+                         version = line.substr(sp2 + 1);
+  if (method.empty() || method.size() > 32) return refuse(400, "the method must be 1 to 32 token characters");
+  for (unsigned char c : method)
+    if (!is_tchar(c)) return refuse(400, "the method must be 1 to 32 token characters");
+  if (target.empty() || (target[0] != '/' && target != "*"))
+    return refuse(400, "the request target must be a path starting with /");
+  for (unsigned char c : target)
+    if (c <= 0x20 || c >= 0x7f) return refuse(400, "the request target must be printable ASCII");
+  if (version != "HTTP/1.1" && version != "HTTP/1.0") {
+    if (version.size() == 8 && version.substr(0, 5) == "HTTP/") return refuse(505, "only HTTP/1.0 and HTTP/1.1 are served");
+    return refuse(400, "the request line must end in HTTP/1.0 or HTTP/1.1");
+  }
+
+  RequestHead out;
+  std::size_t headers = 0, hosts = 0, lengths = 0;
+  bool chunked_or_other = false, upgrade_ws = false;
+  while (pos < head.size()) {
+    const auto eol = head.find("\r\n", pos);
+    const std::string_view field = head.substr(pos, eol - pos);
+    pos = eol + 2;
+    if (++headers > limits.max_headers)
+      return refuse(431, "more than " + std::to_string(limits.max_headers) + " header fields");
+    if (field.empty() || field[0] == ' ' || field[0] == '\t')
+      return refuse(400, "folded or empty header lines are not allowed");
+    const auto colon = field.find(':');
+    if (colon == std::string_view::npos || colon == 0) return refuse(400, "a header field needs a name and a colon");
+    const std::string_view name = field.substr(0, colon);
+    for (unsigned char c : name)
+      if (!is_tchar(c)) return refuse(400, "a header name must be token characters");
+    const std::string_view value = trim_ows(field.substr(colon + 1));
+    for (unsigned char c : value)
+      if ((c < 0x20 && c != '\t') || c == 0x7f) return refuse(400, "a header value must not hold control characters");
+    if (iequals(name, "Host")) {
+      ++hosts;
+      if (value.empty() || value.find('/') != std::string_view::npos || value.find('@') != std::string_view::npos)
+        return refuse(400, "the Host header must be a host and optional port");
+      for (unsigned char c : value)
+        if (c >= 0x80) return refuse(400, "the Host header must be ASCII");
+    } else if (iequals(name, "Content-Length")) {
+      ++lengths;
+      if (value.empty() || value.size() > 18) return refuse(400, "Content-Length must be 1 to 18 decimal digits");
+      std::uint64_t n = 0;
+      for (unsigned char c : value) {
+        if (c < '0' || c > '9') return refuse(400, "Content-Length must be 1 to 18 decimal digits");
+        n = n * 10 + (c - '0');
+      }
+      out.content_length = n;
+    } else if (iequals(name, "Transfer-Encoding")) {
+      chunked_or_other = true;
+    } else if (iequals(name, "Upgrade")) {
+      upgrade_ws = iequals(value, "websocket");
+    }
+  }
+  if (lengths > 1) return refuse(400, "more than one Content-Length header");
+  if (chunked_or_other && lengths) return refuse(400, "Content-Length and Transfer-Encoding together");
+  if (chunked_or_other) return refuse(411, "request bodies need a Content-Length (no Transfer-Encoding)");
+  if (hosts > 1 || (hosts == 0 && version == "HTTP/1.1")) return refuse(400, "HTTP/1.1 requests need one Host header");
+  if (out.content_length > limits.max_body_bytes)
+    return refuse(413, "the body is larger than " + std::to_string(limits.max_body_bytes) + " bytes");
+  out.state = RequestHead::State::complete;
+  out.head_bytes = end + 4;
+  out.websocket = upgrade_ws && method == "GET";
+  return out;
+}
+
+std::string canned_problem(unsigned status, const std::string& detail, const std::string& extra_headers) {
+  const char* phrase = soup_status_get_phrase(status);
+  const std::string body = nlohmann::json{{"type", "about:blank"},
+                                          {"title", phrase ? phrase : "Error"},
+                                          {"status", status},
+                                          {"detail", detail}}
+                               .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  return "HTTP/1.1 " + std::to_string(status) + " " + (phrase ? phrase : "Error") +
+         "\r\nContent-Type: application/problem+json\r\nContent-Length: " + std::to_string(body.size()) +
+         "\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nConnection: close\r\n" + extra_headers +
+         "\r\n" + body;
+}
+
+bool WebSocketGuard::header_done() {
+  const bool masked = header_[1] & 0x80;
+  const unsigned len7 = header_[1] & 0x7f;
+  const std::size_t need = 2 + (len7 == 126 ? 2 : len7 == 127 ? 8 : 0) + (masked ? 4 : 0);
+  if (header_have_ < need) {
+    header_need_ = need;
+    return false;
+  }
+  std::uint64_t length = len7;
+  if (len7 == 126) length = (std::uint64_t(header_[2]) << 8) | header_[3];
+  if (len7 == 127) {
+    length = 0;
+    for (int i = 0; i < 8; ++i) length = (length << 8) | header_[2 + i];
+  }
+  const unsigned opcode = header_[0] & 0x0f;
+  const bool fin = header_[0] & 0x80;
+  if (opcode >= 8) {
+    if (length > 125 || !fin) error_ = "a WebSocket control frame must be whole and at most 125 bytes";
+  } else {
+    if (length > max_frame_) error_ = "a WebSocket frame is larger than " + std::to_string(max_frame_) + " bytes";
+    if (opcode != 0) message_bytes_ = 0;  // a new message starts
+    message_bytes_ += length;
+    if (message_bytes_ > max_message_)
+      error_ = "a WebSocket message is larger than " + std::to_string(max_message_) + " bytes";
+    if (fin) message_bytes_ = 0;
+  }
+  payload_left_ = length;
+  in_payload_ = true;
+  header_have_ = 0;
+  header_need_ = 2;
+  return true;
+}
+
+bool WebSocketGuard::feed(const unsigned char* data, std::size_t size) {
+  std::size_t i = 0;
+  while (error_.empty() && i < size) {
+    if (in_payload_) {
+      const std::uint64_t take = std::min<std::uint64_t>(payload_left_, size - i);
+      i += take;
+      payload_left_ -= take;
+      if (payload_left_ == 0) in_payload_ = false;
+      continue;
+    }
+    header_[header_have_++] = data[i++];
+    if (header_have_ >= header_need_ && header_done() && payload_left_ == 0) in_payload_ = false;
+  }
+  return error_.empty();
+}
+
+}  // namespace caustic::server
