@@ -95,6 +95,11 @@ TEST_F(ObjFiles, RejectsBadFiles) {
   MeshLimits small;
   small.max_vertices = 3;
   expect_error(kSquare, "more than 3 vertices", small);
+  // Statements a caustic face never needs are refused before the loader
+  // acts on them: a material library would be opened (here: read forever),
+  // a joint weight converted to int unchecked.
+  expect_error("mtllib ../../../../../../../../dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "\"mtllib\" is not supported");
+  expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nvw 1e39 1 0.5\nf 1 2 3\n", "\"vw\" is not supported");
 }
 
 TEST_F(ObjFiles, MissingFileIsAnError) {
@@ -138,6 +143,26 @@ TEST(Placement, EulerAnglesFollowThreeJsXyzOrder) {
   // Third row: (sin a sin c - cos a sin b cos c, ..., cos a cos b).
   EXPECT_NEAR(r[0][2], std::sin(a) * std::sin(c) - std::cos(a) * std::sin(b) * std::cos(c), 1e-12);
   EXPECT_NEAR(r[2][2], std::cos(a) * std::cos(b), 1e-12);
+}
+
+TEST(CheckGeometry, ThePublicCheckFollowsTheBoundingBoxAndIsStricter) {
+  const Mesh m = grid_mesh(plano_convex_lens(40, 10), 11, 11);
+  Scene s = scene_from_json(nlohmann::json{{"mesh", "lens.obj"}, {"screen", {{"center", {0, 0, -80}}}}}, ".");
+  const Placement p = place_object(s.object, m);
+  // A screen tilted 40 degrees: between the lens's corner (thin there) and
+  // the box's corner, the vertices pass but the box does not.
+  const double a = glm::radians(40.0);
+  s.screen.normal = {0, std::sin(a), std::cos(a)};
+  s.screen.up = {0, std::cos(a), -std::sin(a)};
+  double lowest_box = 1e300, lowest_mesh = 1e300;
+  for (const auto& corner : p.box) lowest_box = std::min(lowest_box, glm::dot(corner, s.screen.normal));
+  for (const glm::dvec3 v : m.positions) lowest_mesh = std::min(lowest_mesh, glm::dot(glm::dvec3(p.model * glm::dvec4(v, 1.0)), s.screen.normal));
+  ASSERT_LT(lowest_box, lowest_mesh - 0.1);
+  s.screen.center = {0, 0, 0.5 * (lowest_box + lowest_mesh) / s.screen.normal.z};
+  EXPECT_NO_THROW(check_geometry(s, m, p));
+  EXPECT_THROW(check_geometry_public(s, p), SceneError);
+  s.screen.center = {0, 0, (lowest_box - 1e-6) / s.screen.normal.z};
+  EXPECT_NO_THROW(check_geometry_public(s, p));
 }
 
 TEST(CheckGeometry, RejectsWhatTheRayModelCannotRepresent) {

@@ -65,6 +65,17 @@ TEST(SceneJson, FocusDistancePlacesTheScreen) {
   // An explicit centre wins.
   doc["screen"]["center"] = {0, 0, -5};
   EXPECT_EQ(scene_from_json(doc, ".").screen.center, glm::dvec3(0, 0, -5));
+  // A far object and a long focus may not put the screen beyond the limit
+  // that a written centre has (the parser once let it through).
+  doc["screen"].erase("center");
+  doc["object"]["position"] = {0, 0, -1e6};
+  doc["focus_distance"] = 1e6;
+  try {
+    scene_from_json(doc, ".");
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), "focus_distance");
+  }
 }
 
 TEST(SceneJson, UpIsMadePerpendicularToTheNormal) {

@@ -17,11 +17,14 @@ namespace caustic::testing {
 class ServerProcess {
  public:
   /// `environment`: variables added to the test's own; `binary`: another
-  /// causticd (an installed one).
+  /// causticd (an installed one); `wrapper`: a command that runs it (for
+  /// example prlimit and its arguments).
   explicit ServerProcess(std::vector<std::string> extra_args = {},
                          std::vector<std::pair<std::string, std::string>> environment = {},
-                         const std::string& binary = CAUSTICD_BINARY) {
-    std::vector<const char*> argv = {binary.c_str(), "serve", "--port", "0", "--ice-address", "127.0.0.1"};
+                         const std::string& binary = CAUSTICD_BINARY, const std::vector<std::string>& wrapper = {}) {
+    std::vector<const char*> argv;
+    for (const auto& w : wrapper) argv.push_back(w.c_str());
+    for (const char* a : {binary.c_str(), "serve", "--port", "0", "--ice-address", "127.0.0.1"}) argv.push_back(a);
     for (const auto& a : extra_args) argv.push_back(a.c_str());
     argv.push_back(nullptr);
     GError* error = nullptr;
@@ -76,7 +79,13 @@ class ServerProcess {
   void signal(int number) { g_subprocess_send_signal(process_, number); }
 
   const std::string& url() const { return url_; }
+  int port() const { return std::stoi(url_.substr(url_.rfind(':') + 1)); }
   GSubprocess* process() const { return process_; }
+  /// The process id as text ("" once it exited).
+  std::string pid() const {
+    const char* id = process_ ? g_subprocess_get_identifier(process_) : nullptr;
+    return id ? id : "";
+  }
 
  private:
   GSubprocess* process_ = nullptr;

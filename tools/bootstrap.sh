@@ -27,6 +27,7 @@ packages=(
   gstreamer1.0-nice gstreamer1.0-libav libsoup-3.0-dev
   libsystemd-dev systemd
   googletest libgtest-dev libgmock-dev libbenchmark-dev
+  clang libclang-rt-14-dev
   chromium
 )
 # Node.js and npm vendor three.js and run the browser tests. A machine that

@@ -20,13 +20,26 @@ bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y
 // tinyobjloader reads a malformed or non-finite number ("nan", "1e999",
 // "abc") as 0 without a word; a caustic face with a vertex silently moved
 // to the origin must be an error instead, with the line that holds it.
+// Only the statements a caustic face needs are read at all: "mtllib" would
+// make the loader open other files (a path to /dev/zero reads forever) and
+// "vw" converts an unchecked number to int.
 void check_numbers(const std::filesystem::path& file, const std::string& label) {
+  static const char* const kStatements[] = {"v", "vn", "vt", "f", "o", "g", "s", "l", "usemtl"};
   std::ifstream in(file);
   std::string line;
   for (std::size_t number = 1; std::getline(in, line); ++number) {
     std::istringstream words(line);
     std::string tag;
     words >> tag;
+    if (tag.empty() || tag[0] == '#') continue;
+    bool known = false;
+    for (const char* statement : kStatements) known = known || tag == statement;
+    if (!known) {
+      std::string shown;
+      for (unsigned char ch : tag.substr(0, 16)) shown += (ch >= 0x21 && ch < 0x7f) ? static_cast<char>(ch) : '?';
+      throw SceneError("mesh", "mesh file " + label + " line " + std::to_string(number) + ": the statement \"" + shown +
+                                   "\" is not supported (v, vn, vt, f, o, g, s, l, usemtl)");
+    }
     if (tag != "v" && tag != "vn" && tag != "vt") continue;
     std::string word;
     for (int k = 0; words >> word; ++k) {

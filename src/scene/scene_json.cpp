@@ -172,6 +172,11 @@ ScreenParams read_screen(Reader r, const std::optional<double>& focus_distance, 
   } else if (focus_distance) {
     r.get("center");
     s.center = object.position - *focus_distance * s.normal;
+    // The same bound a written centre has: a far object and a long focus
+    // must not produce a scene that validation then refuses.
+    for (int i = 0; i < 3; ++i)
+      if (std::abs(s.center[i]) > kMaxCoordinate)
+        throw SceneError("focus_distance", "places screen.center beyond the coordinate limit of 1e6");
   } else {
     s.center = r.vec3("center", s.center);
   }

@@ -1,0 +1,358 @@
+// Regression tests for what an outsider could do to `causticd serve`: each
+// one failed against the server before its fix. Black-box over loopback.
+#include "raw_http.hpp"
+#include "server_process.hpp"
+#include "ws_client.hpp"
+
+#include <cmath>
+#include <thread>
+
+using caustic::testing::http;
+using caustic::testing::Response;
+using caustic::testing::ServerProcess;
+using namespace caustic::testing;
+using nlohmann::json;
+
+namespace {
+
+json create_session(const ServerProcess& server, const std::string& scene = "lens") {
+  const Response r = http("POST", server.url() + "/api/v1/sessions", json{{"scene", scene}}.dump());
+  EXPECT_EQ(r.status, 201u) << r.body;
+  return r.json();
+}
+
+std::vector<std::pair<std::string, std::string>> bearer(const json& s) {
+  return {{"Authorization", "Bearer " + s["token"].get<std::string>()}};
+}
+
+std::string params_url(const ServerProcess& server, const json& s) {
+  return server.url() + "/api/v1/sessions/" + s["id"].get<std::string>() + "/params";
+}
+
+std::string signal_path(const json& s) { return s["signal_url"].get<std::string>(); }
+
+void expect_problem_answer(const std::string& answer, int status) {
+  EXPECT_EQ(raw_status(answer), status) << answer.substr(0, 300);
+  EXPECT_EQ(raw_header(answer, "Content-Type"), "application/problem+json") << answer.substr(0, 300);
+  const json body = json::parse(raw_body(answer), nullptr, false);
+  ASSERT_TRUE(body.is_object()) << answer.substr(0, 300);
+  EXPECT_EQ(body["status"], status);
+  EXPECT_TRUE(body["detail"].is_string());
+}
+
+int sessions_now(const ServerProcess& server) {
+  return http("GET", server.url() + "/api/v1/health").json()["sessions"].get<int>();
+}
+
+// Polls until the server holds `want` sessions or `seconds` pass.
+bool wait_sessions(const ServerProcess& server, int want, double seconds) {
+  for (int i = 0; i < seconds * 10; ++i) {
+    if (sessions_now(server) == want) return true;
+    g_usleep(100000);
+  }
+  return sessions_now(server) == want;
+}
+
+}  // namespace
+
+TEST(Hardening, KeepAliveClientsThatCloseLeaveNoDescriptorBehind) {
+  ServerProcess server;
+  const std::string before_health = http("GET", server.url() + "/api/v1/health").body;
+  const int baseline = open_descriptors(server.pid());
+  for (int i = 0; i < 200; ++i) {
+    // What curl and browsers do: keep-alive, read the answer, close.
+    const int fd = raw_connect(server.port());
+    ASSERT_GE(fd, 0);
+    raw_send(fd, "GET /api/v1/health HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: keep-alive\r\n\r\n");
+    const std::string answer = raw_read_all(fd, 5000);
+    EXPECT_EQ(raw_status(answer), 200);
+    EXPECT_EQ(raw_header(answer, "Connection"), "close");
+    ::close(fd);
+  }
+  int now = 0;
+  for (int i = 0; i < 50 && (now = open_descriptors(server.pid())) > baseline + 2; ++i) g_usleep(100000);
+  EXPECT_LE(now, baseline + 2) << "descriptors: " << baseline << " before, " << now << " after 200 requests";
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/health").body, before_health);
+}
+
+TEST(Hardening, MethodBytesThatAreNotUtf8Get400AndTheServerLives) {
+  ServerProcess server;
+  const std::vector<std::string> methods = {"\xff\xfe", "GE\xe9T", "G\x01T", std::string(40, 'A')};
+  for (const std::string& method : methods) {
+    for (const std::string path : {"/", "/api/v1/health", "/api/v1/sessions"}) {
+      const std::string answer = raw_request(server.port(), method + " " + path + " HTTP/1.1\r\nHost: x\r\n\r\n");
+      expect_problem_answer(answer, 400);
+      EXPECT_EQ(answer.find(method), std::string::npos) << "the method was echoed";
+    }
+  }
+  // An unknown but well-formed method is a 405 that does not repeat it.
+  const std::string answer = raw_request(server.port(), "BREW /api/v1/health HTTP/1.1\r\nHost: x\r\n\r\n");
+  expect_problem_answer(answer, 405);
+  EXPECT_EQ(raw_header(answer, "Allow"), "GET, HEAD");
+  EXPECT_EQ(raw_body(answer).find("BREW"), std::string::npos);
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
+}
+
+TEST(Hardening, DeeplyNestedJsonIsRefusedWithoutRecursion) {
+  ServerProcess server({"--set", "max_body_bytes=1048576"});
+  const json s = create_session(server);
+  const json before = http("GET", params_url(server, s), "", "", bearer(s)).json();
+  const std::string deep = "{\"post\":" + std::string(60000, '[') + std::string(60000, ']') + "}";
+  const Response r = http("PATCH", params_url(server, s), deep, "application/merge-patch+json", bearer(s));
+  EXPECT_EQ(r.status, 400u) << r.body.substr(0, 200);
+  EXPECT_NE(r.body.find("nested deeper"), std::string::npos) << r.body.substr(0, 200);
+  EXPECT_EQ(http("GET", params_url(server, s), "", "", bearer(s)).json(), before);
+}
+
+TEST(Hardening, AnOversizedBodyIsRefusedBeforeItIsSent) {
+  ServerProcess server;
+  const int fd = raw_connect(server.port());
+  ASSERT_GE(fd, 0);
+  // Only the head: the answer must come without a byte of the body.
+  raw_send(fd, "POST /api/v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+               "Content-Length: 134217728\r\n\r\n");
+  bool closed = false;
+  const std::string answer = raw_read_all(fd, 10000, &closed);
+  ::close(fd);
+  expect_problem_answer(answer, 413);
+  EXPECT_TRUE(closed);
+}
+
+TEST(Hardening, ChunkedAndAmbiguousBodyLengthsAreRefused) {
+  ServerProcess server;
+  const std::string post = "POST /api/v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n";
+  const std::string body = R"({"scene":"lens"})";
+  const std::string length = std::to_string(body.size());
+  expect_problem_answer(raw_request(server.port(), post + "Transfer-Encoding: chunked\r\n\r\n10\r\n" + body + "\r\n0\r\n\r\n"),
+                        411);
+  expect_problem_answer(
+      raw_request(server.port(), post + "Content-Length: " + length + "\r\nContent-Length: " + length + "\r\n\r\n" + body),
+      400);
+  expect_problem_answer(raw_request(server.port(), post + "Content-Length: +" + length + "\r\n\r\n" + body), 400);
+  expect_problem_answer(raw_request(server.port(), post + "Content-Length: " + length + "\r\nTransfer-Encoding: chunked\r\n\r\n" + body),
+                        400);
+  EXPECT_EQ(sessions_now(server), 0);
+}
+
+TEST(Hardening, JsonFollowedByANulByteIsRefused) {
+  ServerProcess server;
+  const json s = create_session(server);
+  const json before = http("GET", params_url(server, s), "", "", bearer(s)).json();
+  const std::string body = std::string(R"({"object": {"ior": 1.7}})") + '\0' + "junk";
+  const Response r = http("PATCH", params_url(server, s), body, "application/merge-patch+json", bearer(s));
+  EXPECT_EQ(r.status, 400u) << r.body;
+  EXPECT_NE(r.body.find("at byte 24"), std::string::npos) << r.body;  // where it broke
+  EXPECT_EQ(http("GET", params_url(server, s), "", "", bearer(s)).json(), before);
+}
+
+TEST(Hardening, AFragmentedWebSocketMessageOverTheLimitClosesTheSocket) {
+  ServerProcess server;
+  const json s = create_session(server);
+  const int fd = ws_open(server.port(), signal_path(s));
+  ASSERT_GE(fd, 0);
+  // 16 fragments of 32 KiB: each frame is small, the message is 512 KiB.
+  bool sent_all = ws_send_frame(fd, 1, false, std::string(32768, 'x'));
+  for (int i = 0; i < 15 && sent_all; ++i) sent_all = ws_send_frame(fd, 0, i == 14, std::string(32768, 'x'));
+  bool closed = false;
+  raw_read_all(fd, 10000, &closed);
+  ::close(fd);
+  EXPECT_TRUE(closed) << "the server kept reading the message";
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
+}
+
+TEST(Hardening, IdleAndTricklingClientsAreClosedAfterTheHeadTimeout) {
+  ServerProcess server({"--set", "header_timeout_s=1"});
+  const int idle = raw_connect(server.port());
+  const int loris = raw_connect(server.port());
+  ASSERT_GE(idle, 0);
+  ASSERT_GE(loris, 0);
+  const std::string head = "GET /api/v1/health HTTP/1.1\r\nHost: x\r\n";
+  bool loris_closed = false;
+  std::string loris_answer;
+  // One byte every 200 ms: never a whole head within the second allowed.
+  for (std::size_t i = 0; i < head.size() && !loris_closed; ++i) {
+    raw_send(loris, head.substr(i, 1));
+    loris_answer += raw_read_all(loris, 200, &loris_closed);
+  }
+  bool idle_closed = false;
+  const std::string idle_answer = raw_read_all(idle, 10000, &idle_closed);
+  EXPECT_TRUE(loris_closed);
+  EXPECT_TRUE(idle_closed);
+  expect_problem_answer(idle_answer, 408);
+  ::close(idle);
+  ::close(loris);
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
+}
+
+TEST(Hardening, ConnectionsBeyondThePerAddressLimitGet503AtOnce) {
+  ServerProcess server({"--set", "max_connections_per_address=4"});
+  std::vector<int> held;
+  for (int i = 0; i < 4; ++i) held.push_back(raw_connect(server.port()));
+  g_usleep(200000);  // let the server accept them
+  const std::string answer = raw_request(server.port(), "GET /api/v1/health HTTP/1.1\r\nHost: x\r\n\r\n", 5000);
+  expect_problem_answer(answer, 503);
+  EXPECT_FALSE(raw_header(answer, "Retry-After").empty());
+  for (int fd : held) ::close(fd);
+  // Once they are gone, the address is welcome again.
+  int status = 0;
+  for (int i = 0; i < 50 && status != 200; ++i, g_usleep(100000))
+    status = raw_status(raw_request(server.port(), "GET /api/v1/health HTTP/1.1\r\nHost: x\r\n\r\n", 5000));
+  EXPECT_EQ(status, 200);
+}
+
+TEST(Hardening, AcceptingResumesAfterDescriptorsRanOut) {
+  // A process with few descriptors: idle clients use them all up.
+  ServerProcess server({"--set", "max_connections=1000", "--set", "max_connections_per_address=1000"}, {},
+                       CAUSTICD_BINARY, {"/usr/bin/prlimit", "--nofile=64:64"});
+  std::vector<int> held;
+  for (int i = 0; i < 120; ++i) {
+    const int fd = raw_connect(server.port());
+    if (fd >= 0) held.push_back(fd);
+  }
+  g_usleep(500000);
+  for (int fd : held) ::close(fd);
+  int status = 0;
+  for (int i = 0; i < 100 && status != 200; ++i, g_usleep(100000))
+    status = raw_status(raw_request(server.port(), "GET /api/v1/health HTTP/1.1\r\nHost: x\r\n\r\n", 2000));
+  EXPECT_EQ(status, 200) << "the server stopped accepting for good";
+  const std::string metrics = http("GET", server.url() + "/metrics").body;
+  EXPECT_EQ(metrics.find("causticd_accept_failures_total 0\n"), std::string::npos) << "descriptors never ran out";
+}
+
+TEST(Hardening, MutatingRequestsBeyondTheRateGet429WithRetryAfter) {
+  ServerProcess server({"--set", "rate_limit_per_s=1", "--set", "rate_limit_burst=4"});
+  const json s = create_session(server);  // one token
+  int ok = 0, limited = 0;
+  std::string retry_after;
+  for (int i = 0; i < 6; ++i) {
+    const Response r = http("PATCH", params_url(server, s), R"({"post": {"exposure": 1.5}})",
+                            "application/merge-patch+json", bearer(s));
+    if (r.status == 200u) ++ok;
+    if (r.status == 429u) {
+      ++limited;
+      EXPECT_EQ(r.content_type, "application/problem+json");
+    }
+  }
+  EXPECT_GE(ok, 3);
+  EXPECT_GE(limited, 1);
+  // Reads are never limited.
+  EXPECT_EQ(http("GET", params_url(server, s), "", "", bearer(s)).status, 200u);
+}
+
+TEST(Hardening, SessionsPerAddressAreLimited) {
+  ServerProcess server({"--set", "max_sessions_per_address=1", "--max-sessions", "4"});
+  create_session(server);
+  const Response r = http("POST", server.url() + "/api/v1/sessions", R"({"scene": "slab"})");
+  EXPECT_EQ(r.status, 429u) << r.body;
+  EXPECT_EQ(r.content_type, "application/problem+json");
+  EXPECT_EQ(sessions_now(server), 1);
+}
+
+TEST(Hardening, SessionCreationCanRequireAToken) {
+  const std::string token = "0123456789abcdef0123";
+  ServerProcess server({"--set", "session_create_token=" + token});
+  const std::string url = server.url() + "/api/v1/sessions";
+  EXPECT_EQ(http("POST", url, R"({"scene": "slab"})").status, 401u);
+  EXPECT_EQ(http("POST", url, R"({"scene": "slab"})", "application/json", {{"Authorization", "Bearer nope"}}).status,
+            401u);
+  // The scheme's case does not matter (RFC 9110 11.1).
+  EXPECT_EQ(http("POST", url, R"({"scene": "slab"})", "application/json", {{"Authorization", "bearer " + token}}).status,
+            201u);
+}
+
+TEST(Hardening, ASilentViewerLosesItsSession) {
+  ServerProcess server({"--set", "viewer_timeout_s=2"});
+  const json s = create_session(server);
+  const int fd = ws_open(server.port(), signal_path(s));
+  ASSERT_GE(fd, 0);
+  // It takes the offer and then says nothing: no answer, no RTCP, no ping.
+  ASSERT_TRUE(ws_read_text(fd, 20000).has_value());
+  EXPECT_TRUE(wait_sessions(server, 0, 2 + 5 + 5)) << "a silent viewer still holds its session";
+  ::close(fd);
+}
+
+TEST(Hardening, AViewerThatPingsKeepsItsSession) {
+  ServerProcess server({"--set", "viewer_timeout_s=2"});
+  const json s = create_session(server);
+  const int fd = ws_open(server.port(), signal_path(s));
+  ASSERT_GE(fd, 0);
+  for (int i = 0; i < 8; ++i) {  // 4 s, twice the timeout
+    ws_send_frame(fd, 1, true, R"({"type": "ping"})");
+    g_usleep(500000);
+  }
+  EXPECT_EQ(sessions_now(server), 1);
+  ::close(fd);
+}
+
+TEST(Hardening, ASecondSignallingSocketGetsAFreshOffer) {
+  ServerProcess server;
+  const json s = create_session(server);
+  const int first = ws_open(server.port(), signal_path(s));
+  ASSERT_GE(first, 0);
+  const auto offer1 = ws_read_text(first, 20000);
+  ASSERT_TRUE(offer1.has_value());
+  EXPECT_EQ(json::parse(*offer1)["type"], "offer");
+  const int second = ws_open(server.port(), signal_path(s));
+  ASSERT_GE(second, 0);
+  std::optional<std::string> message;
+  bool offered = false;
+  while (!offered && (message = ws_read_text(second, 20000)))
+    offered = json::parse(*message, nullptr, false).value("type", "") == "offer";
+  EXPECT_TRUE(offered) << "a reconnecting viewer got no offer";
+  ::close(first);
+  ::close(second);
+}
+
+TEST(Hardening, ScreenBisectionFindsThePublicBoxNotTheSurface) {
+  ServerProcess server;
+  // The public proxy of the lens: its slab's bounding box.
+  json proxy;
+  const json listing = http("GET", server.url() + "/api/v1/scenes").json();
+  for (const auto& scene : listing["scenes"])
+    if (scene["id"] == "lens") proxy = scene["proxy"];
+  ASSERT_TRUE(proxy.is_object());
+  const json s = create_session(server);
+  // A screen tilted 40 degrees about x: its plane meets the box at a corner,
+  // where a spherical cap is much thinner than the box.
+  const double a = 40.0 * M_PI / 180.0;
+  const double n[3] = {0, std::sin(a), std::cos(a)}, up[3] = {0, std::cos(a), -std::sin(a)};
+  auto place = [&](double z) {
+    return http("PATCH", params_url(server, s),
+                json{{"screen", {{"center", {0, 0, z}}, {"normal", {n[0], n[1], n[2]}}, {"up", {up[0], up[1], up[2]}}}}}
+                    .dump(),
+                "application/merge-patch+json", bearer(s));
+  };
+  ASSERT_EQ(place(-80).status, 200u) << place(-80).body;
+  double lo = -80, hi = 0;  // lo: accepted, hi: refused
+  for (int i = 0; i < 40; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (place(mid).status == 200u ? lo : hi) = mid;
+  }
+  // The boundary the proxy predicts: the plane through (0, 0, z) touches
+  // the box's lowest corner along n.
+  const double c[3] = {proxy["center"][0], proxy["center"][1], proxy["center"][2]};
+  const double w = proxy["outline"][0], h = proxy["outline"][1], t = proxy["thickness"];
+  double lowest = 1e300;
+  for (int i = 0; i < 8; ++i) {
+    const double p[3] = {c[0] + ((i & 1) ? 0.5 : -0.5) * w, c[1] + ((i & 2) ? 0.5 : -0.5) * h,
+                         c[2] + ((i & 4) ? 0.5 : -0.5) * t};
+    lowest = std::min(lowest, p[0] * n[0] + p[1] * n[1] + p[2] * n[2]);
+  }
+  EXPECT_NEAR(lo, lowest / n[2], 1e-6) << "the refusals follow something other than the public box";
+}
+
+TEST(Hardening, AnswersCarryAllowAndSecurityHeadersAndNoPackageFiles) {
+  ServerProcess server;
+  const std::string page = raw_request(server.port(), "GET / HTTP/1.1\r\nHost: x\r\n\r\n");
+  EXPECT_EQ(raw_status(page), 200);
+  EXPECT_NE(raw_header(page, "Content-Security-Policy").find("frame-ancestors 'none'"), std::string::npos);
+  EXPECT_EQ(raw_header(page, "X-Frame-Options"), "DENY");
+  EXPECT_EQ(raw_header(page, "Referrer-Policy"), "no-referrer");
+  for (const char* file : {"/package.json", "/package-lock.json"})
+    expect_problem_answer(raw_request(server.port(), std::string("GET ") + file + " HTTP/1.1\r\nHost: x\r\n\r\n"), 404);
+  const std::string put = raw_request(server.port(), "PUT /api/v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\n\r\n");
+  expect_problem_answer(put, 405);
+  EXPECT_EQ(raw_header(put, "Allow"), "POST");
+  const std::string bad = raw_request(server.port(), "GET / HTTP/3.0\r\nHost: x\r\n\r\n");
+  expect_problem_answer(bad, 505);
+}
