@@ -117,35 +117,46 @@ TEST_F(CausticSrc, PatchShowsInTheNextFramesWithItsVersion) {
   ASSERT_TRUE(params);
   const std::uint64_t version = params->apply_patch({{"light", {{"direction", {0.15, 0.05, -1}}}}});
   EXPECT_EQ(version, 2u);
-  // The render thread draws it while frames keep going out: it shows within a few frames.
+  // The render thread draws it while frames keep going out: it shows a few
+  // frames later (how many depends on the machine's load; 300 is 10 s).
   Frame later = take(pull());
-  for (int i = 0; i < 10 && later.version != version; ++i) later = take(pull());
+  for (int i = 0; i < 300 && later.version != version; ++i) later = take(pull());
   EXPECT_EQ(later.version, version);
   EXPECT_NE(later.pixels, first.pixels);
   EXPECT_EQ(renders(), 2u);
 }
 
 TEST_F(CausticSrc, EachFrameTakesThePictureNewestWhenItIsDue) {
-  // 4 fps: a patch made 30 ms after a frame left (when the element has
-  // already been asked for the next one) is drawn long before that next one
-  // is due (a 64x64 picture), so the next frame must show it, not a picture
-  // taken when the previous frame left.
+  // A patch made 30 ms after a frame left (when the element has already
+  // been asked for the next one) and drawn before the next frame is due
+  // must be in that next frame, not a picture taken when the previous one
+  // left. Whether the drawing makes it in time depends on the machine's
+  // load, so each try checks only when it did (picture-version says when).
   start("causticsrc name=src scene=" + scene("slab") +
-        " width=64 height=64 framerate=4/1 ! appsink name=sink sync=false");
+        " width=64 height=64 framerate=2/1 ! appsink name=sink sync=false");
   auto params = caustic::gst::param_store(src_);
   ASSERT_TRUE(params);
   GstClock* clock = gst_element_get_clock(pipeline_.get());
   ASSERT_NE(clock, nullptr);
   const GstClockTime base = gst_element_get_base_time(pipeline_.get());
+  auto running_time = [&] { return gst_clock_get_time(clock) - base; };
   int checked = 0;
-  for (int k = 0; k < 12 && checked < 3; ++k) {
+  for (int k = 0; k < 60 && checked < 3; ++k) {
     const Frame left = take(pull());
     g_usleep(30'000);
-    // A loaded machine may hand over a frame late: patch only with 150 ms
-    // or more to go before the next frame is due.
-    if (gst_clock_get_time(clock) - base + 150 * GST_MSECOND > left.pts + GST_SECOND / 4) continue;
+    const GstClockTime due = left.pts + GST_SECOND / 2;
     const std::uint64_t version = params->apply_patch({{"light", {{"direction", {0.01 * (k + 1), 0.0, -1.0}}}}});
-    EXPECT_EQ(take(pull()).version, version) << k;
+    guint64 drawn = 0;
+    while (running_time() < due) {
+      g_object_get(src_, "picture-version", &drawn, nullptr);
+      if (drawn >= version) break;
+      g_usleep(1000);
+    }
+    // Ready with a margin before the frame was due: that frame must show it.
+    const bool in_time = drawn >= version && running_time() + 20 * GST_MSECOND < due;
+    const Frame next = take(pull());
+    if (!in_time) continue;
+    EXPECT_EQ(next.version, version) << k;
     ++checked;
   }
   gst_object_unref(clock);
@@ -168,9 +179,18 @@ TEST_F(CausticSrc, PreviewsWhilePatchesArriveThenTheFullFrame) {
   ASSERT_TRUE(params);
   std::vector<Frame> frames{take(pull())};
   EXPECT_EQ(frames[0].level, 0u);  // the first picture is a full one
-  // A light drag: one patch per frame interval (30 Hz) for 60 frames.
+  const std::uint64_t first_patch = params->version() + 1;
+  // A light drag: one patch per frame interval (30 Hz) for 60 frames. How
+  // many of its frames show previews depends on how fast this machine
+  // draws (a benchmark figure); which pictures are previews does not.
+  using Clock = std::chrono::steady_clock;
+  int pauses = 0;  // gaps between patches long enough to count as stillness
+  Clock::time_point last_patch{};
   for (int i = 0; i < 60; ++i) {
     params->apply_patch({{"light", {{"direction", {0.002 * i, 0.0, -1.0}}}}});
+    const auto published = params->snapshot().published;
+    if (i > 0 && published - last_patch >= std::chrono::milliseconds(150)) ++pauses;
+    last_patch = published;
     GstSample* s = pull();
     ASSERT_NE(s, nullptr) << "frame " << i;
     frames.push_back(take(s));
@@ -178,7 +198,8 @@ TEST_F(CausticSrc, PreviewsWhilePatchesArriveThenTheFullFrame) {
   const std::uint64_t last = params->version();
   // Then stillness: the full frame of the last parameters follows.
   Frame settled{};
-  for (int i = 0; i < 60 && !(settled.version == last && settled.level == 0); ++i) {
+  const auto give_up = Clock::now() + std::chrono::seconds(30);
+  while (Clock::now() < give_up && !(settled.version == last && settled.level == 0)) {
     frames.push_back(take(pull()));
     settled = frames.back();
   }
@@ -188,9 +209,17 @@ TEST_F(CausticSrc, PreviewsWhilePatchesArriveThenTheFullFrame) {
   for (std::size_t i = 1; i < frames.size(); ++i)
     EXPECT_EQ(frames[i].pts - frames[i - 1].pts, gst_util_uint64_scale(i, GST_SECOND, 30) -
                                                      gst_util_uint64_scale(i - 1, GST_SECOND, 30)) << i;
-  int previews = 0;
-  for (std::size_t i = 1; i <= 60; ++i) previews += frames[i].level == 1;
-  EXPECT_GT(previews, 40) << "the drag was shown mostly as previews";
+  // The pictures drawn for the drag's versions: previews, except the first
+  // change (a click until proven a drag), any change after a pause in the
+  // patches, and the settled last one.
+  int drawn_full = 0, drawn_previews = 0;
+  for (std::size_t i = 1; i < frames.size(); ++i) {
+    const bool new_picture = frames[i].version != frames[i - 1].version || frames[i].level != frames[i - 1].level;
+    if (!new_picture || frames[i].version < first_patch || (frames[i].version == last && frames[i].level == 0)) continue;
+    (frames[i].level == 0 ? drawn_full : drawn_previews) += 1;
+  }
+  EXPECT_GE(drawn_previews, 1) << "the drag was never shown as a preview";
+  EXPECT_LE(drawn_full, 1 + pauses) << "full pictures drawn while the patches kept coming";
 
   // The settled frame is exactly a full-quality render of the same parameters.
   caustic::GlContext context(caustic::egl_platform_from_environment());
@@ -208,10 +237,11 @@ TEST_F(CausticSrc, PreviewsWhilePatchesArriveThenTheFullFrame) {
   EXPECT_NE(frames[30].pixels, settled.pixels);
 
   // After a still spell, a lone change (a click) is drawn in full at once: no preview of it.
-  for (int i = 0; i < 12; ++i) gst_sample_unref(pull());  // 400 ms of stillness
+  // Stillness counts in real time, however late the frames come.
+  while (Clock::now() - params->snapshot().published < std::chrono::milliseconds(400)) gst_sample_unref(pull());
   const std::uint64_t click = params->apply_patch({{"light", {{"direction", {-0.05, 0.0, -1.0}}}}});
   Frame shown = take(pull());
-  for (int i = 0; i < 30 && shown.version != click; ++i) shown = take(pull());
+  for (int i = 0; i < 300 && shown.version != click; ++i) shown = take(pull());
   ASSERT_EQ(shown.version, click);
   EXPECT_EQ(shown.level, 0u);
 }

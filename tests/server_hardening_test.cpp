@@ -353,6 +353,31 @@ TEST(Hardening, AnswersCarryAllowAndSecurityHeadersAndNoPackageFiles) {
   const std::string put = raw_request(server.port(), "PUT /api/v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\n\r\n");
   expect_problem_answer(put, 405);
   EXPECT_EQ(raw_header(put, "Allow"), "POST");
-  const std::string bad = raw_request(server.port(), "GET / HTTP/3.0\r\nHost: x\r\n\r\n");
-  expect_problem_answer(bad, 505);
+  // What the HTTP library would have answered with an empty 400 or 404.
+  for (const char* line : {"GET / HTTP/3.0", "GET * HTTP/1.1", "CONNECT 127.0.0.1:80 HTTP/1.1", "GET /%00 HTTP/1.1",
+                           "GET /%zz HTTP/1.1", "GET /% HTTP/1.1", "GET /..%2f..%2fetc%2fpasswd HTTP/1.1",
+                           "GET /a|b HTTP/1.1"})
+    expect_problem_answer(raw_request(server.port(), std::string(line) + "\r\nHost: x\r\n\r\n"), 400);
+  expect_problem_answer(raw_request(server.port(), "GET / HTTP/1.1\r\nHost: x:y\r\n\r\n"), 400);
+  const json s = create_session(server);
+  const std::string handshake = "GET " + signal_path(s) +
+                                " HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                                "Sec-WebSocket-Key: short\r\nSec-WebSocket-Version: 13\r\n\r\n";
+  expect_problem_answer(raw_request(server.port(), handshake), 400);
+}
+
+TEST(Hardening, ABinarySignallingMessageGetsAnError) {
+  ServerProcess server;
+  const json s = create_session(server);
+  const int fd = ws_open(server.port(), signal_path(s));
+  ASSERT_GE(fd, 0);
+  ws_send_frame(fd, 2, true, std::string("\x01\x02\x03", 3));
+  bool errored = false;
+  for (int i = 0; i < 10 && !errored; ++i) {
+    const auto message = ws_read_text(fd, 10000);
+    if (!message) break;
+    errored = json::parse(*message, nullptr, false).value("type", "") == "error";
+  }
+  EXPECT_TRUE(errored);
+  ::close(fd);
 }

@@ -75,7 +75,7 @@ struct GstCausticSrcClass {
 G_DEFINE_TYPE(GstCausticSrc, gst_caustic_src, GST_TYPE_PUSH_SRC)
 
 enum { PROP_0, PROP_SCENE, PROP_WIDTH, PROP_HEIGHT, PROP_FRAMERATE, PROP_RENDERS, PROP_OVERRUNS, PROP_PROGRESSIVE, PROP_SETTLE_MS,
-       PROP_PREVIEW_DIVISOR, PROP_PREVIEW_MESH };
+       PROP_PREVIEW_DIVISOR, PROP_PREVIEW_MESH, PROP_PICTURE_VERSION };
 
 static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
     "src", GST_PAD_SRC, GST_PAD_ALWAYS,
@@ -114,6 +114,7 @@ static void gst_caustic_src_get_property(GObject* object, guint id, GValue* valu
     case PROP_FRAMERATE: gst_value_set_fraction(value, s.fps_n, s.fps_d); break;
     case PROP_RENDERS: g_value_set_uint64(value, s.source.renders.load()); break;
     case PROP_OVERRUNS: g_value_set_uint64(value, s.overruns.load()); break;
+    case PROP_PICTURE_VERSION: g_value_set_uint64(value, s.source.picture_version.load()); break;
     case PROP_PROGRESSIVE: g_value_set_boolean(value, s.source.progressive.enabled); break;
     case PROP_SETTLE_MS: g_value_set_uint(value, static_cast<guint>(s.source.progressive.settle.count())); break;
     case PROP_PREVIEW_DIVISOR: g_value_set_int(value, s.source.progressive.divisor); break;
@@ -314,6 +315,11 @@ static void gst_caustic_src_class_init(GstCausticSrcClass* klass) {
       g_param_spec_uint64("overruns", "Overruns",
                           "Frames sent while a render outlasted its frame interval (the previous picture went out again)",
                           0, G_MAXUINT64, 0, static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
+  g_object_class_install_property(
+      gobject, PROP_PICTURE_VERSION,
+      g_param_spec_uint64("picture-version", "Picture version",
+                          "Parameters version of the newest finished picture (the next frame due takes it)", 0,
+                          G_MAXUINT64, 0, static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
   g_object_class_install_property(
       gobject, PROP_PROGRESSIVE,
       g_param_spec_boolean("progressive", "Progressive", "Cheap previews while the parameters change, then one full frame",

@@ -31,10 +31,11 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     Scene caustic = snap.scene, before = source.seen_scene;
     caustic.post = before.post = PostParams{};
     if (source.seen == 0 || caustic != before) {
-      // A change long after the last one is a click, not a drag: worth its
-      // full frame at once. Stillness counts from when the change was made,
-      // not from when this thread, busy drawing, got round to noticing it.
-      source.isolated = source.seen == 0 || snap.published - source.changed_at >= source.progressive.lone;
+      // A change long after the one before it is a click, not a drag: worth
+      // its full frame at once. Both times are when the changes were made,
+      // not when this thread, busy drawing, got round to noticing them (on a
+      // loaded machine it notices one version in many, far apart).
+      source.isolated = source.seen == 0 || snap.published - snap.previous >= source.progressive.lone;
       source.changed_at = snap.published;
     }
     source.seen = snap.version;
@@ -109,6 +110,7 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     caustic_buffer_set_frame_meta(buffer, version, level);
     if (source.picture) gst_buffer_unref(source.picture);
     source.picture = buffer;
+    source.picture_version = version;
   }
   return gst_buffer_ref(source.picture);
 }
@@ -123,6 +125,7 @@ void release(FrameSource& source) {
     source.context.reset();
   }
   source.rendered = source.seen = 0;
+  source.picture_version = 0;
   source.rendered_level = full_quality;
   source.readback_pending = false;
 }

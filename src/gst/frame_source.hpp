@@ -47,6 +47,7 @@ struct FrameSource {
   bool isolated = true;          // that change came after a still spell: no preview for it
   bool readback_pending = false;
   std::atomic<std::uint64_t> renders{0};  // caustic passes so far (read from any thread)
+  std::atomic<std::uint64_t> picture_version{0};  // version of the newest finished picture, any thread
   std::function<void(const FrameStats&, std::uint64_t)> observer;  // after each render
 };
 

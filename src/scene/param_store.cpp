@@ -16,13 +16,18 @@ Scene ParamStore::admit(Scene candidate) const {
 
 ParamStore::Snapshot ParamStore::snapshot() const {
   std::lock_guard lock(mutex_);
-  return {scene_, version_.load(std::memory_order_relaxed), published_};
+  return {scene_, version_.load(std::memory_order_relaxed), published_, previous_};
+}
+
+void ParamStore::publish(Scene next) {
+  scene_ = std::move(next);
+  previous_ = published_;
+  published_ = std::chrono::steady_clock::now();
 }
 
 std::uint64_t ParamStore::apply_patch(const nlohmann::json& patch) {
   std::lock_guard lock(mutex_);
-  scene_ = admit(apply_merge_patch(scene_, patch));
-  published_ = std::chrono::steady_clock::now();
+  publish(admit(apply_merge_patch(scene_, patch)));
   return version_.fetch_add(1, std::memory_order_acq_rel) + 1;
 }
 
@@ -30,8 +35,7 @@ std::uint64_t ParamStore::replace(const Scene& scene) {
   validate_scene(scene);
   Scene next = admit(scene);
   std::lock_guard lock(mutex_);
-  scene_ = std::move(next);
-  published_ = std::chrono::steady_clock::now();
+  publish(std::move(next));
   return version_.fetch_add(1, std::memory_order_acq_rel) + 1;
 }
 

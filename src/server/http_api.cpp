@@ -246,6 +246,13 @@ void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path)
     const char* upgrade = soup_message_headers_get_one(soup_server_message_get_request_headers(msg), "Upgrade");
     if (!upgrade || g_ascii_strcasecmp(upgrade, "websocket") != 0)
       return reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST, "this is a WebSocket endpoint");
+    // The library would refuse a broken handshake with a bare 400; say why.
+    GError* error = nullptr;
+    if (!soup_websocket_server_check_handshake(msg, nullptr, nullptr, nullptr, &error)) {
+      const std::string why = error ? error->message : "invalid handshake";
+      if (error) g_error_free(error);
+      return reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST, "not a valid WebSocket handshake: " + why);
+    }
     return;
   }
   if (path == "/metrics") {

@@ -2,6 +2,8 @@
 
 #include <libsoup/soup.h>
 
+#include <cctype>
+
 #include <nlohmann/json.hpp>
 
 namespace caustic::server {
@@ -23,6 +25,65 @@ std::string_view trim_ows(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
   return s;
+}
+
+int hex_value(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+// What the HTTP library would refuse later with an empty answer is refused
+// here with a reason: characters outside RFC 3986's path and query sets,
+// broken or NUL percent escapes, and ".." segments hidden in escapes.
+const char* target_problem(std::string_view target) {
+  static constexpr std::string_view allowed = "-._~!$&'()*+,;=:@/?%";
+  for (unsigned char c : target)
+    if (!std::isalnum(c) && allowed.find(static_cast<char>(c)) == std::string_view::npos)
+      return "the request target holds a character that must be percent-encoded";
+  std::string path;
+  const std::string_view raw = target.substr(0, target.find('?'));
+  for (std::size_t i = 0; i < target.size(); ++i) {
+    if (target[i] != '%') {
+      if (i < raw.size()) path += target[i];
+      continue;
+    }
+    const int hi = i + 2 < target.size() ? hex_value(target[i + 1]) : -1;
+    const int lo = hi >= 0 ? hex_value(target[i + 2]) : -1;
+    if (hi < 0 || lo < 0) return "a percent sign in the request target must start an escape like %2F";
+    if (hi == 0 && lo == 0) return "the request target must not encode a NUL byte";
+    if (i < raw.size()) path += static_cast<char>(hi * 16 + lo);
+    i += 2;
+  }
+  if (path.find("/../") != std::string::npos || (path.size() >= 3 && path.compare(path.size() - 3, 3, "/..") == 0))
+    return "the request target must not climb with .. segments";
+  return nullptr;
+}
+
+// host = name or IPv4 or [IPv6], then an optional :port.
+bool host_ok(std::string_view value) {
+  std::string_view host = value;
+  if (!value.empty() && value[0] == '[') {
+    const auto close = value.find(']');
+    if (close == std::string_view::npos) return false;
+    for (char c : value.substr(1, close - 1))
+      if (hex_value(c) < 0 && c != ':' && c != '.') return false;
+    host = value.substr(0, close + 1);
+    value.remove_prefix(close + 1);
+  } else {
+    const auto colon = value.find(':');
+    host = value.substr(0, colon);
+    value.remove_prefix(colon == std::string_view::npos ? value.size() : colon);
+    if (host.empty()) return false;
+    for (unsigned char c : host)
+      if (!std::isalnum(c) && c != '.' && c != '-') return false;
+  }
+  if (value.empty()) return true;
+  if (value[0] != ':' || value.size() < 2 || value.size() > 6) return false;
+  for (char c : value.substr(1))
+    if (c < '0' || c > '9') return false;
+  return true;
 }
 
 RequestHead refuse(unsigned status, std::string detail) {
@@ -63,14 +124,11 @@ RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) 
   if (method.empty() || method.size() > 32) return refuse(400, "the method must be 1 to 32 token characters");
   for (unsigned char c : method)
     if (!is_tchar(c)) return refuse(400, "the method must be 1 to 32 token characters");
-  if (target.empty() || (target[0] != '/' && target != "*"))
-    return refuse(400, "the request target must be a path starting with /");
-  for (unsigned char c : target)
-    if (c <= 0x20 || c >= 0x7f) return refuse(400, "the request target must be printable ASCII");
-  if (version != "HTTP/1.1" && version != "HTTP/1.0") {
-    if (version.size() == 8 && version.substr(0, 5) == "HTTP/") return refuse(505, "only HTTP/1.0 and HTTP/1.1 are served");
-    return refuse(400, "the request line must end in HTTP/1.0 or HTTP/1.1");
-  }
+  if (target.empty() || target[0] != '/') return refuse(400, "the request target must be a path starting with /");
+  if (const char* why = target_problem(target)) return refuse(400, why);
+  if (version != "HTTP/1.1" && version != "HTTP/1.0") return refuse(400, "only HTTP/1.0 and HTTP/1.1 are served");
+  // CONNECT takes an authority, not a path; this server is no proxy.
+  if (method == "CONNECT") return refuse(400, "CONNECT is not served here");
 
   RequestHead out;
   std::size_t headers = 0, hosts = 0, lengths = 0;
@@ -93,10 +151,7 @@ RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) 
       if ((c < 0x20 && c != '\t') || c == 0x7f) return refuse(400, "a header value must not hold control characters");
     if (iequals(name, "Host")) {
       ++hosts;
-      if (value.empty() || value.find('/') != std::string_view::npos || value.find('@') != std::string_view::npos)
-        return refuse(400, "the Host header must be a host and optional port");
-      for (unsigned char c : value)
-        if (c >= 0x80) return refuse(400, "the Host header must be ASCII");
+      if (!host_ok(value)) return refuse(400, "the Host header must be a host name or address and an optional port");
     } else if (iequals(name, "Content-Length")) {
       ++lengths;
       if (value.empty() || value.size() > 18) return refuse(400, "Content-Length must be 1 to 18 decimal digits");

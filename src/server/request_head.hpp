@@ -27,7 +27,7 @@ struct RequestHead {
   std::uint64_t content_length = 0;  ///< 0 when absent
   bool websocket = false;            ///< GET with "Upgrade: websocket"
   // refused:
-  unsigned status = 0;  ///< 400, 411, 413, 431, 501 or 505
+  unsigned status = 0;  ///< 400, 411, 413 or 431
   std::string detail;   ///< ASCII; never quotes the request's bytes
 };
 

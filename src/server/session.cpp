@@ -291,10 +291,15 @@ void Session::attach(SoupWebsocketConnection* socket) {
   socket_message_ = g_signal_connect_data(
       socket_, "message",
       G_CALLBACK((+[](SoupWebsocketConnection*, gint type, GBytes* bytes, gpointer data) {
-        if (type != SOUP_WEBSOCKET_DATA_TEXT) return;
+        auto s = static_cast<Ref*>(data)->lock();
+        if (!s) return;
+        if (type != SOUP_WEBSOCKET_DATA_TEXT) {
+          s->send({{"type", "error"}, {"message", "signalling messages are JSON text, not binary"}});
+          return;
+        }
         gsize size = 0;
         const auto* text = static_cast<const char*>(g_bytes_get_data(bytes, &size));
-        if (auto s = static_cast<Ref*>(data)->lock()) s->on_socket_message(std::string(text, size));
+        s->on_socket_message(std::string(text, size));
       })),
       new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
   socket_closed_ = g_signal_connect_data(

@@ -24,6 +24,10 @@ class ParamStore {
     /// When this version was published: a renderer that notices it late
     /// still knows how long the parameters have been still.
     std::chrono::steady_clock::time_point published;
+    /// When the version before it was published (the epoch for the first):
+    /// whether a change came alone or amid others, however many versions
+    /// a busy renderer skipped.
+    std::chrono::steady_clock::time_point previous;
   };
 
   /// `resolve` turns every candidate scene into the one to render (for
@@ -47,6 +51,8 @@ class ParamStore {
   mutable std::mutex mutex_;
   Scene scene_;
   std::chrono::steady_clock::time_point published_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point previous_{};
+  void publish(Scene next);  // under mutex_
   std::atomic<std::uint64_t> version_{1};
   std::function<void(const Scene&)> check_;
   std::function<Scene(Scene)> resolve_;
