@@ -1,0 +1,56 @@
+// Starts the causticd under test with a generated config file and watches
+// the process: whether it lives, how many descriptors and threads it holds.
+#pragma once
+
+#include <sys/types.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "report.hpp"
+
+namespace campaign {
+
+using Config = std::vector<std::pair<std::string, std::string>>;
+
+class ServerProcess {
+ public:
+  ServerProcess(std::string binary, std::string folder) : binary_(std::move(binary)), folder_(std::move(folder)) {}
+  ~ServerProcess() { stop(); }
+
+  // Writes the config, drops keys this binary refuses (each one a failed
+  // check: the contract names them) and waits for "listening on".
+  bool start(Config config, KindReport& report);
+  // SIGTERM, then SIGKILL after a bounded wait.
+  void stop();
+  // False once the process exited; `why` says how.
+  bool alive(std::string* why = nullptr);
+  int port() const { return port_; }
+  pid_t pid() const { return pid_; }
+  int descriptors() const;  // entries of /proc/PID/fd, -1 when unreadable
+  int threads() const;      // Threads: of /proc/PID/status
+  std::string log_tail(size_t bytes = 2000) const;
+
+ private:
+  std::string binary_;
+  std::string folder_;
+  pid_t pid_ = -1;
+  int port_ = 0;
+  int exit_status_ = 0;
+  bool exited_ = false;
+  int starts_ = 0;  // serial of the latest start, names its logs
+  bool started_once_ = false;
+  std::vector<std::string> refused_keys_;  // learnt on the first start
+};
+
+// Raises RLIMIT_NOFILE to its hard limit (inherited by the server too).
+long raise_descriptor_limit();
+
+// GET a path with Connection: close; the body, or "" on any failure.
+std::string fetch_body(int port, const std::string& target, const std::string& token = "", int* status = nullptr);
+
+// The "sessions" of /api/v1/health, or -1.
+int session_count(int port);
+
+}  // namespace campaign
