@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <regex>
 
 #include <unistd.h>
@@ -92,4 +93,26 @@ TEST_F(Installed, SystemdUnitsVerifyAndReportTheirExposure) {
   const double exposure = std::stod(m[1]);
   std::printf("systemd-analyze security: exposure %.1f\n", exposure);
   EXPECT_LT(exposure, 2.0) << output;
+}
+
+TEST_F(Installed, UnitsGiveTheServerTheDescriptorsItsLimitsNeed) {
+  // The shipped configuration's connections and sessions (about 64
+  // descriptors a session) must fit under the unit's LimitNOFILE, or the
+  // server runs out of descriptors before it reaches its own limits.
+  std::ifstream conf(prefix_ / "etc/causticd/causticd.conf");
+  std::string line;
+  long connections = 0, sessions = 0;
+  std::smatch m;
+  while (std::getline(conf, line)) {
+    if (std::regex_match(line, m, std::regex("max_connections = ([0-9]+)"))) connections = std::stol(m[1]);
+    if (std::regex_match(line, m, std::regex("max_sessions = ([0-9]+)"))) sessions = std::stol(m[1]);
+  }
+  ASSERT_GT(connections, 0);
+  ASSERT_GT(sessions, 0);
+  for (const char* unit : {"causticd.service", "causticd@.service"}) {
+    std::ifstream in(prefix_ / "lib/systemd/system" / unit);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_TRUE(std::regex_search(text, m, std::regex("\nLimitNOFILE=([0-9]+)"))) << unit;
+    EXPECT_GE(std::stol(m[1]), connections + 64 * sessions + 64) << unit;
+  }
 }
