@@ -1,0 +1,45 @@
+#include "dct.hpp"
+
+#include <cmath>
+#include <mutex>
+#include <numbers>
+#include <stdexcept>
+
+namespace caustic::design {
+namespace {
+// FFTW's planner is not thread-safe; designs may run on several threads.
+std::mutex planner_mutex;
+}  // namespace
+
+double dct_mu(int k, int n) { return 2.0 - 2.0 * std::cos(std::numbers::pi * k / n); }
+
+DctSolver::DctSolver(int n, const std::function<double(int, int)>& eigenvalue) : n_(n), inverse_(std::size_t(n) * n) {
+  // REDFT10 followed by REDFT01 multiplies by 2n per axis.
+  const double scale = 4.0 * n * n;
+  for (int k = 0; k < n; ++k)
+    for (int l = 0; l < n; ++l) inverse_[std::size_t(k) * n + l] = (k || l) ? 1.0 / (eigenvalue(k, l) * scale) : 0.0;
+  std::lock_guard lock(planner_mutex);
+  buffer_ = fftw_alloc_real(std::size_t(n) * n);
+  if (!buffer_) throw std::bad_alloc();
+  forward_ = fftw_plan_r2r_2d(n, n, buffer_, buffer_, FFTW_REDFT10, FFTW_REDFT10, FFTW_ESTIMATE);
+  backward_ = fftw_plan_r2r_2d(n, n, buffer_, buffer_, FFTW_REDFT01, FFTW_REDFT01, FFTW_ESTIMATE);
+  if (!forward_ || !backward_) throw std::runtime_error("FFTW could not plan a " + std::to_string(n) + "^2 DCT");
+}
+
+DctSolver::~DctSolver() {
+  std::lock_guard lock(planner_mutex);
+  fftw_destroy_plan(forward_);
+  fftw_destroy_plan(backward_);
+  fftw_free(buffer_);
+}
+
+void DctSolver::solve(std::vector<double>& rhs) {
+  const std::size_t count = std::size_t(n_) * n_;
+  std::copy(rhs.begin(), rhs.begin() + count, buffer_);
+  fftw_execute(forward_);
+  for (std::size_t i = 0; i < count; ++i) buffer_[i] *= inverse_[i];
+  fftw_execute(backward_);
+  std::copy(buffer_, buffer_ + count, rhs.begin());
+}
+
+}  // namespace caustic::design
