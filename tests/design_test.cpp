@@ -171,15 +171,20 @@ TEST_F(Designer, EngineFluxEqualsTheEnteringFluxWithoutFresnel) {
 }
 
 TEST_F(Designer, SymmetricTargetGivesSymmetricHeightsAndTheSameDesignTwice) {
-  const Design d = design_face(picture(64, smooth_blobs), options(64));
-  const int w = d.grid.w;
-  double worst = 0;
-  for (int j = 0; j < w; ++j)
-    for (int i = 0; i < w; ++i)
-      worst = std::max(worst, std::abs(d.grid.height[std::size_t(j) * w + i] - d.grid.height[std::size_t(j) * w + w - 1 - i]));
-  EXPECT_LT(worst, 1e-9 * d.options.size);
-  const Design again = design_face(picture(64, smooth_blobs), options(64));
-  EXPECT_EQ(again.grid.height, d.grid.height) << "deterministic";
+  for (const bool regular : {false, true}) {
+    DesignOptions o = options(64);
+    o.resample = regular;
+    const Design d = design_face(picture(64, smooth_blobs), o);
+    const int w = d.grid.w;
+    double worst = 0;
+    for (int j = 0; j < w; ++j)
+      for (int i = 0; i < w; ++i)
+        worst = std::max(worst, std::abs(d.grid.height[std::size_t(j) * w + i] -
+                                         d.grid.height[std::size_t(j) * w + w - 1 - i]));
+    EXPECT_LT(worst, 1e-9 * d.options.size) << (regular ? "regular grid" : "warped grid");
+    const Design again = design_face(picture(64, smooth_blobs), o);
+    EXPECT_EQ(again.grid.height, d.grid.height) << "deterministic";
+  }
 }
 
 TEST_F(Designer, DoublingTheFocusHalvesTheRelief) {

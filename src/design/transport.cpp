@@ -78,19 +78,29 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 
 }  // namespace
 
-std::vector<glm::dvec2> lens_points(int n, const std::vector<double>& psi) {
+void gradient_points(int n, const std::vector<double>& psi, std::vector<glm::dvec2>& out) {
   const int w = n + 1;
-  std::vector<glm::dvec2> out(std::size_t(w) * w);
-  const double h = 1.0 / n;
-  for (int j = 0; j <= n; ++j)
+  out.resize(std::size_t(w) * w);
+  const double scale = 0.5 * n;  // 1 / (2 h)
+  for (int j = 0; j <= n; ++j) {
+    const int j0 = mirror(j - 1, n), j1 = mirror(j, n);
+    const double* row0 = &psi[at(n, 0, j0)];
+    const double* row1 = &psi[at(n, 0, j1)];
     for (int i = 0; i <= n; ++i) {
-      const int i0 = mirror(i - 1, n), i1 = mirror(i, n), j0 = mirror(j - 1, n), j1 = mirror(j, n);
-      const double p00 = psi[at(n, i0, j0)], p10 = psi[at(n, i1, j0)], p01 = psi[at(n, i0, j1)],
-                   p11 = psi[at(n, i1, j1)];
+      const int i0 = mirror(i - 1, n), i1 = mirror(i, n);
+      const double p00 = row0[i0], p10 = row0[i1], p01 = row1[i0], p11 = row1[i1];
       // Mirroring makes the normal component vanish on the border exactly.
-      const glm::dvec2 g{(p10 + p11 - p00 - p01) / (2 * h), (p01 + p11 - p00 - p10) / (2 * h)};
-      out[std::size_t(j) * w + i] = glm::dvec2(i * h, j * h) + g;
+      out[std::size_t(j) * w + i] = {(p10 + p11 - p00 - p01) * scale, (p01 + p11 - p00 - p10) * scale};
     }
+  }
+}
+
+std::vector<glm::dvec2> lens_points(int n, const std::vector<double>& psi) {
+  std::vector<glm::dvec2> out;
+  gradient_points(n, psi, out);
+  const int w = n + 1;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) out[std::size_t(j) * w + i] += glm::dvec2(i, j) / double(n);
   return out;
 }
 
@@ -130,8 +140,11 @@ TransportResult solve_transport(int n, const std::vector<double>& mass, const Tr
   const std::size_t cells = std::size_t(n) * n;
   TransportResult result;
   result.psi.assign(cells, 0.0);
+  // Buffers reused across iterations (fresh 4 MB vectors per iteration cost
+  // more in page faults than the arithmetic at 512^2).
   std::vector<double> target(cells), r(cells), d(cells), d_prev(cells), r_prev(cells), p(cells);
-  double max_mass = *std::max_element(mass.begin(), mass.end());
+  std::vector<glm::dvec2> x, dx;
+  const double max_mass = *std::max_element(mass.begin(), mass.end());
   for (int step = 1; step <= options.steps; ++step) {
     // Contrast homotopy: masses proportional to (m / max m)^t.
     const double t = static_cast<double>(step) / options.steps;
@@ -141,17 +154,31 @@ TransportResult solve_transport(int n, const std::vector<double>& mass, const Tr
     const bool last = step == options.steps;
     const double tolerance = last ? options.tolerance : std::max(options.tolerance, 1e-3);
     bool restart = true;
+    std::vector<double> history;
+    // x follows psi incrementally (lens points are linear in psi); it is
+    // rebuilt exactly at each step and every 64 iterations against drift.
     for (int it = 0; it < options.max_iterations; ++it) {
-      auto x = lens_points(n, result.psi);
-      const auto area = quad_areas(n, x);
+      if (it % 64 == 0) x = lens_points(n, result.psi);
       double l1 = 0;
-      for (std::size_t c = 0; c < cells; ++c) l1 += std::abs(r[c] = area[c] - target[c]);
+      const int w = n + 1;
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const std::size_t v00 = std::size_t(j) * w + i, v10 = v00 + 1, v01 = v00 + w, v11 = v01 + 1;
+          const std::size_t c = at(n, i, j);
+          l1 += std::abs(r[c] = 0.5 * cross(x[v11] - x[v00], x[v01] - x[v10]) - target[c]);
+        }
       result.residual = l1;
       if (progress) progress({step, options.steps, result.iterations, l1, 0.0});
       if (l1 < tolerance) break;
+      // Stalled: what is left is mostly near-checkerboard detail, which the
+      // four-cell gradient can barely move (its area Jacobian nearly
+      // vanishes there); more iterations buy little but time.
+      history.push_back(l1);
+      const std::size_t window = options.stall_window;
+      if (history.size() > window && l1 > (1 - options.stall_gain) * history[history.size() - 1 - window]) break;
       // Newton-like direction d = A^-1 r, made conjugate to the last one
       // (Polak-Ribiere, clipped at 0: a restart when it stops helping).
-      d = r;
+      std::copy(r.begin(), r.end(), d.begin());
       solver.solve(d);
       double beta = 0;
       if (!restart) {
@@ -160,15 +187,8 @@ TransportResult solve_transport(int n, const std::vector<double>& mass, const Tr
         beta = std::max(0.0, num / dot(r_prev, d_prev));
       }
       for (std::size_t c = 0; c < cells; ++c) p[c] = d[c] + beta * p[c];
-      const auto dx = [&] {
-        auto moved = lens_points(n, p);
-        // Displacement only: subtract the regular grid that lens_points adds.
-        const int w = n + 1;
-        for (int j = 0; j <= n; ++j)
-          for (int i = 0; i <= n; ++i) moved[std::size_t(j) * w + i] -= glm::dvec2(i, j) / double(n);
-        return moved;
-      }();
-      double a = best_step(n, x, dx, target);
+      gradient_points(n, p, dx);
+      const double a = best_step(n, x, dx, target);
       ++result.iterations;
       if (a == 0) {
         if (restart) break;  // even the plain Newton-like direction cannot improve: stuck
@@ -176,6 +196,7 @@ TransportResult solve_transport(int n, const std::vector<double>& mass, const Tr
         continue;
       }
       for (std::size_t c = 0; c < cells; ++c) result.psi[c] += a * p[c];
+      for (std::size_t v = 0; v < x.size(); ++v) x[v] += a * dx[v];
       std::swap(d_prev, d);
       std::swap(r_prev, r);
       restart = false;

@@ -23,6 +23,8 @@ struct TransportOptions {
   int steps = 6;             ///< homotopy m^t, t = 1/steps ... 1
   double tolerance = 1e-4;   ///< final sum |r|
   int max_iterations = 400;  ///< per step
+  int stall_window = 20;     ///< a step stops when `stall_window` iterations
+  double stall_gain = 0.1;   ///< cut the residual by less than this fraction
 };
 
 struct TransportResult {
