@@ -78,25 +78,25 @@ std::filesystem::path part_name(const std::filesystem::path& p) {
   return p.parent_path() / (p.stem().string() + ".part" + p.extension().string());
 }
 
-// Target | render, tone-mapped alike; halved (box filter) down to at most
-// 256 pixels a side so the picture stays small enough to share.
-Rgba8Image side_by_side(HdrImage left, HdrImage right, double exposure) {
+// Target | engine render [| reference render], tone-mapped alike; halved
+// (box filter) down to at most 256 pixels a side so the picture stays small
+// enough to share.
+Rgba8Image side_by_side(std::vector<HdrImage> panels, double exposure) {
   int factor = 1;
-  while (left.width / factor > 256 && left.width % (2 * factor) == 0) factor *= 2;
-  if (factor > 1) left = box_down(left, factor), right = box_down(right, factor);
-  const int w = left.width, h = left.height, gap = 4;
-  Rgba8Image out{2 * w + gap, h, std::vector<std::uint8_t>(std::size_t(2 * w + gap) * h * 4, 255)};
-  const auto put = [&](const HdrImage& img, int x0) {
+  while (panels[0].width / factor > 256 && panels[0].width % (2 * factor) == 0) factor *= 2;
+  if (factor > 1)
+    for (auto& p : panels) p = box_down(p, factor);
+  const int w = panels[0].width, h = panels[0].height, gap = 4, count = static_cast<int>(panels.size());
+  Rgba8Image out{count * w + (count - 1) * gap, h,
+                 std::vector<std::uint8_t>(std::size_t(count * w + (count - 1) * gap) * h * 4, 255)};
+  for (int k = 0; k < count; ++k)
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
-        const double v = std::pow(1 - std::exp(-exposure * std::max(0.0f, img.at(x, y))), 1 / 2.2);
+        const double v = std::pow(1 - std::exp(-exposure * std::max(0.0f, panels[k].at(x, y))), 1 / 2.2);
         const auto byte = static_cast<std::uint8_t>(std::lround(255 * std::clamp(v, 0.0, 1.0)));
-        std::uint8_t* px = &out.pixels[(std::size_t(y) * out.width + x0 + x) * 4];
+        std::uint8_t* px = &out.pixels[(std::size_t(y) * out.width + k * (w + gap) + x) * 4];
         px[0] = px[1] = px[2] = byte;
       }
-  };
-  put(left, 0);
-  put(right, w + gap);
   return out;
 }
 
@@ -173,8 +173,11 @@ int run_design(DesignCommandOptions o) {
       if (!out) throw std::runtime_error(o.scene.string() + ": write failed");
     }
     if (!o.solid.empty()) design::write_solid_obj(design::solid_mesh(d.grid, r.flat_offset), part(o.solid));
-    if (!o.side_by_side.empty())
-      write_png(side_by_side(design::target_irradiance(d), engine->render, scene.post.exposure), part(o.side_by_side));
+    if (!o.side_by_side.empty()) {
+      std::vector<HdrImage> panels{design::target_irradiance(d), engine->render};
+      if (reference) panels.push_back(reference->render);
+      write_png(side_by_side(std::move(panels), scene.post.exposure), part(o.side_by_side));
+    }
     report["seconds_total"] = r.seconds + (engine ? engine->seconds : 0.0);
     if (!o.report.empty()) {
       std::ofstream out(part(o.report));
@@ -223,7 +226,7 @@ std::function<int()> add_design_command(CLI::App& app) {
   cmd->add_flag("--verify", opt->verify, "Also trace the design with the reference photon tracer");
   cmd->add_option("--photons", opt->photons, "Photons for --verify")
       ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1} << 34));
-  cmd->add_option("--side-by-side", opt->side_by_side, "PNG: target | engine render");
+  cmd->add_option("--side-by-side", opt->side_by_side, "PNG: target | engine render (| reference render with --verify)");
   cmd->add_option("--report", opt->report, "JSON file with every figure");
   cmd->add_flag("--no-check", opt->no_check, "Skip the engine render (no OpenGL needed)");
   cmd->add_flag("--regular-grid", opt->regular, "Resample the face onto a regular lens grid (no sliver triangles)");

@@ -31,14 +31,16 @@ struct Verification {
   HdrImage render;            ///< relative irradiance, design.n pixels per side
 };
 
-/// Compares a relative-irradiance image (design.n x design.n) with the target.
-Verification compare_with_target(const Design& design, const HdrImage& render, double exposure);
+/// Compares a relative-irradiance image (design.n x design.n) with the
+/// target, both box-filtered by `factor` first (which must divide design.n).
+Verification compare_with_target(const Design& design, const HdrImage& render, double exposure, int factor = 1);
 
 /// Renders the design with the engine (Fresnel off, so the target's mean of
 /// 1 is what should land) and compares. Needs a current GL 4.5 context.
 Verification verify_with_engine(const Design& design);
 
-/// The same with the independent photon tracer (`photons` photons).
+/// The same with the independent photon tracer (`photons` photons),
+/// compared on a grid of about 128 x 128 (box filter) where photon noise is small.
 Verification verify_with_reference(const Design& design, std::uint64_t photons);
 
 }  // namespace caustic::design
