@@ -2,6 +2,8 @@
 // renders with `causticd render` as written), and every kind of bad target
 // or flag rejected with exit 2, a message naming the file or flag, and no
 // output left behind.
+#include "causticd_runner.hpp"
+
 #include "caustic/image_io.hpp"
 #include "caustic/mesh.hpp"
 #include "caustic/scene.hpp"
@@ -19,33 +21,13 @@
 #include <string>
 
 namespace fs = std::filesystem;
+using namespace caustic::testing;
 
 namespace {
 
-struct CommandRun {
-  int status;
-  std::string output;  // stdout and stderr together
-};
-
-CommandRun causticd(const std::string& args) {
-  const std::string command = std::string(CAUSTICD_BINARY) + " " + args + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), &pclose);
-  CommandRun run{-1, ""};
-  std::array<char, 4096> buf;
-  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), pipe.get())) run.output.append(buf.data(), n);
-  const int raw = pclose(pipe.release());
-  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return run;
-}
-
 class DesignCli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("causticd_design_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = fresh_test_dir("causticd_design_"); }
   void TearDown() override { fs::remove_all(dir_); }
 
   // A 48x48 grey ramp with a bright disc, as an 8-bit PNG.
@@ -65,7 +47,7 @@ class DesignCli : public ::testing::Test {
   // Expects exit 2, `fragment` in the message and no face or scene written.
   void expect_rejected(const std::string& args, const std::string& fragment) {
     const fs::path face = dir_ / "face.obj";
-    const CommandRun run = causticd("design " + args + " -o " + face.string());
+    const CommandResult run = causticd("design " + args + " -o " + face.string());
     EXPECT_EQ(run.status, 2) << args << "\n" << run.output;
     EXPECT_NE(run.output.find(fragment), std::string::npos) << args << "\n" << run.output;
     for (const auto& entry : fs::directory_iterator(dir_)) {
@@ -83,7 +65,7 @@ TEST_F(DesignCli, DesignsAFaceWhoseSceneRendersAsWritten) {
   const fs::path target = good_target(), face = dir_ / "face.obj", scene = dir_ / "scenes" / "face.json";
   fs::create_directories(dir_ / "scenes");
   const fs::path solid = dir_ / "solid.obj", report = dir_ / "report.json", pair = dir_ / "pair.png";
-  const CommandRun r = causticd("design --target " + target.string() + " -o " + face.string() + " --scene-out " +
+  const CommandResult r = causticd("design --target " + target.string() + " -o " + face.string() + " --scene-out " +
                          scene.string() + " --resolution 32 --solid " + solid.string() + " --report " +
                          report.string() + " --side-by-side " + pair.string());
   ASSERT_EQ(r.status, 0) << r.output;
@@ -99,7 +81,7 @@ TEST_F(DesignCli, DesignsAFaceWhoseSceneRendersAsWritten) {
   EXPECT_EQ(j["tir_vertices"], 0);
   EXPECT_GT(j["engine"]["ssim"].get<double>(), 0.8);
   const fs::path png = dir_ / "render.png";
-  const CommandRun render = causticd("render --scene " + scene.string() + " -o " + png.string() + " --width 64 --height 64");
+  const CommandResult render = causticd("render --scene " + scene.string() + " -o " + png.string() + " --width 64 --height 64");
   EXPECT_EQ(render.status, 0) << render.output;
 }
 

@@ -13,12 +13,12 @@ namespace caustic::design {
 
 class DctSolver {
  public:
-  /// n x n grid (row-major, any axis order: the operator must be symmetric
-  /// in its two frequencies or given as eigenvalue(k_row, k_col)).
-  /// `eigenvalue(k, l)` of the operator for the mode cos(pi k (i + 1/2) / n)
+  /// n x n grid, row-major. `eigenvalue(k, l)` of the operator for the mode cos(pi k (i + 1/2) / n)
   /// cos(pi l (j + 1/2) / n); the (0, 0) mode is left out (zero mean), so the
-  /// function is never asked for it. Plans with FFTW_ESTIMATE: deterministic
-  /// and cheap to plan.
+  /// function is never asked for it; k indexes the row-major array's inner
+  /// (fast) axis frequency only when the operator is symmetric in k and l,
+  /// as every operator here is. Plans with FFTW_ESTIMATE: deterministic and
+  /// cheap to plan (FFTW_MEASURE costs over a second at 513^2).
   DctSolver(int n, const std::function<double(int, int)>& eigenvalue);
   ~DctSolver();
   DctSolver(const DctSolver&) = delete;
