@@ -8,9 +8,11 @@
 
 #include "caustic/design.hpp"
 #include "caustic/design_verify.hpp"
+#include "caustic/image_io.hpp"
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <map>
 
@@ -212,4 +214,28 @@ TEST_F(Designer, SolidIsWatertightAndThickEnough) {
   for (const auto& p : solid.positions) top = std::max(top, p.z);
   for (double h : d.grid.height) highest_face = std::max(highest_face, float(h));
   EXPECT_GE(top - highest_face, 3 - 1e-4);
+}
+
+TEST(DesignTarget, DecodesSrgbKeepsLinearFloatsAndBoxFiltersExactly) {
+  const auto dir = std::filesystem::temp_directory_path() / "causticd_design_target";
+  std::filesystem::create_directories(dir);
+  // 8-bit PNG: sRGB code 188 is linear 0.5 (IEC 61966-2-1: ((188/255 + 0.055) / 1.055)^2.4).
+  Rgba8Image png{4, 4, std::vector<std::uint8_t>(4 * 4 * 4, 188)};
+  write_png(png, dir / "grey.png");
+  const double expected = std::pow((188 / 255.0 + 0.055) / 1.055, 2.4);
+  for (float v : load_target(dir / "grey.png").pixels) EXPECT_NEAR(v, expected, 1e-6);
+  // Float EXR: already linear, read as it is.
+  HdrImage exr{6, 4, std::vector<float>(24)};
+  for (int p = 0; p < 24; ++p) exr.pixels[p] = 0.25f * (p % 6);
+  write_exr(exr, dir / "ramp.exr");
+  const Image loaded = load_target(dir / "ramp.exr");
+  EXPECT_EQ(loaded.pixels, exr.pixels);
+  // Centre square crop (columns 1..4 of 6), then 4 -> 2 cells: means of 2x2 blocks.
+  const Image cells = box_resample_square(loaded, 2);
+  ASSERT_EQ(cells.width, 2);
+  EXPECT_FLOAT_EQ(cells.at(0, 0), 0.25f * 1.5f);
+  EXPECT_FLOAT_EQ(cells.at(1, 1), 0.25f * 3.5f);
+  // An n x n picture comes back unchanged at n.
+  EXPECT_EQ(box_resample_square(box_resample_square(loaded, 4), 4).pixels, box_resample_square(loaded, 4).pixels);
+  std::filesystem::remove_all(dir);
 }

@@ -55,7 +55,10 @@ Design design_face(const Image& target, const DesignOptions& options, const Prog
   for (double& m : d.mass) m /= sum;
   d.floor_mass = options.black_floor / sum;
 
-  const TransportOptions topt{options.homotopy_steps, options.tolerance, options.max_iterations};
+  TransportOptions topt;
+  topt.steps = options.homotopy_steps;
+  topt.tolerance = options.tolerance;
+  topt.max_iterations = options.max_iterations;
   ProgressFn timed;
   if (progress) timed = [&](const Progress& p) { Progress q = p; q.seconds = seconds(); progress(q); };
   TransportResult map = solve_transport(n, d.mass, topt, timed);

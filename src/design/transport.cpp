@@ -152,7 +152,7 @@ TransportResult solve_transport(int n, const std::vector<double>& mass, const Tr
     for (std::size_t c = 0; c < cells; ++c) sum += target[c] = std::pow(mass[c] / max_mass, t);
     for (double& m : target) m /= sum;
     const bool last = step == options.steps;
-    const double tolerance = last ? options.tolerance : std::max(options.tolerance, 1e-3);
+    const double tolerance = last ? options.tolerance : std::max(options.tolerance, options.step_tolerance);
     bool restart = true;
     std::vector<double> history;
     // x follows psi incrementally (lens points are linear in psi); it is

@@ -22,6 +22,10 @@ namespace caustic::design {
 struct TransportOptions {
   int steps = 6;             ///< homotopy m^t, t = 1/steps ... 1
   double tolerance = 1e-4;   ///< final sum |r|
+  /// Intermediate homotopy steps stop earlier: they only warm-start the next
+  /// one. Measured: 3e-3 instead of 1e-3 cut a 512^2 logo from 492 to 200
+  /// iterations with the same final residual (1.1e-3).
+  double step_tolerance = 3e-3;
   int max_iterations = 400;  ///< per step
   int stall_window = 20;     ///< a step stops when `stall_window` iterations
   double stall_gain = 0.1;   ///< cut the residual by less than this fraction
