@@ -25,10 +25,8 @@ using namespace caustic::testing;
 
 namespace {
 
-class DesignCli : public ::testing::Test {
+class DesignCli : public ScratchDirTest {
  protected:
-  void SetUp() override { dir_ = fresh_test_dir("causticd_design_"); }
-  void TearDown() override { fs::remove_all(dir_); }
 
   // A 48x48 grey ramp with a bright disc, as an 8-bit PNG.
   fs::path good_target() const {
@@ -56,7 +54,6 @@ class DesignCli : public ::testing::Test {
     }
   }
 
-  fs::path dir_;
 };
 
 }  // namespace
