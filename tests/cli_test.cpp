@@ -1,5 +1,7 @@
 // `causticd render` as a user runs it: every built-in scene to EXR and PNG,
 // and every kind of bad input rejected with a message and a non-zero exit.
+#include "causticd_runner.hpp"
+
 #include "caustic/image_io.hpp"
 
 #include <gtest/gtest.h>
@@ -13,43 +15,18 @@
 #include <string>
 
 namespace fs = std::filesystem;
+using namespace caustic::testing;
 
 namespace {
 
-struct CommandResult {
-  int status;
-  std::string output;  // stdout and stderr together
-};
-
-CommandResult causticd_with_env(const std::string& env, const std::string& args) {
-  const std::string command = env + " " + std::string(CAUSTICD_BINARY) + " " + args + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), &pclose);
-  CommandResult run{-1, ""};
-  std::array<char, 4096> buf;
-  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), pipe.get())) run.output.append(buf.data(), n);
-  const int raw = pclose(pipe.release());
-  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return run;
-}
-
-CommandResult causticd(const std::string& args) { return causticd_with_env("", args); }
-
-class Cli : public ::testing::Test {
+class Cli : public ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("causticd_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string scene(const std::string& name) const { return std::string(CAUSTIC_ASSET_DIR) + "/scenes/" + name + ".json"; }
   void expect_rejected(const std::string& args, const std::string& fragment) {
     const CommandResult r = causticd(args);
     EXPECT_EQ(r.status, 2) << args << "\n" << r.output;
     EXPECT_NE(r.output.find(fragment), std::string::npos) << args << "\n" << r.output;
   }
-  fs::path dir_;
 };
 
 }  // namespace

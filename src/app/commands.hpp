@@ -64,6 +64,10 @@ std::function<int()> add_calibrate_command(CLI::App& app);
 /// `causticd serve`: the streaming server.
 std::function<int()> add_serve_command(CLI::App& app);
 
+/// `causticd design`: target picture -> freeform face, scene and checks.
+/// Without CAUSTICD_WITH_DESIGN it only says that design is not built in.
+std::function<int()> add_design_command(CLI::App& app);
+
 /// `causticd check-config`: validates a configuration file.
 std::function<int()> add_check_config_command(CLI::App& app);
 

@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
                                            caustic::app::add_bench_command(app),
                                            caustic::app::add_calibrate_command(app),
                                            caustic::app::add_serve_command(app),
+                                           caustic::app::add_design_command(app),
                                            caustic::app::add_check_config_command(app)};
   try {
     app.parse(argc, argv);

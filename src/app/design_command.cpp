@@ -1,0 +1,245 @@
+// `causticd design`: from a target picture to the freeform face, its scene,
+// optionally the millable solid, a JSON report and a side-by-side picture.
+// Every output is written under a temporary name and renamed only once all
+// of them are complete, so a failure leaves nothing half-written.
+#include "commands.hpp"
+
+#ifdef CAUSTICD_WITH_DESIGN
+#include "caustic/design.hpp"
+#include "caustic/design_solid.hpp"
+#include "caustic/design_verify.hpp"
+#include "caustic/gl_context.hpp"
+#include "caustic/image_compare.hpp"
+#include "caustic/image_io.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#endif
+
+#include <iostream>
+
+namespace caustic::app {
+
+#ifdef CAUSTICD_WITH_DESIGN
+namespace {
+
+struct DesignCommandOptions {
+  std::filesystem::path target, face, scene, solid, report, side_by_side;
+  design::DesignOptions design;
+  bool force = false, verify = false, no_check = false, regular = false;
+  std::uint64_t photons = 4'000'000;
+};
+
+const char* kCommand = "causticd design: ";
+
+int bad(const std::string& message) {
+  std::cerr << kCommand << message << "\n";
+  return bad_input;
+}
+
+// Flags checked before any work; the message names the flag.
+int check_flags(DesignCommandOptions& o) {
+  const auto& d = o.design;
+  if (!(std::isfinite(d.size) && d.size > 0 && d.size <= 1e4)) return bad("--size: must be in (0, 10000] mm");
+  if (!(std::isfinite(d.focus) && d.focus > 0 && d.focus <= 1e6)) return bad("--focus: must be in (0, 1e6] mm");
+  if (!(std::isfinite(d.ior) && d.ior > 1 && d.ior <= 4)) return bad("--ior: must be in (1, 4]");
+  if (d.resolution < 16 || d.resolution > 2048)
+    return bad("--resolution: must be in [16, 1024] (up to 2048 with --force), got " + std::to_string(d.resolution));
+  if (d.resolution > 1024 && !o.force)
+    return bad("--resolution: " + std::to_string(d.resolution) + " needs --force (above 1024 the solve takes minutes)");
+  if (!(std::isfinite(d.black_floor) && d.black_floor >= 1e-6 && d.black_floor < 1))
+    return bad("--black-floor: must be in [1e-6, 1)");
+  if (!(std::isfinite(d.min_thickness) && d.min_thickness >= 0 && d.min_thickness <= 1e4))
+    return bad("--min-thickness: must be in [0, 10000] mm");
+  if (o.face.extension() != ".obj") return bad("--output " + o.face.string() + ": the face file must end in .obj");
+  if (o.scene.empty()) o.scene = std::filesystem::path(o.face).replace_extension(".json");
+  if (o.scene.extension() != ".json") return bad("--scene-out " + o.scene.string() + ": must end in .json");
+  if (!o.solid.empty() && o.solid.extension() != ".obj") return bad("--solid " + o.solid.string() + ": must end in .obj");
+  if (!o.side_by_side.empty() && o.side_by_side.extension() != ".png")
+    return bad("--side-by-side " + o.side_by_side.string() + ": must end in .png");
+  if (o.no_check && (o.verify || !o.side_by_side.empty()))
+    return bad("--no-check: cannot be combined with --verify or --side-by-side");
+  for (const auto* p : {&o.face, &o.scene, &o.solid, &o.report, &o.side_by_side}) {
+    if (p->empty()) continue;
+    const auto dir = std::filesystem::absolute(*p).parent_path();
+    if (!std::filesystem::is_directory(dir)) return bad(p->string() + ": folder " + dir.string() + " does not exist");
+  }
+  return ok;
+}
+
+// "face.obj" -> "face.part.obj": a sibling name that keeps the extension
+// (OpenImageIO picks the format from it).
+std::filesystem::path part_name(const std::filesystem::path& p) {
+  return p.parent_path() / (p.stem().string() + ".part" + p.extension().string());
+}
+
+// Target | engine render [| reference render], tone-mapped alike; halved
+// (box filter) down to at most 256 pixels a side so the picture stays small
+// enough to share.
+Rgba8Image side_by_side(std::vector<HdrImage> panels, double exposure) {
+  int factor = 1;
+  while (panels[0].width / factor > 256 && panels[0].width % (2 * factor) == 0) factor *= 2;
+  if (factor > 1)
+    for (auto& p : panels) p = box_down(p, factor);
+  const int w = panels[0].width, h = panels[0].height, gap = 4, count = static_cast<int>(panels.size());
+  Rgba8Image out{count * w + (count - 1) * gap, h,
+                 std::vector<std::uint8_t>(std::size_t(count * w + (count - 1) * gap) * h * 4, 255)};
+  for (int k = 0; k < count; ++k)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const double v = std::pow(1 - std::exp(-exposure * std::max(0.0f, panels[k].at(x, y))), 1 / 2.2);
+        const auto byte = static_cast<std::uint8_t>(std::lround(255 * std::clamp(v, 0.0, 1.0)));
+        std::uint8_t* px = &out.pixels[(std::size_t(y) * out.width + k * (w + gap) + x) * 4];
+        px[0] = px[1] = px[2] = byte;
+      }
+  return out;
+}
+
+nlohmann::json verification_json(const design::Verification& v) {
+  return {{"seconds", v.seconds}, {"ssim", v.ssim}, {"relative_l1", v.relative_l1}, {"leak", v.leak},
+          {"target_leak", v.ideal_leak}, {"landed", v.landed}};
+}
+
+void print_verification(const char* who, const design::Verification& v) {
+  std::printf("%s: SSIM %.4f, relative L1 %.2f%%, light on black %.3f%% (target %.3f%%), landed %.4f, %.2f s\n", who,
+              v.ssim, 100 * v.relative_l1, 100 * v.leak, 100 * v.ideal_leak, v.landed, v.seconds);
+}
+
+int run_design(DesignCommandOptions o) {
+  if (const int status = check_flags(o); status != ok) return status;
+  design::Image target;
+  try {
+    target = design::load_target(o.target);
+  } catch (const design::TargetError& e) {
+    return bad(std::string("--target ") + e.what());
+  }
+  o.design.resample = o.regular;
+  const bool bar = isatty(STDERR_FILENO);
+  design::ProgressFn progress;
+  if (bar)
+    progress = [last = -1.0](const design::Progress& p) mutable {
+      if (p.seconds - last < 0.1) return;
+      last = p.seconds;
+      std::fprintf(stderr, "\rtransport: contrast step %d/%d, iteration %d, residual %.2e, %.1f s   ", p.step,
+                   p.steps, p.iteration, p.residual, p.seconds);
+      std::fflush(stderr);
+    };
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> written;  // part -> final
+  const auto part = [&](const std::filesystem::path& final_name) {
+    written.emplace_back(part_name(final_name), final_name);
+    return written.back().first;
+  };
+  const int status = run_reporting("design", o.target, [&] {
+    design::Design d;
+    try {
+      d = design::design_face(target, o.design, progress);
+    } catch (const design::TargetError& e) {
+      throw SceneError("", e.what());
+    } catch (const std::invalid_argument& e) {
+      throw SceneError("", std::string("--") + e.what());
+    }
+    if (bar) std::fprintf(stderr, "\n");
+    const auto& r = d.report;
+    nlohmann::json report = {
+        {"target", o.target.string()}, {"resolution", d.n}, {"size_mm", o.design.size}, {"focus_mm", o.design.focus},
+        {"ior", o.design.ior}, {"black_floor", o.design.black_floor}, {"design_seconds", r.seconds},
+        {"transport_residual", r.transport_residual}, {"iterations", r.iterations}, {"snell_passes", r.snell_passes},
+        {"tir_vertices", r.tir_vertices}, {"max_slope_deg", r.max_slope_deg}, {"relief_mm", r.relief},
+        {"min_thickness_mm", r.min_thickness}, {"resampled", o.design.resample}};
+    std::optional<design::Verification> engine, reference;
+    if (!o.no_check) {
+      GlContext context(egl_platform_from_environment());
+      engine = design::verify_with_engine(d);
+      report["engine"] = verification_json(*engine);
+    }
+    if (o.verify) {
+      reference = design::verify_with_reference(d, o.photons);
+      report["reference"] = verification_json(*reference);
+      report["reference"]["photons"] = o.photons;
+    }
+    // Outputs: every file under its .part name first.
+    write_obj(d.face, part(o.face));
+    const auto scene_dir = std::filesystem::absolute(o.scene).parent_path();
+    const auto mesh_rel = std::filesystem::absolute(o.face).lexically_normal().lexically_relative(scene_dir.lexically_normal());
+    const Scene scene = design::design_scene(d, mesh_rel.generic_string(), std::clamp(d.n, 256, 1024));
+    {
+      std::ofstream out(part(o.scene));
+      out << scene_to_json(scene).dump(2) << "\n";
+      if (!out) throw std::runtime_error(o.scene.string() + ": write failed");
+    }
+    if (!o.solid.empty()) design::write_solid_obj(design::solid_mesh(d.grid, r.flat_offset), part(o.solid));
+    if (!o.side_by_side.empty()) {
+      std::vector<HdrImage> panels{design::target_irradiance(d), engine->render};
+      if (reference) panels.push_back(reference->render);
+      write_png(side_by_side(std::move(panels), scene.post.exposure), part(o.side_by_side));
+    }
+    report["seconds_total"] = r.seconds + (engine ? engine->seconds : 0.0);
+    if (!o.report.empty()) {
+      std::ofstream out(part(o.report));
+      out << report.dump(2) << "\n";
+      if (!out) throw std::runtime_error(o.report.string() + ": write failed");
+    }
+    for (const auto& [from, to] : written) std::filesystem::rename(from, to);
+    written.clear();
+
+    std::printf("design: %d^2 cells in %.2f s (transport %d iterations, residual %.1e; %d Snell pass%s)\n", d.n,
+                r.seconds, r.iterations, r.transport_residual, r.snell_passes, r.snell_passes == 1 ? "" : "es");
+    std::printf("face: relief %.3f mm, max slope %.1f deg, %d TIR vertices, thinnest glass %.2f mm, flat face at z = %.3f mm\n",
+                r.relief, r.max_slope_deg, r.tir_vertices, r.min_thickness, r.flat_offset);
+    if (engine) print_verification("engine", *engine);
+    if (reference) print_verification("reference", *reference);
+    std::printf("wrote %s, %s", o.face.string().c_str(), o.scene.string().c_str());
+    for (const auto* p : {&o.solid, &o.report, &o.side_by_side})
+      if (!p->empty()) std::printf(", %s", p->string().c_str());
+    std::printf("\n");
+  }, bar ? "\n" : "");
+  for (const auto& [from, to] : written) {
+    std::error_code ignored;
+    std::filesystem::remove(from, ignored);
+  }
+  return status;
+}
+
+}  // namespace
+#endif
+
+std::function<int()> add_design_command(CLI::App& app) {
+#ifdef CAUSTICD_WITH_DESIGN
+  auto opt = std::make_shared<DesignCommandOptions>();
+  CLI::App* cmd = app.add_subcommand("design", "Design the freeform face that projects a target picture");
+  cmd->add_option("--target", opt->target, "Target picture (PNG, JPEG, EXR, TIFF, ...)")->required();
+  cmd->add_option("--output,-o", opt->face, "Freeform face to write (.obj, millimetres, vertex normals)")->required();
+  cmd->add_option("--scene-out", opt->scene, "Scene file to write (.json; default: beside the face)");
+  cmd->add_option("--size", opt->design.size, "Lens side, mm");
+  cmd->add_option("--focus", opt->design.focus, "Screen distance below the face, mm");
+  cmd->add_option("--ior", opt->design.ior, "Index of refraction (1.49: PMMA)");
+  cmd->add_option("--resolution", opt->design.resolution, "Cells per side (16..1024; 2048 with --force)");
+  cmd->add_flag("--force", opt->force, "Allow resolutions above 1024");
+  cmd->add_option("--black-floor", opt->design.black_floor, "Darkest density, relative to the brightest");
+  cmd->add_option("--min-thickness", opt->design.min_thickness, "Thinnest glass, mm");
+  cmd->add_option("--solid", opt->solid, "Also write the watertight slab (.obj) for milling");
+  cmd->add_flag("--verify", opt->verify, "Also trace the design with the reference photon tracer");
+  cmd->add_option("--photons", opt->photons, "Photons for --verify")
+      ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1} << 34));
+  cmd->add_option("--side-by-side", opt->side_by_side, "PNG: target | engine render (| reference render with --verify)");
+  cmd->add_option("--report", opt->report, "JSON file with every figure");
+  cmd->add_flag("--no-check", opt->no_check, "Skip the engine render (no OpenGL needed)");
+  cmd->add_flag("--regular-grid", opt->regular, "Resample the face onto a regular lens grid (no sliver triangles)");
+  return [cmd, opt] { return cmd->parsed() ? run_design(*opt) : -1; };
+#else
+  CLI::App* cmd = app.add_subcommand("design", "Design a freeform face (not built in)");
+  cmd->allow_extras();
+  return [cmd] {
+    if (!cmd->parsed()) return -1;
+    std::cerr << "causticd design: design is not built in (configure with -DCAUSTICD_WITH_DESIGN=ON)\n";
+    return static_cast<int>(bad_input);
+  };
+#endif
+}
+
+}  // namespace caustic::app

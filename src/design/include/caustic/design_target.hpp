@@ -1,0 +1,39 @@
+// Target pictures for the designer: reading any image OpenImageIO opens as
+// linear luminance, and box resampling onto the design grid.
+#pragma once
+
+#include "caustic/engine.hpp"
+
+#include <filesystem>
+#include <stdexcept>
+#include <vector>
+
+namespace caustic::design {
+
+/// A rejected target picture; the message names the file.
+class TargetError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Linear luminance, row 0 at the top.
+using Image = HdrImage;
+
+/// Largest picture accepted, per side and in pixels: a bound on memory, far
+/// above any useful design resolution.
+inline constexpr int kMaxTargetSide = 16384;
+inline constexpr long long kMaxTargetPixels = 1LL << 26;
+
+/// Reads `file` (PNG, JPEG, EXR, TIFF, ...) as linear luminance
+/// Y = 0.2126 R + 0.7152 G + 0.0722 B. Integer formats are taken as sRGB
+/// (the curve is undone) unless the file says it is linear; float formats as
+/// linear. Grey files use their one channel; alpha is ignored. Throws
+/// TargetError for an unreadable, empty, oversized or non-finite picture.
+Image load_target(const std::filesystem::path& file);
+
+/// Centre square crop of `image`, then a box filter onto n x n cells: every
+/// cell is the exact area-weighted mean of the pixels it covers, so a picture
+/// already n x n comes back unchanged.
+Image box_resample_square(const Image& image, int n);
+
+}  // namespace caustic::design

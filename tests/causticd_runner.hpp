@@ -1,0 +1,51 @@
+// Running the causticd binary from a test, as a user would: the exit status
+// and everything it printed, and a fresh scratch folder per test.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include <sys/wait.h>
+
+namespace caustic::testing {
+
+struct CommandResult {
+  int status;
+  std::string output;  // stdout and stderr together
+};
+
+/// Runs `CAUSTICD_BINARY args` with `env` assignments in front.
+inline CommandResult causticd_with_env(const std::string& env, const std::string& args) {
+  const std::string command = env + " " + std::string(CAUSTICD_BINARY) + " " + args + " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), &pclose);
+  CommandResult run{-1, ""};
+  std::array<char, 4096> buf;
+  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), pipe.get())) run.output.append(buf.data(), n);
+  const int raw = pclose(pipe.release());
+  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return run;
+}
+
+inline CommandResult causticd(const std::string& args) { return causticd_with_env("", args); }
+
+/// A test with its own empty scratch folder, dir_, named after the test and
+/// removed afterwards.
+class ScratchDirTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::temp_directory_path() /
+           (std::string("causticd_") + info->test_suite_name() + "_" + info->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path dir_;
+};
+
+}  // namespace caustic::testing

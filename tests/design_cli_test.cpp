@@ -1,0 +1,118 @@
+// `causticd design` as a user runs it: a small design end to end (its scene
+// renders with `causticd render` as written), and every kind of bad target
+// or flag rejected with exit 2, a message naming the file or flag, and no
+// output left behind.
+#include "causticd_runner.hpp"
+
+#include "caustic/image_io.hpp"
+#include "caustic/mesh.hpp"
+#include "caustic/scene.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <string>
+
+namespace fs = std::filesystem;
+using namespace caustic::testing;
+
+namespace {
+
+class DesignCli : public ScratchDirTest {
+ protected:
+
+  // A 48x48 grey ramp with a bright disc, as an 8-bit PNG.
+  fs::path good_target() const {
+    caustic::Rgba8Image img{48, 48, std::vector<std::uint8_t>(48 * 48 * 4, 255)};
+    for (int y = 0; y < 48; ++y)
+      for (int x = 0; x < 48; ++x) {
+        const bool disc = (x - 30) * (x - 30) + (y - 18) * (y - 18) < 64;
+        const auto v = static_cast<std::uint8_t>(disc ? 255 : 40 + 3 * x);
+        for (int c = 0; c < 3; ++c) img.pixels[(y * 48 + x) * 4 + c] = v;
+      }
+    const fs::path p = dir_ / "target.png";
+    caustic::write_png(img, p);
+    return p;
+  }
+
+  // Expects exit 2, `fragment` in the message and no face or scene written.
+  void expect_rejected(const std::string& args, const std::string& fragment) {
+    const fs::path face = dir_ / "face.obj";
+    const CommandResult run = causticd("design " + args + " -o " + face.string());
+    EXPECT_EQ(run.status, 2) << args << "\n" << run.output;
+    EXPECT_NE(run.output.find(fragment), std::string::npos) << args << "\n" << run.output;
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_TRUE(name.rfind("target", 0) == 0 || name.rfind("bad", 0) == 0) << "left behind: " << name;
+    }
+  }
+
+};
+
+}  // namespace
+
+TEST_F(DesignCli, DesignsAFaceWhoseSceneRendersAsWritten) {
+  const fs::path target = good_target(), face = dir_ / "face.obj", scene = dir_ / "scenes" / "face.json";
+  fs::create_directories(dir_ / "scenes");
+  const fs::path solid = dir_ / "solid.obj", report = dir_ / "report.json", pair = dir_ / "pair.png";
+  const CommandResult r = causticd("design --target " + target.string() + " -o " + face.string() + " --scene-out " +
+                         scene.string() + " --resolution 32 --solid " + solid.string() + " --report " +
+                         report.string() + " --side-by-side " + pair.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("engine: SSIM"), std::string::npos) << r.output;
+  for (const auto& p : {face, scene, solid, report, pair}) EXPECT_TRUE(fs::exists(p)) << p;
+  const caustic::Scene s = caustic::load_scene(scene);
+  EXPECT_EQ(s.mesh, "../face.obj");
+  const caustic::Mesh m = caustic::load_obj(s.mesh_path());
+  EXPECT_EQ(m.positions.size(), 33u * 33u);
+  EXPECT_DOUBLE_EQ(s.screen.center.z, -200.0);
+  std::ifstream in(report);
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["tir_vertices"], 0);
+  EXPECT_GT(j["engine"]["ssim"].get<double>(), 0.8);
+  const fs::path png = dir_ / "render.png";
+  const CommandResult render = causticd("render --scene " + scene.string() + " -o " + png.string() + " --width 64 --height 64");
+  EXPECT_EQ(render.status, 0) << render.output;
+}
+
+TEST_F(DesignCli, RejectsBadTargetsAndFlags) {
+  const fs::path target = good_target();
+  const std::string t = " --target " + target.string();
+  expect_rejected("--target " + (dir_ / "bad-missing.png").string(), "bad-missing.png");
+  {
+    std::ofstream(dir_ / "bad-empty.png");
+  }
+  expect_rejected("--target " + (dir_ / "bad-empty.png").string(), "bad-empty.png");
+  {
+    caustic::Rgba8Image black{16, 16, std::vector<std::uint8_t>(16 * 16 * 4, 0)};
+    caustic::write_png(black, dir_ / "bad-black.png");
+  }
+  expect_rejected("--target " + (dir_ / "bad-black.png").string(), "all black");
+  {
+    caustic::HdrImage nan{16, 16, std::vector<float>(256, 1.0f)};
+    nan.pixels[17] = std::numeric_limits<float>::quiet_NaN();
+    caustic::write_exr(nan, dir_ / "bad-nan.exr");
+    nan.pixels[17] = std::numeric_limits<float>::infinity();
+    caustic::write_exr(nan, dir_ / "bad-inf.exr");
+  }
+  expect_rejected("--target " + (dir_ / "bad-nan.exr").string(), "bad-nan.exr");
+  expect_rejected("--target " + (dir_ / "bad-inf.exr").string(), "infinite");
+  {
+    // A 20000 x 20000 grey PNM: only its header is read before the size check.
+    std::ofstream huge(dir_ / "bad-huge.pgm", std::ios::binary);
+    huge << "P5\n20000 20000\n255\n" << std::string(1024, '\x80');
+  }
+  expect_rejected("--target " + (dir_ / "bad-huge.pgm").string(), "too large");
+  expect_rejected(t + " --resolution 5000", "--resolution");
+  expect_rejected(t + " --resolution 2048", "--force");
+  expect_rejected(t + " --focus -5", "--focus");
+  expect_rejected(t + " --ior 0.5", "--ior");
+  expect_rejected(t + " --black-floor 0", "--black-floor");
+}
