@@ -199,6 +199,26 @@ TEST(Service, SighupAddsASceneWithoutDroppingTheRunningSession) {
   EXPECT_EQ(server.wait_exit(0), -1);  // still running
 }
 
+TEST(Service, RequestsAreAnsweredWhileTheGalleryReloads) {
+  // Eight scenes: re-reading meshes and drawing thumbnails takes seconds.
+  const fs::path scenes = scene_folder("reload_busy", {"lens", "slab", "cylinder", "wavy"});
+  for (const char* id : {"lens", "slab", "cylinder", "wavy"})
+    fs::copy_file(scenes / (std::string(id) + ".json"), scenes / (std::string(id) + "-b.json"));
+  NotifySocket notify(fs::temp_directory_path() / "causticd_notify_busy.sock");
+  ServerProcess server({"--scenes-dir", scenes.string()}, {{"NOTIFY_SOCKET", notify.path().string()}});
+  ASSERT_TRUE(notify.wait_for("READY=1", 30000));
+  server.signal(SIGHUP);
+  ASSERT_TRUE(notify.wait_for("RELOADING=1", 5000));
+  // Answered from the old gallery while the new one is drawn: READY=1,
+  // sent once the reload is over, has not come yet. (A reload on the main
+  // loop sent it before this request could even be read.)
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
+  EXPECT_EQ(scene_ids(server.url()).size(), 8u);
+  EXPECT_EQ(notify.next(0), "") << "the reload finished before a request was answered";
+  EXPECT_TRUE(notify.wait_for("READY=1", 60000));
+  fs::remove_all(scenes);
+}
+
 TEST(Service, SighupRereadsTheConfigurationAndKeepsItWhenBroken) {
   const fs::path dir = scene_folder("conf", {"lens"});
   const fs::path conf = dir / "causticd.conf";

@@ -36,34 +36,67 @@ void check_uri(const std::string& key, const std::string& value, const char* sch
 
 }  // namespace
 
+namespace {
+
+// Integer keys with nothing to check beyond their range: one table that
+// set_config_value and config_keys both read.
+struct IntKey {
+  const char* name;
+  int ServerConfig::*field;
+  int lo, hi;
+};
+constexpr IntKey kIntKeys[] = {
+    {"port", &ServerConfig::port, 0, 65535},
+    {"max_sessions", &ServerConfig::max_sessions, 1, 1000},
+    {"bitrate_kbps", &ServerConfig::bitrate_kbps, 100, 100000},
+    {"framerate", &ServerConfig::framerate, 1, 120},
+    {"keyframe_interval", &ServerConfig::keyframe_interval, 1, 10000},
+    {"idle_timeout_s", &ServerConfig::idle_timeout_s, 1, 86400},
+    {"egl_device", &ServerConfig::egl_device, -1, 63},
+    {"stall_timeout_s", &ServerConfig::stall_timeout_s, 2, 3600},
+    {"settle_ms", &ServerConfig::settle_ms, 0, 10000},
+    {"max_connections", &ServerConfig::max_connections, 8, 100000},
+    {"max_connections_per_address", &ServerConfig::max_connections_per_address, 1, 100000},
+    {"header_timeout_s", &ServerConfig::header_timeout_s, 1, 600},
+    {"body_timeout_s", &ServerConfig::body_timeout_s, 1, 3600},
+    {"connection_idle_timeout_s", &ServerConfig::connection_idle_timeout_s, 1, 3600},
+    {"rate_limit_per_s", &ServerConfig::rate_limit_per_s, 1, 100000},
+    {"rate_limit_burst", &ServerConfig::rate_limit_burst, 1, 100000},
+    {"max_sessions_per_address", &ServerConfig::max_sessions_per_address, 1, 1000},
+    {"viewer_timeout_s", &ServerConfig::viewer_timeout_s, 2, 3600},
+};
+
+// Keys whose values need more than a range; set_config_value handles each.
+constexpr const char* kOtherKeys[] = {"bind_address", "codec",         "width",          "height",
+                                      "stun_server",  "turn_server",   "ice_addresses",  "max_body_bytes",
+                                      "scenes_dir",   "web_dir",       "log_level",      "max_ws_message_bytes",
+                                      "session_create_token"};
+
+}  // namespace
+
 const std::vector<std::string>& config_keys() {
-  static const std::vector<std::string> keys = {
-      "bind_address", "port",        "max_sessions",      "codec",       "bitrate_kbps",   "framerate",
-      "width",        "height",      "keyframe_interval", "stun_server", "turn_server",    "ice_addresses",
-      "idle_timeout_s", "max_body_bytes", "scenes_dir",     "web_dir",     "log_level",      "egl_device",
-      "stall_timeout_s", "settle_ms",     "max_connections", "max_connections_per_address", "header_timeout_s",
-      "body_timeout_s", "connection_idle_timeout_s", "max_ws_message_bytes", "rate_limit_per_s", "rate_limit_burst",
-      "max_sessions_per_address", "viewer_timeout_s", "session_create_token"};
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> out(std::begin(kOtherKeys), std::end(kOtherKeys));
+    for (const auto& k : kIntKeys) out.push_back(k.name);
+    return out;
+  }();
   return keys;
 }
 
 void set_config_value(ServerConfig& c, const std::string& key, const std::string& raw) {
   const std::string value = trim(raw);
+  for (const auto& k : kIntKeys)
+    if (key == k.name) {
+      c.*k.field = parse_int(key, value, k.lo, k.hi);
+      return;
+    }
   if (key == "bind_address") {
     static const std::regex address("^[0-9.]+$|^[0-9a-fA-F:]+$|^localhost$");
     if (!std::regex_match(value, address)) throw ConfigError(key + ": must be an IP address, got \"" + value + "\"");
     c.bind_address = value;
-  } else if (key == "port") {
-    c.port = parse_int(key, value, 0, 65535);
-  } else if (key == "max_sessions") {
-    c.max_sessions = parse_int(key, value, 1, 1000);
   } else if (key == "codec") {
     if (value != "vp8" && value != "h264") throw ConfigError(key + ": must be vp8 or h264, got \"" + value + "\"");
     c.codec = value;
-  } else if (key == "bitrate_kbps") {
-    c.bitrate_kbps = parse_int(key, value, 100, 100000);
-  } else if (key == "framerate") {
-    c.framerate = parse_int(key, value, 1, 120);
   } else if (key == "width") {
     // The GPU writes I420 planes packed: widths in steps of 8, even heights.
     c.width = parse_int(key, value, 16, 4096);
@@ -71,8 +104,6 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
   } else if (key == "height") {
     c.height = parse_int(key, value, 16, 4096);
     if (c.height % 2) throw ConfigError(key + ": must be even, got " + value);
-  } else if (key == "keyframe_interval") {
-    c.keyframe_interval = parse_int(key, value, 1, 10000);
   } else if (key == "stun_server") {
     check_uri(key, value, "stun");
     c.stun_server = value;
@@ -93,10 +124,10 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
       start = comma + 1;
     }
     c.ice_addresses = list;
-  } else if (key == "idle_timeout_s") {
-    c.idle_timeout_s = parse_int(key, value, 1, 86400);
   } else if (key == "max_body_bytes") {
     c.max_body_bytes = static_cast<std::size_t>(parse_int(key, value, 1024, 16 * 1024 * 1024));
+  } else if (key == "max_ws_message_bytes") {
+    c.max_ws_message_bytes = static_cast<std::size_t>(parse_int(key, value, 4096, 16 * 1024 * 1024));
   } else if (key == "scenes_dir") {
     c.scenes_dir = value;
   } else if (key == "web_dir") {
@@ -106,32 +137,6 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
     if (!std::regex_match(value, level))
       throw ConfigError(key + ": must be error, warning, notice, info or debug, got \"" + value + "\"");
     c.log_level = value;
-  } else if (key == "egl_device") {
-    c.egl_device = parse_int(key, value, -1, 63);
-  } else if (key == "settle_ms") {
-    c.settle_ms = parse_int(key, value, 0, 10000);
-  } else if (key == "stall_timeout_s") {
-    c.stall_timeout_s = parse_int(key, value, 2, 3600);
-  } else if (key == "max_connections") {
-    c.max_connections = parse_int(key, value, 8, 100000);
-  } else if (key == "max_connections_per_address") {
-    c.max_connections_per_address = parse_int(key, value, 1, 100000);
-  } else if (key == "header_timeout_s") {
-    c.header_timeout_s = parse_int(key, value, 1, 600);
-  } else if (key == "body_timeout_s") {
-    c.body_timeout_s = parse_int(key, value, 1, 3600);
-  } else if (key == "connection_idle_timeout_s") {
-    c.connection_idle_timeout_s = parse_int(key, value, 1, 3600);
-  } else if (key == "max_ws_message_bytes") {
-    c.max_ws_message_bytes = static_cast<std::size_t>(parse_int(key, value, 4096, 16 * 1024 * 1024));
-  } else if (key == "rate_limit_per_s") {
-    c.rate_limit_per_s = parse_int(key, value, 1, 100000);
-  } else if (key == "rate_limit_burst") {
-    c.rate_limit_burst = parse_int(key, value, 1, 100000);
-  } else if (key == "max_sessions_per_address") {
-    c.max_sessions_per_address = parse_int(key, value, 1, 1000);
-  } else if (key == "viewer_timeout_s") {
-    c.viewer_timeout_s = parse_int(key, value, 2, 3600);
   } else if (key == "session_create_token") {
     static const std::regex token("^[A-Za-z0-9._~+/=-]{16,256}$");
     if (!value.empty() && !std::regex_match(value, token))
