@@ -381,3 +381,17 @@ TEST(Hardening, ABinarySignallingMessageGetsAnError) {
   EXPECT_TRUE(errored);
   ::close(fd);
 }
+
+TEST(Hardening, AHeadCutShortByTheClientIsAnsweredAtOnce) {
+  // Far longer than the test waits: only the client's half-close can end it.
+  ServerProcess server({"--set", "header_timeout_s=600"});
+  const int fd = raw_connect(server.port());
+  ASSERT_GE(fd, 0);
+  raw_send(fd, "GET /api/v1/health HTTP/1.1\r\nHost: x\r\n");
+  ::shutdown(fd, SHUT_WR);
+  bool closed = false;
+  const std::string answer = raw_read_all(fd, 30000, &closed);
+  ::close(fd);
+  expect_problem_answer(answer, 400);
+  EXPECT_TRUE(closed);
+}

@@ -5,6 +5,7 @@
 
 #include <netinet/in.h>
 #include <netinet/tcp.h>
+#include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -237,6 +238,13 @@ void Listener::peek(std::uint64_t id) {
       refuse(c.socket, head.status, head.detail);
       return drop(id);
     }
+  }
+  // A client that stopped sending (shut its side) with the head unfinished
+  // will never finish it: answer now rather than at the head timeout.
+  pollfd hangup{g_socket_get_fd(c.socket), POLLRDHUP, 0};
+  if (n > 0 && ::poll(&hangup, 1, 0) == 1 && (hangup.revents & (POLLRDHUP | POLLHUP))) {
+    refuse(c.socket, 400, "the request head ended before its blank line");
+    return drop(id);
   }
   // The peeked bytes keep the socket readable: wait a little before looking
   // again instead of spinning (a client sends a head in one packet; only a
