@@ -100,6 +100,8 @@ TEST_F(ObjFiles, RejectsBadFiles) {
   // a joint weight converted to int unchecked.
   expect_error("mtllib ../../../../../../../../dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "\"mtllib\" is not supported");
   expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nvw 1e39 1 0.5\nf 1 2 3\n", "\"vw\" is not supported");
+  // The loader ends lines at a carriage return too; so does the check.
+  expect_error("o a\rmtllib ../../../../dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "\"mtllib\" is not supported");
 }
 
 TEST_F(ObjFiles, MissingFileIsAnError) {

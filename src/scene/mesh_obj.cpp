@@ -23,9 +23,12 @@ bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y
 // Only the statements a caustic face needs are read at all: "mtllib" would
 // make the loader open other files (a path to /dev/zero reads forever) and
 // "vw" converts an unchecked number to int.
-void check_numbers(const std::filesystem::path& file, const std::string& label) {
+void check_numbers(std::string text, const std::string& label) {
   static const char* const kStatements[] = {"v", "vn", "vt", "f", "o", "g", "s", "l", "usemtl"};
-  std::ifstream in(file);
+  // The loader ends a line at '\r' as well as '\n': read the lines it reads.
+  for (char& ch : text)
+    if (ch == '\r') ch = '\n';
+  std::istringstream in(text);
   std::string line;
   for (std::size_t number = 1; std::getline(in, line); ++number) {
     std::istringstream words(line);
@@ -105,12 +108,18 @@ Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits) {
   if (ec || !std::filesystem::is_regular_file(file)) throw SceneError("mesh", "cannot read mesh file " + label);
   if (bytes > limits.max_file_bytes) throw SceneError("mesh", "mesh file " + label + " is larger than the limit");
 
-  check_numbers(file, label);
+  std::ifstream in(file, std::ios::binary);
+  std::string text(static_cast<std::size_t>(bytes), '\0');
+  if (!in.read(text.data(), static_cast<std::streamsize>(text.size())))
+    throw SceneError("mesh", "cannot read mesh file " + label);
+  check_numbers(text, label);
   tinyobj::ObjReaderConfig config;
   config.triangulate = false;
   config.vertex_color = false;
   tinyobj::ObjReader reader;
-  if (!reader.ParseFromFile(file.string(), config)) {
+  // From memory, with an empty material library: the loader never opens a
+  // file of its own, whatever the text names.
+  if (!reader.ParseFromString(text, "", config)) {
     std::string err = reader.Error();
     while (!err.empty() && err.back() == '\n') err.pop_back();
     throw SceneError("mesh", "mesh file " + label + " is not a valid OBJ: " + (err.empty() ? "parse error" : err));
