@@ -395,3 +395,17 @@ TEST(Hardening, AHeadCutShortByTheClientIsAnsweredAtOnce) {
   expect_problem_answer(answer, 400);
   EXPECT_TRUE(closed);
 }
+
+TEST(Hardening, ANullHigherUpCannotResetTheFixedKeys) {
+  ServerProcess server;
+  const json s = create_session(server);
+  const json before = http("GET", params_url(server, s), "", "", bearer(s)).json();
+  // The lens's flat face sits at an offset its scene sets; null would
+  // restore the computed default.
+  ASSERT_EQ(before["params"]["object"]["flat_face_offset"], 4.0);
+  for (const char* patch : {R"({"object": null})", R"({"object": {"flat_face_offset": null}})"}) {
+    const Response r = http("PATCH", params_url(server, s), patch, "application/merge-patch+json", bearer(s));
+    EXPECT_EQ(r.status, 422u) << patch << ": " << r.body;
+  }
+  EXPECT_EQ(http("GET", params_url(server, s), "", "", bearer(s)).json(), before);
+}

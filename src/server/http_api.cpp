@@ -163,11 +163,19 @@ void create_session(ServerState& s, SoupServerMessage* msg) {
 void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
   nlohmann::json patch;
   if (!read_json_body(s, msg, {"application/merge-patch+json", "application/json"}, &patch)) return;
+  // Compared on the result, not looked up in the patch: a null higher up
+  // ("object": null) resets the keys below it too.
+  const nlohmann::json before = scene_to_json(session.params().snapshot().scene);
+  nlohmann::json after;
+  try {
+    after = scene_to_json(apply_merge_patch(session.params().snapshot().scene, patch));
+  } catch (const SceneError& e) {
+    return reply_problem(msg, s.metrics, SOUP_STATUS_UNPROCESSABLE_ENTITY, e.what(), e.key());
+  }
   for (const auto& fixed : kFixedKeys) {
-    const bool hit = fixed[1] ? patch.contains(fixed[0]) && patch[fixed[0]].is_object() &&
-                                    patch[fixed[0]].contains(fixed[1])
-                              : patch.contains(fixed[0]);
-    if (hit) {
+    const nlohmann::json::json_pointer at(std::string("/") + fixed[0] + (fixed[1] ? std::string("/") + fixed[1] : ""));
+    const auto value = [&](const nlohmann::json& j) { return j.contains(at) ? j.at(at) : nlohmann::json(); };
+    if (value(before) != value(after)) {
       const std::string key = fixed[1] ? std::string(fixed[0]) + "." + fixed[1] : fixed[0];
       return reply_problem(msg, s.metrics, SOUP_STATUS_UNPROCESSABLE_ENTITY, key + ": cannot be changed in a session",
                            key);
