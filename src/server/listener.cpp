@@ -329,10 +329,8 @@ void Listener::socket_gone(gpointer data, GObject*) {
   Listener& self = **l;
   auto it = self.connections_.find(gone->id);
   if (it == self.connections_.end()) return;
-  it->second->socket = nullptr;
-  clear_timer(it->second->timer);
-  if (--self.per_address_[it->second->address] <= 0) self.per_address_.erase(it->second->address);
-  self.connections_.erase(it);
+  it->second->socket = nullptr;  // handed over: drop() forgets the record, closes nothing
+  self.drop(gone->id);
 }
 
 }  // namespace caustic::server
