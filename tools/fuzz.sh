@@ -9,7 +9,11 @@
 # build-fuzz/logs/. Exits 1 on any crash or sanitizer report, 77 when
 # clang or libFuzzer is missing (CTest counts that as skipped).
 # Environment: CAUSTIC_FUZZ_BUILD_DIR (default build-fuzz), CAUSTIC_FUZZ_JOBS
-# (build jobs, default nproc), CAUSTIC_FUZZ_TARGETS (space-separated subset).
+# (build jobs, default nproc), CAUSTIC_FUZZ_TARGETS (space-separated subset),
+# CAUSTIC_FUZZ_SEED and CAUSTIC_FUZZ_RUNS: with both set, each target runs
+# that many inputs from that seed (SECONDS then only caps it), so a test run
+# explores the same inputs every time and its verdict is reproducible; the
+# long, time-bounded runs leave them unset and explore anew.
 set -uo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -88,7 +92,7 @@ while read -r target max_len dict; do
   if ((${#regressions[@]})); then
     if ! "$bin" "${options[@]}" "${regressions[@]}" </dev/null >"$build/logs/$target-regressions.log" 2>&1; then
       echo "== $target: a regression input fails again; see $build/logs/$target-regressions.log"
-      grep -E 'Running:|ERROR|SUMMARY|runtime error|invariant' "$build/logs/$target-regressions.log" | head -n 20
+      grep -E 'Running:|ERROR|CRITICAL|SUMMARY|runtime error|invariant' "$build/logs/$target-regressions.log" | head -n 20
       failed+=("$target (regressions)")
     fi
   fi
@@ -98,15 +102,18 @@ while read -r target max_len dict; do
   mkdir -p "$work/corpus"
   [[ -d $fuzz_dir/corpus/$target ]] && cp -R "$fuzz_dir/corpus/$target/." "$work/corpus/"
   log="$build/logs/$target.log"
-  echo "== $target: fuzzing for ${seconds} s"
+  echo "== $target: fuzzing for ${CAUSTIC_FUZZ_RUNS:+$CAUSTIC_FUZZ_RUNS inputs, at most }${seconds} s"
+  # Only here: given files, -runs would replay each of them that many times.
+  [[ -n ${CAUSTIC_FUZZ_SEED:-} ]] && options+=("-seed=$CAUSTIC_FUZZ_SEED")
+  [[ -n ${CAUSTIC_FUZZ_RUNS:-} ]] && options+=("-runs=$CAUSTIC_FUZZ_RUNS")
   "$bin" "${options[@]}" -max_total_time="$seconds" -print_final_stats=1 "$work/corpus" </dev/null >"$log" 2>&1
   rc=$?
   last="$(grep -E '^#[0-9]+' "$log" | tail -n 1)"
   corpus_files="$(find "$work/corpus" -type f | wc -l)"
   summary+=("$(printf '%-12s rc=%-3s %s  [corpus %s files]' "$target" "$rc" "${last:-no stats}" "$corpus_files")")
-  if ((rc != 0)) || grep -qE '^==[0-9]+==ERROR|runtime error:|^SUMMARY: ' "$log"; then
+  if ((rc != 0)) || grep -qE '^==[0-9]+==ERROR|runtime error:|^SUMMARY: |-CRITICAL \*\*|-ERROR \*\*' "$log"; then
     echo "== $target: FAILED (exit $rc); log: $log"
-    grep -E 'ERROR|SUMMARY|runtime error|invariant|Test unit written|^ +#[0-9]+ ' "$log" | head -n 30
+    grep -E 'ERROR|CRITICAL|SUMMARY|runtime error|invariant|Test unit written|^ +#[0-9]+ ' "$log" | head -n 30
     failed+=("$target")
   fi
 done <<<"$table"

@@ -8,6 +8,8 @@ namespace caustic::server {
 namespace {
 
 bool is_sdp(const std::string& text) {
+  // The parser asserts a non-empty buffer (a GLib critical, not an error).
+  if (text.empty()) return false;
   GstSDPMessage* sdp = nullptr;
   gst_sdp_message_new(&sdp);
   const bool ok = gst_sdp_message_parse_buffer(reinterpret_cast<const guint8*>(text.data()),
