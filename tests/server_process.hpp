@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <csignal>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,13 @@ class ServerProcess {
     argv.push_back(nullptr);
     GError* error = nullptr;
     GSubprocessLauncher* launcher = g_subprocess_launcher_new(G_SUBPROCESS_FLAGS_STDOUT_PIPE);
+    // Designs are kept under the state folder: a test's go to a temporary
+    // one of its own, never the user's (a test that names state_dir keeps it).
+    if (gchar* tmp = g_dir_make_tmp("causticd-state-XXXXXX", nullptr)) {
+      state_home_ = tmp;
+      g_free(tmp);
+      g_subprocess_launcher_setenv(launcher, "XDG_STATE_HOME", state_home_.c_str(), TRUE);
+    }
     for (const auto& [key, value] : environment) g_subprocess_launcher_setenv(launcher, key.c_str(), value.c_str(), TRUE);
     process_ = g_subprocess_launcher_spawnv(launcher, argv.data(), &error);
     g_object_unref(launcher);
@@ -53,13 +61,21 @@ class ServerProcess {
   }
 
   ~ServerProcess() {
-    if (!process_) return;
+    if (process_) stop();
+    if (!state_home_.empty()) {
+      std::error_code ec;
+      std::filesystem::remove_all(state_home_, ec);
+    }
+  }
+
+  void stop() {
     g_subprocess_send_signal(process_, SIGTERM);
     // Bounded wait: 10 s, then kill.
     for (int i = 0; i < 100 && !finished(); ++i) g_usleep(100000);
     if (!finished()) g_subprocess_force_exit(process_);
     g_subprocess_wait(process_, nullptr, nullptr);
     g_object_unref(process_);
+    process_ = nullptr;
   }
 
   bool finished() {
@@ -90,6 +106,7 @@ class ServerProcess {
  private:
   GSubprocess* process_ = nullptr;
   std::string url_;
+  std::string state_home_;
 };
 
 struct Response {

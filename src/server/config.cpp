@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cstdlib>
 #include <fstream>
 #include <regex>
 
@@ -64,13 +65,20 @@ constexpr IntKey kIntKeys[] = {
     {"rate_limit_burst", &ServerConfig::rate_limit_burst, 1, 100000},
     {"max_sessions_per_address", &ServerConfig::max_sessions_per_address, 1, 1000},
     {"viewer_timeout_s", &ServerConfig::viewer_timeout_s, 2, 3600},
+    {"design_max_upload_bytes", &ServerConfig::design_max_upload_bytes, 1024, 64 * 1024 * 1024},
+    {"design_max_pixels", &ServerConfig::design_max_pixels, 64 * 64, 1 << 26},
+    {"design_queue", &ServerConfig::design_queue, 1, 1000},
+    {"design_workers", &ServerConfig::design_workers, 1, 16},
+    {"design_resolution", &ServerConfig::design_resolution, 64, 1024},
+    {"design_uploads_per_hour", &ServerConfig::design_uploads_per_hour, 1, 100000},
+    {"design_expiry_s", &ServerConfig::design_expiry_s, 1, 10 * 365 * 24 * 3600},
 };
 
 // Keys whose values need more than a range; set_config_value handles each.
 constexpr const char* kOtherKeys[] = {"bind_address", "codec",         "width",          "height",
                                       "stun_server",  "turn_server",   "ice_addresses",  "max_body_bytes",
                                       "scenes_dir",   "web_dir",       "log_level",      "max_ws_message_bytes",
-                                      "session_create_token"};
+                                      "session_create_token", "design_uploads", "design_upload_token", "state_dir"};
 
 }  // namespace
 
@@ -137,11 +145,16 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
     if (!std::regex_match(value, level))
       throw ConfigError(key + ": must be error, warning, notice, info or debug, got \"" + value + "\"");
     c.log_level = value;
-  } else if (key == "session_create_token") {
+  } else if (key == "session_create_token" || key == "design_upload_token") {
     static const std::regex token("^[A-Za-z0-9._~+/=-]{16,256}$");
     if (!value.empty() && !std::regex_match(value, token))
       throw ConfigError(key + ": must be 16 to 256 characters of A-Z a-z 0-9 . _ ~ + / = -");
-    c.session_create_token = value;
+    (key == "session_create_token" ? c.session_create_token : c.design_upload_token) = value;
+  } else if (key == "design_uploads") {
+    if (value != "on" && value != "off") throw ConfigError(key + ": must be on or off, got \"" + value + "\"");
+    c.design_uploads = value == "on";
+  } else if (key == "state_dir") {
+    c.state_dir = value;
   } else {
     throw ConfigError(key + ": unknown key");
   }
@@ -173,6 +186,19 @@ std::filesystem::path scenes_folder(const ServerConfig& c, const std::filesystem
 
 std::filesystem::path web_folder(const ServerConfig& c, const std::filesystem::path& data_dir) {
   return c.web_dir.empty() ? data_dir / "web" : c.web_dir;
+}
+
+std::filesystem::path state_folder(const ServerConfig& c) {
+  if (!c.state_dir.empty()) return c.state_dir;
+  // systemd may list several folders, colon-separated: the first is ours.
+  if (const char* dir = std::getenv("STATE_DIRECTORY"); dir && *dir) {
+    const std::string first = std::string(dir).substr(0, std::string(dir).find(':'));
+    if (!first.empty()) return first;
+  }
+  if (const char* xdg = std::getenv("XDG_STATE_HOME"); xdg && *xdg == '/') return std::filesystem::path(xdg) / "causticd";
+  if (const char* home = std::getenv("HOME"); home && *home == '/')
+    return std::filesystem::path(home) / ".local" / "state" / "causticd";
+  return "/var/lib/causticd";
 }
 
 void check_config(const ServerConfig& c, const std::filesystem::path& data_dir) {

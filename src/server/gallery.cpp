@@ -28,6 +28,7 @@ nlohmann::json describe(const GalleryEntry& e) {
           {"name", e.scene.name},
           {"description", e.scene.description},
           {"thumbnail", "/api/v1/scenes/" + e.id + "/thumbnail.png"},
+          {"kind", e.designed ? "designed" : "classic"},
           {"proxy", e.proxy},
           {"mesh_levels", e.levels->resolutions()},
           {"calibrated", e.calibration.has_value()}};
@@ -41,6 +42,27 @@ nlohmann::json fidelity_of(const GalleryEntry& entry, const Scene& scene) {
   return describe_fidelity(scene, *entry.mesh, *entry.levels, entry.calibration);
 }
 
+std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, const std::string& id,
+                                         const std::function<Engine&()>& engine, int thumbnail) {
+  auto entry = std::make_shared<GalleryEntry>();
+  entry->id = id;
+  entry->scene = load_scene(file);
+  entry->mesh = std::make_shared<const Mesh>(load_obj(entry->scene.mesh_path()));
+  entry->levels = std::make_shared<const MeshLevels>(
+      build_mesh_levels(entry->mesh, entry->scene.object.flat_face_normal, coarser_resolutions(*entry->mesh)));
+  entry->calibration = load_calibration(calibration_path(file), scene_fingerprint(entry->scene, *entry->mesh));
+  entry->scene = resolve_for(*entry, entry->scene);
+  entry->levels->at(entry->scene.render.mesh_resolution);  // a manual scene may name a level not on offer
+  entry->proxy = proxy_geometry(entry->scene, *entry->mesh);
+  Scene small = entry->scene;
+  small.render.width = small.render.height = thumbnail;
+  Engine& e = engine();
+  e.set_scene(small, entry->mesh);
+  e.render();
+  entry->thumbnail_png = encode_png(e.read_ldr());
+  return entry;
+}
+
 Gallery load_gallery(const std::filesystem::path& dir, int thumbnail, const std::atomic<bool>* cancel) {
   Gallery gallery;
   static const std::regex id_pattern("[a-z0-9_-]{1,64}");
@@ -51,6 +73,16 @@ Gallery load_gallery(const std::filesystem::path& dir, int thumbnail, const std:
   if (ec) gallery.problems.push_back("cannot list " + dir.string() + ": " + ec.message());
   std::unique_ptr<GlContext> context;
   std::unique_ptr<Engine> engine;
+  // The GL context is made only once a scene has parsed: a folder of broken
+  // files needs none.
+  const std::function<Engine&()> make_engine = [&]() -> Engine& {
+    if (!context) {
+      context = std::make_unique<GlContext>(egl_platform_from_environment());
+      engine = std::make_unique<Engine>();
+      gallery.renderer = context->renderer();
+    }
+    return *engine;
+  };
   for (const auto& file : files) {
     if (cancel && *cancel) break;
     const std::string id = file.stem().string();
@@ -59,26 +91,7 @@ Gallery load_gallery(const std::filesystem::path& dir, int thumbnail, const std:
       continue;
     }
     try {
-      auto entry = std::make_shared<GalleryEntry>();
-      entry->id = id;
-      entry->scene = load_scene(file);
-      entry->mesh = std::make_shared<const Mesh>(load_obj(entry->scene.mesh_path()));
-      entry->levels = std::make_shared<const MeshLevels>(
-          build_mesh_levels(entry->mesh, entry->scene.object.flat_face_normal, coarser_resolutions(*entry->mesh)));
-      entry->calibration = load_calibration(calibration_path(file), scene_fingerprint(entry->scene, *entry->mesh));
-      entry->scene = resolve_for(*entry, entry->scene);
-      entry->levels->at(entry->scene.render.mesh_resolution);  // a manual scene may name a level not on offer
-      entry->proxy = proxy_geometry(entry->scene, *entry->mesh);
-      if (!context) {
-        context = std::make_unique<GlContext>(egl_platform_from_environment());
-        engine = std::make_unique<Engine>();
-        gallery.renderer = context->renderer();
-      }
-      Scene small = entry->scene;
-      small.render.width = small.render.height = thumbnail;
-      engine->set_scene(small, entry->mesh);
-      engine->render();
-      entry->thumbnail_png = encode_png(engine->read_ldr());
+      auto entry = load_entry(file, id, make_engine, thumbnail);
       gallery.entries[id] = std::move(entry);
     } catch (const std::exception& e) {
       gallery.problems.push_back(file.filename().string() + ": " + e.what());

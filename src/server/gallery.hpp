@@ -9,11 +9,16 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <functional>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
+
+namespace caustic {
+class Engine;
+}
 
 namespace caustic::server {
 
@@ -25,6 +30,7 @@ struct GalleryEntry {
   std::optional<Calibration> calibration;     ///< from <id>.calibration.json when it matches
   std::vector<unsigned char> thumbnail_png;
   nlohmann::json proxy;  ///< outline, thickness, pose: never the mesh itself
+  bool designed = false;  ///< made by the designer from a picture (listed first), not an optics classic
 };
 
 struct Gallery {
@@ -40,6 +46,13 @@ struct Gallery {
 /// `cancel`, when given and set, stops it between scenes (a shutdown during
 /// a reload).
 Gallery load_gallery(const std::filesystem::path& dir, int thumbnail = 256, const std::atomic<bool>* cancel = nullptr);
+
+/// One scene file `file` as the entry `id`: parsed, its mesh loaded with its
+/// levels and calibration, its thumbnail rendered with `engine()` (called
+/// once the scene has parsed, on a thread whose GL context is current).
+/// Throws what the scene, mesh and engine throw.
+std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, const std::string& id,
+                                         const std::function<Engine&()>& engine, int thumbnail = 256);
 
 /// The public description of an entry for GET /api/v1/scenes.
 nlohmann::json describe(const GalleryEntry& entry);

@@ -52,14 +52,23 @@ void health(ServerState& s, SoupServerMessage* msg) {
 
 void scenes(ServerState& s, SoupServerMessage* msg) {
   nlohmann::json list = nlohmann::json::array();
-  for (const auto& [id, entry] : s.gallery->entries) list.push_back(describe(*entry));
+  // Designed objects first, then the optics classics; by id within each.
+  for (const bool designed : {true, false})
+    for (const auto& [id, entry] : s.gallery->entries)
+      if (entry->designed == designed) list.push_back(describe(*entry));
   reply_json(msg, SOUP_STATUS_OK, {{"scenes", list}});
 }
 
+void scene(ServerState& s, SoupServerMessage* msg, const std::string& id) {
+  const auto entry = s.find_scene(id);
+  if (!entry) return reply_problem(msg, s.metrics, SOUP_STATUS_NOT_FOUND, "no such scene");
+  reply_json(msg, SOUP_STATUS_OK, describe(*entry));
+}
+
 void thumbnail(ServerState& s, SoupServerMessage* msg, const std::string& id) {
-  auto it = s.gallery->entries.find(id);
-  if (it == s.gallery->entries.end()) return reply_problem(msg, s.metrics, SOUP_STATUS_NOT_FOUND, "no such scene");
-  const auto& png = it->second->thumbnail_png;
+  const auto entry = s.find_scene(id);
+  if (!entry) return reply_problem(msg, s.metrics, SOUP_STATUS_NOT_FOUND, "no such scene");
+  const auto& png = entry->thumbnail_png;
   reply_bytes(msg, SOUP_STATUS_OK, "image/png", png.data(), png.size());
 }
 
@@ -113,8 +122,8 @@ void create_session(ServerState& s, SoupServerMessage* msg) {
     return reply_problem(msg, s.metrics, SOUP_STATUS_UNPROCESSABLE_ENTITY, "scene: must be a scene id (string)",
                          "scene");
   const std::string scene_id = body["scene"];
-  auto entry = s.gallery->entries.find(scene_id);
-  if (entry == s.gallery->entries.end())
+  const auto entry = s.find_scene(scene_id);
+  if (!entry)
     return reply_problem(msg, s.metrics, SOUP_STATUS_UNPROCESSABLE_ENTITY, "scene: no such scene", "scene");
   std::string codec = s.config.codec;
   if (body.contains("codec")) {
@@ -144,7 +153,7 @@ void create_session(ServerState& s, SoupServerMessage* msg) {
                          [state](const std::string& sid, const std::string& why) { state->end_session(sid, why); }};
   std::shared_ptr<Session> session;
   try {
-    session = Session::start(id, entry->second, options);
+    session = Session::start(id, entry, options);
   } catch (const std::exception& e) {
     log(Level::error, std::string("cannot start a session: ") + e.what());
     return reply_problem(msg, s.metrics, SOUP_STATUS_INTERNAL_SERVER_ERROR, "the stream could not be started");
@@ -197,11 +206,6 @@ void refuse_session(ServerState& s, SoupServerMessage* msg) {
   reply_problem(msg, s.metrics, SOUP_STATUS_UNAUTHORIZED, "no session with this id and token");
 }
 
-void not_allowed(ServerState& s, SoupServerMessage* msg, const char* allow) {
-  soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Allow", allow);
-  reply_problem(msg, s.metrics, SOUP_STATUS_METHOD_NOT_ALLOWED, std::string("this resource allows ") + allow);
-}
-
 void session_route(ServerState& s, SoupServerMessage* msg, const Route& route) {
   auto it = s.sessions.find(route.session);
   const std::string token = bearer_token(msg);
@@ -234,6 +238,7 @@ bool within_rate(ServerState& s, SoupServerMessage* msg) {
 void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path) {
   const std::string method = method_of(msg);
   static const std::regex session_path("^/api/v1/sessions/([0-9a-f]{32})(/params)?$");
+  static const std::regex scene_path("^/api/v1/scenes/([a-z0-9_-]{1,64})$");
   static const std::regex thumbnail_path("^/api/v1/scenes/([a-z0-9_-]{1,64})/thumbnail\\.png$");
   static const std::regex signal_path("^/api/v1/sessions/([0-9a-f]{32})/signal$");
   std::smatch m;
@@ -242,9 +247,11 @@ void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path)
   if (mutating && !within_rate(s, msg)) return;
   if (path == "/api/v1/health") return read ? health(s, msg) : not_allowed(s, msg, "GET, HEAD");
   if (path == "/api/v1/scenes") return read ? scenes(s, msg) : not_allowed(s, msg, "GET, HEAD");
+  if (std::regex_match(path, m, scene_path)) return read ? scene(s, msg, m[1]) : not_allowed(s, msg, "GET, HEAD");
   if (std::regex_match(path, m, thumbnail_path)) return read ? thumbnail(s, msg, m[1]) : not_allowed(s, msg, "GET, HEAD");
   if (path == "/api/v1/sessions") return method == "POST" ? create_session(s, msg) : not_allowed(s, msg, "POST");
   if (std::regex_match(path, m, session_path)) return session_route(s, msg, {m[1], m[2]});
+  if (route_designs(s, msg, path)) return;
   if (std::regex_match(path, m, signal_path)) {
     if (method != "GET") return not_allowed(s, msg, "GET");
     // libsoup asks this handler first: leaving the status unset lets the
@@ -275,6 +282,11 @@ void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path)
 }
 
 }  // namespace
+
+void not_allowed(ServerState& s, SoupServerMessage* msg, const char* allow) {
+  soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Allow", allow);
+  reply_problem(msg, s.metrics, SOUP_STATUS_METHOD_NOT_ALLOWED, std::string("this resource allows ") + allow);
+}
 
 void handle_http(SoupServer*, SoupServerMessage* msg, const char* raw_path, GHashTable*, gpointer data) {
   auto& s = *static_cast<ServerState*>(data);

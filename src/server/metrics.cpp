@@ -52,6 +52,8 @@ std::string Metrics::render(std::size_t sessions, std::size_t connections) const
   counter("causticd_rate_limited_total", "Requests answered 429 by the per-address rate limit.", rate_limited);
   counter("causticd_sessions_reclaimed_total", "Sessions ended because their viewer was absent or silent.",
           sessions_reclaimed);
+  counter("causticd_designs_submitted_total", "Pictures accepted for design.", designs_submitted);
+  counter("causticd_designs_refused_total", "Picture uploads refused (format, size, limits, queue).", designs_refused);
   out << render_ms.render("causticd_render_seconds", "Time to render one frame (caustic pass and post-processing).");
   out << encode_ms.render("causticd_encode_seconds", "Time from raw frame to encoded frame.");
   return out.str();

@@ -39,6 +39,8 @@ struct Metrics {
   std::atomic<std::uint64_t> accept_failures{0};        ///< accepts that failed for want of descriptors
   std::atomic<std::uint64_t> rate_limited{0};           ///< 429 answers
   std::atomic<std::uint64_t> sessions_reclaimed{0};     ///< ended for an idle or silent viewer
+  std::atomic<std::uint64_t> designs_submitted{0};      ///< pictures queued for design
+  std::atomic<std::uint64_t> designs_refused{0};        ///< uploads answered 4xx or 503
   Histogram render_ms;
   Histogram encode_ms;
 

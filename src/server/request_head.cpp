@@ -171,8 +171,11 @@ RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) 
   if (chunked_or_other && lengths) return refuse(400, "Content-Length and Transfer-Encoding together");
   if (chunked_or_other) return refuse(411, "request bodies need a Content-Length (no Transfer-Encoding)");
   if (hosts > 1 || (hosts == 0 && version == "HTTP/1.1")) return refuse(400, "HTTP/1.1 requests need one Host header");
-  if (out.content_length > limits.max_body_bytes)
-    return refuse(413, "the body is larger than " + std::to_string(limits.max_body_bytes) + " bytes");
+  const bool upload = !limits.upload_path.empty() && method == "POST" &&
+                      target.substr(0, target.find('?')) == limits.upload_path;
+  const std::size_t max_body = upload ? limits.max_upload_bytes : limits.max_body_bytes;
+  if (out.content_length > max_body)
+    return refuse(413, "the body is larger than " + std::to_string(max_body) + " bytes");
   out.state = RequestHead::State::complete;
   out.head_bytes = end + 4;
   out.websocket = upgrade_ws && method == "GET";

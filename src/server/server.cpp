@@ -37,6 +37,8 @@ ListenerLimits listener_limits(const ServerConfig& c) {
   l.connection_idle_timeout_s = c.connection_idle_timeout_s;
   l.max_ws_message_bytes = c.max_ws_message_bytes;
   l.head.max_body_bytes = c.max_body_bytes;
+  l.head.upload_path = "/api/v1/designs";
+  l.head.max_upload_bytes = static_cast<std::size_t>(c.design_max_upload_bytes);
   return l;
 }
 
@@ -97,6 +99,16 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
   auto gallery = load_checked_gallery(scenes_folder(s.config, s.data_dir));
   s.renderer = gallery->renderer;
   s.gallery = std::move(gallery);
+  const auto designs = state_folder(s.config) / "designs";
+  try {
+    s.designs = std::make_unique<DesignJobs>(
+        DesignSettings{designs, s.config.design_queue, s.config.design_workers, s.config.design_resolution,
+                       s.config.design_expiry_s},
+        design_backend());
+  } catch (const std::exception& e) {
+    // The gallery still streams; uploads answer that designs cannot be stored.
+    log(Level::warning, "designs are off: cannot use " + designs.string() + ": " + e.what());
+  }
   s.soup = soup_server_new("server-header", "causticd", nullptr);
   g_signal_connect(s.soup, "request-started", G_CALLBACK(on_request_started), &s);
   s.listener = std::make_unique<Listener>(s.soup, s.metrics, listener_limits(s.config));

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "caustic/server/config.hpp"
+#include "design_jobs.hpp"
 #include "gallery.hpp"
 #include "listener.hpp"
 #include "metrics.hpp"
@@ -26,11 +27,22 @@ struct ServerState {
   SoupServer* soup = nullptr;
   std::unique_ptr<Listener> listener;
   RateLimiter rate_limiter;
+  RateLimiter design_rate;                ///< uploads per address, apart from the other requests
+  std::unique_ptr<DesignJobs> designs;    ///< null when the state folder is unusable
+
+  /// A scene by id: the gallery's, else a finished design's; null if none.
+  std::shared_ptr<const GalleryEntry> find_scene(const std::string& id) const;
 
   /// Removes a session on the next main loop iteration (never from inside
   /// one of its own callbacks).
   void end_session(const std::string& id, const std::string& reason);
 };
+
+/// Answers /api/v1/designs and /api/v1/designs/{id} (design_api.cpp);
+/// false when `path` is neither.
+bool route_designs(ServerState& s, SoupServerMessage* msg, const std::string& path);
+/// 405 with the Allow header.
+void not_allowed(ServerState& s, SoupServerMessage* msg, const char* allow);
 
 /// Routes one HTTP request (registered on "/").
 void handle_http(SoupServer*, SoupServerMessage* msg, const char* path, GHashTable* query, gpointer state);

@@ -3,7 +3,7 @@
 // is bounded.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
-import { mkdirSync } from 'node:fs';
+import { mkdirSync, mkdtempSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import readline from 'node:readline';
 import { after, before, test } from 'node:test';
@@ -14,7 +14,11 @@ const shots = process.env.CAUSTIC_SCREENSHOTS ?? '/tmp';
 async function startServer(extra = []) {
   const port = extra.includes('--port') ? [] : ['--port', '0'];
   const server = spawn(process.env.CAUSTICD, ['serve', ...port, '--ice-address', '127.0.0.1', '--width', '320',
-                                              '--height', '240', ...extra], { stdio: ['ignore', 'pipe', 'inherit'] });
+                                              '--height', '240', ...extra], {
+    stdio: ['ignore', 'pipe', 'inherit'],
+    // Designs go to a folder of the test's own, never the user's state.
+    env: { ...process.env, XDG_STATE_HOME: mkdtempSync('/tmp/causticd-state-') },
+  });
   const line = await new Promise((resolve, reject) => {
     const timer = setTimeout(() => reject(new Error('server did not start')), 30000);
     readline.createInterface({ input: server.stdout }).once('line', (l) => { clearTimeout(timer); resolve(l); });

@@ -34,7 +34,9 @@ std::string CaseGenerator::endpoint() {
   return pick({"/api/v1/health", "/api/v1/scenes", "/api/v1/scenes/" + victim_.scene + "/thumbnail.png",
                "/api/v1/scenes/nope/thumbnail.png", "/api/v1/sessions", s, s + "/params",
                s + "/signal?token=" + victim_.token, "/metrics", "/", "/index.html", "/viewer.html", "/nope",
-               "/api/v1/nope", "/api/v2/health", "/api/v1/sessions/" + victim_.id + "/params/extra"});
+               "/api/v1/nope", "/api/v2/health", "/api/v1/sessions/" + victim_.id + "/params/extra",
+               "/api/v1/designs", "/api/v1/designs?name=x", "/api/v1/designs/" + random_id(),
+               "/api/v1/scenes/" + victim_.scene, "/api/v1/scenes/nope"});
 }
 
 // A merge patch that sets a leaf to the value it has: valid, so only the

@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -74,6 +75,9 @@ bool ServerProcess::start(Config config, KindReport& report) {
   const bool first = !started_once_;
   started_once_ = true;
   for (const auto& key : refused_keys_) std::erase_if(config, [&](const auto& kv) { return kv.first == key; });
+  // Designs go to the campaign's own folder, never the user's state.
+  if (std::none_of(config.begin(), config.end(), [](const auto& kv) { return kv.first == "state_dir"; }))
+    config.emplace_back("state_dir", folder_ + "/state");
   // A binary that does not know (or bounds differently) a contract key
   // refuses the whole file: note each such key and carry on without it, so
   // the other faults still run.

@@ -76,8 +76,8 @@ async function connect() {
   }
   const firstTime = !room;
   if (firstTime) {
-    const scenes = await (await fetch('/api/v1/scenes')).json();
-    const proxy = scenes.scenes.find((s) => s.id === sceneId).proxy;
+    // One scene by id: a visitor's design is not in the public list.
+    const { proxy } = await (await fetch(`/api/v1/scenes/${encodeURIComponent(sceneId)}`)).json();
     room = new CausticRoom(document.getElementById('stage'), video, proxy);
     controls = new ControlModes(room, {
       onLightMoved: () => channel.set({ light: room.lightFromMarker(state.params.light.type) }),

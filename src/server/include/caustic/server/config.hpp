@@ -50,12 +50,28 @@ struct ServerConfig {
   int max_sessions_per_address = 2;       ///< sessions one client address may hold
   int viewer_timeout_s = 15;              ///< a connected viewer silent this long loses its session
   std::string session_create_token;       ///< when set, creating a session needs it as a bearer token
+  // Visitors' pictures made into glass (docs/design.md, "Over the API").
+  bool design_uploads = true;             ///< POST /api/v1/designs accepts pictures
+  std::string design_upload_token;        ///< when set, uploading needs it as a bearer token
+  int design_max_upload_bytes = 8 * 1024 * 1024;  ///< a picture's bytes; 413 beyond, before the body is read
+  int design_max_pixels = 4096 * 4096;    ///< a picture's width x height by its header; 413 beyond
+  int design_queue = 4;                   ///< designs waiting or running; 503 beyond
+  int design_workers = 1;                 ///< designs running at once
+  int design_resolution = 512;            ///< design grid cells per side
+  int design_uploads_per_hour = 20;       ///< per client address; 429 beyond
+  int design_expiry_s = 7 * 24 * 3600;    ///< a design is removed this long after its upload unless kept
+  std::filesystem::path state_dir;        ///< empty: $STATE_DIRECTORY, else $XDG_STATE_HOME/causticd, else ~/.local/state/causticd
 };
 
 /// The gallery folder: scenes_dir, or <data>/assets/scenes when empty.
 std::filesystem::path scenes_folder(const ServerConfig& config, const std::filesystem::path& data_dir);
 /// The folder served as static files: web_dir, or <data>/web when empty.
 std::filesystem::path web_folder(const ServerConfig& config, const std::filesystem::path& data_dir);
+
+/// Where designs are kept: state_dir, or the first of $STATE_DIRECTORY (set
+/// by systemd's StateDirectory=), $XDG_STATE_HOME/causticd and
+/// $HOME/.local/state/causticd.
+std::filesystem::path state_folder(const ServerConfig& config);
 
 /// Checks what a file alone cannot: the folders exist and the default
 /// codec's pipeline is among the data files. Throws ConfigError naming the key.

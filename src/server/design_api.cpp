@@ -1,0 +1,152 @@
+// POST /api/v1/designs (a picture in, a design job out), GET and DELETE
+// /api/v1/designs/{id}: docs/api.md. Everything a picture can be refused
+// for is decided here, before it reaches the queue: who may upload, how
+// often, its media type, its bytes and, from its header alone, its pixels.
+#include "http_util.hpp"
+#include "picture_header.hpp"
+#include "server_state.hpp"
+
+#include <regex>
+
+namespace caustic::server {
+namespace {
+
+constexpr const char* kDefaultName = "Your picture";
+constexpr std::size_t kMaxNameBytes = 64;
+
+void refuse(ServerState& s, SoupServerMessage* msg, guint status, const std::string& detail,
+            const std::string& key = "") {
+  ++s.metrics.designs_refused;
+  reply_problem(msg, s.metrics, status, detail, key);
+}
+
+// The name a visitor gives the design: printable, valid UTF-8, short. Empty
+// when it is not, with `why` set.
+bool valid_name(const std::string& name, std::string* why) {
+  if (name.empty() || name.size() > kMaxNameBytes) {
+    *why = "name: must be 1 to " + std::to_string(kMaxNameBytes) + " bytes";
+    return false;
+  }
+  for (unsigned char c : name)
+    if (c < 0x20 || c == 0x7f) {
+      *why = "name: must not hold control characters";
+      return false;
+    }
+  if (!g_utf8_validate(name.data(), static_cast<gssize>(name.size()), nullptr)) {
+    *why = "name: must be UTF-8";
+    return false;
+  }
+  return true;
+}
+
+void upload(ServerState& s, SoupServerMessage* msg) {
+  SoupMessageHeaders* response = soup_server_message_get_response_headers(msg);
+  if (!s.designs || !s.designs->built_in())
+    return refuse(s, msg, SOUP_STATUS_NOT_IMPLEMENTED,
+                  s.designs ? "design is not built into this server" : "this server cannot store designs");
+  if (!s.config.design_uploads) return refuse(s, msg, SOUP_STATUS_FORBIDDEN, "picture uploads are turned off here");
+  if (!s.config.design_upload_token.empty() && !same_secret(bearer_token(msg), s.config.design_upload_token)) {
+    soup_message_headers_replace(response, "WWW-Authenticate", "Bearer");
+    return refuse(s, msg, SOUP_STATUS_UNAUTHORIZED, "uploading a picture needs this server's bearer token");
+  }
+  std::string name = kDefaultName;
+  if (const char* query = g_uri_get_query(soup_server_message_get_uri(msg))) {
+    GHashTable* form = soup_form_decode(query);
+    GHashTableIter it;
+    gpointer key, value;
+    g_hash_table_iter_init(&it, form);
+    std::string bad_key;
+    while (g_hash_table_iter_next(&it, &key, &value)) {
+      if (std::string(static_cast<const char*>(key)) == "name") name = static_cast<const char*>(value);
+      else bad_key = "a query key";  // never echoed: it may be anything
+    }
+    g_hash_table_unref(form);
+    if (!bad_key.empty())
+      return refuse(s, msg, SOUP_STATUS_UNPROCESSABLE_ENTITY, "the only query key taken is \"name\"");
+  }
+  std::string why;
+  if (!valid_name(name, &why)) return refuse(s, msg, SOUP_STATUS_UNPROCESSABLE_ENTITY, why, "name");
+
+  const char* type = soup_message_headers_get_content_type(soup_server_message_get_request_headers(msg), nullptr);
+  const bool png = type && g_ascii_strcasecmp(type, "image/png") == 0;
+  const bool jpeg = type && g_ascii_strcasecmp(type, "image/jpeg") == 0;
+  if (!png && !jpeg) return refuse(s, msg, SOUP_STATUS_UNSUPPORTED_MEDIA_TYPE, "the body must be image/png or image/jpeg");
+  SoupMessageBody* body = soup_server_message_get_request_body(msg);
+  if (body->length > static_cast<goffset>(s.config.design_max_upload_bytes))
+    return refuse(s, msg, SOUP_STATUS_REQUEST_ENTITY_TOO_LARGE,
+                  "the picture is larger than " + std::to_string(s.config.design_max_upload_bytes) + " bytes");
+  const auto* bytes = reinterpret_cast<const unsigned char*>(body->data);
+  const auto size = static_cast<std::size_t>(body->length);
+  const PictureHeader header = read_picture_header(bytes, size);
+  const auto declared = png ? PictureHeader::Format::png : PictureHeader::Format::jpeg;
+  if (header.format != declared)
+    return refuse(s, msg, SOUP_STATUS_UNSUPPORTED_MEDIA_TYPE, std::string("the body is not ") + media_type(declared));
+  if (header.width == 0 || header.height == 0)
+    return refuse(s, msg, SOUP_STATUS_UNPROCESSABLE_ENTITY, "the picture's header gives no size: a broken file");
+  const unsigned long long pixels = 1ULL * header.width * header.height;
+  if (pixels > static_cast<unsigned long long>(s.config.design_max_pixels))
+    return refuse(s, msg, SOUP_STATUS_REQUEST_ENTITY_TOO_LARGE,
+                  "the picture has " + std::to_string(header.width) + "x" + std::to_string(header.height) +
+                      " pixels; at most " + std::to_string(s.config.design_max_pixels) + " are taken");
+  // Charged only for a picture that would be designed: the designs are
+  // what costs (refusals are cheap, and the general rate limit covers them).
+  int retry = 1;
+  if (!s.design_rate.admit(client_address(msg), s.config.design_uploads_per_hour / 3600.0,
+                           std::min(s.config.design_uploads_per_hour, 4), &retry)) {
+    ++s.metrics.rate_limited;
+    soup_message_headers_replace(response, "Retry-After", std::to_string(retry).c_str());
+    return refuse(s, msg, 429,
+                  "your address may upload " + std::to_string(s.config.design_uploads_per_hour) +
+                      " pictures an hour; retry after " + std::to_string(retry) + " s");
+  }
+  DesignJobs::Ticket ticket;
+  try {
+    ticket = s.designs->submit(std::vector<unsigned char>(bytes, bytes + size), extension(header.format), name);
+  } catch (const DesignRefusal& e) {
+    soup_message_headers_replace(response, "Retry-After", "30");
+    return refuse(s, msg, e.status, e.what());
+  }
+  ++s.metrics.designs_submitted;
+  const std::string where = "/api/v1/designs/" + ticket.id;
+  soup_message_headers_replace(response, "Location", where.c_str());
+  reply_json(msg, SOUP_STATUS_ACCEPTED,
+             {{"id", ticket.id}, {"token", ticket.token}, {"status_url", where}, {"design", s.designs->describe(ticket.id)}});
+}
+
+}  // namespace
+
+std::shared_ptr<const GalleryEntry> ServerState::find_scene(const std::string& id) const {
+  if (const auto it = gallery->entries.find(id); it != gallery->entries.end()) return it->second;
+  return designs ? designs->scene(id) : nullptr;
+}
+
+bool route_designs(ServerState& s, SoupServerMessage* msg, const std::string& path) {
+  static const std::regex design_path("^/api/v1/designs/([0-9a-f]{32})$");
+  const std::string method = soup_server_message_get_method(msg);
+  if (path == "/api/v1/designs") {
+    // No listing: a design is seen by those who hold its id.
+    if (method != "POST") not_allowed(s, msg, "POST");
+    else upload(s, msg);
+    return true;
+  }
+  std::smatch m;
+  if (path.rfind("/api/v1/designs/", 0) != 0) return false;
+  const nlohmann::json state = std::regex_match(path, m, design_path) && s.designs ? s.designs->describe(m[1]) : nullptr;
+  if (method == "GET" || method == "HEAD") {
+    if (state.is_null()) reply_problem(msg, s.metrics, SOUP_STATUS_NOT_FOUND, "no such design");
+    else reply_json(msg, SOUP_STATUS_OK, state);
+  } else if (method == "DELETE") {
+    // One answer for an unknown id and a wrong token, as for sessions.
+    if (state.is_null() || !s.designs->remove(m[1], bearer_token(msg))) {
+      soup_message_headers_replace(soup_server_message_get_response_headers(msg), "WWW-Authenticate", "Bearer");
+      reply_problem(msg, s.metrics, SOUP_STATUS_UNAUTHORIZED, "no design with this id and token");
+    } else {
+      soup_server_message_set_status(msg, SOUP_STATUS_NO_CONTENT, nullptr);
+    }
+  } else {
+    not_allowed(s, msg, "GET, HEAD, DELETE");
+  }
+  return true;
+}
+
+}  // namespace caustic::server

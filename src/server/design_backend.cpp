@@ -1,0 +1,79 @@
+// Design jobs through the designer library (src/design): built only when
+// CAUSTICD_WITH_DESIGN is on; design_backend_off.cpp stands in otherwise.
+#include "design_jobs.hpp"
+
+#include "caustic/design.hpp"
+#include "caustic/design_target.hpp"
+#include "caustic/design_verify.hpp"
+#include "caustic/gl_context.hpp"
+#include "caustic/mesh.hpp"
+#include "caustic/scene.hpp"
+
+#include <algorithm>
+#include <fstream>
+
+namespace caustic::server {
+namespace {
+
+// The library's messages name the file and quote the image library, whose
+// text may hold the state directory's path: a visitor gets the reason alone.
+std::string visitor_reason(const std::string& what, const std::string& file) {
+  std::string reason = what;
+  if (reason.rfind(file + ": ", 0) == 0) reason.erase(0, file.size() + 2);
+  if (const auto paren = reason.find(" ("); paren != std::string::npos) reason.erase(paren);
+  return reason;
+}
+
+void write_file(const std::filesystem::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  out << text;
+  if (!out) throw std::runtime_error("the server could not store the design");
+}
+
+void run(const std::filesystem::path& target, const std::filesystem::path& folder, int resolution,
+         const std::function<void(const DesignBackend::Progress&)>& progress) {
+  design::Image picture;
+  try {
+    picture = design::load_target(target);
+  } catch (const design::TargetError& e) {
+    throw std::runtime_error(visitor_reason(e.what(), target.string()));
+  }
+  design::DesignOptions options;
+  options.resolution = resolution;
+  design::Design d;
+  try {
+    // The transport's contrast steps are most of the time: 0 to 80%.
+    d = design::design_face(picture, options, [&](const design::Progress& p) {
+      progress({0.8 * (std::max(0, p.step - 1) + 0.5) / std::max(1, p.steps), "designing"});
+    });
+  } catch (const design::TargetError& e) {
+    throw std::runtime_error(e.what());
+  }
+  progress({0.85, "checking"});
+  nlohmann::json report = {{"resolution", d.n},
+                           {"design_seconds", d.report.seconds},
+                           {"tir_vertices", d.report.tir_vertices},
+                           {"max_slope_deg", d.report.max_slope_deg},
+                           {"relief_mm", d.report.relief},
+                           {"min_thickness_mm", d.report.min_thickness}};
+  {
+    GlContext context(egl_platform_from_environment());
+    const design::Verification engine = design::verify_with_engine(d);
+    report["engine"] = {{"seconds", engine.seconds}, {"ssim", engine.ssim}, {"relative_l1", engine.relative_l1},
+                        {"leak", engine.leak}, {"target_leak", engine.ideal_leak}};
+    report["seconds_total"] = d.report.seconds + engine.seconds;
+    context.release_current();
+  }
+  progress({0.95, "storing"});
+  write_obj(d.face, folder / "face.obj");
+  write_file(folder / "scene.json", scene_to_json(design::design_scene(d, "face.obj", std::clamp(d.n, 256, 1024))).dump(2));
+  // Last, and whole or not at all: its presence says the design is complete.
+  write_file(folder / "report.json.part", report.dump(2));
+  std::filesystem::rename(folder / "report.json.part", folder / "report.json");
+}
+
+}  // namespace
+
+DesignBackend design_backend() { return {run, true}; }
+
+}  // namespace caustic::server

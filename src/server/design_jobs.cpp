@@ -1,0 +1,341 @@
+#include "design_jobs.hpp"
+
+#include "caustic/engine.hpp"
+#include "caustic/gl_context.hpp"
+#include "caustic/json_text.hpp"
+#include "http_util.hpp"
+#include "log.hpp"
+#include "session.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+namespace caustic::server {
+namespace fs = std::filesystem;
+
+struct DesignJobs::Job {
+  enum class State { restoring, queued, designing, ready, failed };
+  std::string id, token, name, extension;
+  std::int64_t created = 0;
+  fs::path folder;
+  State state = State::queued;
+  double progress = 0;
+  std::string stage, error;
+  nlohmann::json report;  ///< the public figures only
+  std::shared_ptr<const GalleryEntry> entry;
+};
+
+namespace {
+
+struct Stopping {};
+
+std::int64_t unix_now() {
+  return std::chrono::duration_cast<std::chrono::seconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+const char* state_name(int s) {
+  static const char* const names[] = {"restoring", "queued", "designing", "ready", "failed"};
+  return names[s];
+}
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Written under a temporary name, then renamed: a crash leaves the old file
+// or the new one, never half of one.
+void write_atomic(const fs::path& file, const std::string& text) {
+  const fs::path part = file.string() + ".part";
+  {
+    std::ofstream out(part, std::ios::binary | std::ios::trunc);
+    out << text;
+    if (!out) throw std::runtime_error("cannot write " + file.filename().string());
+  }
+  fs::rename(part, file);
+}
+
+// What a visitor may learn of a design: how well the glass forms the
+// picture and how long it took; the face's own figures (relief, slopes,
+// thickness) describe the hidden mesh and stay on the server.
+nlohmann::json public_report(const nlohmann::json& r) {
+  nlohmann::json out = {{"resolution", r.value("resolution", 0)},
+                        {"design_seconds", r.value("design_seconds", 0.0)},
+                        {"seconds_total", r.value("seconds_total", 0.0)},
+                        {"tir_vertices", r.value("tir_vertices", 0)}};
+  if (r.contains("engine") && r["engine"].is_object())
+    out["engine"] = {{"ssim", r["engine"].value("ssim", 0.0)},
+                     {"relative_l1", r["engine"].value("relative_l1", 0.0)},
+                     {"leak", r["engine"].value("leak", 0.0)}};
+  return out;
+}
+
+}  // namespace
+
+DesignJobs::DesignJobs(DesignSettings settings, DesignBackend backend)
+    : settings_(std::move(settings)), backend_(std::move(backend)) {
+  fs::create_directories(settings_.folder);
+  fs::permissions(settings_.folder, fs::perms::owner_all, fs::perm_options::replace);
+  static const std::regex id_pattern("[0-9a-f]{32}");
+  std::vector<std::shared_ptr<Job>> found;
+  for (const auto& dir : fs::directory_iterator(settings_.folder)) {
+    const std::string id = dir.path().filename().string();
+    if (!dir.is_directory() || !std::regex_match(id, id_pattern)) continue;
+    auto job = std::make_shared<Job>();
+    job->id = id;
+    job->folder = dir.path();
+    try {
+      const auto meta = parse_json_text(read_text(dir.path() / "meta.json"));
+      if (!meta || !meta->is_object()) throw std::runtime_error("meta.json is not a JSON object");
+      job->token = meta->at("token").get<std::string>();
+      job->name = meta->at("name").get<std::string>();
+      job->extension = meta->at("extension").get<std::string>();
+      job->created = meta->at("created").get<std::int64_t>();
+    } catch (const std::exception& e) {
+      log(Level::warning, "design " + id + " skipped: " + e.what());
+      continue;
+    }
+    if (fs::exists(dir.path() / "error.txt")) {
+      job->state = Job::State::failed;
+      job->error = read_text(dir.path() / "error.txt");
+    } else if (fs::exists(dir.path() / "scene.json") && fs::exists(dir.path() / "report.json")) {
+      job->state = Job::State::restoring;
+    } else if (fs::exists(dir.path() / ("picture" + job->extension))) {
+      job->state = Job::State::queued;  // interrupted by a stop: design it again
+    } else {
+      continue;
+    }
+    found.push_back(job);
+  }
+  // Oldest first: restored scenes, then the interrupted uploads in order.
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a->created < b->created; });
+  for (const auto& job : found) {
+    jobs_[job->id] = job;
+    if (job->state == Job::State::restoring) queue_.push_front(job);
+    else if (job->state == Job::State::queued) queue_.push_back(job);
+  }
+  expire_locked(unix_now());
+  for (int i = 0; i < std::max(1, settings_.workers); ++i) workers_.emplace_back([this] { work(); });
+}
+
+DesignJobs::~DesignJobs() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  for (auto& worker : workers_) worker.join();
+}
+
+void DesignJobs::save_meta(const Job& job) const {
+  write_atomic(job.folder / "meta.json", nlohmann::json{{"id", job.id},
+                                                        {"token", job.token},
+                                                        {"name", job.name},
+                                                        {"extension", job.extension},
+                                                        {"created", job.created}}
+                                             .dump(2));
+}
+
+DesignJobs::Ticket DesignJobs::submit(const std::vector<unsigned char>& picture, const std::string& extension,
+                                      const std::string& name) {
+  std::lock_guard lock(mutex_);
+  if (pending_locked() >= settings_.queue)
+    throw DesignRefusal(503, "the design queue is full (" + std::to_string(settings_.queue) + "); try again later");
+  auto job = std::make_shared<Job>();
+  job->id = random_hex();
+  job->token = random_hex();
+  job->name = name;
+  job->extension = extension;
+  job->created = unix_now();
+  job->folder = settings_.folder / job->id;
+  fs::create_directory(job->folder);
+  fs::permissions(job->folder, fs::perms::owner_all, fs::perm_options::replace);
+  try {
+    write_atomic(job->folder / ("picture" + extension), std::string(picture.begin(), picture.end()));
+    save_meta(*job);
+  } catch (const std::exception& e) {
+    std::error_code ec;
+    fs::remove_all(job->folder, ec);
+    throw;
+  }
+  jobs_[job->id] = job;
+  queue_.push_back(job);
+  wake_.notify_all();
+  return {job->id, job->token};
+}
+
+int DesignJobs::pending_locked() const {
+  int n = 0;
+  for (const auto& [id, job] : jobs_) n += job->state == Job::State::queued || job->state == Job::State::designing;
+  return n;
+}
+
+int DesignJobs::pending() const {
+  std::lock_guard lock(mutex_);
+  return pending_locked();
+}
+
+nlohmann::json DesignJobs::describe(const std::string& id) const {
+  std::lock_guard lock(mutex_);
+  const auto it = jobs_.find(id);
+  if (it == jobs_.end()) return nullptr;
+  const Job& job = *it->second;
+  // A restored design shows as queued until its scene is loaded again.
+  const auto state = job.state == Job::State::restoring ? Job::State::queued : job.state;
+  nlohmann::json out = {{"id", job.id},
+                        {"name", job.name},
+                        {"state", state_name(static_cast<int>(state))},
+                        {"progress", job.state == Job::State::ready ? 1.0 : job.progress},
+                        {"created", job.created}};
+  if (state == Job::State::queued) {
+    int position = 1;
+    for (const auto& q : queue_) {
+      if (q.get() == &job) break;
+      position += q->state == Job::State::queued;
+    }
+    out["position"] = position;
+  }
+  if (!job.stage.empty() && state == Job::State::designing) out["stage"] = job.stage;
+  if (state == Job::State::failed) out["error"] = job.error;
+  if (state == Job::State::ready) {
+    out["report"] = job.report;
+    out["scene"] = job.id;
+  }
+  std::error_code ec;
+  if (fs::exists(job.folder / "keep", ec)) out["expires"] = nullptr;
+  else out["expires"] = job.created + settings_.expiry_s;
+  return out;
+}
+
+std::shared_ptr<const GalleryEntry> DesignJobs::scene(const std::string& id) const {
+  std::lock_guard lock(mutex_);
+  const auto it = jobs_.find(id);
+  return it == jobs_.end() ? nullptr : it->second->entry;
+}
+
+bool DesignJobs::remove(const std::string& id, const std::string& token) {
+  std::lock_guard lock(mutex_);
+  const auto it = jobs_.find(id);
+  if (it == jobs_.end() || token.empty() || !same_secret(token, it->second->token)) return false;
+  // A running job keeps its folder until it ends; it is then thrown away.
+  auto job = it->second;
+  jobs_.erase(it);
+  std::erase(queue_, job);
+  if (job->state != Job::State::designing) {
+    std::error_code ec;
+    fs::remove_all(job->folder, ec);
+  }
+  return true;
+}
+
+void DesignJobs::expire_locked(std::int64_t now) {
+  for (auto it = jobs_.begin(); it != jobs_.end();) {
+    const Job& job = *it->second;
+    std::error_code ec;
+    const bool old = job.created + settings_.expiry_s <= now;
+    const bool finished =
+        job.state == Job::State::ready || job.state == Job::State::failed || job.state == Job::State::restoring;
+    if (old && finished && !fs::exists(job.folder / "keep", ec)) {
+      log(Level::info, "design " + job.id + " expired");
+      // A restoring job a worker holds finds itself gone and cleans up.
+      std::erase(queue_, it->second);
+      fs::remove_all(job.folder, ec);
+      it = jobs_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+void DesignJobs::work() {
+  // Designs yield to the streams: a nice value of 10 on this thread alone.
+  setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 10);
+  std::unique_lock lock(mutex_);
+  while (!stop_) {
+    if (queue_.empty()) {
+      wake_.wait_for(lock, std::chrono::seconds(30));
+      expire_locked(unix_now());
+      continue;
+    }
+    auto job = queue_.front();
+    queue_.pop_front();
+    lock.unlock();
+    run_job(job);
+    lock.lock();
+  }
+}
+
+void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
+  const bool restoring = [&] {
+    std::lock_guard lock(mutex_);
+    const bool r = job->state == Job::State::restoring;
+    if (!r) job->state = Job::State::designing;
+    return r;
+  }();
+  const fs::path picture = job->folder / ("picture" + job->extension);
+  std::string error;
+  std::shared_ptr<const GalleryEntry> entry;
+  nlohmann::json report;
+  try {
+    if (!restoring) {
+      if (!backend_.run) throw std::runtime_error("design is not built into this server");
+      backend_.run(picture, job->folder, settings_.resolution, [&](const DesignBackend::Progress& p) {
+        std::lock_guard lock(mutex_);
+        // A stop unwinds the design: the picture stays, and the next start
+        // designs it again.
+        if (stop_) throw Stopping();
+        job->progress = p.fraction;
+        job->stage = p.stage;
+      });
+    }
+    report = public_report(parse_json_text(read_text(job->folder / "report.json")).value_or(nlohmann::json::object()));
+    GlContext context(egl_platform_from_environment());
+    std::unique_ptr<Engine> engine;
+    auto scene = load_entry(job->folder / "scene.json", job->id, [&]() -> Engine& {
+      if (!engine) engine = std::make_unique<Engine>();
+      return *engine;
+    });
+    scene->scene.name = job->name;
+    scene->scene.description = "Designed from a visitor's picture.";
+    scene->designed = true;
+    entry = std::move(scene);
+    engine.reset();
+    context.release_current();
+  } catch (const Stopping&) {
+    return;
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  std::error_code ec;
+  fs::remove(picture, ec);  // the visitor's picture is not kept once designed
+  std::lock_guard lock(mutex_);
+  if (!jobs_.count(job->id)) {  // deleted while it ran
+    fs::remove_all(job->folder, ec);
+    return;
+  }
+  if (error.empty()) {
+    job->state = Job::State::ready;
+    job->entry = std::move(entry);
+    job->report = std::move(report);
+    job->progress = 1;
+    log(Level::info, "design " + job->id + (restoring ? " restored" : " ready"));
+  } else {
+    job->state = Job::State::failed;
+    job->error = error;
+    try {
+      write_atomic(job->folder / "error.txt", error);
+    } catch (const std::exception&) {
+    }
+    log(Level::warning, "design " + job->id + " failed: " + error);
+  }
+}
+
+}  // namespace caustic::server

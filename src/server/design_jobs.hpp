@@ -1,0 +1,105 @@
+// Visitors' pictures turned into glass: uploads wait in a bounded queue, a
+// worker thread of low priority designs them one at a time (so that the
+// streams keep their cores), and each finished design becomes a scene that
+// only those who hold its id can open. Every design lives in a folder of its
+// own under the state directory, survives a restart and expires unless the
+// operator keeps it (a file named `keep` in its folder).
+#pragma once
+
+#include "gallery.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace caustic::server {
+
+/// What a design job does between "picture on disk" and "scene on disk";
+/// design_backend.cpp when the designer is built in, a refusal otherwise.
+struct DesignBackend {
+  struct Progress {
+    double fraction = 0;  ///< 0..1 of the whole job
+    std::string stage;    ///< "designing", "checking"
+  };
+  /// Writes face.obj, scene.json and report.json into `folder` from
+  /// `target`; throws std::runtime_error with a visitor-readable message.
+  /// `progress` may throw (the server is stopping): the run then unwinds.
+  std::function<void(const std::filesystem::path& target, const std::filesystem::path& folder, int resolution,
+                     const std::function<void(const Progress&)>& progress)>
+      run;
+  bool built_in = false;
+};
+DesignBackend design_backend();
+
+struct DesignSettings {
+  std::filesystem::path folder;  ///< <state>/designs
+  int queue = 4;                 ///< designs waiting or running at once; 503 beyond
+  int workers = 1;               ///< designs running at once
+  int resolution = 512;
+  long long expiry_s = 7 * 24 * 3600;
+};
+
+/// A refused upload: HTTP status and a detail for problem+json.
+struct DesignRefusal : std::runtime_error {
+  DesignRefusal(unsigned status, const std::string& detail) : std::runtime_error(detail), status(status) {}
+  unsigned status;
+};
+
+class DesignJobs {
+ public:
+  /// Reads the designs already in `settings.folder` (finished ones are
+  /// loaded, unfinished ones queued again) and starts the worker.
+  DesignJobs(DesignSettings settings, DesignBackend backend);
+  ~DesignJobs();
+  DesignJobs(const DesignJobs&) = delete;
+  DesignJobs& operator=(const DesignJobs&) = delete;
+
+  struct Ticket {
+    std::string id, token;
+  };
+  /// Queues a checked picture (its bytes and the file extension that names
+  /// its format). Throws DesignRefusal (503) when the queue is full.
+  Ticket submit(const std::vector<unsigned char>& picture, const std::string& extension, const std::string& name);
+
+  /// Public state of a design: id, name, state, progress, position in the
+  /// queue, error, the picture figures of its report, its scene id. Null
+  /// when there is no such design.
+  nlohmann::json describe(const std::string& id) const;
+  /// The scene of a finished design, or null.
+  std::shared_ptr<const GalleryEntry> scene(const std::string& id) const;
+  /// Removes a design when `token` is its owner's; false otherwise.
+  bool remove(const std::string& id, const std::string& token);
+  /// Designs waiting or running.
+  int pending() const;
+  bool built_in() const { return backend_.built_in; }
+
+ private:
+  struct Job;
+  void work();
+  void run_job(const std::shared_ptr<Job>& job);
+  void expire_locked(std::int64_t now);
+  int pending_locked() const;
+  void save_meta(const Job& job) const;
+
+  DesignSettings settings_;
+  DesignBackend backend_;
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::map<std::string, std::shared_ptr<Job>> jobs_;
+  std::deque<std::shared_ptr<Job>> queue_;
+  bool stop_ = false;
+  std::vector<std::thread> workers_;
+};
+
+}  // namespace caustic::server

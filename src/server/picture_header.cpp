@@ -1,0 +1,78 @@
+#include "picture_header.hpp"
+
+#include <cstring>
+
+namespace caustic::server {
+namespace {
+
+std::uint32_t be32(const unsigned char* p) {
+  return (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) | p[3];
+}
+std::uint32_t be16(const unsigned char* p) { return (std::uint32_t(p[0]) << 8) | p[1]; }
+
+}  // namespace
+
+PictureHeader read_picture_header(const unsigned char* data, std::size_t size) {
+  PictureHeader out;
+  static const unsigned char png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (size >= 8 && std::memcmp(data, png, 8) == 0) {
+    out.format = PictureHeader::Format::png;
+    // The first chunk must be IHDR, 13 bytes long (PNG spec 11.2.2).
+    if (size >= 24 && be32(data + 8) == 13 && std::memcmp(data + 12, "IHDR", 4) == 0) {
+      out.width = be32(data + 16);
+      out.height = be32(data + 20);
+      // Sizes beyond 2^31 - 1 are invalid PNG.
+      if (out.width > 0x7fffffffu || out.height > 0x7fffffffu) out.width = out.height = 0;
+    }
+    return out;
+  }
+  if (size >= 3 && data[0] == 0xff && data[1] == 0xd8 && data[2] == 0xff) {
+    out.format = PictureHeader::Format::jpeg;
+    std::size_t pos = 2;
+    while (pos + 4 <= size) {
+      if (data[pos] != 0xff) return out;  // markers must follow one another
+      const unsigned char marker = data[pos + 1];
+      if (marker == 0xff) {  // fill byte
+        ++pos;
+        continue;
+      }
+      if (marker == 0xd8 || marker == 0x01 || (marker >= 0xd0 && marker <= 0xd7)) {  // no length
+        pos += 2;
+        continue;
+      }
+      if (marker == 0xd9 || marker == 0xda) return out;  // end, or scan data before any frame header
+      const std::uint32_t length = be16(data + pos + 2);
+      if (length < 2) return out;
+      // SOF0..SOF15 without DHT (C4), JPG (C8) and DAC (CC): P, Y, X follow the length.
+      const bool sof = marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc;
+      if (sof) {
+        if (pos + 9 > size || length < 7) return out;
+        out.height = be16(data + pos + 5);
+        out.width = be16(data + pos + 7);
+        if (out.height == 0) out.width = 0;  // height from a later DNL marker: not taken
+        return out;
+      }
+      pos += 2 + length;
+    }
+    return out;
+  }
+  return out;
+}
+
+const char* media_type(PictureHeader::Format format) {
+  switch (format) {
+    case PictureHeader::Format::png: return "image/png";
+    case PictureHeader::Format::jpeg: return "image/jpeg";
+    default: return "";
+  }
+}
+
+const char* extension(PictureHeader::Format format) {
+  switch (format) {
+    case PictureHeader::Format::png: return ".png";
+    case PictureHeader::Format::jpeg: return ".jpg";
+    default: return "";
+  }
+}
+
+}  // namespace caustic::server

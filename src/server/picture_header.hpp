@@ -1,0 +1,28 @@
+// The format and size of an uploaded picture, read from its first bytes
+// before anything decodes it: a format outside the short list, or a header
+// that claims more pixels than the server takes, is refused on the request
+// thread without handing the bytes to an image library. Pure; tested and
+// fuzzed on its own.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace caustic::server {
+
+struct PictureHeader {
+  enum class Format { unknown, png, jpeg };
+  Format format = Format::unknown;
+  std::uint32_t width = 0, height = 0;  ///< 0 when the header holds none (cut short, broken)
+};
+
+/// Sniffs PNG (signature, then IHDR first) or baseline/progressive JPEG
+/// (SOI, then markers up to the first SOFn).
+PictureHeader read_picture_header(const unsigned char* data, std::size_t size);
+
+/// The media type of a format ("image/png"), and its file extension (".png").
+const char* media_type(PictureHeader::Format format);
+const char* extension(PictureHeader::Format format);
+
+}  // namespace caustic::server

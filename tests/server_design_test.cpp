@@ -1,0 +1,265 @@
+// Visitors' pictures over the API (POST /api/v1/designs): a picture becomes
+// a streamable scene whose caustic is the picture; bad uploads are refused
+// with problem+json and leave nothing behind; limits, tokens, restarts and
+// expiry. Black box against `causticd serve` on loopback; every wait bounded.
+#include "caustic/engine.hpp"
+#include "caustic/image_io.hpp"
+#include "server_process.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+using caustic::testing::http;
+using caustic::testing::Response;
+using caustic::testing::ServerProcess;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A bright square (a quarter of the side) on a dark floor: the oracle is
+// where the light must go, not what the designer says it did.
+std::string square_png(int n = 128, int level = 255) {
+  caustic::Rgba8Image image{n, n, std::vector<std::uint8_t>(std::size_t(n) * n * 4, 255)};
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const bool inside = std::abs(x - n / 2) < n / 4 && std::abs(y - n / 2) < n / 4;
+      for (int c = 0; c < 3; ++c) image.pixels[(std::size_t(y) * n + x) * 4 + c] = inside ? level : level / 10;
+    }
+  const auto bytes = caustic::encode_png(image);
+  return std::string(bytes.begin(), bytes.end());
+}
+
+Response upload(const ServerProcess& server, const std::string& body, const std::string& type = "image/png",
+                const std::string& query = "", const std::vector<std::pair<std::string, std::string>>& headers = {}) {
+  return http("POST", server.url() + "/api/v1/designs" + query, body, type, headers);
+}
+
+// Polls a design until it leaves queued/designing or `seconds` pass.
+json wait_design(const ServerProcess& server, const std::string& id, double seconds = 180) {
+  json state;
+  for (int i = 0; i < seconds * 5; ++i) {
+    state = http("GET", server.url() + "/api/v1/designs/" + id).json();
+    if (state.value("state", "") == "ready" || state.value("state", "") == "failed") return state;
+    g_usleep(200000);
+  }
+  return state;
+}
+
+void expect_problem(const Response& r, guint status, const std::string& detail_part = "") {
+  EXPECT_EQ(r.status, status) << r.body;
+  EXPECT_EQ(r.content_type, "application/problem+json") << r.body;
+  const json body = r.json();
+  EXPECT_EQ(body.value("status", 0), static_cast<int>(status)) << r.body;
+  if (!detail_part.empty()) {
+    EXPECT_NE(body.value("detail", "").find(detail_part), std::string::npos) << r.body;
+  }
+}
+
+int folders_in(const fs::path& dir) {
+  int n = 0;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) n += e.is_directory();
+  return n;
+}
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    gchar* p = g_dir_make_tmp("causticd-design-test-XXXXXX", nullptr);
+    path = p;
+    g_free(p);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+std::vector<std::string> small_designs(const TempDir& state) {
+  return {"--set", "state_dir=" + state.path.string(), "--set", "design_resolution=128", "--set",
+          "design_uploads_per_hour=1000"};
+}
+
+}  // namespace
+
+// Built without the designer, the API says so and nothing else changes.
+TEST(DesignApiOff, WithoutTheDesignerUploadsAnswer501) {
+  if (DESIGN_BUILT_IN) GTEST_SKIP() << "the designer is built in";
+  ServerProcess server;
+  expect_problem(upload(server, square_png()), 501, "not built");
+}
+
+// The other tests need the designer.
+class DesignApi : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!DESIGN_BUILT_IN) GTEST_SKIP() << "built with CAUSTICD_WITH_DESIGN=OFF";
+  }
+};
+
+TEST_F(DesignApi, APictureBecomesAPrivateSceneWhoseCausticIsThePicture) {
+  TempDir state;
+  ServerProcess server(small_designs(state));
+  const Response posted = upload(server, square_png(), "image/png", "?name=Square");
+  ASSERT_EQ(posted.status, 202u) << posted.body;
+  const json ticket = posted.json();
+  const std::string id = ticket["id"];
+  EXPECT_EQ(ticket["status_url"], "/api/v1/designs/" + id);
+  const json done = wait_design(server, id);
+  ASSERT_EQ(done.value("state", ""), "ready") << done.dump();
+  EXPECT_EQ(done["name"], "Square");
+  EXPECT_EQ(done["scene"], id);
+  EXPECT_EQ(done["report"]["tir_vertices"], 0);
+  EXPECT_GT(done["report"]["engine"]["ssim"].get<double>(), 0.9) << done.dump();
+  // The face's own figures describe the hidden mesh: never in the answer.
+  for (const char* secret : {"relief_mm", "max_slope_deg", "min_thickness_mm"})
+    EXPECT_EQ(done.dump().find(secret), std::string::npos) << secret;
+
+  // The thumbnail is the engine's render: the light lands in the square.
+  // Its tone map (v = (1 - exp(-e E))^(1/2.2)) is undone to compare
+  // irradiance; the target's contrast is 10:1, bloom spills a little.
+  const Response thumb = http("GET", server.url() + "/api/v1/scenes/" + id + "/thumbnail.png");
+  ASSERT_EQ(thumb.status, 200u);
+  const fs::path png = state.path / "thumb.png";
+  std::ofstream(png, std::ios::binary) << thumb.body;
+  const caustic::HdrImage render = caustic::read_hdr_image(png);
+  double inside = 0, outside = 0;
+  int n_in = 0, n_out = 0;
+  for (int y = 0; y < render.height; ++y)
+    for (int x = 0; x < render.width; ++x) {
+      const double v = -std::log(1.0 - std::min(0.999, std::pow(render.pixels[std::size_t(y) * render.width + x], 2.2)));
+      const double dx = std::abs(x + 0.5 - render.width / 2.0) / render.width;
+      const double dy = std::abs(y + 0.5 - render.height / 2.0) / render.height;
+      if (dx < 0.2 && dy < 0.2) {
+        inside += v;
+        ++n_in;
+      } else if (dx > 0.3 || dy > 0.3) {
+        outside += v;
+        ++n_out;
+      }
+    }
+  EXPECT_GT(inside / n_in, 5 * (outside / n_out)) << inside / n_in << " vs " << outside / n_out;
+
+  // A new session streams it; the public list does not show it.
+  const Response session = http("POST", server.url() + "/api/v1/sessions", json{{"scene", id}}.dump());
+  EXPECT_EQ(session.status, 201u) << session.body;
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/scenes").body.find(id), std::string::npos);
+  const json one = http("GET", server.url() + "/api/v1/scenes/" + id).json();
+  EXPECT_EQ(one["kind"], "designed");
+  EXPECT_TRUE(one["proxy"].is_object());
+  // The picture itself is not kept once designed.
+  for (const auto& f : fs::directory_iterator(state.path / "designs" / id))
+    EXPECT_NE(f.path().stem(), "picture") << f.path();
+}
+
+TEST_F(DesignApi, BadUploadsAreRefusedAndLeaveNothingBehind) {
+  TempDir state;
+  auto args = small_designs(state);
+  for (const char* kv : {"design_max_upload_bytes=100000", "design_max_pixels=1000000"})
+    args.insert(args.end(), {"--set", kv});
+  ServerProcess server(args);
+  expect_problem(upload(server, "hello", "text/plain"), 415, "image/png or image/jpeg");
+  expect_problem(upload(server, "hello", "image/png"), 415, "not image/png");
+  expect_problem(upload(server, square_png(), "image/jpeg"), 415, "not image/jpeg");
+  expect_problem(upload(server, std::string(1, '\0'), "image/png"), 415);
+  // A PNG header that claims 20000 x 20000 pixels: refused from the header.
+  std::string huge = square_png().substr(0, 33);
+  for (int i = 0; i < 2; ++i) {
+    const unsigned v = 20000;
+    for (int b = 0; b < 4; ++b) huge[16 + 4 * i + b] = static_cast<char>((v >> (24 - 8 * b)) & 0xff);
+  }
+  expect_problem(upload(server, huge, "image/png"), 413, "20000x20000");
+  expect_problem(upload(server, square_png().substr(0, 20), "image/png"), 422, "broken");
+  expect_problem(upload(server, std::string(100001, 'x'), "image/png"), 413, "100000 bytes");
+  expect_problem(upload(server, square_png(), "image/png", "?name=%01"), 422, "control");
+  expect_problem(upload(server, square_png(), "image/png", "?name=" + std::string(65, 'a')), 422, "name");
+  expect_problem(upload(server, square_png(), "image/png", "?colour=red"), 422, "query key");
+  const Response list = http("GET", server.url() + "/api/v1/designs");
+  expect_problem(list, 405);
+  expect_problem(http("GET", server.url() + "/api/v1/designs/0123456789abcdef0123456789abcdef"), 404);
+  EXPECT_EQ(folders_in(state.path / "designs"), 0);
+
+  // Pictures that decode to nothing usable fail as jobs, saying why and
+  // naming no file of the server.
+  std::string cut = square_png();
+  cut.resize(cut.size() / 2);
+  const std::string black = square_png(128, 0);
+  for (const std::string& body : {cut, black}) {
+    const Response posted = upload(server, body);
+    ASSERT_EQ(posted.status, 202u) << posted.body;
+    const json done = wait_design(server, posted.json()["id"]);
+    EXPECT_EQ(done.value("state", ""), "failed") << done.dump();
+    const std::string error = done.value("error", "");
+    EXPECT_FALSE(error.empty());
+    EXPECT_EQ(error.find('/'), std::string::npos) << error;
+    EXPECT_EQ(error.find(state.path.string()), std::string::npos) << error;
+  }
+  EXPECT_NE(wait_design(server, upload(server, black).json()["id"]).value("error", "").find("all black"),
+            std::string::npos);
+}
+
+TEST_F(DesignApi, TheQueueIsBoundedAndUploadsAreRateLimited) {
+  TempDir state;
+  // A 512^2 design takes seconds; two uploads sent at once meet a full queue.
+  ServerProcess server({"--set", "state_dir=" + state.path.string(), "--set", "design_queue=1", "--set",
+                        "design_uploads_per_hour=3"});
+  EXPECT_EQ(upload(server, square_png(512)).status, 202u);
+  const Response full = upload(server, square_png(512));
+  expect_problem(full, 503, "queue is full");
+  const Response third = upload(server, square_png(512));
+  EXPECT_TRUE(third.status == 503u || third.status == 202u) << third.body;
+  // The fourth is beyond the address's hourly allowance (a burst of 3).
+  expect_problem(upload(server, square_png(512)), 429, "an hour");
+}
+
+TEST_F(DesignApi, UploadsCanBeTurnedOffOrNeedAToken) {
+  {
+    ServerProcess server({"--set", "design_uploads=off"});
+    expect_problem(upload(server, square_png()), 403, "turned off");
+  }
+  TempDir state;
+  auto args = small_designs(state);
+  args.insert(args.end(), {"--set", "design_upload_token=uploads-secret-0123456789"});
+  ServerProcess server(args);
+  expect_problem(upload(server, square_png()), 401, "bearer token");
+  expect_problem(upload(server, square_png(), "image/png", "", {{"Authorization", "Bearer wrong-token-0123456789"}}),
+                 401);
+  EXPECT_EQ(upload(server, square_png(), "image/png", "", {{"Authorization", "Bearer uploads-secret-0123456789"}}).status,
+            202u);
+}
+
+TEST_F(DesignApi, DesignsSurviveARestartExpireUnlessKeptAndTheirOwnerMayDeleteThem) {
+  TempDir state;
+  std::string kept, plain, deleted, token;
+  {
+    ServerProcess server(small_designs(state));
+    for (std::string* id : {&kept, &plain, &deleted}) {
+      const json ticket = upload(server, square_png()).json();
+      *id = ticket["id"];
+      if (id == &deleted) token = ticket["token"];
+      ASSERT_EQ(wait_design(server, *id).value("state", ""), "ready");
+    }
+    // Only the token that came with the upload deletes it.
+    const std::string url = server.url() + "/api/v1/designs/" + deleted;
+    expect_problem(http("DELETE", url, "", "", {{"Authorization", "Bearer 0123456789abcdef0123456789abcdef"}}), 401);
+    EXPECT_EQ(http("DELETE", url, "", "", {{"Authorization", "Bearer " + token}}).status, 204u);
+    expect_problem(http("GET", url), 404);
+    EXPECT_FALSE(fs::exists(state.path / "designs" / deleted));
+  }
+  {
+    ServerProcess server(small_designs(state));
+    const json restored = wait_design(server, plain);
+    EXPECT_EQ(restored.value("state", ""), "ready") << restored.dump();
+    EXPECT_EQ(http("POST", server.url() + "/api/v1/sessions", json{{"scene", plain}}.dump()).status, 201u);
+  }
+  std::ofstream(state.path / "designs" / kept / "keep") << "";
+  auto args = small_designs(state);
+  args.insert(args.end(), {"--set", "design_expiry_s=1"});
+  ServerProcess server(args);
+  EXPECT_EQ(wait_design(server, kept).value("state", ""), "ready");
+  EXPECT_TRUE(http("GET", server.url() + "/api/v1/designs/" + kept).json()["expires"].is_null());
+  expect_problem(http("GET", server.url() + "/api/v1/designs/" + plain), 404);
+  EXPECT_FALSE(fs::exists(state.path / "designs" / plain));
+}

@@ -1,0 +1,69 @@
+// The gallery's "upload your picture" card: the picture goes to
+// POST /api/v1/designs, its progress is polled, and the finished design
+// opens in the viewer like any other scene.
+const POLL_MS = 500;
+
+export function uploadCard(codecOf) {
+  const card = document.createElement('form');
+  card.className = 'card upload';
+  card.id = 'upload';
+  card.innerHTML = `
+    <div class="drop"><span>Your picture, as glass</span></div>
+    <h2>Upload your picture</h2>
+    <p>A PNG or JPEG becomes a lens whose caustic draws it; it opens here when it is ready.</p>
+    <label>Name <input name="name" maxlength="64" value="My picture" required></label>
+    <input type="file" name="picture" accept="image/png,image/jpeg" required>
+    <progress max="1" value="0" hidden></progress>
+    <p class="upload-status" role="status"></p>`;
+  const file = card.querySelector('input[type=file]');
+  const bar = card.querySelector('progress');
+  const status = card.querySelector('.upload-status');
+  const say = (text) => { status.textContent = text; };
+
+  file.addEventListener('change', async () => {
+    const picture = file.files[0];
+    if (!picture) return;
+    if (picture.type !== 'image/png' && picture.type !== 'image/jpeg') {
+      say('Only PNG and JPEG pictures are taken.');
+      return;
+    }
+    file.disabled = true;
+    bar.hidden = false;
+    bar.value = 0;
+    say('Uploading…');
+    try {
+      const name = card.querySelector('input[name=name]').value || 'My picture';
+      const response = await fetch(`/api/v1/designs?name=${encodeURIComponent(name)}`, {
+        method: 'POST', headers: { 'Content-Type': picture.type }, body: picture,
+      });
+      const answer = await response.json();
+      if (!response.ok) throw new Error(answer.detail ?? `the server answered ${response.status}`);
+      const design = await follow(answer.status_url, (d) => {
+        bar.value = d.progress;
+        say(d.state === 'queued' ? `Waiting in line (position ${d.position})…` : `Designing: ${d.stage ?? d.state}…`);
+      });
+      const ssim = design.report?.engine?.ssim;
+      say(`Ready${ssim ? ` (SSIM ${ssim.toFixed(3)})` : ''}: opening…`);
+      location.href = `viewer.html?scene=${encodeURIComponent(design.scene)}&codec=${codecOf()}`;
+    } catch (error) {
+      say(`Not designed: ${error.message}`);
+      bar.hidden = true;
+    } finally {
+      file.disabled = false;
+    }
+  });
+  return card;
+}
+
+// Polls a design until it is ready or failed; `onProgress` sees each state.
+async function follow(url, onProgress) {
+  for (;;) {
+    const response = await fetch(url);
+    const design = await response.json();
+    if (!response.ok) throw new Error(design.detail ?? `the server answered ${response.status}`);
+    if (design.state === 'ready') return design;
+    if (design.state === 'failed') throw new Error(design.error);
+    onProgress(design);
+    await new Promise((resolve) => { setTimeout(resolve, POLL_MS); });
+  }
+}
