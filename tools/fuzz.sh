@@ -36,6 +36,7 @@ config      2048 config
 signal      8192 signal
 static_path 512  static_path
 request_head 4096 request_head
+picture_header 256 -
 "
 
 for tool in clang clang++ cmake; do

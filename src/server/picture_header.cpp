@@ -21,8 +21,8 @@ PictureHeader read_picture_header(const unsigned char* data, std::size_t size) {
     if (size >= 24 && be32(data + 8) == 13 && std::memcmp(data + 12, "IHDR", 4) == 0) {
       out.width = be32(data + 16);
       out.height = be32(data + 20);
-      // Sizes beyond 2^31 - 1 are invalid PNG.
-      if (out.width > 0x7fffffffu || out.height > 0x7fffffffu) out.width = out.height = 0;
+      // Zero and sizes beyond 2^31 - 1 are invalid PNG.
+      if (!out.width || !out.height || out.width > 0x7fffffffu || out.height > 0x7fffffffu) out.width = out.height = 0;
     }
     return out;
   }
@@ -49,7 +49,8 @@ PictureHeader read_picture_header(const unsigned char* data, std::size_t size) {
         if (pos + 9 > size || length < 7) return out;
         out.height = be16(data + pos + 5);
         out.width = be16(data + pos + 7);
-        if (out.height == 0) out.width = 0;  // height from a later DNL marker: not taken
+        // A height of 0 defers it to a DNL marker after the scan: not taken.
+        if (!out.height || !out.width) out.width = out.height = 0;
         return out;
       }
       pos += 2 + length;

@@ -1,0 +1,79 @@
+// The upload sniffer on its own: sizes read from real encoder output (not
+// from the sniffer's idea of the format), and headers cut or forged.
+#include "picture_header.hpp"
+
+#include "caustic/image_io.hpp"
+
+#include <OpenImageIO/imageio.h>
+
+#include <glib.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace caustic::server {
+namespace {
+
+std::string jpeg_bytes(int w, int h, bool progressive) {
+  gchar* dir = g_dir_make_tmp("causticd-jpeg-XXXXXX", nullptr);
+  const std::string file = std::string(dir) + "/p.jpg";
+  g_free(dir);
+  auto out = OIIO::ImageOutput::create(file);
+  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+  if (progressive) spec.attribute("jpeg:progressive", 1);
+  std::vector<unsigned char> pixels(std::size_t(w) * h * 3, 128);
+  EXPECT_TRUE(out->open(file, spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) && out->close());
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::filesystem::remove_all(std::filesystem::path(file).parent_path());
+  return bytes;
+}
+
+PictureHeader sniff(const std::string& bytes) {
+  return read_picture_header(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size());
+}
+
+TEST(PictureHeader, ReadsThePngEncodersSize) {
+  const auto png = encode_png(Rgba8Image{37, 21, std::vector<std::uint8_t>(37 * 21 * 4, 200)});
+  const PictureHeader h = read_picture_header(png.data(), png.size());
+  EXPECT_EQ(h.format, PictureHeader::Format::png);
+  EXPECT_EQ(h.width, 37u);
+  EXPECT_EQ(h.height, 21u);
+  // Cut inside IHDR: the format is known, the size is not.
+  const PictureHeader cut = read_picture_header(png.data(), 20);
+  EXPECT_EQ(cut.format, PictureHeader::Format::png);
+  EXPECT_EQ(cut.width, 0u);
+}
+
+TEST(PictureHeader, ReadsBaselineAndProgressiveJpegSizes) {
+  for (const bool progressive : {false, true}) {
+    const PictureHeader h = sniff(jpeg_bytes(50, 30, progressive));
+    EXPECT_EQ(h.format, PictureHeader::Format::jpeg);
+    EXPECT_EQ(h.width, 50u) << progressive;
+    EXPECT_EQ(h.height, 30u) << progressive;
+  }
+  // Cut before the frame header, or a segment length that runs off the end.
+  const std::string jpeg = jpeg_bytes(50, 30, false);
+  EXPECT_EQ(sniff(jpeg.substr(0, 6)).width, 0u);
+  EXPECT_EQ(sniff(std::string("\xff\xd8\xff\xe0\xff\xff", 6)).width, 0u);
+  EXPECT_EQ(sniff(std::string("\xff\xd8\xff\xe0\x00\x01", 6)).width, 0u);  // length below 2
+}
+
+TEST(PictureHeader, AnythingElseIsUnknown) {
+  for (const std::string& bytes : {std::string(), std::string("GIF89a"), std::string("\x89PNX\r\n\x1a\n", 8),
+                                   std::string("\xff\xd8", 2), std::string("RIFF\0\0\0\0WEBP", 12)})
+    EXPECT_EQ(sniff(bytes).format, PictureHeader::Format::unknown) << bytes.size();
+  // A PNG whose first chunk is not IHDR has no size.
+  std::string png("\x89PNG\r\n\x1a\n\0\0\0\x0dIHDX\0\0\0\x10\0\0\0\x10", 24);
+  EXPECT_EQ(sniff(png).width, 0u);
+  png[15] = 'R';
+  EXPECT_EQ(sniff(png).width, 16u);
+  // Sizes beyond what PNG allows.
+  png[16] = '\x80';
+  EXPECT_EQ(sniff(png).width, 0u);
+}
+
+}  // namespace
+}  // namespace caustic::server
