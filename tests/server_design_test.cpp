@@ -4,6 +4,7 @@
 // expiry. Black box against `causticd serve` on loopback; every wait bounded.
 #include "caustic/engine.hpp"
 #include "caustic/image_io.hpp"
+#include "openapi_check.hpp"
 #include "server_process.hpp"
 
 #include <cmath>
@@ -107,8 +108,11 @@ TEST_F(DesignApi, APictureBecomesAPrivateSceneWhoseCausticIsThePicture) {
   const json ticket = posted.json();
   const std::string id = ticket["id"];
   EXPECT_EQ(ticket["status_url"], "/api/v1/designs/" + id);
+  const caustic::testing::OpenApi api;
+  EXPECT_EQ(api.check("/api/v1/designs", "post", 202, posted.content_type, ticket), "");
   const json done = wait_design(server, id);
   ASSERT_EQ(done.value("state", ""), "ready") << done.dump();
+  EXPECT_EQ(api.check("/api/v1/designs/{id}", "get", 200, "application/json", done), "");
   EXPECT_EQ(done["name"], "Square");
   EXPECT_EQ(done["scene"], id);
   EXPECT_EQ(done["report"]["tir_vertices"], 0);
@@ -147,6 +151,7 @@ TEST_F(DesignApi, APictureBecomesAPrivateSceneWhoseCausticIsThePicture) {
   EXPECT_EQ(session.status, 201u) << session.body;
   EXPECT_EQ(http("GET", server.url() + "/api/v1/scenes").body.find(id), std::string::npos);
   const json one = http("GET", server.url() + "/api/v1/scenes/" + id).json();
+  EXPECT_EQ(api.check("/api/v1/scenes/{id}", "get", 200, "application/json", one), "");
   EXPECT_EQ(one["kind"], "designed");
   EXPECT_TRUE(one["proxy"].is_object());
   // The picture itself is not kept once designed.
