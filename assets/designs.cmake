@@ -42,6 +42,8 @@ function(caustic_design id picture name description)
   # does, so that is the file-level dependency.
   add_custom_command(
     OUTPUT ${target} ${mesh} ${scene} ${report}
+    # causticd design writes into existing folders only; these may have been cleaned since configuring.
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${design_dir} ${CAUSTIC_ASSET_DIR}/meshes ${CAUSTIC_ASSET_DIR}/scenes
     COMMAND ${CMAKE_COMMAND} -E copy ${picture} ${target}
     COMMAND causticd design --target ${target} -o ${mesh} --scene-out ${scene} --report ${report}
             --name ${name} --description ${description} ${params}
