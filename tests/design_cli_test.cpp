@@ -116,3 +116,27 @@ TEST_F(DesignCli, RejectsBadTargetsAndFlags) {
   expect_rejected(t + " --ior 0.5", "--ior");
   expect_rejected(t + " --black-floor 0", "--black-floor");
 }
+
+TEST_F(DesignCli, WritesTheGivenNameAndDescriptionIntoTheScene) {
+  const fs::path target = good_target(), face = dir_ / "face.obj", scene = dir_ / "face.json";
+  const CommandResult r = causticd("design --target " + target.string() + " -o " + face.string() +
+                                   " --resolution 16 --no-check --name 'Chelsea the cat' --description 'A cat, in light.'");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const caustic::Scene s = caustic::load_scene(scene);
+  EXPECT_EQ(s.name, "Chelsea the cat");
+  EXPECT_EQ(s.description, "A cat, in light.");
+}
+
+TEST_F(DesignCli, RejectsNamesAndDescriptionsTheSceneParserWouldNot) {
+  const std::string t = " --target " + good_target().string();
+  expect_rejected(t + " --name ''", "--name: must not be empty");
+  expect_rejected(t + " --name " + std::string(201, 'n'), "--name: is longer than 200");
+  expect_rejected(t + " --name 'tab\there'", "--name: must not contain control characters");
+  expect_rejected(t + " --name 'bad \xff byte'", "--name: must be valid UTF-8");
+  expect_rejected(t + " --description " + std::string(2001, 'd'), "--description: is longer than 2000");
+  expect_rejected(t + " --description 'two\nlines'", "--description: must not contain control characters");
+  // The limits themselves are accepted (no picture check needed for that).
+  const CommandResult r = causticd("design" + t + " -o " + (dir_ / "face.obj").string() + " --resolution 16 --no-check --name " +
+                                   std::string(200, 'n') + " --description ''");
+  EXPECT_EQ(r.status, 0) << r.output;
+}

@@ -29,6 +29,7 @@ packages=(
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
   chromium
+  fonts-dejavu-core
 )
 # Node.js and npm vendor three.js and run the browser tests. A machine that
 # already has them (for example from another repository) keeps its own.
@@ -48,9 +49,29 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 
+# The photographs of the built-in designed scenes are scikit-image's test
+# pictures (assets/README.md). Only the package file is fetched and unpacked
+# into the build folder: installing python3-skimage would pull in SciPy and
+# more that nothing here uses. Without it the photographic designs are
+# skipped and the build goes on.
+photo_args=()
+deps="$build/deps"
+photo_dir="$deps/skimage/usr/lib/python3/dist-packages/skimage/data"
+if [[ ! -f "$photo_dir/chelsea.png" ]]; then
+  echo "== fetching python3-skimage (pictures for the designed scenes) into $deps"
+  mkdir -p "$deps"
+  rm -f "$deps"/python3-skimage_*.deb
+  if (cd "$deps" && apt-get download -q python3-skimage) && dpkg-deb -x "$deps"/python3-skimage_*.deb "$deps/skimage"; then
+    rm -f "$deps"/python3-skimage_*.deb
+  else
+    echo "== python3-skimage could not be fetched: the photographic designs will be skipped" >&2
+  fi
+fi
+if [[ -f "$photo_dir/chelsea.png" ]]; then photo_args=(-DCAUSTICD_DESIGN_PHOTO_DIR="$photo_dir"); fi
+
 jobs="$(nproc 2>/dev/null || echo 2)"
 echo "== configuring and building in $build"
-cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo
+cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo "${photo_args[@]}"
 cmake --build "$build" -j "$jobs"
 
 case "$mode" in

@@ -19,6 +19,8 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
+#include <string>
 #endif
 
 #include <iostream>
@@ -30,6 +32,7 @@ namespace {
 
 struct DesignCommandOptions {
   std::filesystem::path target, face, scene, solid, report, side_by_side;
+  std::optional<std::string> name, description;
   design::DesignOptions design;
   bool force = false, verify = false, no_check = false, regular = false;
   std::uint64_t photons = 4'000'000;
@@ -42,8 +45,30 @@ int bad(const std::string& message) {
   return bad_input;
 }
 
+// A text for the scene file: the scene parser's length limit (bytes), and
+// valid UTF-8 without control characters, since it is shown in the gallery
+// as it is. Returns what is wrong, or an empty string.
+std::string text_problem(const std::string& text, std::size_t max_len, bool may_be_empty) {
+  if (text.empty() && !may_be_empty) return "must not be empty";
+  if (text.size() > max_len) return "is longer than " + std::to_string(max_len) + " bytes";
+  for (const unsigned char c : text)
+    if (c < 0x20 || c == 0x7f) return "must not contain control characters";
+  try {
+    (void)nlohmann::json(text).dump();
+  } catch (const nlohmann::json::exception&) {
+    return "must be valid UTF-8";
+  }
+  return "";
+}
+
 // Flags checked before any work; the message names the flag.
 int check_flags(DesignCommandOptions& o) {
+  // Limits as in the scene parser (scene-format.md): name 200, description 2000.
+  if (o.name)
+    if (const auto problem = text_problem(*o.name, 200, false); !problem.empty()) return bad("--name: " + problem);
+  if (o.description)
+    if (const auto problem = text_problem(*o.description, 2000, true); !problem.empty())
+      return bad("--description: " + problem);
   const auto& d = o.design;
   if (!(std::isfinite(d.size) && d.size > 0 && d.size <= 1e4)) return bad("--size: must be in (0, 10000] mm");
   if (!(std::isfinite(d.focus) && d.focus > 0 && d.focus <= 1e6)) return bad("--focus: must be in (0, 1e6] mm");
@@ -166,7 +191,9 @@ int run_design(DesignCommandOptions o) {
     write_obj(d.face, part(o.face));
     const auto scene_dir = std::filesystem::absolute(o.scene).parent_path();
     const auto mesh_rel = std::filesystem::absolute(o.face).lexically_normal().lexically_relative(scene_dir.lexically_normal());
-    const Scene scene = design::design_scene(d, mesh_rel.generic_string(), std::clamp(d.n, 256, 1024));
+    Scene scene = design::design_scene(d, mesh_rel.generic_string(), std::clamp(d.n, 256, 1024));
+    if (o.name) scene.name = *o.name;
+    if (o.description) scene.description = *o.description;
     {
       std::ofstream out(part(o.scene));
       out << scene_to_json(scene).dump(2) << "\n";
@@ -215,6 +242,8 @@ std::function<int()> add_design_command(CLI::App& app) {
   cmd->add_option("--target", opt->target, "Target picture (PNG, JPEG, EXR, TIFF, ...)")->required();
   cmd->add_option("--output,-o", opt->face, "Freeform face to write (.obj, millimetres, vertex normals)")->required();
   cmd->add_option("--scene-out", opt->scene, "Scene file to write (.json; default: beside the face)");
+  cmd->add_option("--name", opt->name, "Scene name shown in the gallery (default: \"Designed caustic\")");
+  cmd->add_option("--description", opt->description, "Scene description shown in the gallery");
   cmd->add_option("--size", opt->design.size, "Lens side, mm");
   cmd->add_option("--focus", opt->design.focus, "Screen distance below the face, mm");
   cmd->add_option("--ior", opt->design.ior, "Index of refraction (1.49: PMMA)");
