@@ -27,16 +27,16 @@ std::string visitor_reason(const std::string& what, const std::string& file) {
 void write_file(const std::filesystem::path& file, const std::string& text) {
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
   out << text;
-  if (!out) throw std::runtime_error("the server could not store the design");
+  if (!out) throw std::runtime_error("cannot write " + file.string());
 }
 
-void run(const std::filesystem::path& target, const std::filesystem::path& folder, int resolution,
-         const std::function<void(const DesignBackend::Progress&)>& progress) {
+std::shared_ptr<const Mesh> run(const std::filesystem::path& target, const std::filesystem::path& folder, int resolution,
+                                const std::function<void(const DesignBackend::Progress&)>& progress) {
   design::Image picture;
   try {
     picture = design::load_target(target);
   } catch (const design::TargetError& e) {
-    throw std::runtime_error(visitor_reason(e.what(), target.string()));
+    throw DesignFailure(visitor_reason(e.what(), target.string()));
   }
   design::DesignOptions options;
   options.resolution = resolution;
@@ -47,7 +47,7 @@ void run(const std::filesystem::path& target, const std::filesystem::path& folde
       progress({0.8 * (std::max(0, p.step - 1) + 0.5) / std::max(1, p.steps), "designing"});
     });
   } catch (const design::TargetError& e) {
-    throw std::runtime_error(e.what());
+    throw DesignFailure(e.what());
   }
   progress({0.85, "checking"});
   nlohmann::json report = {{"resolution", d.n},
@@ -70,6 +70,7 @@ void run(const std::filesystem::path& target, const std::filesystem::path& folde
   // Last, and whole or not at all: its presence says the design is complete.
   write_file(folder / "report.json.part", report.dump(2));
   std::filesystem::rename(folder / "report.json.part", folder / "report.json");
+  return std::make_shared<const Mesh>(std::move(d.face));
 }
 
 }  // namespace

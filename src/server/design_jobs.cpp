@@ -285,9 +285,10 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
   std::shared_ptr<const GalleryEntry> entry;
   nlohmann::json report;
   try {
+    std::shared_ptr<const Mesh> face;
     if (!restoring) {
-      if (!backend_.run) throw std::runtime_error("design is not built into this server");
-      backend_.run(picture, job->folder, settings_.resolution, [&](const DesignBackend::Progress& p) {
+      if (!backend_.run) throw DesignFailure("design is not built into this server");
+      face = backend_.run(picture, job->folder, settings_.resolution, [&](const DesignBackend::Progress& p) {
         std::lock_guard lock(mutex_);
         // A stop unwinds the design: the picture stays, and the next start
         // designs it again.
@@ -302,7 +303,7 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
     auto scene = load_entry(job->folder / "scene.json", job->id, [&]() -> Engine& {
       if (!engine) engine = std::make_unique<Engine>();
       return *engine;
-    });
+    }, 256, std::move(face));
     scene->scene.name = job->name;
     scene->scene.description = "Designed from a visitor's picture.";
     scene->designed = true;
@@ -311,8 +312,11 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
     context.release_current();
   } catch (const Stopping&) {
     return;
-  } catch (const std::exception& e) {
+  } catch (const DesignFailure& e) {
     error = e.what();
+  } catch (const std::exception& e) {
+    log(Level::error, "design " + job->id + ": " + e.what());
+    error = "the server could not design this picture";
   }
   std::error_code ec;
   fs::remove(picture, ec);  // the visitor's picture is not kept once designed

@@ -25,6 +25,13 @@
 
 namespace caustic::server {
 
+/// Why a picture cannot be designed, in words for the visitor who sent it
+/// (no file names, no library messages). Anything else a job throws is the
+/// server's problem: logged, and reported to the visitor in general terms.
+struct DesignFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 /// What a design job does between "picture on disk" and "scene on disk";
 /// design_backend.cpp when the designer is built in, a refusal otherwise.
 struct DesignBackend {
@@ -33,10 +40,11 @@ struct DesignBackend {
     std::string stage;    ///< "designing", "checking"
   };
   /// Writes face.obj, scene.json and report.json into `folder` from
-  /// `target`; throws std::runtime_error with a visitor-readable message.
-  /// `progress` may throw (the server is stopping): the run then unwinds.
-  std::function<void(const std::filesystem::path& target, const std::filesystem::path& folder, int resolution,
-                     const std::function<void(const Progress&)>& progress)>
+  /// `target` and returns the face (so that it need not be read back);
+  /// throws DesignFailure for a picture that cannot be designed. `progress`
+  /// may throw (the server is stopping): the run then unwinds.
+  std::function<std::shared_ptr<const Mesh>(const std::filesystem::path& target, const std::filesystem::path& folder,
+                                            int resolution, const std::function<void(const Progress&)>& progress)>
       run;
   bool built_in = false;
 };

@@ -43,11 +43,12 @@ nlohmann::json fidelity_of(const GalleryEntry& entry, const Scene& scene) {
 }
 
 std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, const std::string& id,
-                                         const std::function<Engine&()>& engine, int thumbnail) {
+                                         const std::function<Engine&()>& engine, int thumbnail,
+                                         std::shared_ptr<const Mesh> mesh) {
   auto entry = std::make_shared<GalleryEntry>();
   entry->id = id;
   entry->scene = load_scene(file);
-  entry->mesh = std::make_shared<const Mesh>(load_obj(entry->scene.mesh_path()));
+  entry->mesh = mesh ? std::move(mesh) : std::make_shared<const Mesh>(load_obj(entry->scene.mesh_path()));
   entry->levels = std::make_shared<const MeshLevels>(
       build_mesh_levels(entry->mesh, entry->scene.object.flat_face_normal, coarser_resolutions(*entry->mesh)));
   entry->calibration = load_calibration(calibration_path(file), scene_fingerprint(entry->scene, *entry->mesh));
@@ -92,6 +93,10 @@ Gallery load_gallery(const std::filesystem::path& dir, int thumbnail, const std:
     }
     try {
       auto entry = load_entry(file, id, make_engine, thumbnail);
+      // The designer leaves its report beside the scenes folder
+      // (assets/designs/<id>.report.json): such a scene projects a picture.
+      std::error_code exists_ec;
+      entry->designed = std::filesystem::exists(dir / ".." / "designs" / (id + ".report.json"), exists_ec);
       gallery.entries[id] = std::move(entry);
     } catch (const std::exception& e) {
       gallery.problems.push_back(file.filename().string() + ": " + e.what());

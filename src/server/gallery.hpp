@@ -40,6 +40,7 @@ struct Gallery {
 };
 
 /// Loads every *.json in `dir` whose name is a valid id ([a-z0-9_-]+)
+/// (an entry is `designed` when `dir`/../designs/<id>.report.json exists)
 /// (calibrations, *.calibration.json, belong to the scene of that id),
 /// builds its mesh levels, renders each thumbnail (thumbnail x thumbnail pixels) with a GL context
 /// of its own on the calling thread. Broken scenes are skipped and reported.
@@ -50,9 +51,12 @@ Gallery load_gallery(const std::filesystem::path& dir, int thumbnail = 256, cons
 /// One scene file `file` as the entry `id`: parsed, its mesh loaded with its
 /// levels and calibration, its thumbnail rendered with `engine()` (called
 /// once the scene has parsed, on a thread whose GL context is current).
-/// Throws what the scene, mesh and engine throw.
+/// `mesh`, when given, is the scene's mesh already in memory (a design just
+/// made), which is then not read again. Throws what the scene, mesh and
+/// engine throw.
 std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, const std::string& id,
-                                         const std::function<Engine&()>& engine, int thumbnail = 256);
+                                         const std::function<Engine&()>& engine, int thumbnail = 256,
+                                         std::shared_ptr<const Mesh> mesh = nullptr);
 
 /// The public description of an entry for GET /api/v1/scenes.
 nlohmann::json describe(const GalleryEntry& entry);

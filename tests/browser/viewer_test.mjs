@@ -73,9 +73,39 @@ test('the gallery lists every scene with its rendered thumbnail', async () => {
     await page.waitForSelector('.card img', { timeout: 15000 });
     await until(page, () => [...document.images].every((i) => i.complete && i.naturalWidth === 256), 15, 'thumbnails');
     const ids = await page.$$eval('.card', (cards) => cards.map((c) => c.dataset.scene).sort());
-    assert.deepEqual(ids, ['cylinder', 'lens', 'slab', 'wavy']);
+    for (const id of ['cylinder', 'lens', 'slab', 'wavy', 'design-logo', 'design-text']) assert.ok(ids.includes(id), id);
+    // Designed objects first, under their own heading; the classics below.
+    const designed = await page.$$eval('#designed .card[data-scene]', (cards) => cards.map((c) => c.dataset.scene));
+    const classics = await page.$$eval('#classics .card', (cards) => cards.map((c) => c.dataset.scene).sort());
+    assert.ok(designed.every((id) => id.startsWith('design-')) && designed.length >= 2, designed.join());
+    assert.deepEqual(classics, ['cylinder', 'lens', 'slab', 'wavy']);
+    assert.equal(await page.locator('#upload input[type=file]').count(), 1);
+    mkdirSync(shots, { recursive: true });
+    await page.setViewportSize({ width: 1280, height: 900 });
+    await page.screenshot({ path: `${shots}/gallery.png`, fullPage: true });
     await page.click('.card[data-scene="lens"]');
     await page.waitForURL(/viewer\.html\?scene=lens&codec=vp8/, { timeout: 10000 });
+    await page.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
+
+test('a picture uploaded on the gallery page becomes a live streamed scene', async () => {
+  const server = await startServer(['--set', 'design_resolution=128']);
+  try {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}/`);
+    await page.waitForSelector('#upload input[type=file]', { timeout: 15000 });
+    // Any real PNG will do: the lens scene's thumbnail.
+    const png = Buffer.from(await (await fetch(`${server.url}/api/v1/scenes/lens/thumbnail.png`)).arrayBuffer());
+    await page.fill('#upload input[name=name]', 'Test picture');
+    await page.setInputFiles('#upload input[type=file]', { name: 'lens.png', mimeType: 'image/png', buffer: png });
+    await page.waitForURL(/viewer\.html\?scene=[0-9a-f]{32}&codec=vp8/, { timeout: 120000 });
+    await until(page, () => window.caustic.connection === 'live', 30, 'a live connection');
+    await until(page, framesDecoded, 30, 'decoded frames');
+    mkdirSync(shots, { recursive: true });
+    await page.screenshot({ path: `${shots}/viewer-upload.png` });
     await page.close();
   } finally {
     server.kill('SIGTERM');
