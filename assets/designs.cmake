@@ -15,7 +15,10 @@ set(CAUSTICD_DESIGN_PHOTO_DIR "" CACHE PATH
     "scikit-image's data folder (python3-skimage: .../skimage/data) with the photographs to design; empty: skip them")
 set(CAUSTICD_DESIGN_FONT /usr/share/fonts/truetype/dejavu/DejaVuSans-Bold.ttf CACHE FILEPATH
     "TrueType font of the text design (fonts-dejavu-core)")
-set(CAUSTICD_DESIGN_RESOLUTION 512 CACHE STRING "Cells per side of the built-in designs")
+# 256 like the optics scenes: a 513^2 face is a 42 MB OBJ that the server
+# takes 3 to 4 s to load and level at every start (measured: 20 s to start
+# with four of them, against 5 s), for edges only a little sharper.
+set(CAUSTICD_DESIGN_RESOLUTION 256 CACHE STRING "Cells per side of the built-in designs")
 
 set(design_dir ${CAUSTIC_ASSET_DIR}/designs)
 set(design_work ${CMAKE_CURRENT_BINARY_DIR}/designs)
@@ -81,7 +84,7 @@ endif()
 set(drawn ${design_work}/logo.png)
 add_custom_command(
   OUTPUT ${design_work}/logo.png
-  COMMAND caustic-design-targets --size ${CAUSTICD_DESIGN_RESOLUTION} logo -o ${design_work}/logo.png
+  COMMAND caustic-design-targets --size 512 logo -o ${design_work}/logo.png
   DEPENDS caustic-design-targets
   COMMENT "Drawing the logo target"
   VERBATIM)
@@ -90,7 +93,7 @@ caustic_design(design-logo ${design_work}/logo.png "Ring and star"
 if(EXISTS ${CAUSTICD_DESIGN_FONT})
   add_custom_command(
     OUTPUT ${design_work}/text.png
-    COMMAND caustic-design-targets --size ${CAUSTICD_DESIGN_RESOLUTION} text -o ${design_work}/text.png
+    COMMAND caustic-design-targets --size 512 text -o ${design_work}/text.png
             --font ${CAUSTICD_DESIGN_FONT} --line Hello --line light
     DEPENDS caustic-design-targets ${CAUSTICD_DESIGN_FONT}
     COMMENT "Drawing the text target"
