@@ -5,23 +5,17 @@
 //   CAUSTICD=build/bin/causticd CAUSTIC_NODE_MODULES=build/npm/node_modules \
 //     node bench/browser_latency.mjs [changes=100] [codec=vp8] [size=1024]
 import { spawn } from 'node:child_process';
-import { createRequire } from 'node:module';
-import path from 'node:path';
 import readline from 'node:readline';
 
-const { chromium } = createRequire(`${path.resolve(process.env.CAUSTIC_NODE_MODULES)}/`)('playwright-core');
+import { launchChromium } from '../tests/browser/chromium.mjs';
+
 const [changes = 100, codec = 'vp8', size = 1024] = process.argv.slice(2);
 
 const server = spawn(process.env.CAUSTICD, ['serve', '--port', '0', '--ice-address', '127.0.0.1', '--width', `${size}`,
                                             '--height', `${size}`], { stdio: ['ignore', 'pipe', 'ignore'] });
 const url = (await new Promise((resolve) => readline.createInterface({ input: server.stdout }).once('line', resolve)))
                 .replace('listening on ', '').replace(/\/$/, '');
-const browser = await chromium.launch({
-  executablePath: '/usr/bin/chromium',
-  args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
-         '--disable-component-update', '--disable-sync', '--allow-loopback-in-peer-connection',
-         '--disable-features=WebRtcHideLocalIpsWithMdns', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-});
+const browser = await launchChromium();
 try {
   const page = await browser.newPage();
   await page.goto(`${url}/viewer.html?scene=wavy&codec=${codec}`);

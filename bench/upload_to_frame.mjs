@@ -7,11 +7,11 @@
 import { spawn } from 'node:child_process';
 import { mkdtempSync, readFileSync } from 'node:fs';
 import { cpus } from 'node:os';
-import { createRequire } from 'node:module';
 import path from 'node:path';
 import readline from 'node:readline';
 
-const { chromium } = createRequire(`${path.resolve(process.env.CAUSTIC_NODE_MODULES)}/`)('playwright-core');
+import { launchChromium } from '../tests/browser/chromium.mjs';
+
 const [picture, uploads = 3, size = 1024] = process.argv.slice(2);
 if (!picture) {
   console.error('usage: node bench/upload_to_frame.mjs PICTURE.png [uploads] [size]');
@@ -27,12 +27,7 @@ const server = spawn(process.env.CAUSTICD, ['serve', '--port', '0', '--ice-addre
 });
 const url = (await new Promise((resolve) => readline.createInterface({ input: server.stdout }).once('line', resolve)))
                 .replace('listening on ', '').replace(/\/$/, '');
-const browser = await chromium.launch({
-  executablePath: '/usr/bin/chromium',
-  args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
-         '--disable-component-update', '--disable-sync', '--allow-loopback-in-peer-connection',
-         '--disable-features=WebRtcHideLocalIpsWithMdns', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-});
+const browser = await launchChromium();
 console.log(`machine: ${cpus().length} x ${cpus()[0].model}; picture ${path.basename(picture)}; stream ${size}x${size}`);
 const rows = [];
 try {

@@ -4,11 +4,11 @@
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import { mkdirSync, mkdtempSync } from 'node:fs';
-import { createRequire } from 'node:module';
 import readline from 'node:readline';
 import { after, before, test } from 'node:test';
 
-const { chromium } = createRequire(`${process.env.CAUSTIC_NODE_MODULES}/`)('playwright-core');
+import { launchChromium } from './chromium.mjs';
+
 const shots = process.env.CAUSTIC_SCREENSHOTS ?? '/tmp';
 
 async function startServer(extra = []) {
@@ -29,12 +29,7 @@ async function startServer(extra = []) {
 
 let browser;
 before(async () => {
-  browser = await chromium.launch({
-    executablePath: '/usr/bin/chromium',
-    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
-           '--disable-component-update', '--disable-sync', '--allow-loopback-in-peer-connection',
-           '--disable-features=WebRtcHideLocalIpsWithMdns', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-  });
+  browser = await launchChromium();
 });
 after(async () => { await browser?.close(); });
 
