@@ -268,3 +268,33 @@ TEST_F(DesignApi, DesignsSurviveARestartExpireUnlessKeptAndTheirOwnerMayDeleteTh
   expect_problem(http("GET", server.url() + "/api/v1/designs/" + plain), 404);
   EXPECT_FALSE(fs::exists(state.path / "designs" / plain));
 }
+
+TEST_F(DesignApi, OnlyAFewScenesStayInMemoryAndTheStoreIsBounded) {
+  TempDir state;
+  auto args = small_designs(state);
+  args.insert(args.end(), {"--set", "design_max_stored=6", "--set", "max_sessions=8"});
+  ServerProcess server(args);
+  std::vector<std::string> ids;
+  for (int i = 0; i < 6; ++i) {
+    const Response posted = upload(server, square_png());
+    ASSERT_EQ(posted.status, 202u) << posted.body;
+    ids.push_back(posted.json()["id"]);
+    ASSERT_EQ(wait_design(server, ids.back()).value("state", ""), "ready");
+  }
+  // The seventh would exceed what the server keeps.
+  expect_problem(upload(server, square_png()), 503, "at most 6");
+  // The first design has left memory (four are kept): its scene is read
+  // back on demand, the answer meanwhile says to retry.
+  const std::string url = server.url() + "/api/v1/sessions";
+  const std::string body = json{{"scene", ids.front()}}.dump();
+  Response session = http("POST", url, body);
+  expect_problem(session, 503, "being loaded");
+  for (int i = 0; i < 300 && session.status == 503u; ++i) {
+    g_usleep(100000);
+    session = http("POST", url, body);
+  }
+  EXPECT_EQ(session.status, 201u) << session.body;
+  // Its description and thumbnail never needed the scene.
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/scenes/" + ids[1]).status, 200u);
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/scenes/" + ids[1] + "/thumbnail.png").status, 200u);
+}

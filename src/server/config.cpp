@@ -72,6 +72,7 @@ constexpr IntKey kIntKeys[] = {
     {"design_resolution", &ServerConfig::design_resolution, 64, 1024},
     {"design_uploads_per_hour", &ServerConfig::design_uploads_per_hour, 1, 100000},
     {"design_expiry_s", &ServerConfig::design_expiry_s, 1, 10 * 365 * 24 * 3600},
+    {"design_max_stored", &ServerConfig::design_max_stored, 1, 100000},
 };
 
 // Keys whose values need more than a range; set_config_value handles each.

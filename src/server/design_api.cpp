@@ -6,6 +6,7 @@
 #include "picture_header.hpp"
 #include "server_state.hpp"
 
+#include <algorithm>
 #include <regex>
 
 namespace caustic::server {
@@ -13,6 +14,10 @@ namespace {
 
 constexpr const char* kDefaultName = "Your picture";
 constexpr std::size_t kMaxNameBytes = 64;
+
+// Uploads one address may make at once: a twentieth of the hourly
+// allowance, at least 4 (a visitor trying a few pictures), at most all of it.
+int upload_burst(int per_hour) { return std::min(per_hour, std::max(4, per_hour / 20)); }
 
 void refuse(ServerState& s, SoupServerMessage* msg, guint status, const std::string& detail,
             const std::string& key = "") {
@@ -92,7 +97,7 @@ void upload(ServerState& s, SoupServerMessage* msg) {
   // what costs (refusals are cheap, and the general rate limit covers them).
   int retry = 1;
   if (!s.design_rate.admit(client_address(msg), s.config.design_uploads_per_hour / 3600.0,
-                           std::min(s.config.design_uploads_per_hour, 4), &retry)) {
+                           upload_burst(s.config.design_uploads_per_hour), &retry)) {
     ++s.metrics.rate_limited;
     soup_message_headers_replace(response, "Retry-After", std::to_string(retry).c_str());
     return refuse(s, msg, 429,
@@ -115,9 +120,13 @@ void upload(ServerState& s, SoupServerMessage* msg) {
 
 }  // namespace
 
-std::shared_ptr<const GalleryEntry> ServerState::find_scene(const std::string& id) const {
+std::shared_ptr<const GalleryEntry> ServerState::find_scene(const std::string& id, bool* loading) const {
+  *loading = false;
   if (const auto it = gallery->entries.find(id); it != gallery->entries.end()) return it->second;
-  return designs ? designs->scene(id) : nullptr;
+  if (!designs) return nullptr;
+  auto found = designs->scene(id);
+  *loading = found.loading;
+  return found.entry;
 }
 
 bool route_designs(ServerState& s, SoupServerMessage* msg, const std::string& path) {

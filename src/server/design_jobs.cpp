@@ -28,7 +28,12 @@ struct DesignJobs::Job {
   double progress = 0;
   std::string stage, error;
   nlohmann::json report;  ///< the public figures only
-  std::shared_ptr<const GalleryEntry> entry;
+  // Ready: what answers need without the scene in memory, and the scene
+  // while a session or the recent list holds it.
+  std::vector<unsigned char> thumbnail;
+  nlohmann::json info;
+  std::weak_ptr<const GalleryEntry> held;
+  bool loading = false;  ///< queued to be read back from its folder
 };
 
 namespace {
@@ -149,6 +154,9 @@ DesignJobs::Ticket DesignJobs::submit(const std::vector<unsigned char>& picture,
   std::lock_guard lock(mutex_);
   if (pending_locked() >= settings_.queue)
     throw DesignRefusal(503, "the design queue is full (" + std::to_string(settings_.queue) + "); try again later");
+  if (static_cast<int>(jobs_.size()) >= settings_.max_stored)
+    throw DesignRefusal(503, "the server keeps at most " + std::to_string(settings_.max_stored) +
+                                 " designs and holds that many; try again later");
   auto job = std::make_shared<Job>();
   job->id = random_hex();
   job->token = random_hex();
@@ -215,10 +223,42 @@ nlohmann::json DesignJobs::describe(const std::string& id) const {
   return out;
 }
 
-std::shared_ptr<const GalleryEntry> DesignJobs::scene(const std::string& id) const {
+DesignJobs::SceneLookup DesignJobs::scene(const std::string& id) {
   std::lock_guard lock(mutex_);
   const auto it = jobs_.find(id);
-  return it == jobs_.end() ? nullptr : it->second->entry;
+  if (it == jobs_.end() || it->second->state != Job::State::ready) return {};
+  Job& job = *it->second;
+  if (auto entry = job.held.lock()) {
+    hold_locked(entry);
+    return {entry, false};
+  }
+  // Out of memory since: read back by a worker, as a restart does.
+  if (!job.loading) {
+    job.loading = true;
+    queue_.push_front(it->second);
+    wake_.notify_one();
+  }
+  return {nullptr, true};
+}
+
+std::optional<nlohmann::json> DesignJobs::scene_info(const std::string& id) const {
+  std::lock_guard lock(mutex_);
+  const auto it = jobs_.find(id);
+  if (it == jobs_.end() || it->second->state != Job::State::ready) return std::nullopt;
+  return it->second->info;
+}
+
+std::vector<unsigned char> DesignJobs::thumbnail(const std::string& id) const {
+  std::lock_guard lock(mutex_);
+  const auto it = jobs_.find(id);
+  if (it == jobs_.end() || it->second->state != Job::State::ready) return {};
+  return it->second->thumbnail;
+}
+
+void DesignJobs::hold_locked(const std::shared_ptr<const GalleryEntry>& entry) {
+  std::erase(recent_, entry);
+  recent_.push_front(entry);
+  if (recent_.size() > kRecentScenes) recent_.pop_back();
 }
 
 bool DesignJobs::remove(const std::string& id, const std::string& token) {
@@ -274,9 +314,11 @@ void DesignJobs::work() {
 }
 
 void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
+  // Queued: design it. Restoring (a start) or ready but out of memory: read
+  // its scene back.
   const bool restoring = [&] {
     std::lock_guard lock(mutex_);
-    const bool r = job->state == Job::State::restoring;
+    const bool r = job->state != Job::State::queued;
     if (!r) job->state = Job::State::designing;
     return r;
   }();
@@ -325,12 +367,16 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
     fs::remove_all(job->folder, ec);
     return;
   }
+  job->loading = false;
   if (error.empty()) {
+    if (job->state != Job::State::ready) log(Level::info, "design " + job->id + (restoring ? " restored" : " ready"));
     job->state = Job::State::ready;
-    job->entry = std::move(entry);
+    job->thumbnail = entry->thumbnail_png;
+    job->info = caustic::server::describe(*entry);  // the gallery's, not this class's
+    job->held = entry;
+    hold_locked(entry);
     job->report = std::move(report);
     job->progress = 1;
-    log(Level::info, "design " + job->id + (restoring ? " restored" : " ready"));
   } else {
     job->state = Job::State::failed;
     job->error = error;

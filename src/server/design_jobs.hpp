@@ -18,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -56,6 +57,7 @@ struct DesignSettings {
   int workers = 1;               ///< designs running at once
   int resolution = 512;
   long long expiry_s = 7 * 24 * 3600;
+  int max_stored = 100;          ///< designs kept (any state); 503 beyond
 };
 
 /// A refused upload: HTTP status and a detail for problem+json.
@@ -84,8 +86,18 @@ class DesignJobs {
   /// queue, error, the picture figures of its report, its scene id. Null
   /// when there is no such design.
   nlohmann::json describe(const std::string& id) const;
-  /// The scene of a finished design, or null.
-  std::shared_ptr<const GalleryEntry> scene(const std::string& id) const;
+  /// The scene of a finished design. Only a few stay in memory (each is
+  /// tens of MB): one that is not is queued to be read back, and `loading`
+  /// says so (ask again in a moment). Both empty: no such finished design.
+  struct SceneLookup {
+    std::shared_ptr<const GalleryEntry> entry;
+    bool loading = false;
+  };
+  SceneLookup scene(const std::string& id);
+  /// What GET /api/v1/scenes/{id} answers, and the thumbnail, for a finished
+  /// design, without reading its scene back; empty when there is none.
+  std::optional<nlohmann::json> scene_info(const std::string& id) const;
+  std::vector<unsigned char> thumbnail(const std::string& id) const;
   /// Removes a design when `token` is its owner's; false otherwise.
   bool remove(const std::string& id, const std::string& token);
   /// Designs waiting or running.
@@ -98,6 +110,7 @@ class DesignJobs {
   void run_job(const std::shared_ptr<Job>& job);
   void expire_locked(std::int64_t now);
   int pending_locked() const;
+  void hold_locked(const std::shared_ptr<const GalleryEntry>& entry);
   void save_meta(const Job& job) const;
 
   DesignSettings settings_;
@@ -106,6 +119,9 @@ class DesignJobs {
   std::condition_variable wake_;
   std::map<std::string, std::shared_ptr<Job>> jobs_;
   std::deque<std::shared_ptr<Job>> queue_;
+  /// The scenes last used, newest first: kept in memory for the next session.
+  static constexpr std::size_t kRecentScenes = 4;
+  std::deque<std::shared_ptr<const GalleryEntry>> recent_;
   bool stop_ = false;
   std::vector<std::thread> workers_;
 };

@@ -59,16 +59,22 @@ void scenes(ServerState& s, SoupServerMessage* msg) {
   reply_json(msg, SOUP_STATUS_OK, {{"scenes", list}});
 }
 
+// A visitor's design answers from what its job keeps: its scene need not be
+// in memory for this.
 void scene(ServerState& s, SoupServerMessage* msg, const std::string& id) {
-  const auto entry = s.find_scene(id);
-  if (!entry) return reply_problem(msg, s.metrics, SOUP_STATUS_NOT_FOUND, "no such scene");
-  reply_json(msg, SOUP_STATUS_OK, describe(*entry));
+  if (const auto it = s.gallery->entries.find(id); it != s.gallery->entries.end())
+    return reply_json(msg, SOUP_STATUS_OK, describe(*it->second));
+  if (const auto info = s.designs ? s.designs->scene_info(id) : std::nullopt) return reply_json(msg, SOUP_STATUS_OK, *info);
+  reply_problem(msg, s.metrics, SOUP_STATUS_NOT_FOUND, "no such scene");
 }
 
 void thumbnail(ServerState& s, SoupServerMessage* msg, const std::string& id) {
-  const auto entry = s.find_scene(id);
-  if (!entry) return reply_problem(msg, s.metrics, SOUP_STATUS_NOT_FOUND, "no such scene");
-  const auto& png = entry->thumbnail_png;
+  if (const auto it = s.gallery->entries.find(id); it != s.gallery->entries.end()) {
+    const auto& png = it->second->thumbnail_png;
+    return reply_bytes(msg, SOUP_STATUS_OK, "image/png", png.data(), png.size());
+  }
+  const auto png = s.designs ? s.designs->thumbnail(id) : std::vector<unsigned char>();
+  if (png.empty()) return reply_problem(msg, s.metrics, SOUP_STATUS_NOT_FOUND, "no such scene");
   reply_bytes(msg, SOUP_STATUS_OK, "image/png", png.data(), png.size());
 }
 
@@ -122,7 +128,12 @@ void create_session(ServerState& s, SoupServerMessage* msg) {
     return reply_problem(msg, s.metrics, SOUP_STATUS_UNPROCESSABLE_ENTITY, "scene: must be a scene id (string)",
                          "scene");
   const std::string scene_id = body["scene"];
-  const auto entry = s.find_scene(scene_id);
+  bool loading = false;
+  const auto entry = s.find_scene(scene_id, &loading);
+  if (loading) {
+    soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After", "2");
+    return reply_problem(msg, s.metrics, SOUP_STATUS_SERVICE_UNAVAILABLE, "the design is being loaded; retry in a moment");
+  }
   if (!entry)
     return reply_problem(msg, s.metrics, SOUP_STATUS_UNPROCESSABLE_ENTITY, "scene: no such scene", "scene");
   std::string codec = s.config.codec;

@@ -103,7 +103,7 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
   try {
     s.designs = std::make_unique<DesignJobs>(
         DesignSettings{designs, s.config.design_queue, s.config.design_workers, s.config.design_resolution,
-                       s.config.design_expiry_s},
+                       s.config.design_expiry_s, s.config.design_max_stored},
         design_backend());
   } catch (const std::exception& e) {
     // The gallery still streams; uploads answer that designs cannot be stored.

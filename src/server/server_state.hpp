@@ -30,8 +30,9 @@ struct ServerState {
   RateLimiter design_rate;                ///< uploads per address, apart from the other requests
   std::unique_ptr<DesignJobs> designs;    ///< null when the state folder is unusable
 
-  /// A scene by id: the gallery's, else a finished design's; null if none.
-  std::shared_ptr<const GalleryEntry> find_scene(const std::string& id) const;
+  /// A scene for a session: the gallery's, else a finished design's; null
+  /// if none, or (`*loading`) while the design is read back into memory.
+  std::shared_ptr<const GalleryEntry> find_scene(const std::string& id, bool* loading) const;
 
   /// Removes a session on the next main loop iteration (never from inside
   /// one of its own callbacks).

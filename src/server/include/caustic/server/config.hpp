@@ -60,6 +60,7 @@ struct ServerConfig {
   int design_resolution = 512;            ///< design grid cells per side
   int design_uploads_per_hour = 20;       ///< per client address; 429 beyond
   int design_expiry_s = 7 * 24 * 3600;    ///< a design is removed this long after its upload unless kept
+  int design_max_stored = 100;            ///< designs kept at once (any state); 503 beyond
   std::filesystem::path state_dir;        ///< empty: $STATE_DIRECTORY, else $XDG_STATE_HOME/causticd, else ~/.local/state/causticd
 };
 
