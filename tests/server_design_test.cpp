@@ -65,6 +65,18 @@ int folders_in(const fs::path& dir) {
   return n;
 }
 
+// A session on a design, asked again while the server reads the design
+// back (503), for at most 30 s.
+Response create_session_retrying(const ServerProcess& server, const std::string& scene) {
+  Response r;
+  for (int i = 0; i < 300; ++i) {
+    r = http("POST", server.url() + "/api/v1/sessions", json{{"scene", scene}}.dump());
+    if (r.status != 503u) break;
+    g_usleep(100000);
+  }
+  return r;
+}
+
 struct TempDir {
   fs::path path;
   TempDir() {
@@ -257,7 +269,9 @@ TEST_F(DesignApi, DesignsSurviveARestartExpireUnlessKeptAndTheirOwnerMayDeleteTh
     ServerProcess server(small_designs(state));
     const json restored = wait_design(server, plain);
     EXPECT_EQ(restored.value("state", ""), "ready") << restored.dump();
-    EXPECT_EQ(http("POST", server.url() + "/api/v1/sessions", json{{"scene", plain}}.dump()).status, 201u);
+    // Restored designs answer at once; the scene itself is read back when a
+    // session first asks for it (503 with Retry-After meanwhile).
+    EXPECT_EQ(create_session_retrying(server, plain).status, 201u);
   }
   std::ofstream(state.path / "designs" / kept / "keep") << "";
   auto args = small_designs(state);
@@ -285,14 +299,9 @@ TEST_F(DesignApi, OnlyAFewScenesStayInMemoryAndTheStoreIsBounded) {
   expect_problem(upload(server, square_png()), 503, "at most 6");
   // The first design has left memory (four are kept): its scene is read
   // back on demand, the answer meanwhile says to retry.
-  const std::string url = server.url() + "/api/v1/sessions";
-  const std::string body = json{{"scene", ids.front()}}.dump();
-  Response session = http("POST", url, body);
-  expect_problem(session, 503, "being loaded");
-  for (int i = 0; i < 300 && session.status == 503u; ++i) {
-    g_usleep(100000);
-    session = http("POST", url, body);
-  }
+  expect_problem(http("POST", server.url() + "/api/v1/sessions", json{{"scene", ids.front()}}.dump()), 503,
+                 "being loaded");
+  const Response session = create_session_retrying(server, ids.front());
   EXPECT_EQ(session.status, 201u) << session.body;
   // Its description and thumbnail never needed the scene.
   EXPECT_EQ(http("GET", server.url() + "/api/v1/scenes/" + ids[1]).status, 200u);

@@ -104,6 +104,7 @@ DesignJobs::DesignJobs(DesignSettings settings, DesignBackend backend)
       job->name = meta->at("name").get<std::string>();
       job->extension = meta->at("extension").get<std::string>();
       job->created = meta->at("created").get<std::int64_t>();
+      if (job->extension != ".png" && job->extension != ".jpg") throw std::runtime_error("meta.json: bad extension");
     } catch (const std::exception& e) {
       log(Level::warning, "design " + id + " skipped: " + e.what());
       continue;
@@ -113,6 +114,17 @@ DesignJobs::DesignJobs(DesignSettings settings, DesignBackend backend)
       job->error = read_text(dir.path() / "error.txt");
     } else if (fs::exists(dir.path() / "scene.json") && fs::exists(dir.path() / "report.json")) {
       job->state = Job::State::restoring;
+      // What answers need was kept beside the scene: ready at once, and the
+      // scene itself is read back only when a session asks for it.
+      const auto info = parse_json_text(read_text(dir.path() / "info.json"));
+      auto thumbnail = read_text(dir.path() / "thumbnail.png");
+      const auto report = parse_json_text(read_text(dir.path() / "report.json"));
+      if (info && info->is_object() && report && report->is_object() && !thumbnail.empty()) {
+        job->state = Job::State::ready;
+        job->info = *info;
+        job->thumbnail.assign(thumbnail.begin(), thumbnail.end());
+        job->report = public_report(*report);
+      }
     } else if (fs::exists(dir.path() / ("picture" + job->extension))) {
       job->state = Job::State::queued;  // interrupted by a stop: design it again
     } else {
@@ -369,7 +381,15 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
   }
   job->loading = false;
   if (error.empty()) {
-    if (job->state != Job::State::ready) log(Level::info, "design " + job->id + (restoring ? " restored" : " ready"));
+    if (job->state != Job::State::ready) {
+      log(Level::info, "design " + job->id + (restoring ? " restored" : " ready"));
+      try {
+        write_atomic(job->folder / "thumbnail.png", std::string(entry->thumbnail_png.begin(), entry->thumbnail_png.end()));
+        write_atomic(job->folder / "info.json", caustic::server::describe(*entry).dump());
+      } catch (const std::exception& e) {
+        log(Level::warning, "design " + job->id + ": " + e.what());  // a later start reads the scene back instead
+      }
+    }
     job->state = Job::State::ready;
     job->thumbnail = entry->thumbnail_png;
     job->info = caustic::server::describe(*entry);  // the gallery's, not this class's
