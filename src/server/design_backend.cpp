@@ -1,5 +1,6 @@
 // Design jobs through the designer library (src/design): built only when
 // CAUSTICD_WITH_DESIGN is on; design_backend_off.cpp stands in otherwise.
+#include "design_files.hpp"
 #include "design_jobs.hpp"
 
 #include "caustic/design.hpp"
@@ -10,7 +11,6 @@
 #include "caustic/scene.hpp"
 
 #include <algorithm>
-#include <fstream>
 
 namespace caustic::server {
 namespace {
@@ -22,12 +22,6 @@ std::string visitor_reason(const std::string& what, const std::string& file) {
   if (reason.rfind(file + ": ", 0) == 0) reason.erase(0, file.size() + 2);
   if (const auto paren = reason.find(" ("); paren != std::string::npos) reason.erase(paren);
   return reason;
-}
-
-void write_file(const std::filesystem::path& file, const std::string& text) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  out << text;
-  if (!out) throw std::runtime_error("cannot write " + file.string());
 }
 
 std::shared_ptr<const Mesh> run(const std::filesystem::path& target, const std::filesystem::path& folder, int resolution,
@@ -66,10 +60,9 @@ std::shared_ptr<const Mesh> run(const std::filesystem::path& target, const std::
   }
   progress({0.95, "storing"});
   write_obj(d.face, folder / "face.obj");
-  write_file(folder / "scene.json", scene_to_json(design::design_scene(d, "face.obj", std::clamp(d.n, 256, 1024))).dump(2));
-  // Last, and whole or not at all: its presence says the design is complete.
-  write_file(folder / "report.json.part", report.dump(2));
-  std::filesystem::rename(folder / "report.json.part", folder / "report.json");
+  write_atomic(folder / "scene.json", scene_to_json(design::design_scene(d, "face.obj", std::clamp(d.n, 256, 1024))).dump(2));
+  // Last: its presence says the design is complete.
+  write_atomic(folder / "report.json", report.dump(2));
   return std::make_shared<const Mesh>(std::move(d.face));
 }
 

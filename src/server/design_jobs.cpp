@@ -1,5 +1,7 @@
 #include "design_jobs.hpp"
 
+#include "design_files.hpp"
+
 #include "caustic/engine.hpp"
 #include "caustic/gl_context.hpp"
 #include "caustic/json_text.hpp"
@@ -47,40 +49,6 @@ std::int64_t unix_now() {
 const char* state_name(int s) {
   static const char* const names[] = {"restoring", "queued", "designing", "ready", "failed"};
   return names[s];
-}
-
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-// Written under a temporary name, then renamed: a crash leaves the old file
-// or the new one, never half of one.
-void write_atomic(const fs::path& file, const std::string& text) {
-  const fs::path part = file.string() + ".part";
-  {
-    std::ofstream out(part, std::ios::binary | std::ios::trunc);
-    out << text;
-    if (!out) throw std::runtime_error("cannot write " + file.filename().string());
-  }
-  fs::rename(part, file);
-}
-
-// What a visitor may learn of a design: how well the glass forms the
-// picture and how long it took; the face's own figures (relief, slopes,
-// thickness) describe the hidden mesh and stay on the server.
-nlohmann::json public_report(const nlohmann::json& r) {
-  nlohmann::json out = {{"resolution", r.value("resolution", 0)},
-                        {"design_seconds", r.value("design_seconds", 0.0)},
-                        {"seconds_total", r.value("seconds_total", 0.0)},
-                        {"tir_vertices", r.value("tir_vertices", 0)}};
-  if (r.contains("engine") && r["engine"].is_object())
-    out["engine"] = {{"ssim", r["engine"].value("ssim", 0.0)},
-                     {"relative_l1", r["engine"].value("relative_l1", 0.0)},
-                     {"leak", r["engine"].value("leak", 0.0)}};
-  return out;
 }
 
 }  // namespace

@@ -1,0 +1,37 @@
+#include "design_files.hpp"
+
+#include <fstream>
+#include <sstream>
+
+namespace caustic::server {
+
+std::string read_text(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void write_atomic(const std::filesystem::path& file, const std::string& text) {
+  const std::filesystem::path part = file.string() + ".part";
+  {
+    std::ofstream out(part, std::ios::binary | std::ios::trunc);
+    out << text;
+    if (!out) throw std::runtime_error("cannot write " + file.filename().string());
+  }
+  std::filesystem::rename(part, file);
+}
+
+nlohmann::json public_report(const nlohmann::json& r) {
+  nlohmann::json out = {{"resolution", r.value("resolution", 0)},
+                        {"design_seconds", r.value("design_seconds", 0.0)},
+                        {"seconds_total", r.value("seconds_total", 0.0)},
+                        {"tir_vertices", r.value("tir_vertices", 0)}};
+  if (r.contains("engine") && r["engine"].is_object())
+    out["engine"] = {{"ssim", r["engine"].value("ssim", 0.0)},
+                     {"relative_l1", r["engine"].value("relative_l1", 0.0)},
+                     {"leak", r["engine"].value("leak", 0.0)}};
+  return out;
+}
+
+}  // namespace caustic::server

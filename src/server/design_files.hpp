@@ -1,0 +1,24 @@
+// The files of a design's folder: small helpers for reading and replacing
+// them whole, and what of its report a visitor may see.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+
+namespace caustic::server {
+
+/// The whole file, or "" when it cannot be read.
+std::string read_text(const std::filesystem::path& file);
+
+/// Written under a temporary name, then renamed: a crash leaves the old file
+/// or the new one, never half of one. Throws naming the file alone.
+void write_atomic(const std::filesystem::path& file, const std::string& text);
+
+/// What a visitor may learn of a design: how well the glass forms the
+/// picture and how long it took; the face's own figures (relief, slopes,
+/// thickness) describe the hidden mesh and stay on the server.
+nlohmann::json public_report(const nlohmann::json& report);
+
+}  // namespace caustic::server
