@@ -19,6 +19,8 @@ export function uploadCard(codecOf) {
   const bar = card.querySelector('progress');
   const status = card.querySelector('.upload-status');
   const say = (text) => { status.textContent = text; };
+  // Enter in the name field would submit the form and reload the page.
+  card.addEventListener('submit', (event) => event.preventDefault());
 
   file.addEventListener('change', async () => {
     const picture = file.files[0];
