@@ -166,11 +166,6 @@ int DesignJobs::pending_locked() const {
   return n;
 }
 
-int DesignJobs::pending() const {
-  std::lock_guard lock(mutex_);
-  return pending_locked();
-}
-
 nlohmann::json DesignJobs::describe(const std::string& id) const {
   std::lock_guard lock(mutex_);
   const auto it = jobs_.find(id);
@@ -296,8 +291,10 @@ void DesignJobs::work() {
 void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
   // Queued: design it. Restoring (a start) or ready but out of memory: read
   // its scene back.
+  bool was_ready = false;  // a read-back: its report is already known
   const bool restoring = [&] {
     std::lock_guard lock(mutex_);
+    was_ready = job->state == Job::State::ready;
     const bool r = job->state != Job::State::queued;
     if (!r) job->state = Job::State::designing;
     return r;
@@ -319,7 +316,8 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
         job->stage = p.stage;
       });
     }
-    report = public_report(parse_json_text(read_text(job->folder / "report.json")).value_or(nlohmann::json::object()));
+    if (!was_ready)
+      report = public_report(parse_json_text(read_text(job->folder / "report.json")).value_or(nlohmann::json::object()));
     GlContext context(egl_platform_from_environment());
     std::unique_ptr<Engine> engine;
     auto scene = load_entry(job->folder / "scene.json", job->id, [&]() -> Engine& {
@@ -363,7 +361,7 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
     job->info = caustic::server::describe(*entry);  // the gallery's, not this class's
     job->held = entry;
     hold_locked(entry);
-    job->report = std::move(report);
+    if (!was_ready) job->report = std::move(report);
     job->progress = 1;
   } else {
     job->state = Job::State::failed;

@@ -100,8 +100,6 @@ class DesignJobs {
   std::vector<unsigned char> thumbnail(const std::string& id) const;
   /// Removes a design when `token` is its owner's; false otherwise.
   bool remove(const std::string& id, const std::string& token);
-  /// Designs waiting or running.
-  int pending() const;
   bool built_in() const { return backend_.built_in; }
 
  private:
