@@ -128,6 +128,15 @@ TEST(SceneJson, RejectsUnknownKeysAtEveryLevel) {
   expect_rejected(json{{"mesh", "m.obj"}, {"object", 5}}, "object");
 }
 
+// A key is the client's text: quoted in the message, a NUL would end it
+// (what() would read as empty) and control bytes would reach the log raw.
+TEST(SceneJson, QuotesUnknownKeysSafely) {
+  expect_rejected(json{{"mesh", "m.obj"}, {std::string("\0x", 2), 1}}, "\\x00x");
+  expect_rejected(with("light", "a\nb", 1), "light.a\\x0ab");
+  expect_rejected(json{{"mesh", "m.obj"}, {"", 1}}, "\"\"");
+  expect_rejected(json{{"mesh", "m.obj"}, {std::string(500, 'k'), 1}}, std::string(64, 'k') + "...");
+}
+
 TEST(SceneJson, RejectsNanAndInfinity) {
   // JSON has no NaN literal; a client that sends one through a library that
   // writes it as a number still has to be stopped before the GPU.

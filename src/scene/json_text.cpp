@@ -111,4 +111,22 @@ std::string dump_json(const nlohmann::json& value) {
   return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+std::string printable_name(std::string_view name, std::size_t max_bytes) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  for (std::size_t i = 0; i < name.size() && i < max_bytes; ++i) {
+    const auto ch = static_cast<unsigned char>(name[i]);
+    if (ch >= 0x20 && ch < 0x7f) {
+      out += static_cast<char>(ch);
+    } else {
+      out += "\\x";
+      out += kHex[ch >> 4];
+      out += kHex[ch & 15];
+    }
+  }
+  if (name.size() > max_bytes) out += "...";
+  if (out.empty()) out = "\"\"";  // an empty key still reads as a key
+  return out;
+}
+
 }  // namespace caustic

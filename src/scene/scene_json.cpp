@@ -3,6 +3,8 @@
 // or a scene author sees exactly what to fix.
 #include "caustic/scene.hpp"
 
+#include "caustic/json_text.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -127,7 +129,7 @@ class Reader {
 
   void reject_unknown() const {
     for (const auto& [k, _] : j_.items())
-      if (!seen_.count(k)) throw SceneError(key(k), "unknown key");
+      if (!seen_.count(k)) throw SceneError(key(printable_name(k)), "unknown key");
   }
 
  private:

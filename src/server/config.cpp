@@ -1,5 +1,7 @@
 #include "caustic/server/config.hpp"
 
+#include "caustic/json_text.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -157,7 +159,7 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
   } else if (key == "state_dir") {
     c.state_dir = value;
   } else {
-    throw ConfigError(key + ": unknown key");
+    throw ConfigError(printable_name(key) + ": unknown key");
   }
 }
 

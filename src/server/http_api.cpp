@@ -123,7 +123,8 @@ void create_session(ServerState& s, SoupServerMessage* msg) {
   if (!read_json_body(s, msg, {"application/json"}, &body)) return;
   for (const auto& [key, value] : body.items())
     if (key != "scene" && key != "codec")
-      return reply_problem(msg, s.metrics, SOUP_STATUS_UNPROCESSABLE_ENTITY, key + ": unknown key", key);
+      return reply_problem(msg, s.metrics, SOUP_STATUS_UNPROCESSABLE_ENTITY, printable_name(key) + ": unknown key",
+                           printable_name(key));
   if (!body.contains("scene") || !body["scene"].is_string())
     return reply_problem(msg, s.metrics, SOUP_STATUS_UNPROCESSABLE_ENTITY, "scene: must be a scene id (string)",
                          "scene");

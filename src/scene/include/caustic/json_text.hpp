@@ -34,4 +34,10 @@ std::optional<nlohmann::json> parse_json_text(std::string_view text, JsonTextErr
 /// `value.dump()` that never throws: invalid UTF-8 in strings is replaced.
 std::string dump_json(const nlohmann::json& value);
 
+/// A name the client chose (an unknown key), made safe to quote in an error
+/// message: printable ASCII is kept, every other byte becomes \xNN (a NUL
+/// would cut a C string, raw control bytes would garble a log line), and at
+/// most `max_bytes` of the name are shown, then "...".
+std::string printable_name(std::string_view name, std::size_t max_bytes = 64);
+
 }  // namespace caustic
