@@ -1,6 +1,7 @@
-// HDR relative irradiance plus bloom -> exposure -> gamma -> 8-bit grey.
-// A preview's HDR image is smaller than the output: it is upsampled here
-// (bilinear); a full frame reads its texel exactly.
+// HDR relative irradiance plus bloom -> local compression (when on) ->
+// exposure -> gamma -> 8-bit grey. A preview's HDR image is smaller than the
+// output: it is upsampled here (bilinear); a full frame reads its texel
+// exactly.
 uniform sampler2D uHdr;
 uniform vec2 uOutputSize;
 uniform sampler2D uBloom;
@@ -14,6 +15,7 @@ void main() {
   float hdr = textureSize(uHdr, 0) == ivec2(uOutputSize) ? texelFetch(uHdr, ivec2(gl_FragCoord.xy), 0).r
                                                          : texture(uHdr, uv).r;
   float bloom = uBloomStrength > 0.0 ? texture(uBloom, uv).r : 0.0;
-  float mapped = 1.0 - exp(-uExposure * max(hdr + uBloomStrength * bloom, 0.0));
+  float value = max(hdr + uBloomStrength * bloom, 0.0) * local_factor(uv);
+  float mapped = 1.0 - exp(-uExposure * value);
   outColor = vec4(vec3(pow(mapped, 1.0 / uGamma)), 1.0);
 }

@@ -1,6 +1,8 @@
 // Scene JSON: defaults, round trip, merge patches, --set assignments and
 // every kind of bad input, each rejected with the offending key named.
+#include "caustic/param_store.hpp"
 #include "caustic/scene.hpp"
+#include "caustic/scene_warnings.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -160,6 +162,37 @@ TEST(MergePatch, NullRestoresTheDefault) {
   EXPECT_FALSE(apply_merge_patch(s, json{{"object", {{"fit_size", nullptr}}}}).object.fit_size);
 }
 
+// A session resets to its own scene: a null takes the origin's value, at any
+// level, and falls back to the default only where the origin has none.
+TEST(MergePatch, NullRestoresTheOriginsValueWhenGiven) {
+  json doc = minimal();
+  doc["object"]["ior"] = 1.7;
+  doc["post"]["gamma"] = 1.8;
+  doc["post"]["exposure"] = 0.5;
+  const Scene origin = scene_from_json(doc, ".");
+  const Scene changed = apply_merge_patch(
+      origin, json{{"object", {{"ior", 1.3}, {"fit_size", 10}}}, {"post", {{"gamma", 1.0}, {"exposure", 2.0}}}});
+  const Scene one = apply_merge_patch(changed, json{{"object", {{"ior", nullptr}, {"fit_size", nullptr}}}}, &origin);
+  EXPECT_DOUBLE_EQ(one.object.ior, 1.7);
+  EXPECT_FALSE(one.object.fit_size);  // the origin has none: the default
+  EXPECT_DOUBLE_EQ(one.post.gamma, 1.0);
+  const Scene section = apply_merge_patch(changed, json{{"post", nullptr}}, &origin);
+  EXPECT_DOUBLE_EQ(section.post.gamma, 1.8);
+  EXPECT_DOUBLE_EQ(section.post.exposure, 0.5);
+  EXPECT_DOUBLE_EQ(section.object.ior, 1.3);
+  // Without an origin a null is RFC 7396's: the default.
+  EXPECT_DOUBLE_EQ(apply_merge_patch(changed, json{{"object", {{"ior", nullptr}}}}).object.ior, Scene{}.object.ior);
+}
+
+TEST(ParamStore, ANullInAPatchRestoresTheInitialScenesValue) {
+  json doc = minimal();
+  doc["light"]["direction"] = {0.0, 0.6, -0.8};
+  ParamStore store(scene_from_json(doc, "."));
+  store.apply_patch(json{{"light", {{"direction", {0, 0, -1}}}}});
+  store.apply_patch(json{{"light", {{"direction", nullptr}}}});
+  EXPECT_NEAR(store.snapshot().scene.light.direction.y, 0.6, 1e-12);
+}
+
 TEST(MergePatch, RejectedPatchLeavesTheSceneAlone) {
   const Scene s = scene_from_json(minimal(), ".");
   const Scene before = s;
@@ -207,4 +240,43 @@ TEST(LoadScene, ReportsMissingFilesAndBadJson) {
   const Scene s = load_scene(dir / "good.json");
   EXPECT_EQ(s.mesh_path(), dir / "a.obj");
   EXPECT_DOUBLE_EQ(s.object.ior, 1.6);
+}
+
+// Warnings are judged on the proxy (the bounding slab): light straight down
+// through a 10 mm slab onto a 40 mm screen below lands; turned away, sent
+// beside the screen or mirrored away, it does not, and the warning names
+// the setting to change.
+TEST(LightWarnings, NameWhatSendsTheLightAwayFromTheScreen) {
+  Mesh slab;
+  slab.positions = {{-5, -5, -1}, {5, -5, -1}, {5, 5, -1}, {-5, 5, -1}};
+  slab.normals.assign(4, {0, 0, -1});
+  slab.triangles = {{0, 1, 2}, {0, 2, 3}};
+  json doc = minimal();
+  doc["object"]["flat_face_offset"] = 0;
+  doc["screen"] = {{"center", {0, 0, -50}}, {"normal", {0, 0, 1}}, {"width", 40}, {"height", 40}};
+  doc["light"]["direction"] = {0, 0, -1};
+  Scene s = scene_from_json(doc, ".");
+  const Placement p = place_object(s.object, slab);
+  EXPECT_TRUE(light_warnings(s, p).empty());
+  EXPECT_DOUBLE_EQ(proxy_share_on_screen(s, p), 1.0);
+
+  Scene up = s;
+  up.light.direction = {0, 0, 1};  // from below the screen, away from it... and through the back face
+  ASSERT_EQ(light_warnings(up, p).size(), 1u);
+  EXPECT_EQ(light_warnings(up, p)[0].key, "light.direction");
+
+  Scene beside = s;
+  beside.light.direction = glm::normalize(glm::dvec3(0.8, 0, -0.6));  // lands 67 mm off the centre
+  ASSERT_EQ(light_warnings(beside, p).size(), 1u);
+  EXPECT_EQ(light_warnings(beside, p)[0].key, "screen.center");
+
+  Scene mirror = s;
+  mirror.object.material = Material::reflective;
+  ASSERT_EQ(light_warnings(mirror, p).size(), 1u);
+  EXPECT_EQ(light_warnings(mirror, p)[0].key, "object.material");
+
+  Scene half = s;  // tilted to shift the light 22 mm: the outline spans 17..27 mm, 3 mm of it land
+  half.light.direction = glm::normalize(glm::dvec3(0.44, 0, -1));
+  EXPECT_GT(proxy_share_on_screen(half, p), 0.0);
+  EXPECT_LT(proxy_share_on_screen(half, p), 0.5);
 }

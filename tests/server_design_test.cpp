@@ -2,7 +2,7 @@
 // a streamable scene whose caustic is the picture; bad uploads are refused
 // with problem+json and leave nothing behind; limits, tokens, restarts and
 // expiry. Black box against `causticd serve` on loopback; every wait bounded.
-#include "caustic/engine.hpp"
+#include "caustic/image.hpp"
 #include "caustic/image_io.hpp"
 #include "openapi_check.hpp"
 #include "server_process.hpp"

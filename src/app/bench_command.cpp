@@ -7,6 +7,7 @@
 #include "perf_bench.hpp"
 
 #include "caustic/engine.hpp"
+#include "caustic/exposure.hpp"
 #include "caustic/gl_context.hpp"
 #include "caustic/image_compare.hpp"
 #include "caustic/reference.hpp"
@@ -54,7 +55,9 @@ Scene lens_scene() {
 // Error of the three measures at 128 x 128 after box filtering both images.
 ImageError errors_at_128(const HdrImage& image, const HdrImage& reference, const Scene& scene) {
   const int f = image.width / 128;
-  return compare(box_down(image, f), box_down(reference, f), scene.post.exposure, scene.post.gamma);
+  const HdrImage small_reference = box_down(reference, f);
+  return compare(box_down(image, f), small_reference, exposure::settled_exposure(scene.post, small_reference),
+                 scene.post.gamma);
 }
 
 void write_charts(const std::filesystem::path& out, const std::vector<Setup>& setups,

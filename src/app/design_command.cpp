@@ -203,7 +203,8 @@ int run_design(DesignCommandOptions o) {
     if (!o.side_by_side.empty()) {
       std::vector<HdrImage> panels{design::target_irradiance(d), engine->render};
       if (reference) panels.push_back(reference->render);
-      write_png(side_by_side(std::move(panels), scene.post.exposure), part(o.side_by_side));
+      const double exposure = design::target_exposure(panels.front());
+      write_png(side_by_side(std::move(panels), exposure), part(o.side_by_side));
     }
     report["seconds_total"] = r.seconds + (engine ? engine->seconds : 0.0);
     if (!o.report.empty()) {

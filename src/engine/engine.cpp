@@ -33,6 +33,10 @@ struct Engine::Impl {
   std::shared_ptr<const Mesh> mesh;
   Placement placement;
   bool ray_dirty = false, post_dirty = false;
+  bool prepare_dirty = false;  // the local base and the meter need the new HDR image or settings
+  bool snap_exposure = true;   // a new mesh or size: no smoothing from the last scene's exposure
+  double target_exposure = 1, shown_exposure = 1;
+  std::chrono::steady_clock::time_point last_post{};
   int divisor = 1;  // preview: caustic at 1/divisor of the output size
   FrameStats stats;
   std::uint64_t ray_passes = 0;
@@ -59,6 +63,8 @@ void Engine::set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh) {
   if (new_hdr) s.hdr = gl::RenderTarget(GL_R32F, hdr_w, hdr_h, GL_LINEAR);
   s.ray_dirty = s.ray_dirty || new_mesh || new_size || new_hdr || !same_caustic(*s.scene, scene);
   s.post_dirty = s.post_dirty || s.ray_dirty || s.scene->post != scene.post;
+  s.prepare_dirty = s.prepare_dirty || s.post_dirty;
+  s.snap_exposure = s.snap_exposure || new_mesh || new_size;
   s.scene = scene;
   s.mesh = std::move(mesh);
   s.placement = placement;
@@ -92,11 +98,34 @@ bool Engine::render() {
   const auto start = std::chrono::steady_clock::now();
   PostParams post = s.scene->post;
   if (s.divisor > 1) post.bloom_strength = 0;  // a preview skips the glow
-  s.post.run(post, s.hdr.texture, s.ldr);
+  const bool automatic = post.exposure_mode == ExposureMode::automatic;
+  if (s.prepare_dirty) {
+    const exposure::Histogram histogram = s.post.prepare(post, s.hdr.texture, automatic);
+    if (automatic) {
+      std::uint64_t lit = 0;
+      for (const auto n : histogram) lit += n;
+      s.stats.lit_fraction = static_cast<double>(lit) / (static_cast<double>(s.hdr.texture.width()) * s.hdr.texture.height());
+      s.stats.metered = exposure::quantile(histogram, post.auto_percentile);
+      // Nothing lit: keep the last exposure rather than jump to an arbitrary one.
+      if (s.stats.metered > 0) s.target_exposure = exposure::exposure_for(s.stats.metered, post.gamma);
+    }
+  }
+  const double target = automatic ? s.target_exposure * post.exposure : post.exposure;
+  const double dt = std::chrono::duration<double>(start - s.last_post).count();
+  s.shown_exposure = s.snap_exposure || !automatic ? target
+                                                   : exposure::adapt(s.shown_exposure, target, std::min(dt, 0.5),
+                                                                     post.exposure_adapt_s);
+  s.snap_exposure = false;
+  s.last_post = start;
+  s.post.run(post, s.hdr.texture, s.ldr, s.shown_exposure);
   glFinish();
+  s.stats.exposure = s.shown_exposure;
   s.stats.post_ms = elapsed_ms(start);
   if (!s.ray_dirty) s.stats.ray_ms = 0;
-  s.ray_dirty = s.post_dirty = false;
+  s.ray_dirty = s.prepare_dirty = false;
+  // Still settling towards the metered exposure: the next frame draws again
+  // (post-processing only), so a change eases in instead of pumping.
+  s.post_dirty = s.shown_exposure != target;
   return true;
 }
 

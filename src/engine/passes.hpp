@@ -3,6 +3,7 @@
 #pragma once
 
 #include "caustic/engine.hpp"
+#include "caustic/exposure.hpp"
 #include "gl_objects.hpp"
 
 namespace caustic {
@@ -29,13 +30,19 @@ class RayPass {
 class PostPass {
  public:
   PostPass();
-  /// Bright pass and blur at reduced resolution, then tone mapping into `ldr`.
-  void run(const PostParams& post, const gl::Texture& hdr, const gl::RenderTarget& ldr);
+  /// The local operator's base (when post.tone_map is local), then, when
+  /// `meter`, the histogram of the lit pixels as the tone map will see them
+  /// (exposure.hpp); otherwise an empty histogram.
+  exposure::Histogram prepare(const PostParams& post, const gl::Texture& hdr, bool meter);
+  /// Bright pass and blur at reduced resolution, then tone mapping into `ldr`
+  /// with `exposure` (the base of the last prepare() when local).
+  void run(const PostParams& post, const gl::Texture& hdr, const gl::RenderTarget& ldr, double exposure);
 
  private:
-  gl::Program bright_, blur_, tonemap_;
+  gl::Program bright_, blur_, tonemap_, base_down_, base_bilateral_, meter_;
   gl::VertexArray empty_vao_;
-  gl::RenderTarget bloom_a_, bloom_b_;
+  gl::RenderTarget bloom_a_, bloom_b_, blocks_, base_;
+  gl::Buffer histogram_;
 };
 
 }  // namespace caustic

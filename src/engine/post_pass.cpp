@@ -4,13 +4,68 @@
 #include <cmath>
 
 namespace caustic {
+namespace {
+
+float local_strength(const PostParams& post) {
+  return post.tone_map == ToneMap::local ? static_cast<float>(post.local_strength) : 0.0f;
+}
+
+}  // namespace
 
 PostPass::PostPass()
     : bright_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"bright.frag"}}}),
       blur_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"blur.frag"}}}),
-      tonemap_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"tonemap.frag"}}}) {}
+      tonemap_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"local.glsl", "tonemap.frag"}}}),
+      base_down_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"base_down.frag"}}}),
+      base_bilateral_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"base_bilateral.frag"}}}),
+      meter_({{GL_COMPUTE_SHADER, {"local.glsl", "meter.comp"}}}) {
+  glNamedBufferStorage(histogram_.id(), sizeof(exposure::Histogram), nullptr, GL_DYNAMIC_STORAGE_BIT);
+}
 
-void PostPass::run(const PostParams& post, const gl::Texture& hdr, const gl::RenderTarget& ldr) {
+exposure::Histogram PostPass::prepare(const PostParams& post, const gl::Texture& hdr, bool meter) {
+  glDisable(GL_BLEND);
+  glBindVertexArray(empty_vao_.id());
+  const float strength = local_strength(post);
+  if (strength > 0) {
+    const int bw = std::max(1, (hdr.width() + 7) / 8), bh = std::max(1, (hdr.height() + 7) / 8);
+    if (blocks_.texture.width() != bw || blocks_.texture.height() != bh) {
+      blocks_ = gl::RenderTarget(GL_RG16F, bw, bh);
+      base_ = gl::RenderTarget(GL_R16F, bw, bh, GL_LINEAR);
+    }
+    blocks_.bind();
+    base_down_.use();
+    glBindTextureUnit(0, hdr.id());
+    base_down_.set("uHdr", 0);
+    base_down_.set("uLog2Lit", exposure::kLog2Lit);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    base_.bind();
+    base_bilateral_.use();
+    glBindTextureUnit(0, blocks_.texture.id());
+    base_bilateral_.set("uBlocks", 0);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  }
+  glBindVertexArray(0);
+  exposure::Histogram histogram{};
+  if (meter) {
+    glClearNamedBufferData(histogram_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    meter_.use();
+    glBindTextureUnit(0, hdr.id());
+    glBindTextureUnit(2, base_.texture.id());
+    meter_.set("uHdr", 0);
+    meter_.set("uBase", 2);
+    meter_.set("uLocalStrength", strength);
+    meter_.set("uLog2Lit", exposure::kLog2Lit);
+    meter_.set("uBinsPerStop", exposure::kBinsPerStop);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, histogram_.id());
+    glDispatchCompute(static_cast<GLuint>((hdr.width() + 31) / 32), static_cast<GLuint>((hdr.height() + 31) / 32), 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(histogram_.id(), 0, sizeof histogram, histogram.data());
+  }
+  gl::check_errors("exposure metering");
+  return histogram;
+}
+
+void PostPass::run(const PostParams& post, const gl::Texture& hdr, const gl::RenderTarget& ldr, double exposure) {
   glDisable(GL_BLEND);
   glBindVertexArray(empty_vao_.id());
   const bool bloom = post.bloom_strength > 0 && post.bloom_radius > 0;
@@ -52,10 +107,13 @@ void PostPass::run(const PostParams& post, const gl::Texture& hdr, const gl::Ren
   tonemap_.use();
   glBindTextureUnit(0, hdr.id());
   glBindTextureUnit(1, bloom ? bloom_a_.texture.id() : hdr.id());
+  glBindTextureUnit(2, base_.texture.id());
   tonemap_.set("uHdr", 0);
   tonemap_.set("uBloom", 1);
+  tonemap_.set("uBase", 2);
+  tonemap_.set("uLocalStrength", local_strength(post));
   tonemap_.set("uBloomStrength", bloom ? static_cast<float>(post.bloom_strength) : 0.0f);
-  tonemap_.set("uExposure", static_cast<float>(post.exposure));
+  tonemap_.set("uExposure", static_cast<float>(exposure));
   tonemap_.set("uGamma", static_cast<float>(post.gamma));
   tonemap_.set("uOutputSize", glm::vec2(ldr.texture.width(), ldr.texture.height()));
   glDrawArrays(GL_TRIANGLES, 0, 3);

@@ -1,6 +1,7 @@
 #include "caustic/calibrate.hpp"
 
 #include "caustic/engine.hpp"
+#include "caustic/exposure.hpp"
 #include "caustic/image_compare.hpp"
 #include "caustic/reference.hpp"
 
@@ -67,7 +68,7 @@ Calibration calibrate(const Scene& scene, const MeshLevels& levels, Engine& engi
         }
         std::sort(ray_ms.begin(), ray_ms.end());
         const ImageError err = compare(box_down(engine.read_hdr(), options.compare_factor), reference,
-                                       scene.post.exposure, scene.post.gamma);
+                                       exposure::settled_exposure(scene.post, reference), scene.post.gamma);
         CalibrationEntry e;
         e.config = {resolution, model, fresnel};
         e.vertices = levels.vertices(resolution);

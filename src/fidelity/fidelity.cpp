@@ -137,6 +137,21 @@ FidelityChoice choose_fidelity(const std::optional<Calibration>& calibration, do
   return choice;
 }
 
+std::vector<std::pair<std::string, std::string>> fidelity_overrides(const nlohmann::json& written, const Scene& scene) {
+  std::vector<std::pair<std::string, std::string>> out;
+  if (scene.render.fidelity != Fidelity::automatic || !written.is_object()) return out;
+  for (const auto& [section, key] : kFidelityAutoKeys) {
+    const auto part = written.find(section);
+    if (part == written.end() || !part->is_object()) continue;
+    const auto value = part->find(key);
+    if (value == part->end() || value->is_null()) continue;
+    const std::string name = std::string(section) + "." + key;
+    out.emplace_back(name, name + " is chosen by render.fidelity \"auto\", which overrides the value written; set "
+                                  "render.fidelity to \"manual\" to use it");
+  }
+  return out;
+}
+
 Scene resolve_fidelity(Scene scene, const FidelityChoice& choice) {
   if (scene.render.fidelity != Fidelity::automatic) return scene;
   scene.render.mesh_resolution = choice.config.mesh_resolution;

@@ -190,6 +190,7 @@ static gboolean gst_caustic_src_stop(GstBaseSrc* src) {
   State& s = state_of(src);
   s.worker.reset();  // joins the render thread, which frees its GL context
   caustic::gst::release(s.source);
+  caustic::gst::answer_snapshots(s.source);  // requests that came too late get no picture
   return TRUE;
 }
 
@@ -399,6 +400,13 @@ void set_overrun_observer(GstElement* causticsrc, std::function<void()> observer
 void set_frame_observer(GstElement* causticsrc, FrameObserver observer) {
   // Set before streaming starts; the streaming thread reads it without a lock.
   if (State* s = checked_state(causticsrc)) s->source.observer = std::move(observer);
+}
+
+void request_snapshot(GstElement* causticsrc, SnapshotDone done) {
+  State* s = checked_state(causticsrc);
+  if (!s) return done(nullptr, nullptr);
+  std::lock_guard lock(s->source.snapshots->lock);
+  s->source.snapshots->pending.push_back(std::move(done));
 }
 
 std::shared_ptr<ParamStore> param_store(GstElement* causticsrc) {

@@ -20,6 +20,15 @@ std::shared_ptr<const Mesh> preview_mesh(const MeshLevels& meshes, const Scene& 
   return it != meshes.resampled.end() && it->second->positions.size() < full->positions.size() ? it->second : full;
 }
 
+// Makes a context current for a scope.
+struct Current {
+  GlContext& context;
+  explicit Current(GlContext& c) : context(c) { context.make_current(); }
+  ~Current() { context.release_current(); }
+  Current(const Current&) = delete;
+  Current& operator=(const Current&) = delete;
+};
+
 }  // namespace
 
 GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const MeshLevels& meshes, int width,
@@ -45,7 +54,10 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
   const bool moving = source.progressive.enabled && source.picture && !source.isolated &&
                       now - source.changed_at < source.progressive.settle;
   const std::uint32_t want = moving ? preview : full_quality;
-  const bool changed = source.seen != source.rendered || want != source.rendered_level;
+  // Automatic exposure easing towards a new metering redraws the tone map
+  // each frame until it settles (the version stays the same).
+  const bool settling = source.engine && source.engine->dirty();
+  const bool changed = source.seen != source.rendered || want != source.rendered_level || settling;
   if (!changed && !source.readback_pending && source.picture) return gst_buffer_ref(source.picture);
   if (!source.context) {
     source.context = std::make_unique<GlContext>(egl_platform_from_environment());
@@ -53,11 +65,7 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
   }
   // The context is current only while drawing, so that stopping the element
   // on another thread can free it.
-  source.context->make_current();
-  struct Release {
-    GlContext* c;
-    ~Release() { c->release_current(); }
-  } release_guard{source.context.get()};
+  const Current current(*source.context);
 
   if (changed) {
     // The scene noticed above is the one to draw (one snapshot per version).
@@ -113,6 +121,27 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     source.picture_version = version;
   }
   return gst_buffer_ref(source.picture);
+}
+
+void answer_snapshots(FrameSource& source) {
+  std::vector<SnapshotRequests::Done> pending;
+  {
+    std::lock_guard lock(source.snapshots->lock);
+    pending.swap(source.snapshots->pending);
+  }
+  if (pending.empty()) return;
+  if (!source.context || !source.engine || !source.picture) {
+    for (const auto& done : pending) done(nullptr, nullptr);
+    return;
+  }
+  Rgba8Image ldr;
+  HdrImage hdr;
+  {
+    const Current current(*source.context);
+    ldr = source.engine->read_ldr();
+    hdr = source.engine->read_hdr();
+  }
+  for (const auto& done : pending) done(&ldr, &hdr);
 }
 
 void release(FrameSource& source) {

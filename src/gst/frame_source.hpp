@@ -13,7 +13,9 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <vector>
 
 namespace caustic::gst {
 
@@ -28,6 +30,16 @@ struct Progressive {
   std::chrono::milliseconds lone{250};
   int divisor = 2;   ///< preview caustic at 1/divisor of the output size per side
   int mesh = 32;     ///< preview mesh level, when it is coarser than the scene's
+};
+
+/// Requests for the picture last rendered (a REST client's frame.png),
+/// queued from any thread and answered on the render thread, which alone
+/// may touch the GL context. `Done` gets null pointers when there is no
+/// picture to give (not streaming, stopped).
+struct SnapshotRequests {
+  using Done = std::function<void(const Rgba8Image* ldr, const HdrImage* hdr)>;
+  std::mutex lock;
+  std::vector<Done> pending;
 };
 
 /// Fidelity levels in CausticFrameMeta.level.
@@ -49,6 +61,7 @@ struct FrameSource {
   std::atomic<std::uint64_t> renders{0};  // caustic passes so far (read from any thread)
   std::atomic<std::uint64_t> picture_version{0};  // version of the newest finished picture, any thread
   std::function<void(const FrameStats&, std::uint64_t)> observer;  // after each render
+  const std::shared_ptr<SnapshotRequests> snapshots = std::make_shared<SnapshotRequests>();
 };
 
 /// A new reference to the frame to send now: renders when the ParamStore's
@@ -61,6 +74,10 @@ struct FrameSource {
 /// very first picture is waited for.
 GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const MeshLevels& meshes, int width,
                          int height, bool wait = false);
+
+/// Answers the queued snapshot requests with the engine's current picture
+/// and HDR image (the render thread's, or any thread once streaming stopped).
+void answer_snapshots(FrameSource& source);
 
 /// Frees the picture, the engine and the context (any thread, once streaming stopped).
 void release(FrameSource& source);

@@ -32,6 +32,7 @@ void FrameWorker::run() {
       error = e.what();
     }
     busy_since_ = 0;
+    answer_snapshots(source_);
     lock.lock();
     // Most turns find nothing new: the same picture comes back.
     if (picture == picture_) {

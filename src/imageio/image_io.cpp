@@ -28,18 +28,35 @@ void write_png(const Rgba8Image& image, const std::filesystem::path& file) {
   write(file, spec, image.pixels.data(), OIIO::TypeDesc::UINT8, 4);
 }
 
-std::vector<unsigned char> encode_png(const Rgba8Image& image) {
+namespace {
+
+// Writes through OpenImageIO's memory proxy: the same writers as the files,
+// without touching the disk.
+std::vector<unsigned char> encode(const char* format, const OIIO::ImageSpec& given, const void* pixels,
+                                  OIIO::TypeDesc type, OIIO::stride_t xstride) {
   std::vector<unsigned char> bytes;
   OIIO::Filesystem::IOVecOutput memory(bytes);
-  auto out = OIIO::ImageOutput::create("png");
-  if (!out) throw ImageIoError("no PNG writer: " + OIIO::geterror());
-  OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+  auto out = OIIO::ImageOutput::create(format);
+  if (!out) throw ImageIoError(std::string("no ") + format + " writer: " + OIIO::geterror());
+  OIIO::ImageSpec spec = given;
   void* proxy = &memory;
   spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-  if (!out->open("thumbnail.png", spec) || !out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data(), 4) ||
-      !out->close())
-    throw ImageIoError("cannot encode PNG: " + out->geterror());
+  if (!out->open(std::string("picture.") + format, spec) || !out->write_image(type, pixels, xstride) || !out->close())
+    throw ImageIoError(std::string("cannot encode ") + format + ": " + out->geterror());
   return bytes;
+}
+
+}  // namespace
+
+std::vector<unsigned char> encode_png(const Rgba8Image& image) {
+  return encode("png", OIIO::ImageSpec(image.width, image.height, 3, OIIO::TypeDesc::UINT8), image.pixels.data(),
+                OIIO::TypeDesc::UINT8, 4);
+}
+
+std::vector<unsigned char> encode_exr(const HdrImage& image) {
+  OIIO::ImageSpec spec(image.width, image.height, 1, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"Y"};
+  return encode("exr", spec, image.pixels.data(), OIIO::TypeDesc::FLOAT, OIIO::AutoStride);
 }
 
 HdrImage read_hdr_image(const std::filesystem::path& file) {

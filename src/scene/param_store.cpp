@@ -3,7 +3,7 @@
 namespace caustic {
 
 ParamStore::ParamStore(Scene initial, std::function<void(const Scene&)> check, std::function<Scene(Scene)> resolve)
-    : check_(std::move(check)), resolve_(std::move(resolve)) {
+    : origin_(initial), check_(std::move(check)), resolve_(std::move(resolve)) {
   validate_scene(initial);
   scene_ = admit(std::move(initial));
 }
@@ -27,7 +27,7 @@ void ParamStore::publish(Scene next) {
 
 std::uint64_t ParamStore::apply_patch(const nlohmann::json& patch) {
   std::lock_guard lock(mutex_);
-  publish(admit(apply_merge_patch(scene_, patch)));
+  publish(admit(apply_merge_patch(scene_, patch, &origin_)));
   return version_.fetch_add(1, std::memory_order_acq_rel) + 1;
 }
 

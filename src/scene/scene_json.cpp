@@ -10,6 +10,7 @@
 #include <cmath>
 #include <fstream>
 #include <set>
+#include <span>
 #include <sstream>
 #include <vector>
 
@@ -19,6 +20,23 @@ namespace {
 using nlohmann::json;
 
 constexpr double kMaxCoordinate = 1e6;
+
+// One table per set of names: parsing and writing both read it.
+template <typename Enum>
+using Names = std::span<const std::pair<const char*, Enum>>;
+constexpr std::pair<const char*, Material> kMaterials[] = {{"refractive", Material::refractive},
+                                                           {"reflective", Material::reflective}};
+constexpr std::pair<const char*, LightType> kLightTypes[] = {{"directional", LightType::directional},
+                                                             {"point", LightType::point}};
+constexpr std::pair<const char*, PointModel> kPointModels[] = {{"approximate", PointModel::approximate},
+                                                               {"exact", PointModel::exact}};
+constexpr std::pair<const char*, IntensityMode> kIntensityModes[] = {{"energy", IntensityMode::energy},
+                                                                     {"report", IntensityMode::report}};
+constexpr std::pair<const char*, Fidelity> kFidelities[] = {{"auto", Fidelity::automatic}, {"manual", Fidelity::manual}};
+constexpr std::pair<const char*, ExposureMode> kExposureModes[] = {{"auto", ExposureMode::automatic},
+                                                                   {"manual", ExposureMode::manual}};
+constexpr std::pair<const char*, ToneMap> kToneMaps[] = {{"global", ToneMap::global}, {"local", ToneMap::local}};
+
 
 std::string join(const std::string& prefix, const std::string& key) {
   return prefix.empty() ? key : prefix + "." + key;
@@ -91,7 +109,7 @@ class Reader {
   }
 
   template <typename Enum>
-  Enum choice(const std::string& k, Enum fallback, std::initializer_list<std::pair<const char*, Enum>> options) {
+  Enum choice(const std::string& k, Enum fallback, Names<Enum> options) {
     const json* v = get(k);
     if (!v) return fallback;
     std::string allowed;
@@ -140,7 +158,7 @@ class Reader {
 
 ObjectParams read_object(Reader r) {
   ObjectParams o;
-  o.material = r.choice("material", o.material, {{"refractive", Material::refractive}, {"reflective", Material::reflective}});
+  o.material = r.choice("material", o.material, Names<Material>(kMaterials));
   o.ior = r.number("ior", o.ior, 1.0, 10.0);
   o.flat_face_normal = r.vec3("flat_face_normal", o.flat_face_normal, true);
   o.flat_face_offset = r.optional_number("flat_face_offset", -kMaxCoordinate, kMaxCoordinate);
@@ -153,10 +171,10 @@ ObjectParams read_object(Reader r) {
 
 LightParams read_light(Reader r) {
   LightParams l;
-  l.type = r.choice("type", l.type, {{"directional", LightType::directional}, {"point", LightType::point}});
+  l.type = r.choice("type", l.type, Names<LightType>(kLightTypes));
   l.direction = r.vec3("direction", l.direction, true);
   l.position = r.vec3("position", l.position);
-  l.point_model = r.choice("point_model", l.point_model, {{"approximate", PointModel::approximate}, {"exact", PointModel::exact}});
+  l.point_model = r.choice("point_model", l.point_model, Names<PointModel>(kPointModels));
   r.reject_unknown();
   return l;
 }
@@ -192,10 +210,10 @@ RenderParams read_render(Reader r) {
   RenderParams p;
   p.width = r.integer("width", p.width, 16, 8192);
   p.height = r.integer("height", p.height, 16, 8192);
-  p.intensity = r.choice("intensity", p.intensity, {{"energy", IntensityMode::energy}, {"report", IntensityMode::report}});
+  p.intensity = r.choice("intensity", p.intensity, Names<IntensityMode>(kIntensityModes));
   p.fresnel = r.boolean("fresnel", p.fresnel);
   p.report_plane_distance = r.number("report_plane_distance", p.report_plane_distance, 0.0, kMaxCoordinate, true);
-  p.fidelity = r.choice("fidelity", p.fidelity, {{"auto", Fidelity::automatic}, {"manual", Fidelity::manual}});
+  p.fidelity = r.choice("fidelity", p.fidelity, Names<Fidelity>(kFidelities));
   p.accuracy_target = r.number("accuracy_target", p.accuracy_target, 0.0, 1.0, true);
   p.mesh_resolution = r.integer("mesh_resolution", p.mesh_resolution, 0, 2048);
   if (p.mesh_resolution == 1) throw SceneError(r.key("mesh_resolution"), "must be 0 (the mesh as loaded) or at least 2");
@@ -205,7 +223,12 @@ RenderParams read_render(Reader r) {
 
 PostParams read_post(Reader r) {
   PostParams p;
+  p.exposure_mode = r.choice("exposure_mode", p.exposure_mode, Names<ExposureMode>(kExposureModes));
   p.exposure = r.number("exposure", p.exposure, 0.0, 1e4, true);
+  p.auto_percentile = r.number("auto_percentile", p.auto_percentile, 0.5, 1.0);
+  p.exposure_adapt_s = r.number("exposure_adapt_s", p.exposure_adapt_s, 0.0, 10.0);
+  p.tone_map = r.choice("tone_map", p.tone_map, Names<ToneMap>(kToneMaps));
+  p.local_strength = r.number("local_strength", p.local_strength, 0.0, 1.0);
   p.gamma = r.number("gamma", p.gamma, 0.1, 10.0);
   p.bloom_threshold = r.number("bloom_threshold", p.bloom_threshold, 0.0, 1e6);
   p.bloom_strength = r.number("bloom_strength", p.bloom_strength, 0.0, 100.0);
@@ -215,7 +238,7 @@ PostParams read_post(Reader r) {
 }
 
 template <typename Enum>
-const char* name_of(Enum value, std::initializer_list<std::pair<const char*, Enum>> options) {
+const char* name_of(Enum value, Names<Enum> options) {
   for (const auto& [name, v] : options)
     if (v == value) return name;
   return "";
@@ -256,7 +279,7 @@ json scene_to_json(const Scene& s) {
       {"mesh", s.mesh},
       {"focus_distance", opt(s.focus_distance)},
       {"object",
-       {{"material", name_of(o.material, {{"refractive", Material::refractive}, {"reflective", Material::reflective}})},
+       {{"material", name_of(o.material, Names<Material>(kMaterials))},
         {"ior", o.ior},
         {"flat_face_normal", vec(o.flat_face_normal)},
         {"flat_face_offset", opt(o.flat_face_offset)},
@@ -264,10 +287,10 @@ json scene_to_json(const Scene& s) {
         {"rotation_deg", vec(o.rotation_deg)},
         {"fit_size", opt(o.fit_size)}}},
       {"light",
-       {{"type", name_of(l.type, {{"directional", LightType::directional}, {"point", LightType::point}})},
+       {{"type", name_of(l.type, Names<LightType>(kLightTypes))},
         {"direction", vec(l.direction)},
         {"position", vec(l.position)},
-        {"point_model", name_of(l.point_model, {{"approximate", PointModel::approximate}, {"exact", PointModel::exact}})}}},
+        {"point_model", name_of(l.point_model, Names<PointModel>(kPointModels))}}},
       {"screen",
        {{"center", vec(s.screen.center)},
         {"normal", vec(s.screen.normal)},
@@ -277,14 +300,19 @@ json scene_to_json(const Scene& s) {
       {"render",
        {{"width", s.render.width},
         {"height", s.render.height},
-        {"intensity", name_of(s.render.intensity, {{"energy", IntensityMode::energy}, {"report", IntensityMode::report}})},
+        {"intensity", name_of(s.render.intensity, Names<IntensityMode>(kIntensityModes))},
         {"fresnel", s.render.fresnel},
         {"report_plane_distance", s.render.report_plane_distance},
-        {"fidelity", name_of(s.render.fidelity, {{"auto", Fidelity::automatic}, {"manual", Fidelity::manual}})},
+        {"fidelity", name_of(s.render.fidelity, Names<Fidelity>(kFidelities))},
         {"accuracy_target", s.render.accuracy_target},
         {"mesh_resolution", s.render.mesh_resolution}}},
       {"post",
-       {{"exposure", s.post.exposure},
+       {{"exposure_mode", name_of(s.post.exposure_mode, Names<ExposureMode>(kExposureModes))},
+        {"exposure", s.post.exposure},
+        {"auto_percentile", s.post.auto_percentile},
+        {"exposure_adapt_s", s.post.exposure_adapt_s},
+        {"tone_map", name_of(s.post.tone_map, Names<ToneMap>(kToneMaps))},
+        {"local_strength", s.post.local_strength},
         {"gamma", s.post.gamma},
         {"bloom_threshold", s.post.bloom_threshold},
         {"bloom_strength", s.post.bloom_strength},
@@ -315,8 +343,32 @@ Scene load_scene(const std::filesystem::path& file) {
   return scene_from_json(j, file.parent_path());
 }
 
-Scene apply_merge_patch(const Scene& scene, const json& patch) {
+namespace {
+
+// RFC 7396's null removes a member, which here would fall back to the global
+// default; a visitor's "reset" means the scene's own value instead. Each null
+// of the patch becomes the origin's value at that place (a null where the
+// origin has none stays null: the default). Recursion follows the patch, so
+// its depth is the patch's (bounded by the JSON parser).
+json nulls_to_origin(const json& patch, const json* origin) {
+  json out = json::object();
+  for (const auto& [k, v] : patch.items()) {
+    const json* here = origin && origin->is_object() && origin->contains(k) ? &origin->at(k) : nullptr;
+    if (v.is_null()) out[k] = here ? *here : json(nullptr);
+    else if (v.is_object()) out[k] = nulls_to_origin(v, here);
+    else out[k] = v;
+  }
+  return out;
+}
+
+}  // namespace
+
+Scene apply_merge_patch(const Scene& scene, const json& patch, const Scene* origin) {
   if (!patch.is_object()) throw SceneError("", "a parameter patch must be a JSON object");
+  if (origin) {
+    const json origin_doc = scene_to_json(*origin);
+    return apply_merge_patch(scene, nulls_to_origin(patch, &origin_doc));
+  }
   json doc = scene_to_json(scene);
   // The screen centre is stored resolved; a patch of focus_distance alone
   // should move the screen, so drop the centre unless the patch sets it.

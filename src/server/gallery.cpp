@@ -3,7 +3,12 @@
 #include "caustic/engine.hpp"
 #include "caustic/gl_context.hpp"
 #include "caustic/image_io.hpp"
+#include "caustic/json_text.hpp"
 #include "caustic/resample.hpp"
+#include "log.hpp"
+
+#include <fstream>
+#include <iterator>
 
 #include <regex>
 
@@ -53,6 +58,14 @@ std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, cons
       build_mesh_levels(entry->mesh, entry->scene.object.flat_face_normal, coarser_resolutions(*entry->mesh)));
   entry->calibration = load_calibration(calibration_path(file), scene_fingerprint(entry->scene, *entry->mesh));
   entry->scene = resolve_for(*entry, entry->scene);
+  // A value the scene file writes for a key that fidelity "auto" decides is
+  // overridden: say so rather than ignore it without a word.
+  if (std::ifstream in{file}) {
+    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    if (const auto written = parse_json_text(text))
+      for (const auto& [key, detail] : fidelity_overrides(*written, entry->scene))
+        log(Level::warning, "scene " + id + ": " + detail);
+  }
   entry->levels->at(entry->scene.render.mesh_resolution);  // a manual scene may name a level not on offer
   entry->proxy = proxy_geometry(entry->scene, *entry->mesh);
   Scene small = entry->scene;

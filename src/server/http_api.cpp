@@ -1,10 +1,12 @@
 // The REST API of docs/api.md (openapi.yaml).
 #include "caustic/json_text.hpp"
+#include "caustic/scene_warnings.hpp"
 #include "http_util.hpp"
 #include "log.hpp"
 #include "server_state.hpp"
 #include "static_files.hpp"
 
+#include <algorithm>
 #include <regex>
 
 namespace caustic::server {
@@ -19,11 +21,19 @@ const char* const kFixedKeys[][2] = {{"mesh", nullptr},           {"name", nullp
                                      {"render", "height"},        {"object", "flat_face_normal"},
                                      {"object", "flat_face_offset"}};
 
-nlohmann::json public_params(Session& session) {
+// `extra`: warnings about what the request itself wrote (keys that fidelity
+// "auto" overrides); the light's are judged on the public proxy every time.
+nlohmann::json public_params(Session& session, nlohmann::json extra = nlohmann::json::array()) {
   const ParamStore::Snapshot snap = session.params().snapshot();
   nlohmann::json params = scene_to_json(snap.scene);
   params.erase("mesh");  // a protected mesh is not even named
-  return {{"version", snap.version}, {"params", params}, {"fidelity", fidelity_of(session.entry(), snap.scene)}};
+  nlohmann::json warnings = std::move(extra);
+  for (const auto& w : light_warnings(snap.scene, place_object(snap.scene.object, *session.entry().mesh)))
+    warnings.push_back({{"key", w.key}, {"detail", w.detail}});
+  return {{"version", snap.version},
+          {"params", params},
+          {"fidelity", fidelity_of(session.entry(), snap.scene)},
+          {"warnings", warnings}};
 }
 
 struct Route {
@@ -102,8 +112,13 @@ bool read_json_body(ServerState& s, SoupServerMessage* msg, std::initializer_lis
   JsonTextError error;
   auto parsed = parse_json_text(std::string_view(body->data, static_cast<std::size_t>(body->length)), &error);
   if (!parsed) {
+    // Line and column as an editor counts them (1-based), and the byte.
+    const std::string_view text(body->data, std::min(static_cast<std::size_t>(body->length), error.offset));
+    const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+    const std::size_t column = text.size() - (text.rfind('\n') == std::string_view::npos ? 0 : text.rfind('\n') + 1) + 1;
     reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST,
-                  "the body is not JSON: " + error.message + " at byte " + std::to_string(error.offset));
+                  "the body is not JSON: " + error.message + " at line " + std::to_string(line) + ", column " +
+                      std::to_string(column) + " (byte " + std::to_string(error.offset) + ")");
     return false;
   }
   if (!parsed->is_object()) {
@@ -189,7 +204,7 @@ void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
   const nlohmann::json before = scene_to_json(session.params().snapshot().scene);
   nlohmann::json after;
   try {
-    after = scene_to_json(apply_merge_patch(session.params().snapshot().scene, patch));
+    after = scene_to_json(apply_merge_patch(session.params().snapshot().scene, patch, &session.params().origin()));
   } catch (const SceneError& e) {
     return reply_problem(msg, s.metrics, SOUP_STATUS_UNPROCESSABLE_ENTITY, e.what(), e.key());
   }
@@ -208,7 +223,10 @@ void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
     return reply_problem(msg, s.metrics, SOUP_STATUS_UNPROCESSABLE_ENTITY, e.what(), e.key());
   }
   ++s.metrics.parameter_updates;
-  reply_json(msg, SOUP_STATUS_OK, public_params(session));
+  nlohmann::json overridden = nlohmann::json::array();
+  for (const auto& [key, detail] : fidelity_overrides(patch, session.params().snapshot().scene))
+    overridden.push_back({{"key", key}, {"detail", detail}});
+  reply_json(msg, SOUP_STATUS_OK, public_params(session, std::move(overridden)));
 }
 
 // One answer for an unknown session and for a wrong token: which session
@@ -230,6 +248,10 @@ void session_route(ServerState& s, SoupServerMessage* msg, const Route& route) {
     soup_server_message_set_status(msg, SOUP_STATUS_NO_CONTENT, nullptr);
     return;
   }
+  if (route.rest != "/params") {
+    if (method != "GET" && method != "HEAD") return not_allowed(s, msg, "GET, HEAD");
+    return session_frame(s, msg, session, route.rest == "/frame.exr");
+  }
   if (method == "GET" || method == "HEAD") return reply_json(msg, SOUP_STATUS_OK, public_params(session));
   if (method == "PATCH") return patch_params(s, msg, session);
   not_allowed(s, msg, "GET, HEAD, PATCH");
@@ -249,7 +271,7 @@ bool within_rate(ServerState& s, SoupServerMessage* msg) {
 
 void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path) {
   const std::string method = method_of(msg);
-  static const std::regex session_path("^/api/v1/sessions/([0-9a-f]{32})(/params)?$");
+  static const std::regex session_path("^/api/v1/sessions/([0-9a-f]{32})(/params|/frame\\.png|/frame\\.exr)?$");
   static const std::regex scene_path("^/api/v1/scenes/([a-z0-9_-]{1,64})$");
   static const std::regex thumbnail_path("^/api/v1/scenes/([a-z0-9_-]{1,64})/thumbnail\\.png$");
   static const std::regex signal_path("^/api/v1/sessions/([0-9a-f]{32})/signal$");

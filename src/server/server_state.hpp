@@ -42,6 +42,8 @@ struct ServerState {
 /// Answers /api/v1/designs and /api/v1/designs/{id} (design_api.cpp);
 /// false when `path` is neither.
 bool route_designs(ServerState& s, SoupServerMessage* msg, const std::string& path);
+/// GET /api/v1/sessions/{id}/frame.png or .exr (`hdr`), answered later (frame_api.cpp).
+void session_frame(ServerState& s, SoupServerMessage* msg, Session& session, bool hdr);
 /// 405 with the Allow header.
 void not_allowed(ServerState& s, SoupServerMessage* msg, const char* allow);
 

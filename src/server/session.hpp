@@ -4,6 +4,7 @@
 // callbacks from streaming threads are handed over to it.
 #pragma once
 
+#include "caustic/image.hpp"
 #include "caustic/param_store.hpp"
 #include "caustic/server/config.hpp"
 #include "gallery.hpp"
@@ -72,6 +73,11 @@ class Session : public std::enable_shared_from_this<Session> {
   /// Sends {"rtp_timestamp", "version", "level"} on the "frames" data
   /// channel (any thread; dropped while the channel is not open).
   void tell_frame(guint32 rtp_timestamp, std::uint64_t version, std::uint32_t level);
+
+  /// The picture the session last rendered and its HDR image, handed to
+  /// `done` on the main loop's thread (null pointers when the session has
+  /// no picture); never called if the session ends first (frame_api.cpp).
+  void snapshot(std::function<void(const Rgba8Image*, const HdrImage*)> done);
 
   /// Tells the viewer the session ends (if connected) and stops the pipeline.
   void close(const std::string& reason);

@@ -123,7 +123,7 @@ Case CaseGenerator::patch_value_case() {
                                   "{\"description\":\"x\"}",
                                   "{\"render\":{\"width\":512}}",
                                   "{\"render\":{\"height\":512}}",
-                                  "{\"mesh\":null}"};
+                                  "{\"object\":{\"flat_face_normal\":[1,0,0]}}"};
     Case c = patch(fixed[rng_() % std::size(fixed)]);
     c.rule = status_in("fixed keys are refused with 422", {422});
     c.state = 2;

@@ -5,6 +5,7 @@
 // must be used and destroyed on that thread.
 #pragma once
 
+#include "caustic/image.hpp"
 #include "caustic/mesh.hpp"
 #include "caustic/scene.hpp"
 
@@ -20,21 +21,6 @@ class EngineError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Relative irradiance, one float per pixel, row 0 at the top of the screen.
-struct HdrImage {
-  int width = 0;
-  int height = 0;
-  std::vector<float> pixels;
-  float at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
-};
-
-/// Tone-mapped 8-bit RGBA, row 0 at the top.
-struct Rgba8Image {
-  int width = 0;
-  int height = 0;
-  std::vector<std::uint8_t> pixels;
-};
-
 /// How a read-back delivers the picture.
 enum class PixelFormat { rgba, i420 };
 
@@ -46,6 +32,9 @@ struct FrameStats {
   std::uint32_t dropped = 0;  ///< triangles with a vertex lost to TIR, a miss or grazing incidence
   std::uint32_t folded = 0;   ///< drawn triangles whose screen orientation is the minority one
   std::uint32_t collapsed = 0; ///< drawn triangles of (nearly) zero screen area: flux into one pixel
+  double exposure = 1;        ///< the exposure the tone map used
+  double metered = 0;         ///< "auto": the metered quantile of the lit pixels (0: none lit)
+  double lit_fraction = 0;    ///< "auto": fraction of the screen's pixels that receive light
 };
 
 class Engine {
@@ -70,7 +59,9 @@ class Engine {
   bool dirty() const;
 
   /// Renders if the scene changed since the last render (only post-processing
-  /// when only `post` changed). Returns whether anything was drawn.
+  /// when only `post` changed). Returns whether anything was drawn. With
+  /// automatic exposure the frame stays dirty while the shown exposure eases
+  /// towards the metered one (post.exposure_adapt_s), then settles.
   bool render();
 
   HdrImage read_hdr() const;

@@ -73,6 +73,15 @@ struct FidelityChoice {
 /// one. Without a calibration: the full model (mesh as loaded, exact, Fresnel).
 FidelityChoice choose_fidelity(const std::optional<Calibration>& calibration, double target, const MeshLevels& levels);
 
+/// The keys "auto" decides (section, key): a value written for one of them
+/// is overridden while render.fidelity is "auto", and its writer is told so.
+inline constexpr const char* kFidelityAutoKeys[][2] = {
+    {"render", "mesh_resolution"}, {"light", "point_model"}, {"render", "fresnel"}};
+
+/// For each of kFidelityAutoKeys that `written` (a scene document or a
+/// patch) sets while `scene` renders with fidelity "auto": (key, message).
+std::vector<std::pair<std::string, std::string>> fidelity_overrides(const nlohmann::json& written, const Scene& scene);
+
 /// `scene` with the choice written into mesh_resolution, point_model and
 /// fresnel when its fidelity is "auto"; unchanged when "manual".
 Scene resolve_fidelity(Scene scene, const FidelityChoice& choice);

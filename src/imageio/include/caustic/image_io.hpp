@@ -2,7 +2,7 @@
 // tone-mapped picture (OpenImageIO).
 #pragma once
 
-#include "caustic/engine.hpp"
+#include "caustic/image.hpp"
 
 #include <filesystem>
 #include <stdexcept>
@@ -21,6 +21,8 @@ void write_exr(const HdrImage& image, const std::filesystem::path& file);
 void write_png(const Rgba8Image& image, const std::filesystem::path& file);
 /// The picture as PNG file bytes, for serving without touching the disk.
 std::vector<unsigned char> encode_png(const Rgba8Image& image);
+/// The HDR image as EXR file bytes (one float channel "Y", as write_exr).
+std::vector<unsigned char> encode_exr(const HdrImage& image);
 /// Reads the first channel of any image OpenImageIO can open, as float.
 HdrImage read_hdr_image(const std::filesystem::path& file);
 

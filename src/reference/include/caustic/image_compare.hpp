@@ -2,7 +2,7 @@
 // accuracy work quotes (docs/accuracy.md), in one place.
 #pragma once
 
-#include "caustic/engine.hpp"
+#include "caustic/image.hpp"
 
 namespace caustic {
 

@@ -5,7 +5,7 @@
 // mistakes. Output is relative irradiance on the same screen rectangle.
 #pragma once
 
-#include "caustic/engine.hpp"
+#include "caustic/image.hpp"
 #include "caustic/mesh.hpp"
 
 #include <cstdint>

@@ -40,15 +40,20 @@ class ParamStore {
   Snapshot snapshot() const;
   std::uint64_t version() const { return version_.load(std::memory_order_acquire); }
 
-  /// Applies an RFC 7396 merge patch; returns the new version. Throws
-  /// SceneError and leaves everything unchanged when the result is invalid.
+  /// Applies an RFC 7396 merge patch, a null restoring the initial scene's
+  /// value (origin()); returns the new version. Throws SceneError and leaves
+  /// everything unchanged when the result is invalid.
   std::uint64_t apply_patch(const nlohmann::json& patch);
+
+  /// The scene as given to the constructor, before `resolve`.
+  const Scene& origin() const { return origin_; }
 
   /// Replaces the scene; same checks and guarantees as apply_patch.
   std::uint64_t replace(const Scene& scene);
 
  private:
   mutable std::mutex mutex_;
+  const Scene origin_;
   Scene scene_;
   std::chrono::steady_clock::time_point published_ = std::chrono::steady_clock::now();
   std::chrono::steady_clock::time_point previous_{};

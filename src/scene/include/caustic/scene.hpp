@@ -30,6 +30,8 @@ enum class LightType { directional, point };
 enum class PointModel { approximate, exact };
 enum class IntensityMode { energy, report };
 enum class Fidelity { automatic, manual };
+enum class ExposureMode { automatic, manual };
+enum class ToneMap { global, local };
 
 struct ObjectParams {
   Material material = Material::refractive;
@@ -79,7 +81,18 @@ struct RenderParams {
 };
 
 struct PostParams {
+  /// "auto": the exposure is metered from each frame (the auto_percentile
+  /// of the lit pixels lands just below white, docs/physics.md) and
+  /// `exposure` multiplies it (exposure compensation, 1 = as metered);
+  /// "manual": `exposure` is used as written.
+  ExposureMode exposure_mode = ExposureMode::automatic;
   double exposure = 1.0;
+  double auto_percentile = 0.99;  ///< of the lit pixels, for "auto"
+  double exposure_adapt_s = 0.25; ///< time constant of "auto" following a change; 0: at once
+  /// "global": one curve for the whole picture; "local": large-scale
+  /// brightness compressed by local_strength first, detail kept.
+  ToneMap tone_map = ToneMap::global;
+  double local_strength = 0.5;    ///< 0: as global, 1: large-scale variation flattened
   double gamma = 2.2;
   double bloom_threshold = 1.0;
   double bloom_strength = 0.3;
@@ -120,8 +133,10 @@ void validate_scene(const Scene& scene);
 Scene load_scene(const std::filesystem::path& file);
 
 /// Applies an RFC 7396 JSON merge patch and validates the result; the input
-/// scene is left untouched, so a rejected patch changes nothing.
-Scene apply_merge_patch(const Scene& scene, const nlohmann::json& patch);
+/// scene is left untouched, so a rejected patch changes nothing. With an
+/// `origin` (the scene as its file wrote it), a null restores the origin's
+/// value at that place instead of the global default.
+Scene apply_merge_patch(const Scene& scene, const nlohmann::json& patch, const Scene* origin = nullptr);
 
 /// Turns "a.b.c=value" into a merge patch {"a":{"b":{"c":value}}}; the value
 /// is read as JSON when it parses, otherwise as a string.

@@ -38,6 +38,13 @@ void set_overrun_observer(GstElement* causticsrc, std::function<void()> observer
 using FrameObserver = std::function<void(const FrameStats& stats, std::uint64_t version)>;
 void set_frame_observer(GstElement* causticsrc, FrameObserver observer);
 
+/// Asks for the picture last rendered and its HDR image: `done` is called
+/// on the render thread at its next turn (within a few milliseconds while
+/// streaming), with null pointers if the element stops first. A request
+/// made while the element does not stream waits for it to start or stop.
+using SnapshotDone = std::function<void(const Rgba8Image* ldr, const HdrImage* hdr)>;
+void request_snapshot(GstElement* causticsrc, SnapshotDone done);
+
 /// The parameters a causticsrc renders (null before a source was set or loaded).
 std::shared_ptr<ParamStore> param_store(GstElement* causticsrc);
 

@@ -1,0 +1,26 @@
+// The two picture types every layer exchanges. They live below the engine so
+// that the reference tracer, image files and the designer use them without
+// linking OpenGL.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace caustic {
+
+/// Relative irradiance, one float per pixel, row 0 at the top of the screen.
+struct HdrImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> pixels;
+  float at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
+};
+
+/// Tone-mapped 8-bit RGBA, row 0 at the top.
+struct Rgba8Image {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> pixels;
+};
+
+}  // namespace caustic

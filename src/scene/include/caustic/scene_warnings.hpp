@@ -1,0 +1,29 @@
+// Settings that are valid but show a visitor little or nothing: the light
+// travels away from the screen, or misses it. They are judged on the public
+// proxy only (the object's bounding slab, as a flat slab or a flat mirror),
+// never on the freeform face, so a warning says nothing about the secret
+// mesh; a freeform face bends the light somewhat, so the shares are rough.
+#pragma once
+
+#include "caustic/mesh.hpp"
+#include "caustic/scene.hpp"
+
+#include <string>
+#include <vector>
+
+namespace caustic {
+
+struct SceneWarning {
+  std::string key;     ///< the setting to change, e.g. "screen.center"
+  std::string detail;  ///< what happens and what to do
+};
+
+/// The share of the object's footprint whose light lands on the screen
+/// rectangle, traced through the proxy on a 9 x 9 grid (0 to 1).
+double proxy_share_on_screen(const Scene& scene, const Placement& placement);
+
+/// Warnings for `scene` posed by `placement` (only its bounding box and flat
+/// face are read): none when most of the light lands on the screen.
+std::vector<SceneWarning> light_warnings(const Scene& scene, const Placement& placement);
+
+}  // namespace caustic
