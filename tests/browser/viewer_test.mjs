@@ -128,6 +128,9 @@ for (const codec of ['vp8', 'h264']) {
                                               document.getElementById('video').videoHeight]);
       assert.deepEqual(size, [320, 240]);
       await until(page, () => window.caustic.shownVersion === 1, 20, 'frame version 1 on screen');
+      // The scene's name, in the page and its title.
+      assert.equal(await page.textContent('#title'), 'Wavy window');
+      assert.match(await page.title(), /^Wavy window/);
 
       const before = await page.evaluate(videoPixels);
       await page.evaluate(() => window.caustic.moveLight(4, 2.5, 0));
@@ -162,6 +165,14 @@ for (const codec of ['vp8', 'h264']) {
         return grey[Math.floor(grey.length * 0.99)] - grey[Math.floor(grey.length * 0.5)];
       });
       assert.ok(contrast > 60, `the canvas looks blank (contrast ${contrast})`);
+      if (codec === 'vp8') {
+        // A mirror sends the light away from the screen below it: the page says so, and stops saying so.
+        await page.evaluate(() => window.caustic.setParams({ object: { material: 'reflective' } }));
+        await until(page, () => !document.getElementById('warnings').hidden, 10, 'the warning on the page');
+        assert.match(await page.textContent('#warnings'), /object\.material: no light reaches the screen/);
+        await page.evaluate(() => window.caustic.setParams({ object: { material: 'refractive' } }));
+        await until(page, () => document.getElementById('warnings').hidden, 10, 'the warning gone');
+      }
       await page.close();
     } finally {
       server.kill('SIGTERM');
@@ -278,6 +289,24 @@ test('a full server is shown as such and the page recovers when a place frees up
   }
 });
 
+test('an unknown scene is a permanent error: the page says what to do and does not ask again', async () => {
+  const server = await startServer();
+  try {
+    const page = await browser.newPage();
+    let creates = 0;
+    page.on('request', (r) => { if (r.method() === 'POST' && r.url().endsWith('/api/v1/sessions')) creates += 1; });
+    await page.goto(`${server.url}/viewer.html?scene=no-such-scene&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'error', 20, 'the error shown');
+    assert.match(await page.textContent('#state'), /Pick a scene in the gallery/);
+    await page.waitForTimeout(3000);
+    assert.equal(creates, 1, 'the page asked again for a scene that does not exist');
+    assert.equal(await page.evaluate(() => window.caustic.connection), 'error');
+    await page.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
+
 test('a server restart shows reconnecting and the page comes back live', async () => {
   let server = await startServer();
   const port = new URL(server.url).port;
@@ -289,6 +318,9 @@ test('a server restart shows reconnecting and the page comes back live', async (
     server.kill('SIGTERM');
     await exited;
     await until(page, () => ['reconnecting', 'error'].includes(window.caustic.connection), 20, 'the loss noticed');
+    // A transient failure says so and counts down to the next try.
+    await until(page, () => /the server does not answer; retrying in \d+ s/.test(document.getElementById('state').textContent),
+                30, 'the countdown to the next try');
     server = await startServer(['--port', port]);
     await until(page, () => window.caustic.connection === 'live', 60, 'live again after the restart');
     await page.close();

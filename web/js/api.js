@@ -1,6 +1,8 @@
 // The REST API: sessions and coalesced parameter patches.
 
 export class ServerFull extends Error {}
+// A refusal that asking again will not change (an unknown scene, a bad codec).
+export class Refused extends Error {}
 
 export async function createSession(scene, codec) {
   const response = await fetch('/api/v1/sessions', {
@@ -10,6 +12,8 @@ export async function createSession(scene, codec) {
   });
   const body = await response.json();
   if (response.status === 503) throw new ServerFull(body.detail);
+  if (response.status >= 400 && response.status < 500 && response.status !== 408 && response.status !== 429)
+    throw new Refused(body.detail ?? `the server answered ${response.status}`);
   if (!response.ok) throw new Error(body.detail ?? `the server answered ${response.status}`);
   return body;
 }

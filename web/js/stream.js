@@ -20,6 +20,12 @@ export class Stream {
     this.socket = new WebSocket(url);
     this.pc = new RTCPeerConnection({ iceServers: [] });
     this.pc.ontrack = (event) => {
+      // Ask for no added playout delay: this stream comes over a short, clean
+      // path and is interactive, so the jitter buffer's default padding
+      // (over 100 ms for VP8) is latency bought for nothing. The standard
+      // name is in milliseconds, Chromium's older hint in seconds.
+      if ('jitterBufferTarget' in event.receiver) event.receiver.jitterBufferTarget = 0;
+      else if ('playoutDelayHint' in event.receiver) event.receiver.playoutDelayHint = 0;
       this.video.srcObject = event.streams[0] ?? new MediaStream([event.track]);
       this.video.play().catch(() => {});
       this.watchFrames();

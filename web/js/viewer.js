@@ -2,7 +2,7 @@
 // streamed caustic on the lightmap plane, and turns the controls into
 // coalesced parameter patches.
 import GUI from 'lil-gui';
-import { createSession, deleteSession, ParamChannel, ServerFull } from './api.js';
+import { createSession, deleteSession, ParamChannel, Refused, ServerFull } from './api.js';
 import { ControlModes } from './controls.js';
 import { CausticRoom } from './scene3d.js';
 import { Stream } from './stream.js';
@@ -13,6 +13,7 @@ const video = document.getElementById('video');
 const stateLabel = document.getElementById('state');
 const versionLabel = document.getElementById('version');
 const statsPanel = document.getElementById('stats');
+const warningsPanel = document.getElementById('warnings');
 
 // What the page knows, also read by the browser tests through window.caustic.
 const state = {
@@ -36,9 +37,22 @@ function patchable(params) {
   return { ...rest, render };
 }
 
+// The server's word on settings that show little or nothing, or that
+// fidelity "auto" overrides: shown until an answer carries none.
+function showWarnings(warnings = []) {
+  state.warnings = warnings;
+  warningsPanel.hidden = warnings.length === 0;
+  warningsPanel.textContent = warnings.map((w) => `${w.key}: ${w.detail}`).join('\n');
+}
+
 function onApplied(body, sentAt) {
+  if (!state.params) {
+    document.getElementById('title').textContent = body.params.name || sceneId;
+    document.title = `${body.params.name || sceneId} – causticd`;
+  }
   state.params = body.params;
   state.fidelity = body.fidelity;
+  showWarnings(body.warnings);
   state.version = body.version;
   // Latency: from sending the PATCH to the first frame on screen with this
   // version or a later one (the server may skip versions that came in fast).
@@ -71,8 +85,15 @@ async function connect() {
   try {
     session = await createSession(sceneId, state.codec);
   } catch (error) {
-    setConnection(error instanceof ServerFull ? 'full' : 'error', error.message);
-    return scheduleRetry();
+    if (error instanceof Refused) {
+      // Permanent: say what to do instead of asking again forever.
+      setConnection('error', `${error.message}. Pick a scene in the gallery.`);
+      return;
+    }
+    const why = error instanceof ServerFull ? error.message
+      : error instanceof TypeError ? 'the server does not answer' : error.message;
+    setConnection(error instanceof ServerFull ? 'full' : 'reconnecting', why);
+    return scheduleRetry(why);
   }
   const firstTime = !room;
   if (firstTime) {
@@ -97,7 +118,7 @@ async function connect() {
   stream = new Stream(session, video, {
     onState: (s, reason) => {
       if (s === 'live') { retry = 0; setConnection('live'); }
-      if (s === 'lost') { setConnection('reconnecting', reason); scheduleRetry(); }
+      if (s === 'lost') { setConnection('reconnecting', reason); scheduleRetry(reason); }
     },
     onFrameVersion,
   });
@@ -105,12 +126,19 @@ async function connect() {
   state.peer = stream.pc;
 }
 
-function scheduleRetry() {
+// Tries again after a backoff, counting the seconds down on the page.
+function scheduleRetry(why = '') {
   stream?.close();
   if (session) deleteSession(session);
   session = null;
-  const delay = Math.min(10000, 500 * 2 ** retry++);
-  setTimeout(connect, delay);
+  const due = performance.now() + Math.min(10000, 500 * 2 ** retry++);
+  const tick = () => {
+    const left = Math.ceil((due - performance.now()) / 1000);
+    if (left <= 0) return connect();
+    if (why) setConnection(state.connection, `${why}; retrying in ${left} s`);
+    setTimeout(tick, Math.min(1000, due - performance.now()));
+  };
+  tick();
 }
 
 function buildGui() {
@@ -131,13 +159,25 @@ function buildGui() {
     .onChange((n) => channel.set({ render: { mesh_resolution: Number(n) } }));
   quality.add(p.render, 'fresnel').name('Fresnel (manual)').onChange(send('render', 'fresnel'));
   const post = gui.addFolder('Post-processing');
-  post.add(p.post, 'exposure', 0.05, 5, 0.01).onChange(send('post', 'exposure'));
+  post.add(p.post, 'exposure_mode', ['auto', 'manual']).name('exposure').onChange(send('post', 'exposure_mode'));
+  // In "auto" the value is exposure compensation (1 = as metered): a log slider would suit,
+  // but a plain range from 1/20 to 20 keeps lil-gui's own control.
+  post.add(p.post, 'exposure', 0.05, 20, 0.01).name('exposure value / comp.').onChange(send('post', 'exposure'));
+  post.add(p.post, 'tone_map', ['global', 'local']).name('tone map').onChange(send('post', 'tone_map'));
+  post.add(p.post, 'local_strength', 0, 1, 0.01).name('local strength').onChange(send('post', 'local_strength'));
   post.add(p.post, 'gamma', 0.5, 4, 0.01).onChange(send('post', 'gamma'));
   post.add(p.post, 'bloom_strength', 0, 2, 0.01).onChange(send('post', 'bloom_strength'));
   post.add(p.post, 'bloom_threshold', 0, 10, 0.1).onChange(send('post', 'bloom_threshold'));
   post.add(p.post, 'bloom_radius', 0, 32, 0.5).onChange(send('post', 'bloom_radius'));
   const view = gui.addFolder('Stream');
-  view.add(state, 'codec', ['vp8', 'h264']).onChange(() => { retry = 1; scheduleRetry(); });
+  view.add(state, 'codec', ['vp8', 'h264']).onChange((codec) => {
+    // The address keeps the choice: a reload or a shared link streams the same codec.
+    const url = new URL(location.href);
+    url.searchParams.set('codec', codec);
+    history.replaceState(null, '', url);
+    retry = 1;
+    scheduleRetry();
+  });
   view.add(state, 'sync').name('synchronous pose');
   view.add({ stats: false }, 'stats').name('stats overlay').onChange((on) => { statsPanel.hidden = !on; });
 }
@@ -183,6 +223,9 @@ state.moveLight = (dx, dy, dz) => {
   room.lightMarker.position.add({ x: dx, y: dy, z: dz });
   channel.set({ light: room.lightFromMarker(state.params.light.type) });
 };
+
+// The same path the panel's controls take.
+state.setParams = (patch) => channel.set(patch);
 
 state.moveObject = (dx, dy, dz) => {
   room.handle.position.add({ x: dx, y: dy, z: dz });
