@@ -41,8 +41,7 @@ class PostPass {
  private:
   gl::Program bright_, blur_, tonemap_, base_down_, base_bilateral_, meter_;
   gl::VertexArray empty_vao_;
-  gl::RenderTarget bloom_a_, bloom_b_, blocks_, base_;
-  gl::Buffer histogram_;
+  gl::RenderTarget bloom_a_, bloom_b_, blocks_, base_, meter_target_;
 };
 
 }  // namespace caustic

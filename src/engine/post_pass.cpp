@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace caustic {
 namespace {
@@ -18,9 +19,7 @@ PostPass::PostPass()
       tonemap_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"local.glsl", "tonemap.frag"}}}),
       base_down_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"base_down.frag"}}}),
       base_bilateral_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"base_bilateral.frag"}}}),
-      meter_({{GL_COMPUTE_SHADER, {"local.glsl", "meter.comp"}}}) {
-  glNamedBufferStorage(histogram_.id(), sizeof(exposure::Histogram), nullptr, GL_DYNAMIC_STORAGE_BIT);
-}
+      meter_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"local.glsl", "meter.frag"}}}) {}
 
 exposure::Histogram PostPass::prepare(const PostParams& post, const gl::Texture& hdr, bool meter) {
   glDisable(GL_BLEND);
@@ -44,23 +43,28 @@ exposure::Histogram PostPass::prepare(const PostParams& post, const gl::Texture&
     base_bilateral_.set("uBlocks", 0);
     glDrawArrays(GL_TRIANGLES, 0, 3);
   }
-  glBindVertexArray(0);
   exposure::Histogram histogram{};
   if (meter) {
-    glClearNamedBufferData(histogram_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    const int k = exposure::meter_stride(hdr.width(), hdr.height());
+    const int mw = (hdr.width() + k - 1) / k, mh = (hdr.height() + k - 1) / k;
+    if (meter_target_.texture.width() != mw || meter_target_.texture.height() != mh)
+      meter_target_ = gl::RenderTarget(GL_R32F, mw, mh);
+    meter_target_.bind();
     meter_.use();
     glBindTextureUnit(0, hdr.id());
     glBindTextureUnit(2, base_.texture.id());
     meter_.set("uHdr", 0);
     meter_.set("uBase", 2);
     meter_.set("uLocalStrength", strength);
-    meter_.set("uLog2Lit", exposure::kLog2Lit);
-    meter_.set("uBinsPerStop", exposure::kBinsPerStop);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, histogram_.id());
-    glDispatchCompute(static_cast<GLuint>((hdr.width() + 31) / 32), static_cast<GLuint>((hdr.height() + 31) / 32), 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glGetNamedBufferSubData(histogram_.id(), 0, sizeof histogram, histogram.data());
+    meter_.set("uStride", k);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    std::vector<float> values(static_cast<std::size_t>(mw) * mh);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(meter_target_.texture.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(values.size() * sizeof(float)),
+                      values.data());
+    for (const float v : values) exposure::count(histogram, v);
   }
+  glBindVertexArray(0);
   gl::check_errors("exposure metering");
   return histogram;
 }

@@ -5,13 +5,17 @@
 
 namespace caustic::exposure {
 
+void count(Histogram& histogram, float value) {
+  if (!(value > std::exp2(kLog2Lit))) return;  // NaN too
+  const int bin = static_cast<int>((std::log2(value) - kLog2Lit) * kBinsPerStop);
+  ++histogram[std::clamp(bin, 0, kBins - 1)];
+}
+
 Histogram histogram(const HdrImage& image) {
   Histogram h{};
-  for (const float v : image.pixels) {
-    if (!(v > std::exp2(kLog2Lit))) continue;  // NaN too
-    const int bin = static_cast<int>((std::log2(v) - kLog2Lit) * kBinsPerStop);
-    ++h[std::clamp(bin, 0, kBins - 1)];
-  }
+  const int k = meter_stride(image.width, image.height);
+  for (int y = image.height - 1; y >= 0; y -= k)
+    for (int x = 0; x < image.width; x += k) count(h, image.at(x, y));
   return h;
 }
 

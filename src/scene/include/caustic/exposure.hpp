@@ -17,6 +17,14 @@ namespace caustic::exposure {
 inline constexpr int kBins = 256;
 inline constexpr float kLog2Lit = -12.0f;   ///< a pixel is lit above 2^-12 of the light's irradiance
 inline constexpr float kBinsPerStop = 8.0f; ///< bins cover 2^-12 .. 2^20 in 1/8 stops (9%)
+/// Metering reads every stride-th pixel across and down, so that at most
+/// kMeterSide of them per side are binned: a 99th percentile needs no more,
+/// and on a CPU renderer a full-size histogram cost half a frame.
+inline constexpr int kMeterSide = 256;
+inline int meter_stride(int width, int height) {
+  const int side = width > height ? width : height;
+  return side > kMeterSide ? (side + kMeterSide - 1) / kMeterSide : 1;
+}
 /// 8-bit level (of 1) the metered quantile lands on, after gamma: 0.92 is
 /// 235 of 255. The curve 1 - exp(-x) reaches 255 only at 3x that value, so
 /// at most (1 - quantile) of the lit pixels can clip, usually far fewer.
@@ -24,7 +32,11 @@ inline constexpr double kMeteredLevel = 0.92;
 
 using Histogram = std::array<std::uint32_t, kBins>;
 
-/// Histogram of the lit pixels of `image` (the CPU twin of meter.comp).
+/// Counts one value into its bin when it is lit.
+void count(Histogram& histogram, float value);
+
+/// Histogram of the lit pixels of `image` that the meter reads (every
+/// meter_stride-th across and down, from the bottom row: GL's first).
 Histogram histogram(const HdrImage& image);
 
 /// The value below which fraction `q` of the lit pixels lie, interpolated
