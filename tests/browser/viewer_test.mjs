@@ -132,6 +132,7 @@ for (const codec of ['vp8', 'h264']) {
       assert.equal(await page.textContent('#title'), 'Wavy window');
       assert.match(await page.title(), /^Wavy window/);
 
+      const sceneLight = await page.evaluate(() => JSON.stringify(window.caustic.params.light));
       const before = await page.evaluate(videoPixels);
       await page.evaluate(() => window.caustic.moveLight(4, 2.5, 0));
       await until(page, () => window.caustic.version >= 2 && window.caustic.shownVersion >= window.caustic.version,
@@ -166,6 +167,11 @@ for (const codec of ['vp8', 'h264']) {
       });
       assert.ok(contrast > 60, `the canvas looks blank (contrast ${contrast})`);
       if (codec === 'vp8') {
+        // Reset scene: the light goes back to where the scene has it.
+        assert.notEqual(await page.evaluate(() => JSON.stringify(window.caustic.params.light)), sceneLight);
+        await page.evaluate(() => window.caustic.resetScene());
+        await until(page, (want) => JSON.stringify(window.caustic.params.light) === want, 10, 'the scene\'s light back',
+                    sceneLight);
         // A mirror sends the light away from the screen below it: the page says so, and stops saying so.
         await page.evaluate(() => window.caustic.setParams({ object: { material: 'reflective' } }));
         await until(page, () => !document.getElementById('warnings').hidden, 10, 'the warning on the page');

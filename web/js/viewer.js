@@ -23,6 +23,7 @@ const state = {
 window.caustic = state;
 
 let session = null, stream = null, channel = null, room = null, controls = null, retry = 0;
+let panel = null, panelParams = null;  // lil-gui and the object its controllers edit
 
 function setConnection(name, detail = '') {
   state.connection = name;
@@ -53,6 +54,11 @@ function onApplied(body, sentAt) {
   state.params = body.params;
   state.fidelity = body.fidelity;
   showWarnings(body.warnings);
+  if (state.resetting) {
+    state.resetting = false;
+    refreshPanel(body.params);
+    room.apply(body.params);
+  }
   state.version = body.version;
   // Latency: from sending the PATCH to the first frame on screen with this
   // version or a later one (the server may skip versions that came in fast).
@@ -113,6 +119,7 @@ async function connect() {
   if (firstTime) {
     controls.orbit.target.copy(room.target);
     controls.orbit.update();
+    controls.orbit.saveState();  // what "Reset view" returns to
     buildGui();
   }
   stream = new Stream(session, video, {
@@ -141,9 +148,25 @@ function scheduleRetry(why = '') {
   tick();
 }
 
+// Every section back to the scene's own values: a null in a patch restores
+// them on the server (docs/api.md); its answer then refreshes the panel.
+function resetScene() {
+  state.resetting = true;
+  channel.set({ object: null, light: null, screen: null, render: null, post: null });
+}
+
+function refreshPanel(params) {
+  for (const section of ['object', 'light', 'screen', 'render', 'post']) Object.assign(panelParams[section], params[section]);
+  panel.controllersRecursive().forEach((c) => c.updateDisplay());
+}
+
 function buildGui() {
   const gui = new GUI({ title: 'Caustic' });
   const p = state.params;
+  panel = gui;
+  panelParams = p;
+  gui.add({ resetView: () => controls.orbit.reset() }, 'resetView').name('Reset view');
+  gui.add({ resetScene }, 'resetScene').name('Reset scene');
   const send = (section, key) => (value) => channel.set({ [section]: { [key]: value } });
   const material = gui.addFolder('Material');
   material.add(p.object, 'material', ['refractive', 'reflective']).onChange(send('object', 'material'));
@@ -226,6 +249,7 @@ state.moveLight = (dx, dy, dz) => {
 
 // The same path the panel's controls take.
 state.setParams = (patch) => channel.set(patch);
+state.resetScene = () => resetScene();
 
 state.moveObject = (dx, dy, dz) => {
   room.handle.position.add({ x: dx, y: dy, z: dz });
