@@ -167,6 +167,15 @@ for (const codec of ['vp8', 'h264']) {
       });
       assert.ok(contrast > 60, `the canvas looks blank (contrast ${contrast})`);
       if (codec === 'vp8') {
+        // '?' opens the help with the keys and gestures; '?' again closes it; so does its button.
+        await page.keyboard.press('?');
+        await until(page, () => !document.getElementById('help').hidden, 5, 'the help shown');
+        assert.match(await page.textContent('#help'), /light mode/);
+        await page.keyboard.press('?');
+        await until(page, () => document.getElementById('help').hidden, 5, 'the help closed');
+        await page.click('#help-button');
+        await until(page, () => !document.getElementById('help').hidden, 5, 'the help shown by its button');
+        await page.click('#help-button');
         // Reset scene: the light goes back to where the scene has it.
         assert.notEqual(await page.evaluate(() => JSON.stringify(window.caustic.params.light)), sceneLight);
         await page.evaluate(() => window.caustic.resetScene());

@@ -109,7 +109,7 @@ async function connect() {
     controls = new ControlModes(room, {
       onLightMoved: () => channel.set({ light: room.lightFromMarker(state.params.light.type) }),
       onObjectMoved: () => channel.set({ object: room.objectPose() }),
-      onModeChanged: (mode) => { document.getElementById('mode').textContent = `mode: ${mode}`; },
+      onModeChanged: (mode) => { document.getElementById('mode').textContent = `mode: ${mode} (? for keys)`; },
     });
   }
   channel = new ParamChannel(session, { onApplied, onError: (e) => console.warn('patch refused:', e.detail) });
@@ -246,6 +246,21 @@ state.moveLight = (dx, dy, dz) => {
   room.lightMarker.position.add({ x: dx, y: dy, z: dz });
   channel.set({ light: room.lightFromMarker(state.params.light.type) });
 };
+
+// Help (?) and fullscreen (F): buttons for pointers and touch, keys for keyboards.
+const helpPanel = document.getElementById('help');
+const toggleHelp = () => { helpPanel.hidden = !helpPanel.hidden; };
+const toggleFullscreen = () => {
+  if (document.fullscreenElement) document.exitFullscreen().catch(() => {});
+  else document.documentElement.requestFullscreen?.().catch(() => {});
+};
+document.getElementById('help-button').addEventListener('click', toggleHelp);
+document.getElementById('fullscreen').addEventListener('click', toggleFullscreen);
+window.addEventListener('keydown', (e) => {
+  if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return;  // typing in the panel
+  if (e.key === '?') toggleHelp();
+  if (e.key === 'f' || e.key === 'F') toggleFullscreen();
+});
 
 // The same path the panel's controls take.
 state.setParams = (patch) => channel.set(patch);
