@@ -102,11 +102,6 @@ bool Engine::render() {
   if (s.prepare_dirty) {
     const exposure::Histogram histogram = s.post.prepare(post, s.hdr.texture, automatic);
     if (automatic) {
-      std::uint64_t lit = 0;
-      for (const auto n : histogram) lit += n;
-      const int k = exposure::meter_stride(s.hdr.texture.width(), s.hdr.texture.height());
-      const double sampled = static_cast<double>((s.hdr.texture.width() + k - 1) / k) * ((s.hdr.texture.height() + k - 1) / k);
-      s.stats.lit_fraction = static_cast<double>(lit) / sampled;
       s.stats.metered = exposure::quantile(histogram, post.auto_percentile);
       // Nothing lit: keep the last exposure rather than jump to an arbitrary one.
       if (s.stats.metered > 0) s.target_exposure = exposure::exposure_for(s.stats.metered, post.gamma);

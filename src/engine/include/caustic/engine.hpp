@@ -34,7 +34,6 @@ struct FrameStats {
   std::uint32_t collapsed = 0; ///< drawn triangles of (nearly) zero screen area: flux into one pixel
   double exposure = 1;        ///< the exposure the tone map used
   double metered = 0;         ///< "auto": the metered quantile of the lit pixels (0: none lit)
-  double lit_fraction = 0;    ///< "auto": fraction of the screen's pixels that receive light
 };
 
 class Engine {
