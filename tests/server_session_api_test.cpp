@@ -83,3 +83,35 @@ TEST_F(Rest, NullRestoresTheScenesValueAndParseErrorsSayWhere) {
   EXPECT_NE(broken.json().value("detail", "").find("at line 4, column 4"), std::string::npos) << broken.body;
 }
 
+
+// The built-in scenes follow the light: a turned light takes the screen
+// rectangle with it (by the plane distance times the tangent, measured from
+// the public proxy's flat face), and a centre written meanwhile is named.
+TEST_F(Rest, TheScreenFollowsATurnedLight) {
+  const json s = create("lens");
+  const std::string url = session_url(s) + "/params";
+  const std::string type = "application/merge-patch+json";
+  const json start = s["params"]["params"]["screen"];
+  ASSERT_EQ(start["follow_light"], true);
+  const json proxy = http("GET", server_.url() + "/api/v1/scenes/lens").json()["proxy"];
+  const double flat_z = proxy["center"][2].get<double>() + 0.5 * proxy["thickness"].get<double>();
+  const double d = flat_z - start["center"][2].get<double>();
+  EXPECT_NEAR(start["center"][0].get<double>(), proxy["center"][0].get<double>(), 1e-9) << "straight down: under the lens";
+  const double t = std::tan(34 * M_PI / 180);
+  const Response turned = http("PATCH", url, json{{"light", {{"direction", {t, 0, -1}}}}}.dump(), type, bearer(s));
+  ASSERT_EQ(turned.status, 200u) << turned.body;
+  const json screen = turned.json()["params"]["screen"];
+  EXPECT_NEAR(screen["center"][0].get<double>() - proxy["center"][0].get<double>(), d * t, 1e-6);
+  EXPECT_NEAR(screen["center"][2].get<double>(), start["center"][2].get<double>(), 1e-9) << "the plane stays";
+  EXPECT_TRUE(turned.json()["warnings"].empty()) << turned.body;
+
+  const Response placed = http("PATCH", url, R"({"screen": {"center": [5, 5, -70]}})", type, bearer(s));
+  ASSERT_EQ(placed.status, 200u) << placed.body;
+  ASSERT_EQ(placed.json()["warnings"].size(), 1u) << placed.body;
+  EXPECT_EQ(placed.json()["warnings"][0]["key"], "screen.center");
+  EXPECT_NEAR(placed.json()["params"]["screen"]["center"][2].get<double>(), -70, 1e-9) << "its plane is used";
+  const Response fixed =
+      http("PATCH", url, R"({"screen": {"follow_light": false, "center": [5, 5, -70]}})", type, bearer(s));
+  EXPECT_EQ(fixed.json()["params"]["screen"]["center"], json({5.0, 5.0, -70.0})) << fixed.body;
+  EXPECT_EQ(fixed.json()["warnings"].size(), 1u) << "the light now misses most of the screen: " << fixed.body;
+}

@@ -1,6 +1,7 @@
 #include "commands.hpp"
 
 #include "caustic/resample.hpp"
+#include "caustic/screen_follow.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -50,6 +51,8 @@ bool load_scene_levels(const char* command, const std::filesystem::path& file,
       resolutions.push_back(named);
     out->levels = build_mesh_levels(source, scene->object.flat_face_normal, resolutions);
     out->calibration = load_calibration(calibration_path(file), scene_fingerprint(*scene, *source));
+    const Placement placed = out->levels.place(scene->object);
+    *scene = follow_light(*scene, placed);
     *scene = resolve_fidelity(*scene, choose_fidelity(out->calibration, scene->render.accuracy_target, out->levels));
     return true;
   } catch (const SceneError& e) {

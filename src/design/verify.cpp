@@ -50,6 +50,7 @@ Scene design_scene(const Design& design, const std::string& mesh_file, int pixel
   s.screen.normal = {0, 0, 1};
   s.screen.up = {0, 1, 0};
   s.screen.width = s.screen.height = o.size;
+  s.screen.follow_light = true;  // a visitor who turns the light keeps the picture in view
   s.render.width = s.render.height = std::clamp(pixels, 16, 8192);
   s.render.fidelity = Fidelity::manual;
   s.render.fresnel = true;

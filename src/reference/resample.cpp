@@ -55,6 +55,7 @@ MeshLevels build_mesh_levels(std::shared_ptr<const Mesh> source, const glm::dvec
   MeshLevels levels;
   for (int n : resolutions)
     if (n != 0) levels.resampled[n] = std::make_shared<const Mesh>(resample_face(*source, flat_normal, n));
+  levels.bounds = std::make_shared<const MeshBounds>(mesh_bounds(*source, flat_normal));
   levels.source = std::move(source);
   return levels;
 }

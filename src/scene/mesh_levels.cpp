@@ -19,7 +19,12 @@ void check_geometry(const Scene& scene, const MeshLevels& levels) {
 
 void check_geometry_public(const Scene& scene, const MeshLevels& levels) {
   levels.at(scene.render.mesh_resolution);
-  check_geometry_public(scene, place_object(scene.object, *levels.source));
+  check_geometry_public(scene, levels.place(scene.object));
+}
+
+Placement MeshLevels::place(const ObjectParams& object) const {
+  if (bounds && bounds->normal == object.flat_face_normal) return place_object(object, *bounds);
+  return place_object(object, *source);
 }
 
 std::vector<int> MeshLevels::resolutions() const {

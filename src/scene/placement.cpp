@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace caustic {
 
@@ -25,15 +26,28 @@ glm::dmat3 euler_xyz_degrees(const glm::dvec3& degrees) {
   return rx * ry * rz;
 }
 
+MeshBounds mesh_bounds(const Mesh& mesh, const glm::dvec3& flat_normal) {
+  const auto [e1, e2] = basis_around(flat_normal);
+  MeshBounds b{flat_normal, glm::dvec3(std::numeric_limits<double>::infinity()),
+               glm::dvec3(-std::numeric_limits<double>::infinity())};
+  for (const glm::dvec3 p : mesh.positions) {
+    const glm::dvec3 q(glm::dot(p, e1), glm::dot(p, e2), glm::dot(p, flat_normal));
+    b.lo = glm::min(b.lo, q);
+    b.hi = glm::max(b.hi, q);
+  }
+  return b;
+}
+
 Placement place_object(const ObjectParams& object, const Mesh& mesh) {
+  return place_object(object, mesh_bounds(mesh, object.flat_face_normal));
+}
+
+Placement place_object(const ObjectParams& object, const MeshBounds& bounds) {
+  if (bounds.normal != object.flat_face_normal)
+    throw std::invalid_argument("mesh bounds taken about another flat-face normal");
   const glm::dvec3 n = object.flat_face_normal;
   const auto [e1, e2] = basis_around(n);
-  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  for (const glm::dvec3 p : mesh.positions) {
-    const glm::dvec3 q(glm::dot(p, e1), glm::dot(p, e2), glm::dot(p, n));
-    lo = glm::min(lo, q);
-    hi = glm::max(hi, q);
-  }
+  const glm::dvec3 lo = bounds.lo, hi = bounds.hi;
   const double offset_mesh = object.flat_face_offset.value_or(hi.z);
   const glm::dvec3 mid = 0.5 * (lo + hi);
   const glm::dvec3 centre_mesh = mid.x * e1 + mid.y * e2 + mid.z * n;

@@ -19,8 +19,6 @@ namespace {
 
 using nlohmann::json;
 
-constexpr double kMaxCoordinate = 1e6;
-
 // One table per set of names: parsing and writing both read it.
 template <typename Enum>
 using Names = std::span<const std::pair<const char*, Enum>>;
@@ -202,6 +200,7 @@ ScreenParams read_screen(Reader r, const std::optional<double>& focus_distance, 
   }
   s.width = r.number("width", s.width, 0.0, kMaxCoordinate, true);
   s.height = r.number("height", s.height, 0.0, kMaxCoordinate, true);
+  s.follow_light = r.boolean("follow_light", s.follow_light);
   r.reject_unknown();
   return s;
 }
@@ -296,7 +295,8 @@ json scene_to_json(const Scene& s) {
         {"normal", vec(s.screen.normal)},
         {"up", vec(s.screen.up)},
         {"width", s.screen.width},
-        {"height", s.screen.height}}},
+        {"height", s.screen.height},
+        {"follow_light", s.screen.follow_light}}},
       {"render",
        {{"width", s.render.width},
         {"height", s.render.height},

@@ -5,6 +5,7 @@
 #include "caustic/image_io.hpp"
 #include "caustic/json_text.hpp"
 #include "caustic/resample.hpp"
+#include "caustic/screen_follow.hpp"
 #include "log.hpp"
 
 #include <fstream>
@@ -40,6 +41,8 @@ nlohmann::json describe(const GalleryEntry& e) {
 }
 
 Scene resolve_for(const GalleryEntry& entry, Scene scene) {
+  const Placement placed = entry.levels->place(scene.object);
+  scene = follow_light(std::move(scene), placed);
   return resolve_fidelity(scene, choose_fidelity(entry.calibration, scene.render.accuracy_target, *entry.levels));
 }
 
@@ -63,8 +66,8 @@ std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, cons
   if (std::ifstream in{file}) {
     const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
     if (const auto written = parse_json_text(text))
-      for (const auto& [key, detail] : fidelity_overrides(*written, entry->scene))
-        log(Level::warning, "scene " + id + ": " + detail);
+      for (const auto& overrides : {fidelity_overrides(*written, entry->scene), follow_overrides(*written, entry->scene)})
+        for (const auto& [key, detail] : overrides) log(Level::warning, "scene " + id + ": " + detail);
   }
   entry->levels->at(entry->scene.render.mesh_resolution);  // a manual scene may name a level not on offer
   entry->proxy = proxy_geometry(entry->scene, *entry->mesh);

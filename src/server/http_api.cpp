@@ -1,6 +1,7 @@
 // The REST API of docs/api.md (openapi.yaml).
 #include "caustic/json_text.hpp"
 #include "caustic/scene_warnings.hpp"
+#include "caustic/screen_follow.hpp"
 #include "http_util.hpp"
 #include "log.hpp"
 #include "server_state.hpp"
@@ -28,7 +29,7 @@ nlohmann::json public_params(Session& session, nlohmann::json extra = nlohmann::
   nlohmann::json params = scene_to_json(snap.scene);
   params.erase("mesh");  // a protected mesh is not even named
   nlohmann::json warnings = std::move(extra);
-  for (const auto& w : light_warnings(snap.scene, place_object(snap.scene.object, *session.entry().mesh)))
+  for (const auto& w : light_warnings(snap.scene, session.entry().levels->place(snap.scene.object)))
     warnings.push_back({{"key", w.key}, {"detail", w.detail}});
   return {{"version", snap.version},
           {"params", params},
@@ -224,8 +225,9 @@ void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
   }
   ++s.metrics.parameter_updates;
   nlohmann::json overridden = nlohmann::json::array();
-  for (const auto& [key, detail] : fidelity_overrides(patch, session.params().snapshot().scene))
-    overridden.push_back({{"key", key}, {"detail", detail}});
+  const Scene now = session.params().snapshot().scene;
+  for (const auto& overrides : {fidelity_overrides(patch, now), follow_overrides(patch, now)})
+    for (const auto& [key, detail] : overrides) overridden.push_back({{"key", key}, {"detail", detail}});
   reply_json(msg, SOUP_STATUS_OK, public_params(session, std::move(overridden)));
 }
 

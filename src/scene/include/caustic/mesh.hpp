@@ -65,10 +65,22 @@ struct Placement {
 /// Rotation matrix of three.js Euler angles in order "XYZ" (degrees): Rx * Ry * Rz.
 glm::dmat3 euler_xyz_degrees(const glm::dvec3& degrees);
 
+/// The mesh's extent in the frame of its flat-face normal (e1, e2, normal):
+/// all that placing it needs, so a pose changes without a pass over the
+/// vertices.
+struct MeshBounds {
+  glm::dvec3 normal{0, 0, 1};
+  glm::dvec3 lo{0.0}, hi{0.0};
+};
+MeshBounds mesh_bounds(const Mesh& mesh, const glm::dvec3& flat_normal);
+
 /// Resolves fit_size (centring and scaling the footprint perpendicular to the
 /// flat-face normal), the default flat-face offset (through the extreme vertex
 /// along the normal) and the pose.
 Placement place_object(const ObjectParams& object, const Mesh& mesh);
+/// The same from bounds taken about object.flat_face_normal (throws
+/// std::invalid_argument for bounds about another normal).
+Placement place_object(const ObjectParams& object, const MeshBounds& bounds);
 
 /// Rejects configurations the ray model cannot represent: a point light on the
 /// flat plane or inside the object, a screen plane that crosses the object, a

@@ -15,6 +15,12 @@ namespace caustic {
 struct MeshLevels {
   std::shared_ptr<const Mesh> source;                      ///< as loaded: mesh_resolution 0
   std::map<int, std::shared_ptr<const Mesh>> resampled;    ///< n -> n x n grid
+  /// The source's bounds about its flat-face normal, when known: placing
+  /// the object for every answer then skips the pass over the vertices.
+  std::shared_ptr<const MeshBounds> bounds;
+
+  /// place_object on the source mesh, from `bounds` when they fit.
+  Placement place(const ObjectParams& object) const;
 
   /// The mesh for `render.mesh_resolution`; throws SceneError naming
   /// render.mesh_resolution (and the levels on offer) for one not built.

@@ -60,6 +60,9 @@ struct ScreenParams {
   glm::dvec3 up{0, 1, 0};      ///< unit, perpendicular to normal after validation
   double width = 40;
   double height = 40;
+  /// The rectangle slides in its plane to stay on the light's footprint
+  /// (caustic/screen_follow.hpp); center then fixes only the plane.
+  bool follow_light = false;
 
   bool operator==(const ScreenParams&) const = default;
 };
@@ -100,6 +103,10 @@ struct PostParams {
 
   bool operator==(const PostParams&) const = default;
 };
+
+/// Largest coordinate a scene may hold (mm): far beyond any real set-up, small
+/// enough that squared distances stay exact in doubles.
+inline constexpr double kMaxCoordinate = 1e6;
 
 struct Scene {
   std::string name;
