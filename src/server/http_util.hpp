@@ -25,9 +25,11 @@ std::string client_address(SoupServerMessage* msg);
 
 /// Pages load scripts, styles and images from this server only; the video
 /// arrives over WebRTC and the viewer talks to the API and its WebSocket.
-/// lil-gui sets inline styles, hence 'unsafe-inline' for styles alone.
+/// lil-gui sets inline styles, hence 'unsafe-inline' for styles alone, and
+/// carries its icon font as a data: URI.
 inline constexpr const char* kContentSecurityPolicy =
     "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
+    "font-src 'self' data:; "
     "media-src 'self' blob: mediastream:; connect-src 'self'; object-src 'none'; base-uri 'none'; "
     "frame-ancestors 'none'; form-action 'self'";
 /// Compares in time independent of where the strings differ.

@@ -21,9 +21,13 @@ export class ControlModes {
     });
     this.onModeChanged = onModeChanged;
     window.addEventListener('keydown', (e) => {
+      if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return;  // typing in the panel
       const next = { l: Modes.light, t: Modes.move, r: Modes.rotate, Escape: Modes.none, 0: Modes.none }[e.key];
       if (next) this.set(next);
     });
+    // The toolbar: the same modes for touch and pointer.
+    this.buttons = [...document.querySelectorAll('#modes [data-mode]')];
+    for (const button of this.buttons) button.addEventListener('click', () => this.set(button.dataset.mode));
     this.set(Modes.none);
   }
 
@@ -36,6 +40,7 @@ export class ControlModes {
     if (mode === Modes.move || mode === Modes.rotate) this.gizmo.attach(this.room.handle);
     this.gizmo.setMode(mode === Modes.rotate ? 'rotate' : 'translate');
     this.gizmo.getHelper().visible = mode !== Modes.none;
+    for (const button of this.buttons) button.setAttribute('aria-pressed', String(button.dataset.mode === mode));
     this.onModeChanged(mode);
   }
 }

@@ -5,35 +5,44 @@
 // (z along the light's fall); the group turns that z into three.js's y-up.
 import * as THREE from 'three';
 
+import { furnish, glassMaterial, pixelRatio, Quality, setRoomQuality } from './room.js';
+
 const vec = (a) => new THREE.Vector3(a[0], a[1], a[2]);
 
 export class CausticRoom {
-  constructor(container, video, proxy) {
-    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
-    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+  constructor(container, video, proxy, quality = Quality.high) {
+    this.renderer = new THREE.WebGLRenderer({ antialias: quality === Quality.high, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(pixelRatio(quality));
     container.append(this.renderer.domElement);
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color(0x181c20);
+    this.quality = quality;
+    this.renderer.shadowMap.enabled = quality === Quality.high;
     this.camera = new THREE.PerspectiveCamera(45, 1, 1, 5000);
     this.camera.position.set(160, 140, 200);
     this.world = new THREE.Group();
     this.world.rotation.x = -Math.PI / 2;
     this.world.updateMatrixWorld();
     this.scene.add(this.world);
-    this.scene.add(new THREE.HemisphereLight(0xcfd8e0, 0x202428, 0.6));
+    this.scene.add(new THREE.HemisphereLight(0xcfd8e0, 0x202428, 0.3));
 
     this.screenBox = new THREE.Mesh(new THREE.BoxGeometry(1, 1, 1),
-                                    new THREE.MeshStandardMaterial({ color: 0x40454a, roughness: 0.9 }));
+                                    new THREE.MeshStandardMaterial({ color: 0x3a3e42, roughness: 0.9 }));
+    this.screenBox.castShadow = this.screenBox.receiveShadow = true;
+    // Added onto the screen, drawn right after it among the opaque objects:
+    // so the glass's transmission pass, which sees only those, shows the
+    // caustic through the glass too.
     this.lightmap = new THREE.Mesh(
         new THREE.PlaneGeometry(1, 1),
         new THREE.MeshBasicMaterial({ map: new THREE.VideoTexture(video), blending: THREE.AdditiveBlending,
-                                      transparent: true, depthWrite: false, toneMapped: false }));
+                                      depthWrite: false, toneMapped: false }));
+    this.lightmap.renderOrder = 1;
     this.lightmap.material.map.colorSpace = THREE.SRGBColorSpace;
     this.world.add(this.screenBox, this.lightmap);
 
-    const glass = new THREE.MeshPhysicalMaterial({ color: 0xddeeff, transmission: 0.9, roughness: 0.05,
-                                                   thickness: 2, transparent: true, opacity: 0.6 });
-    this.proxy = new THREE.Mesh(new THREE.BoxGeometry(proxy.outline[0], proxy.outline[1], proxy.thickness), glass);
+    this.proxy = new THREE.Mesh(new THREE.BoxGeometry(proxy.outline[0], proxy.outline[1], proxy.thickness),
+                                glassMaterial(quality, 1.5, proxy.thickness));
+    this.proxy.renderOrder = 2;
     // The server turns the object about its own origin (object.position), not
     // about the slab's middle: the slab hangs in a frame at that origin, at
     // its offset in object coordinates (undoing the pose the proxy came with).
@@ -49,16 +58,11 @@ export class CausticRoom {
     this.handle.rotation.order = 'XYZ';
     this.world.add(this.drawnPose, this.handle);
 
-    this.sun = new THREE.DirectionalLight(0xffffff, 1.2);
+    this.sun = new THREE.DirectionalLight(0xffffff, 0.8);
     this.lightMarker = new THREE.Mesh(new THREE.SphereGeometry(3, 16, 12),
                                       new THREE.MeshBasicMaterial({ color: 0xffee88 }));
     this.lightArrow = new THREE.ArrowHelper(new THREE.Vector3(0, 0, -1), new THREE.Vector3(), 40, 0xffee88);
     this.world.add(this.sun, this.sun.target, this.lightMarker, this.lightArrow);
-    const floor = new THREE.Mesh(new THREE.PlaneGeometry(2000, 2000),
-                                 new THREE.MeshStandardMaterial({ color: 0x2a2f34, roughness: 1 }));
-    floor.position.y = -400;
-    floor.rotation.x = -Math.PI / 2;
-    this.scene.add(floor);
     this.resize();
     window.addEventListener('resize', () => this.resize());
   }
@@ -73,41 +77,105 @@ export class CausticRoom {
   // Places screen, lightmap, light and the requested object pose from the
   // session's parameters (scene format keys).
   apply(params) {
+    this.placeScreen(params.screen);
     const s = params.screen;
+    // A directional light has no position: its marker hangs this far from
+    // the object, close enough to be framed with it and grabbed.
+    const object = vec(params.object.position);
+    const size = Math.max(s.width, s.height, this.proxy.geometry.parameters.width, this.proxy.geometry.parameters.height);
+    if (this.lightDistance === undefined) this.lightDistance = 0.9 * size;
+    this.lightMarker.scale.setScalar(size / 120);
+    const o = params.object;
+    if (this.proxy.material.ior !== undefined) this.proxy.material.ior = o.ior;
+    this.handle.position.copy(vec(o.position));
+    this.handle.rotation.set(...o.rotation_deg.map(THREE.MathUtils.degToRad), 'XYZ');
+    this.placeLight(params.light);
+    if (!this.framed) {
+      this.framed = true;
+      this.frame(params);
+    }
+  }
+
+  // The screen rectangle the server renders (it may follow the light):
+  // the lightmap lies just in front of it, covering exactly that rectangle.
+  placeScreen(s) {
+    if (!s) return;
     const normal = vec(s.normal).normalize();
     const up = vec(s.up).normalize();
     const right = new THREE.Vector3().crossVectors(up, normal).normalize();
     const basis = new THREE.Matrix4().makeBasis(right, up, normal);
-    // Just in front of the screen, covering exactly the rendered rectangle.
     this.lightmap.position.copy(vec(s.center)).addScaledVector(normal, 0.05);
     this.lightmap.quaternion.setFromRotationMatrix(basis);
     this.lightmap.scale.set(s.width, s.height, 1);
     this.screenBox.position.copy(vec(s.center)).addScaledVector(normal, -1);
     this.screenBox.quaternion.copy(this.lightmap.quaternion);
     this.screenBox.scale.set(s.width * 1.15, s.height * 1.15, 2);
+  }
 
-    // A directional light has no position: its marker hangs this far from
-    // the object, close enough to be framed with it and grabbed.
-    const object = vec(params.object.position);
-    const reach = Math.max(s.width, s.height, object.distanceTo(vec(s.center)));
-    this.lightDistance = 0.75 * reach;
-    this.lightMarker.scale.setScalar(reach / 40);
-    if (!this.framed) {
-      // Look at object, screen and light from a distance that fits them all.
-      this.framed = true;
-      const box = new THREE.Box3().setFromPoints([object, vec(s.center), this.lightPosition(params.light, object)]);
-      const sphere = box.getBoundingSphere(new THREE.Sphere());
-      const radius = Math.hypot(sphere.radius, 0.5 * Math.max(s.width, s.height));
-      const target = sphere.center.clone().applyMatrix4(this.world.matrixWorld);
-      const distance = (1.1 * radius) / Math.tan(THREE.MathUtils.degToRad(this.camera.fov / 2));
-      this.camera.position.copy(target).addScaledVector(new THREE.Vector3(0.9, 0.6, 1.2).normalize(), distance);
-      this.camera.lookAt(target);
-      this.target = target;
+  // The first view: from the object's side of the screen, 20 degrees off its
+  // normal, close enough that the screen (where the caustic is) fills as
+  // much of the view as it can while the object and the light's marker
+  // stay in it. Fitting is exact for a perspective camera: a point at
+  // (x, y) across and z towards the camera from the target is inside when
+  // the distance is at least z + |x| / tan(half width angle), likewise y.
+  frame(params) {
+    this.world.updateMatrixWorld(true);
+    const toScene = (p) => p.clone().applyMatrix4(this.world.matrixWorld);
+    const s = params.screen;
+    const normal = toScene(vec(s.normal)).sub(toScene(new THREE.Vector3())).normalize();
+    const centre = toScene(vec(s.center));
+    const points = [];
+    const corners = new THREE.Box3().setFromObject(this.screenBox);
+    for (let i = 0; i < 8; ++i)
+      points.push(new THREE.Vector3(i & 1 ? corners.max.x : corners.min.x, i & 2 ? corners.max.y : corners.min.y,
+                                    i & 4 ? corners.max.z : corners.min.z));
+    this.proxy.updateMatrixWorld(true);
+    const slab = new THREE.Box3().setFromObject(this.proxy);
+    points.push(slab.min, slab.max, this.lightMarker.getWorldPosition(new THREE.Vector3()));
+    // Looking down at the screen from its front, turned a little sideways.
+    const side = Math.abs(normal.y) < 0.9 ? new THREE.Vector3(0, 1, 0) : new THREE.Vector3(1, 0, 0);
+    const across = new THREE.Vector3().crossVectors(normal, side).normalize();
+    const tilt = THREE.MathUtils.degToRad(20), turn = THREE.MathUtils.degToRad(30);
+    const toward = normal.clone().multiplyScalar(Math.cos(tilt))
+      .addScaledVector(across.applyAxisAngle(normal, turn), Math.sin(tilt)).normalize();
+    // Aimed between the screen and the middle of everything, nearer the screen.
+    const middle = new THREE.Box3().setFromPoints(points).getCenter(new THREE.Vector3());
+    const target = centre.clone().lerp(middle, 0.35);
+    this.camera.position.copy(target).add(toward);
+    this.camera.lookAt(target);
+    this.camera.updateMatrixWorld(true);
+    const right = new THREE.Vector3().setFromMatrixColumn(this.camera.matrixWorld, 0);
+    const up = new THREE.Vector3().setFromMatrixColumn(this.camera.matrixWorld, 1);
+    const tanY = Math.tan(THREE.MathUtils.degToRad(this.camera.fov / 2)) * 0.92;  // a margin
+    const tanX = tanY * this.camera.aspect;
+    // The HUD (top) and the mode toolbar (bottom) cover some of the page.
+    const height = this.renderer.domElement.clientHeight || 1;
+    const tanTop = tanY * (1 - 2 * 48 / height), tanBottom = tanY * (1 - 2 * 72 / height);
+    let distance = 0;
+    for (const p of points) {
+      const d = p.clone().sub(target);
+      const y = d.dot(up);
+      distance = Math.max(distance, d.dot(toward) + Math.abs(d.dot(right)) / tanX,
+                          d.dot(toward) + Math.abs(y) / (y > 0 ? tanTop : tanBottom));
     }
-    const o = params.object;
-    this.handle.position.copy(vec(o.position));
-    this.handle.rotation.set(...o.rotation_deg.map(THREE.MathUtils.degToRad), 'XYZ');
-    this.placeLight(params.light);
+    this.camera.position.copy(target).addScaledVector(toward, distance);
+    this.camera.lookAt(target);
+    this.target = target;
+    furnish(this, new THREE.Box3().setFromPoints(points));
+  }
+
+  /// Swaps the glass and the shadows for the cheaper path, or back.
+  setQuality(quality) {
+    if (quality === this.quality) return;
+    this.quality = quality;
+    const ior = this.proxy.material.ior ?? 1.5;
+    this.proxy.material.dispose();
+    this.proxy.material = glassMaterial(quality, ior, this.proxy.geometry.parameters.depth);
+    setRoomQuality(this, quality);
+    this.renderer.setPixelRatio(pixelRatio(quality));
+    this.resize();
+    // Shadow maps on or off: every lit material compiles anew.
+    this.scene.traverse((o) => { if (o.material) o.material.needsUpdate = true; });
   }
 
   // Where the light (or, for a directional one, its marker) is.

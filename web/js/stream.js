@@ -51,7 +51,10 @@ export class Stream {
     this.socket.onopen = () => {
       this.pinger = setInterval(() => this.send({ type: 'ping' }), PING_INTERVAL_MS);
     };
-    this.socket.onclose = () => this.fail('the signalling connection closed');
+    this.socket.onclose = () => {
+      this.socketClosed = true;  // the server ends a session whose signalling closes
+      this.fail('the signalling connection closed');
+    };
   }
 
   send(message) {
@@ -83,11 +86,16 @@ export class Stream {
     this.video.requestVideoFrameCallback(onFrame);
   }
 
+  // The viewer closes the stream once it has let the server know (a DELETE
+  // before the socket closes, so that it is not refused).
   fail(reason) {
     if (this.closed) return;
-    this.close();
+    this.mute();
     this.onState('lost', reason);
   }
+
+  /// No more calls to onState or onFrameVersion: the viewer has moved on.
+  mute() { this.closed = true; }
 
   close() {
     this.closed = true;

@@ -4,8 +4,12 @@
 import GUI from 'lil-gui';
 import { createSession, deleteSession, ParamChannel, Refused, ServerFull } from './api.js';
 import { ControlModes } from './controls.js';
+import { LoadingSteps } from './loading.js';
+import { FrameRate, Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
+import { changedParams, sharedParams, sharedView, writeAddress } from './share.js';
 import { Stream } from './stream.js';
+import { installTestHooks } from './test_hooks.js';
 
 const query = new URLSearchParams(location.search);
 const sceneId = query.get('scene') ?? 'wavy';
@@ -14,6 +18,7 @@ const stateLabel = document.getElementById('state');
 const versionLabel = document.getElementById('version');
 const statsPanel = document.getElementById('stats');
 const warningsPanel = document.getElementById('warnings');
+const loading = new LoadingSteps(document.getElementById('loading'));
 
 // What the page knows, also read by the browser tests through window.caustic.
 const state = {
@@ -21,6 +26,14 @@ const state = {
   sync: false, poses: new Map(), sentAt: new Map(), shownLog: [], latencies: [], framesShown: 0, shownLevel: 0,
 };
 window.caustic = state;
+state.loading = () => (loading.timer ? loading.summary() : loading.last ?? []);
+// The room's quality: ?quality=high|low, else low on software WebGL, and
+// high until the page draws fewer than 30 frames a second.
+const forcedQuality = Object.values(Quality).includes(query.get('quality')) ? query.get('quality') : null;
+const firstQuality = forcedQuality ?? (softwareWebGL() ? Quality.low : Quality.high);
+const frameRate = new FrameRate();
+// Settings a shared link carries: sent once, after the first session starts.
+let shared = sharedParams(query);
 
 let session = null, stream = null, channel = null, room = null, controls = null, retry = 0;
 let panel = null, panelParams = null;  // lil-gui and the object its controllers edit
@@ -41,6 +54,7 @@ function patchable(params) {
 // The server's word on settings that show little or nothing, or that
 // fidelity "auto" overrides: shown until an answer carries none.
 function showWarnings(warnings = []) {
+  if (state.linkRefused) warnings = [state.linkRefused, ...warnings];
   state.warnings = warnings;
   warningsPanel.hidden = warnings.length === 0;
   warningsPanel.textContent = warnings.map((w) => `${w.key}: ${w.detail}`).join('\n');
@@ -50,6 +64,7 @@ function onApplied(body, sentAt) {
   if (!state.params) {
     document.getElementById('title').textContent = body.params.name || sceneId;
     document.title = `${body.params.name || sceneId} – causticd`;
+    state.origin = body.params;  // what "changed" is measured against in a shared link
   }
   state.params = body.params;
   state.fidelity = body.fidelity;
@@ -59,19 +74,28 @@ function onApplied(body, sentAt) {
     refreshPanel(body.params);
     room.apply(body.params);
   }
+  rememberAddress();
   state.version = body.version;
   // Latency: from sending the PATCH to the first frame on screen with this
   // version or a later one (the server may skip versions that came in fast).
   const shown = state.shownLog.find(([version]) => version >= body.version);
   if (shown) state.latencies.push(shown[1] - sentAt);
   else state.sentAt.set(body.version, sentAt);
-  state.poses.set(body.version, { position: body.params.object.position, rotation_deg: body.params.object.rotation_deg });
+  // What the frame of this version shows: the object's pose and the screen
+  // rectangle (which may follow the light), drawn when that frame is shown.
+  state.poses.set(body.version, { position: body.params.object.position, rotation_deg: body.params.object.rotation_deg,
+                                  screen: body.params.screen });
+  if (state.poses.size > 256) state.poses.delete(state.poses.keys().next().value);
   // The frame may have beaten the answer to the page.
-  if (state.sync && room && state.shownVersion >= body.version) room.showPose(state.poses.get(body.version));
+  if (room && state.shownVersion >= body.version) {
+    if (state.sync) room.showPose(state.poses.get(body.version));
+    room.placeScreen(body.params.screen);
+  }
 }
 
 function onFrameVersion(version, now, level) {
   state.framesShown += 1;
+  if (loading.timer) loading.done();
   state.shownLevel = level;  // 0: full quality, 1: a preview drawn while the scene moves
   if (version === state.shownVersion) return;
   state.shownVersion = version;
@@ -83,11 +107,14 @@ function onFrameVersion(version, now, level) {
     state.latencies.push(now - sent);
     state.sentAt.delete(pending);
   }
-  if (state.sync) room.showPose(state.poses.get(version));
+  const pose = state.poses.get(version);
+  if (state.sync) room.showPose(pose);
+  room?.placeScreen(pose?.screen);
 }
 
 async function connect() {
   setConnection(retry ? 'reconnecting' : 'connecting');
+  loading.begin('session');
   try {
     session = await createSession(sceneId, state.codec);
   } catch (error) {
@@ -103,16 +130,21 @@ async function connect() {
   }
   const firstTime = !room;
   if (firstTime) {
+    loading.begin('room');
     // One scene by id: a visitor's design is not in the public list.
     const { proxy } = await (await fetch(`/api/v1/scenes/${encodeURIComponent(sceneId)}`)).json();
-    room = new CausticRoom(document.getElementById('stage'), video, proxy);
+    room = new CausticRoom(document.getElementById('stage'), video, proxy, firstQuality);
+    state.quality = room.quality;
     controls = new ControlModes(room, {
       onLightMoved: () => channel.set({ light: room.lightFromMarker(state.params.light.type) }),
       onObjectMoved: () => channel.set({ object: room.objectPose() }),
-      onModeChanged: (mode) => { document.getElementById('mode').textContent = `mode: ${mode} (? for keys)`; },
+      onModeChanged: (mode) => {
+        document.getElementById('mode').textContent = `mode: ${mode} (? for keys)`;
+        state.mode = mode;
+      },
     });
   }
-  channel = new ParamChannel(session, { onApplied, onError: (e) => console.warn('patch refused:', e.detail) });
+  channel = new ParamChannel(session, { onApplied, onError: refused });
   if (state.params) channel.set(patchable(state.params));  // a reconnect keeps what the viewer changed
   else onApplied(session.params, performance.now());
   room.apply(state.params);
@@ -120,11 +152,24 @@ async function connect() {
     controls.orbit.target.copy(room.target);
     controls.orbit.update();
     controls.orbit.saveState();  // what "Reset view" returns to
+    const view = sharedView(query);
+    if (view) {
+      room.camera.position.set(view[0], view[1], view[2]);
+      controls.orbit.target.set(view[3], view[4], view[5]);
+      controls.orbit.update();
+    }
+    controls.orbit.addEventListener('end', rememberAddress);
     buildGui();
+    if (shared) channel.set(shared);
   }
+  loading.begin('connecting');
   stream = new Stream(session, video, {
     onState: (s, reason) => {
-      if (s === 'live') { retry = 0; setConnection('live'); }
+      if (s === 'live') {
+        retry = 0;
+        setConnection('live');
+        if (loading.timer) loading.begin('first frame');
+      }
       if (s === 'lost') { setConnection('reconnecting', reason); scheduleRetry(reason); }
     },
     onFrameVersion,
@@ -135,8 +180,13 @@ async function connect() {
 
 // Tries again after a backoff, counting the seconds down on the page.
 function scheduleRetry(why = '') {
-  stream?.close();
-  if (session) deleteSession(session);
+  // A closed signalling socket ends the session on the server already: a
+  // DELETE would only be refused. Otherwise the DELETE goes first: closing
+  // the socket first would end the session under it.
+  const [old, oldStream] = [session, stream];
+  oldStream?.mute();
+  const release = old && !oldStream?.socketClosed ? deleteSession(old) : Promise.resolve();
+  release.finally(() => oldStream?.close());
   session = null;
   const due = performance.now() + Math.min(10000, 500 * 2 ** retry++);
   const tick = () => {
@@ -147,6 +197,36 @@ function scheduleRetry(why = '') {
   };
   tick();
 }
+
+// A refused patch: the settings of a shared link are said to be refused
+// (and leave the address), anything else goes to the console.
+function refused(problem) {
+  if (!shared) return console.warn('patch refused:', problem.detail);
+  shared = null;
+  state.linkRefused = { key: problem.key ?? 'link', detail: `the link's settings were refused: ${problem.detail}` };
+  showWarnings(state.warnings);
+  rememberAddress();
+}
+
+// The address bar always holds a link to what is on screen (share.js).
+function rememberAddress() {
+  if (!state.origin || !state.params || !room) return;
+  if (shared && state.version > 1) shared = null;  // the link's settings are in
+  state.address = writeAddress({ patch: changedParams(state.origin, state.params), camera: room.camera.position,
+                                 target: controls.orbit.target, codec: state.codec });
+}
+
+document.getElementById('share').addEventListener('click', async () => {
+  rememberAddress();
+  const button = document.getElementById('share');
+  try {
+    await navigator.clipboard.writeText(location.href);
+    button.textContent = 'Link copied';
+  } catch {
+    window.prompt('Copy this link', location.href);  // no clipboard outside a secure context
+  }
+  setTimeout(() => { button.textContent = 'Share'; }, 2000);
+});
 
 // Every section back to the scene's own values: a null in a patch restores
 // them on the server (docs/api.md); its answer then refreshes the panel.
@@ -162,6 +242,8 @@ function refreshPanel(params) {
 
 function buildGui() {
   const gui = new GUI({ title: 'Caustic' });
+  // A phone's screen is the picture's: the panel starts folded there.
+  if (matchMedia('(max-width: 720px)').matches) gui.close();
   const p = state.params;
   panel = gui;
   panelParams = p;
@@ -193,15 +275,14 @@ function buildGui() {
   post.add(p.post, 'bloom_threshold', 0, 10, 0.1).onChange(send('post', 'bloom_threshold'));
   post.add(p.post, 'bloom_radius', 0, 32, 0.5).onChange(send('post', 'bloom_radius'));
   const view = gui.addFolder('Stream');
-  view.add(state, 'codec', ['vp8', 'h264']).onChange((codec) => {
+  view.add(state, 'codec', ['vp8', 'h264']).onChange(() => {
     // The address keeps the choice: a reload or a shared link streams the same codec.
-    const url = new URL(location.href);
-    url.searchParams.set('codec', codec);
-    history.replaceState(null, '', url);
+    rememberAddress();
     retry = 1;
     scheduleRetry();
   });
   view.add(state, 'sync').name('synchronous pose');
+  view.add(state, 'quality', Object.values(Quality)).name('room quality').onChange((q) => room.setQuality(q)).listen();
   view.add({ stats: false }, 'stats').name('stats overlay').onChange((on) => { statsPanel.hidden = !on; });
 }
 
@@ -241,12 +322,6 @@ setInterval(async () => {
   statsPanel.textContent = text;
 }, 1000);
 
-// The same path a light drag takes, for scripted use (the browser tests).
-state.moveLight = (dx, dy, dz) => {
-  room.lightMarker.position.add({ x: dx, y: dy, z: dz });
-  channel.set({ light: room.lightFromMarker(state.params.light.type) });
-};
-
 // Help (?) and fullscreen (F): buttons for pointers and touch, keys for keyboards.
 const helpPanel = document.getElementById('help');
 const toggleHelp = () => { helpPanel.hidden = !helpPanel.hidden; };
@@ -262,33 +337,23 @@ window.addEventListener('keydown', (e) => {
   if (e.key === 'f' || e.key === 'F') toggleFullscreen();
 });
 
-// The same path the panel's controls take.
-state.setParams = (patch) => channel.set(patch);
-state.resetScene = () => resetScene();
-
-state.moveObject = (dx, dy, dz) => {
-  room.handle.position.add({ x: dx, y: dy, z: dz });
-  channel.set({ object: room.objectPose() });
-};
-// Where the light marker and the object's handle are on the page (pointer-driven tests).
-state.pagePoint = (what) => room.pagePoint(what === 'light' ? room.lightMarker : room.handle);
-// Where the slab is drawn (scene coordinates of its centre).
-state.drawnProxy = () => room.drawnCentre();
-// The same path a rotate-gizmo drag takes (degrees about the object's own axes, XYZ order).
-state.rotateObject = (dx, dy, dz) => {
-  const r = room.handle.rotation;
-  r.set(r.x + dx * Math.PI / 180, r.y + dy * Math.PI / 180, r.z + dz * Math.PI / 180, 'XYZ');
-  channel.set({ object: room.objectPose() });
-};
-
-// Closes the signalling socket as a network failure would (browser tests).
-state.dropSignalling = () => stream?.socket.close();
+installTestHooks(state, () => ({ room, controls, channel, stream, session, resetScene }));
 
 window.addEventListener('pagehide', () => { if (session) deleteSession(session); });
 
-function frame() {
+function frame(now) {
   requestAnimationFrame(frame);
   if (!room) return;
+  const fps = frameRate.tick(now);
+  if (fps !== null) {
+    state.fps = fps;
+    // Too slow for the transmissive glass and soft shadows: the cheaper room, once.
+    if (!forcedQuality && fps < 30 && room.quality === Quality.high) {
+      room.setQuality(Quality.low);
+      state.quality = Quality.low;
+      state.qualityChosenAt = fps;
+    }
+  }
   if (!state.sync) room.followHandle();
   if (state.params && controls?.mode !== 'light') room.placeLight(state.params.light);
   room.render();

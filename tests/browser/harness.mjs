@@ -1,0 +1,34 @@
+// What the browser tests share: a real `causticd serve` on 127.0.0.1 (ICE
+// pinned to loopback, a small stream, designs in a folder of the test's
+// own) and bounded polling of the page.
+import { spawn } from 'node:child_process';
+import { mkdtempSync } from 'node:fs';
+import readline from 'node:readline';
+
+export const shots = process.env.CAUSTIC_SCREENSHOTS ?? '/tmp';
+
+export async function startServer(extra = [], { width = 320, height = 240 } = {}) {
+  const port = extra.includes('--port') ? [] : ['--port', '0'];
+  const server = spawn(process.env.CAUSTICD, ['serve', ...port, '--ice-address', '127.0.0.1', '--width', `${width}`,
+                                              '--height', `${height}`, ...extra], {
+    stdio: ['ignore', 'pipe', 'inherit'],
+    // Designs go to a folder of the test's own, never the user's state.
+    env: { ...process.env, XDG_STATE_HOME: mkdtempSync('/tmp/causticd-state-') },
+  });
+  const line = await new Promise((resolve, reject) => {
+    const timer = setTimeout(() => reject(new Error('server did not start')), 30000);
+    readline.createInterface({ input: server.stdout }).once('line', (l) => { clearTimeout(timer); resolve(l); });
+  });
+  server.url = line.replace('listening on ', '').replace(/\/$/, '');
+  return server;
+}
+
+/// Polls `fn` in the page until it returns a truthy value or `seconds` pass.
+export async function until(page, fn, seconds, what, arg) {
+  for (let waited = 0; waited < seconds * 1000; waited += 250) {
+    const value = await page.evaluate(fn, arg);
+    if (value) return value;
+    await page.waitForTimeout(250);
+  }
+  throw new Error(`timed out after ${seconds} s waiting for ${what}`);
+}

@@ -1,0 +1,60 @@
+// What scripts (the browser tests, benchmarks) may do to the viewer, on
+// window.caustic beside the state the page keeps: each hook takes the same
+// path as the control it stands for, so a test of the hook tests the page.
+// `parts` returns the viewer's current room, controls, parameter channel,
+// stream and session (they change on reconnect).
+export function installTestHooks(state, parts) {
+  // A light drag: the marker moves, the light follows it.
+  state.moveLight = (dx, dy, dz) => {
+    const { room, channel } = parts();
+    room.lightMarker.position.add({ x: dx, y: dy, z: dz });
+    channel.set({ light: room.lightFromMarker(state.params.light.type) });
+  };
+  // The panel's controls.
+  state.setParams = (patch) => parts().channel.set(patch);
+  state.resetScene = () => parts().resetScene();
+  // A move-gizmo drag.
+  state.moveObject = (dx, dy, dz) => {
+    const { room, channel } = parts();
+    room.handle.position.add({ x: dx, y: dy, z: dz });
+    channel.set({ object: room.objectPose() });
+  };
+  // A rotate-gizmo drag (degrees about the object's own axes, XYZ order).
+  state.rotateObject = (dx, dy, dz) => {
+    const { room, channel } = parts();
+    const r = room.handle.rotation;
+    r.set(r.x + dx * Math.PI / 180, r.y + dy * Math.PI / 180, r.z + dz * Math.PI / 180, 'XYZ');
+    channel.set({ object: room.objectPose() });
+  };
+  // Where the light marker and the object's handle are on the page (pointer and touch tests).
+  state.pagePoint = (what) => {
+    const { room } = parts();
+    return room.pagePoint(what === 'light' ? room.lightMarker : room.handle);
+  };
+  // Where the slab is drawn (scene coordinates of its centre).
+  state.drawnProxy = () => parts().room.drawnCentre();
+  // The camera: where it is, how far from what it orbits, and an orbit
+  // step (radians about the vertical) ending as a drag ends.
+  state.cameraPosition = () => parts().room.camera.position.toArray();
+  state.cameraDistance = () => {
+    const { room, controls } = parts();
+    return room.camera.position.distanceTo(controls.orbit.target);
+  };
+  state.orbitBy = (angle) => {
+    const { room, controls } = parts();
+    const offset = room.camera.position.clone().sub(controls.orbit.target);
+    offset.applyAxisAngle({ x: 0, y: 1, z: 0 }, angle);
+    room.camera.position.copy(controls.orbit.target).add(offset);
+    controls.orbit.update();
+    controls.orbit.dispatchEvent({ type: 'end' });
+  };
+  // The session's id and codec, never its token.
+  Object.defineProperty(state, 'session', {
+    get: () => {
+      const s = parts().session;
+      return s && { id: s.id, codec: s.codec };
+    },
+  });
+  // Closes the signalling socket as a network failure would.
+  state.dropSignalling = () => parts().stream?.socket.close();
+}
