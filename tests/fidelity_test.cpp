@@ -73,6 +73,18 @@ TEST(FidelityChoice, CheapestMeetingTheTargetInCostOrder) {
   EXPECT_FALSE(choice.meets_target);
   EXPECT_EQ(choice.config.mesh_resolution, 0);
   EXPECT_DOUBLE_EQ(*choice.expected_l1, 0.001);
+  // Measured at the streamed size, 32^2 shows facets (9% off the full
+  // model there): 5% now takes 64^2, the cheapest that meets both.
+  Calibration streamed = c;
+  for (auto& e : streamed.entries) {
+    e.streamed_l1 = e.config.mesh_resolution == 32 ? 0.09 : 0.01;
+    e.streamed_ssim = 0.99;
+  }
+  EXPECT_EQ(choose_fidelity(streamed, 0.05, levels).config.mesh_resolution, 64);
+  // A structural error (1 - SSIM) counts as well.
+  for (auto& e : streamed.entries) e.streamed_l1 = 0.01, e.streamed_ssim = e.config.mesh_resolution == 64 ? 0.9 : 0.99;
+  EXPECT_EQ(choose_fidelity(streamed, 0.05, levels).config.mesh_resolution, 32);
+  EXPECT_FALSE(meets_target(streamed.entries.front(), 0.001));
   // No calibration: the full model, no expected error.
   choice = choose_fidelity(std::nullopt, 0.05, levels);
   EXPECT_EQ(choice.config, (FidelityConfig{0, PointModel::exact, true}));
@@ -98,6 +110,16 @@ TEST(Calibration, RoundTripsAndNamesWhatIsWrongInAFile) {
   ASSERT_EQ(back.entries.size(), c.entries.size());
   EXPECT_EQ(back.entries[3].config, c.entries[3].config);
   EXPECT_DOUBLE_EQ(back.entries[3].relative_l1, 0.04);
+  EXPECT_FALSE(back.entries[3].streamed_l1) << "not measured: stays absent";
+  Calibration streamed = c;
+  streamed.streamed_width = streamed.streamed_height = 1024;
+  streamed.entries[3].streamed_l1 = 0.07;
+  streamed.entries[3].streamed_ssim = 0.96;
+  const Calibration again = calibration_from_json(nlohmann::json::parse(calibration_to_json(streamed).dump()));
+  EXPECT_EQ(again.streamed_width, 1024);
+  EXPECT_DOUBLE_EQ(*again.entries[3].streamed_l1, 0.07);
+  EXPECT_DOUBLE_EQ(*again.entries[3].streamed_ssim, 0.96);
+  EXPECT_DOUBLE_EQ(worst_error(again.entries[3]), 0.07);
 
   auto rejects = [](nlohmann::json j, const std::string& key) {
     try {

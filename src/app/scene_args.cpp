@@ -50,9 +50,10 @@ bool load_scene_levels(const char* command, const std::filesystem::path& file,
     if (named != 0 && std::find(resolutions.begin(), resolutions.end(), named) == resolutions.end())
       resolutions.push_back(named);
     out->levels = build_mesh_levels(source, scene->object.flat_face_normal, resolutions);
-    out->calibration = load_calibration(calibration_path(file), scene_fingerprint(*scene, *source));
+    // Calibrated as rendered: with the screen where following puts it.
     const Placement placed = out->levels.place(scene->object);
     *scene = follow_light(*scene, placed);
+    out->calibration = load_calibration(calibration_path(file), scene_fingerprint(*scene, *source));
     *scene = resolve_fidelity(*scene, choose_fidelity(out->calibration, scene->render.accuracy_target, out->levels));
     return true;
   } catch (const SceneError& e) {

@@ -66,9 +66,14 @@ json calibration_to_json(const Calibration& c) {
                        {"relative_rmse", e.relative_rmse},
                        {"ssim", e.ssim},
                        {"ray_ms", e.ray_ms}});
+  for (std::size_t i = 0; i < c.entries.size(); ++i) {
+    if (c.entries[i].streamed_l1) entries[i]["streamed_l1"] = *c.entries[i].streamed_l1;
+    if (c.entries[i].streamed_ssim) entries[i]["streamed_ssim"] = *c.entries[i].streamed_ssim;
+  }
   return {{"format", kFormat},       {"fingerprint", c.fingerprint}, {"reference_photons", c.reference_photons},
           {"width", c.width},        {"height", c.height},           {"compare_factor", c.compare_factor},
-          {"renderer", c.renderer},  {"entries", entries}};
+          {"renderer", c.renderer},  {"streamed_width", c.streamed_width}, {"streamed_height", c.streamed_height},
+          {"entries", entries}};
 }
 
 Calibration calibration_from_json(const json& j) {
@@ -81,6 +86,10 @@ Calibration calibration_from_json(const json& j) {
   c.height = field<int>(j, "height", "");
   c.compare_factor = field<int>(j, "compare_factor", "");
   c.renderer = field<std::string>(j, "renderer", "");
+  if (j.contains("streamed_width")) {
+    c.streamed_width = field<int>(j, "streamed_width", "");
+    c.streamed_height = field<int>(j, "streamed_height", "");
+  }
   const json& entries = j.contains("entries") ? j["entries"] : json();
   if (!entries.is_array()) throw SceneError("entries", "must be an array");
   for (std::size_t i = 0; i < entries.size(); ++i) {
@@ -99,6 +108,11 @@ Calibration calibration_from_json(const json& j) {
     e.ray_ms = field<double>(entries[i], "ray_ms", where);
     if (!(e.relative_l1 >= 0) || !std::isfinite(e.relative_l1))
       throw SceneError(where + "relative_l1", "must be a finite number >= 0");
+    for (const auto& [key, value] : {std::pair{"streamed_l1", &e.streamed_l1}, std::pair{"streamed_ssim", &e.streamed_ssim}})
+      if (entries[i].contains(key)) {
+        *value = field<double>(entries[i], key, where);
+        if (!(**value >= -1) || !std::isfinite(**value)) throw SceneError(where + key, "must be a finite number");
+      }
     c.entries.push_back(e);
   }
   return c;
@@ -119,6 +133,15 @@ std::optional<Calibration> load_calibration(const std::filesystem::path& file, c
   return c;
 }
 
+bool meets_target(const CalibrationEntry& e, double target) { return worst_error(e) <= target; }
+
+double worst_error(const CalibrationEntry& e) {
+  double worst = e.relative_l1;
+  if (e.streamed_l1) worst = std::max(worst, *e.streamed_l1);
+  if (e.streamed_ssim) worst = std::max(worst, 1 - *e.streamed_ssim);
+  return worst;
+}
+
 FidelityChoice choose_fidelity(const std::optional<Calibration>& calibration, double target, const MeshLevels& levels) {
   FidelityChoice choice;
   if (!calibration) return choice;
@@ -126,8 +149,8 @@ FidelityChoice choose_fidelity(const std::optional<Calibration>& calibration, do
   const CalibrationEntry* best = nullptr;
   for (const auto& e : calibration->entries) {
     if (e.config.mesh_resolution != 0 && !levels.resampled.count(e.config.mesh_resolution)) continue;
-    if (!best || e.relative_l1 < best->relative_l1) best = &e;
-    if (e.relative_l1 <= target && (!cheapest || cost(e) < cost(*cheapest))) cheapest = &e;
+    if (!best || worst_error(e) < worst_error(*best)) best = &e;
+    if (meets_target(e, target) && (!cheapest || cost(e) < cost(*cheapest))) cheapest = &e;
   }
   const CalibrationEntry* pick = cheapest ? cheapest : best;
   if (!pick) return choice;
@@ -178,7 +201,9 @@ json describe_fidelity(const Scene& scene, const Mesh& source, const MeshLevels&
   for (const auto& e : calibration->entries)
     if (e.config == now) {
       j["expected_relative_l1"] = e.relative_l1;
-      j["meets_target"] = e.relative_l1 <= scene.render.accuracy_target;
+      j["expected_streamed_l1"] = e.streamed_l1 ? json(*e.streamed_l1) : json();
+      j["expected_streamed_ssim"] = e.streamed_ssim ? json(*e.streamed_ssim) : json();
+      j["meets_target"] = meets_target(e, scene.render.accuracy_target);
     }
   // Moving the light or the object takes the scene away from what was calibrated.
   j["calibration_matches_parameters"] = scene_fingerprint(scene, source) == calibration->fingerprint;

@@ -59,7 +59,9 @@ std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, cons
   entry->mesh = mesh ? std::move(mesh) : std::make_shared<const Mesh>(load_obj(entry->scene.mesh_path()));
   entry->levels = std::make_shared<const MeshLevels>(
       build_mesh_levels(entry->mesh, entry->scene.object.flat_face_normal, coarser_resolutions(*entry->mesh)));
-  entry->calibration = load_calibration(calibration_path(file), scene_fingerprint(entry->scene, *entry->mesh));
+  // Calibrated as rendered: with the screen where following puts it.
+  const Scene placed = follow_light(entry->scene, entry->levels->place(entry->scene.object));
+  entry->calibration = load_calibration(calibration_path(file), scene_fingerprint(placed, *entry->mesh));
   entry->scene = resolve_for(*entry, entry->scene);
   // A value the scene file writes for a key that fidelity "auto" decides is
   // overridden: say so rather than ignore it without a word.

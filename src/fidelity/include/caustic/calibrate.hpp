@@ -17,6 +17,7 @@ struct CalibrateOptions {
   int max_side = 512;      ///< render size of the longer side (the aspect is kept)
   int compare_factor = 4;  ///< box filter before comparing (reference noise)
   int frames = 3;          ///< timed frames per configuration (median)
+  bool streamed = true;    ///< also against the full model at the scene's render size
   std::function<void(const std::string&)> progress;  ///< one line per step
 };
 

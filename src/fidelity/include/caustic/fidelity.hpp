@@ -36,13 +36,26 @@ struct CalibrationEntry {
   double relative_rmse = 0;
   double ssim = 1;
   double ray_ms = 0;           ///< median caustic pass where it was calibrated
+  /// Against the full model rendered by the engine at the streamed size
+  /// (Calibration::streamed_width x height), with no box filter: what a
+  /// visitor sees, facets included. Absent in calibrations made before
+  /// they were measured.
+  std::optional<double> streamed_l1;
+  std::optional<double> streamed_ssim;  ///< of the tone-mapped pictures
 };
+
+/// Whether `e` meets `target`: relative L1 against the reference, and where
+/// measured, relative L1 and 1 - SSIM against the full model at the
+/// streamed size. The worst of these is its error.
+bool meets_target(const CalibrationEntry& e, double target);
+double worst_error(const CalibrationEntry& e);
 
 struct Calibration {
   std::string fingerprint;  ///< scene_fingerprint of what was calibrated
   std::uint64_t reference_photons = 0;
   int width = 0, height = 0;  ///< render size of the calibration
   int compare_factor = 1;     ///< box filter before comparing
+  int streamed_width = 0, streamed_height = 0;  ///< where streamed_* were measured; 0 when not
   std::string renderer;       ///< GL_RENDERER where ray_ms was measured
   std::vector<CalibrationEntry> entries;
 };
@@ -68,9 +81,9 @@ struct FidelityChoice {
   bool meets_target = false;          ///< false: nothing calibrated met it, the most accurate was taken
 };
 
-/// The cheapest calibrated configuration with relative L1 <= target among
-/// the levels `levels` offers; when none meets the target, the most accurate
-/// one. Without a calibration: the full model (mesh as loaded, exact, Fresnel).
+/// The cheapest calibrated configuration that meets the target
+/// (meets_target) among the levels `levels` offers; when none does, the one
+/// with the smallest worst_error. Without a calibration: the full model (mesh as loaded, exact, Fresnel).
 FidelityChoice choose_fidelity(const std::optional<Calibration>& calibration, double target, const MeshLevels& levels);
 
 /// The keys "auto" decides (section, key): a value written for one of them
