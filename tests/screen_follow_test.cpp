@@ -121,3 +121,29 @@ TEST(ScreenFollow, CachedBoundsPlaceLikeTheVertices) {
   EXPECT_EQ(a.model, b.model);
   EXPECT_THROW(place_object(s.object, mesh_bounds(m, {1, 0, 0})), std::invalid_argument);
 }
+
+// A mirror focused with focus_distance: the screen faces back along the
+// reflection, at that distance from the object, and the light lands on it.
+TEST(ScreenFollow, AMirrorsFocusDistancePlacesTheScreenOnTheReflection) {
+  json doc = {{"mesh", "m.obj"},
+              {"focus_distance", 60},
+              {"object", {{"material", "reflective"}, {"flat_face_offset", 0}}},
+              {"light", {{"direction", {0, 0, -1}}}}};
+  Scene s = scene_from_json(doc, ".");
+  EXPECT_NEAR(glm::length(s.screen.normal - glm::dvec3(0, 0, -1)), 0, 1e-12);
+  EXPECT_NEAR(glm::length(s.screen.center - glm::dvec3(0, 0, 60)), 0, 1e-12);
+  const Mesh m = slab();
+  EXPECT_TRUE(light_warnings(s, place_object(s.object, m)).empty());
+  // Light falling at 30 degrees leaves at 30 degrees on the other side.
+  doc["light"]["direction"] = {std::sin(30 * kDeg), 0, -std::cos(30 * kDeg)};
+  s = scene_from_json(doc, ".");
+  EXPECT_NEAR(s.screen.center.x, 60 * std::sin(30 * kDeg), 1e-9);
+  EXPECT_NEAR(s.screen.center.z, 60 * std::cos(30 * kDeg), 1e-9);
+  EXPECT_TRUE(light_warnings(s, place_object(s.object, m)).empty());
+  // A normal or centre written is the writer's; a refractive object keeps the default.
+  doc["screen"] = {{"normal", {0, 0, 1}}};
+  EXPECT_EQ(scene_from_json(doc, ".").screen.normal, glm::dvec3(0, 0, 1));
+  doc.erase("screen");
+  doc["object"]["material"] = "refractive";
+  EXPECT_EQ(scene_from_json(doc, ".").screen.normal, glm::dvec3(0, 0, 1));
+}

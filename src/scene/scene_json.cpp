@@ -4,6 +4,7 @@
 #include "caustic/scene.hpp"
 
 #include "caustic/json_text.hpp"
+#include "caustic/screen_follow.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -177,8 +178,14 @@ LightParams read_light(Reader r) {
   return l;
 }
 
-ScreenParams read_screen(Reader r, const std::optional<double>& focus_distance, const ObjectParams& object) {
+ScreenParams read_screen(Reader r, const std::optional<double>& focus_distance, const ObjectParams& object,
+                         const LightParams& light) {
   ScreenParams s;
+  // A mirror focused by focus_distance: the screen goes where the reflection goes.
+  if (const auto n = reflected_screen_normal(object, light); n && focus_distance && !r.has("normal") && !r.has("center")) {
+    s.normal = *n;
+    if (std::abs(s.normal.y) > 0.999) s.up = {0, 0, 1};  // reflected along y: the default up would be parallel
+  }
   s.normal = r.vec3("normal", s.normal, true);
   s.up = r.vec3("up", s.up, true);
   // Gram-Schmidt: the image's vertical axis lies in the screen plane.
@@ -262,7 +269,7 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir) {
   s.focus_distance = r.optional_number("focus_distance", 0.0, kMaxCoordinate, true);
   s.object = read_object(r.child("object"));
   s.light = read_light(r.child("light"));
-  s.screen = read_screen(r.child("screen"), s.focus_distance, s.object);
+  s.screen = read_screen(r.child("screen"), s.focus_distance, s.object, s.light);
   s.render = read_render(r.child("render"));
   s.post = read_post(r.child("post"));
   r.reject_unknown();

@@ -40,6 +40,16 @@ Scene follow_light(Scene scene, const Placement& placement) {
   return scene;
 }
 
+std::optional<glm::dvec3> reflected_screen_normal(const ObjectParams& object, const LightParams& light) {
+  if (object.material != Material::reflective) return std::nullopt;
+  const glm::dvec3 n = glm::normalize(euler_xyz_degrees(object.rotation_deg) * object.flat_face_normal);
+  glm::dvec3 d = light.type == LightType::point ? object.position - light.position : light.direction;
+  if (!(glm::length(d) > 0)) return std::nullopt;
+  const glm::dvec3 r = glm::reflect(glm::normalize(d), n);
+  if (!(glm::dot(r, n) > 1e-6)) return std::nullopt;
+  return -r;
+}
+
 std::vector<std::pair<std::string, std::string>> follow_overrides(const nlohmann::json& written, const Scene& scene) {
   if (!scene.screen.follow_light || !written.is_object()) return {};
   const auto screen = written.find("screen");

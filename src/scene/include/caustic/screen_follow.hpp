@@ -33,6 +33,13 @@ Scene follow_light(Scene scene, const Placement& placement);
 
 inline constexpr double kMaxFollow = 8.0;
 
+/// Where a reflective object's focus_distance puts a screen whose normal the
+/// scene leaves out: facing back along the light the mirror's flat face
+/// reflects (the object's pose counts; light straight down onto a face
+/// looking up gives [0, 0, -1]). Empty for a refractive object, or when the
+/// reflection would leave behind the mirror.
+std::optional<glm::dvec3> reflected_screen_normal(const ObjectParams& object, const LightParams& light);
+
 /// A screen.center that `written` (a scene file or a patch) sets but that
 /// following moved (`scene` is the result): only its distance along the
 /// normal counted. One (key, detail) pair, or none.
