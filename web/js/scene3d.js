@@ -112,7 +112,7 @@ export class CausticRoom {
     this.screenBox.scale.set(s.width * 1.15, s.height * 1.15, 2);
   }
 
-  // The first view: from the object's side of the screen, 20 degrees off its
+  // The first view: from the object's side of the screen, 10 degrees off its
   // normal, close enough that the screen (where the caustic is) fills as
   // much of the view as it can while the object and the light's marker
   // stay in it. Fitting is exact for a perspective camera: a point at
@@ -135,7 +135,7 @@ export class CausticRoom {
     // Looking down at the screen from its front, turned a little sideways.
     const side = Math.abs(normal.y) < 0.9 ? new THREE.Vector3(0, 1, 0) : new THREE.Vector3(1, 0, 0);
     const across = new THREE.Vector3().crossVectors(normal, side).normalize();
-    const tilt = THREE.MathUtils.degToRad(20), turn = THREE.MathUtils.degToRad(30);
+    const tilt = THREE.MathUtils.degToRad(10), turn = THREE.MathUtils.degToRad(30);
     const toward = normal.clone().multiplyScalar(Math.cos(tilt))
       .addScaledVector(across.applyAxisAngle(normal, turn), Math.sin(tilt)).normalize();
     // Aimed between the screen and the middle of everything, nearer the screen.
