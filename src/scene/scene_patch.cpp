@@ -1,0 +1,71 @@
+// Changing a scene: RFC 7396 merge patches (a null restoring the scene's own
+// value) and the CLI's key.path=value assignments. The result goes through
+// scene_from_json, so a patch is validated like a whole scene.
+#include "caustic/scene.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace caustic {
+
+using nlohmann::json;
+
+namespace {
+
+// RFC 7396's null removes a member, which here would fall back to the global
+// default; a visitor's "reset" means the scene's own value instead. Each null
+// of the patch becomes the origin's value at that place (a null where the
+// origin has none stays null: the default). Recursion follows the patch, so
+// its depth is the patch's (bounded by the JSON parser).
+json nulls_to_origin(const json& patch, const json* origin) {
+  json out = json::object();
+  for (const auto& [k, v] : patch.items()) {
+    const json* here = origin && origin->is_object() && origin->contains(k) ? &origin->at(k) : nullptr;
+    if (v.is_null()) out[k] = here ? *here : json(nullptr);
+    else if (v.is_object()) out[k] = nulls_to_origin(v, here);
+    else out[k] = v;
+  }
+  return out;
+}
+
+}  // namespace
+
+Scene apply_merge_patch(const Scene& scene, const json& patch, const Scene* origin) {
+  if (!patch.is_object()) throw SceneError("", "a parameter patch must be a JSON object");
+  if (origin) {
+    const json origin_doc = scene_to_json(*origin);
+    return apply_merge_patch(scene, nulls_to_origin(patch, &origin_doc));
+  }
+  json doc = scene_to_json(scene);
+  // The screen centre is stored resolved; a patch of focus_distance alone
+  // should move the screen, so drop the centre unless the patch sets it.
+  if (patch.contains("focus_distance") && !(patch.contains("screen") && patch["screen"].contains("center")))
+    doc["screen"].erase("center");
+  doc.merge_patch(patch);
+  return scene_from_json(doc, scene.base_dir);
+}
+
+json patch_from_assignment(const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) throw SceneError("", "expected key.path=value, got \"" + assignment + "\"");
+  const std::string path = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  json value = json::parse(text, nullptr, false);
+  if (value.is_discarded()) value = text;
+  std::vector<std::string> keys;
+  std::size_t begin = 0;
+  while (true) {
+    const auto dot = path.find('.', begin);
+    keys.push_back(path.substr(begin, dot == std::string::npos ? std::string::npos : dot - begin));
+    if (keys.back().empty()) throw SceneError(path, "empty key in path");
+    if (dot == std::string::npos) break;
+    begin = dot + 1;
+  }
+  json patch = value;
+  for (auto it = keys.rbegin(); it != keys.rend(); ++it) patch = json{{*it, patch}};
+  return patch;
+}
+
+}  // namespace caustic
