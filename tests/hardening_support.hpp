@@ -1,0 +1,56 @@
+// What the hardening tests share: sessions on a ServerProcess, bearer
+// headers, problem+json checks on raw answers and polling the session count.
+#pragma once
+
+#include "raw_http.hpp"
+#include "server_process.hpp"
+
+#include <glib.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace caustic::testing {
+
+using nlohmann::json;
+
+inline json create_session(const ServerProcess& server, const std::string& scene = "lens") {
+  const Response r = http("POST", server.url() + "/api/v1/sessions", json{{"scene", scene}}.dump());
+  EXPECT_EQ(r.status, 201u) << r.body;
+  return r.json();
+}
+
+inline std::vector<std::pair<std::string, std::string>> bearer(const json& s) {
+  return {{"Authorization", "Bearer " + s["token"].get<std::string>()}};
+}
+
+inline std::string params_url(const ServerProcess& server, const json& s) {
+  return server.url() + "/api/v1/sessions/" + s["id"].get<std::string>() + "/params";
+}
+
+inline std::string signal_path(const json& s) { return s["signal_url"].get<std::string>(); }
+
+inline void expect_problem_answer(const std::string& answer, int status) {
+  EXPECT_EQ(raw_status(answer), status) << answer.substr(0, 300);
+  EXPECT_EQ(raw_header(answer, "Content-Type"), "application/problem+json") << answer.substr(0, 300);
+  const json body = json::parse(raw_body(answer), nullptr, false);
+  ASSERT_TRUE(body.is_object()) << answer.substr(0, 300);
+  EXPECT_EQ(body["status"], status);
+  EXPECT_TRUE(body["detail"].is_string());
+}
+
+inline int sessions_now(const ServerProcess& server) {
+  return http("GET", server.url() + "/api/v1/health").json()["sessions"].get<int>();
+}
+
+/// Polls until the server holds `want` sessions or `seconds` pass.
+inline bool wait_sessions(const ServerProcess& server, int want, double seconds) {
+  for (int i = 0; i < seconds * 10; ++i) {
+    if (sessions_now(server) == want) return true;
+    g_usleep(100000);
+  }
+  return sessions_now(server) == want;
+}
+
+}  // namespace caustic::testing
