@@ -195,6 +195,8 @@ json describe_fidelity(const Scene& scene, const Mesh& source, const MeshLevels&
          {"levels", levels.resolutions()},
          {"calibrated", calibration.has_value()},
          {"expected_relative_l1", nullptr},
+         {"expected_streamed_l1", nullptr},
+         {"expected_streamed_ssim", nullptr},
          {"meets_target", nullptr}};
   if (!calibration) return j;
   const FidelityConfig now{scene.render.mesh_resolution, scene.light.point_model, scene.render.fresnel};
