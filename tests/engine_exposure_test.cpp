@@ -159,11 +159,4 @@ TEST_P(BuiltInExposure, ClipsAtMostOnePercentAndKeepsTheBrightestStructureVisibl
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, BuiltInExposure,
-                         ::testing::Values("slab", "wavy", "cylinder", "lens", "design-cat", "design-astronaut",
-                                           "design-logo", "design-text"),
-                         [](const auto& info) {
-                           std::string name = info.param;
-                           std::replace(name.begin(), name.end(), '-', '_');
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Scenes, BuiltInExposure, ::testing::ValuesIn(kShippedScenes), scene_test_name);

@@ -73,11 +73,4 @@ TEST_P(StreamedFidelity, TheChoiceMeetsTheTargetAtTheStreamedSize) {
   EXPECT_LE(l1, target);
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, StreamedFidelity,
-                         ::testing::Values("slab", "wavy", "cylinder", "lens", "design-cat", "design-astronaut",
-                                           "design-logo", "design-text"),
-                         [](const auto& info) {
-                           std::string name = info.param;
-                           std::replace(name.begin(), name.end(), '-', '_');
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Scenes, StreamedFidelity, ::testing::ValuesIn(kShippedScenes), scene_test_name);

@@ -9,8 +9,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string>
+#include <vector>
 
 namespace caustic::testing {
 
@@ -82,6 +85,16 @@ bool frame_screen(Scene& s, const Mesh& mesh, FluxSummary* expected) {
   s.screen.width = s.screen.height = size;
   *expected = summarize_flux(s, mesh, placement);
   return true;
+}
+
+/// Every scene the build ships (the designed ones only when it made them),
+/// for tests over all of them, and their names as gtest allows them.
+inline const std::vector<std::string> kShippedScenes{"slab",       "wavy",       "cylinder",         "lens",
+                                                     "design-cat", "design-astronaut", "design-logo", "design-text"};
+inline std::string scene_test_name(const ::testing::TestParamInfo<std::string>& info) {
+  std::string name = info.param;
+  std::replace(name.begin(), name.end(), '-', '_');
+  return name;
 }
 
 }  // namespace caustic::testing
