@@ -29,7 +29,7 @@ Launch launch_rectangle(const Scene& scene, const Geometry& geo, const Mesh& mes
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
     const Vec3 w = geo.world(i);
     corners.push_back(w);
-    corners.push_back(w + (p.flat_offset - glm::dot(w, p.flat_normal)) * p.flat_normal);  // the flat face above
+    corners.push_back(onto_flat_face(p, w));  // the flat face above
   }
   const bool point = scene.light.type == LightType::point;
   const Vec3 axis = point ? glm::normalize(p.center - scene.light.position) : scene.light.direction;

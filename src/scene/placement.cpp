@@ -101,7 +101,7 @@ void check_geometry(const Scene& scene, const Mesh& mesh, const Placement& place
   for (const glm::dvec3 p : mesh.positions) {
     const glm::dvec3 w = glm::dvec3(placement.model * glm::dvec4(p, 1.0));
     // The solid spans from each caustic-face vertex to the flat face above it.
-    const glm::dvec3 on_flat = w + (placement.flat_offset - glm::dot(w, nf)) * nf;
+    const glm::dvec3 on_flat = onto_flat_face(placement, w);
     const bool solid = scene.object.material == Material::refractive;
     for (const glm::dvec3& q : {w, solid ? on_flat : w}) {
       const double s = glm::dot(q - scene.screen.center, scene.screen.normal);

@@ -9,8 +9,7 @@ namespace caustic {
 
 std::optional<glm::dvec3> light_footprint(const Scene& scene, const Placement& placement) {
   // The middle of the flat face: where the light enters the slab or leaves the mirror.
-  const glm::dvec3 from =
-      placement.center + (placement.flat_offset - glm::dot(placement.center, placement.flat_normal)) * placement.flat_normal;
+  const glm::dvec3 from = onto_flat_face(placement, placement.center);
   glm::dvec3 dir = scene.light.type == LightType::point ? from - scene.light.position : scene.light.direction;
   if (!(glm::length(dir) > 0)) return std::nullopt;
   dir = glm::normalize(dir);

@@ -19,7 +19,7 @@ nlohmann::json proxy_geometry(const Scene& scene, const Mesh& mesh) {
   const Placement p = place_object(scene.object, mesh);
   const auto v = [](const glm::dvec3& x) { return nlohmann::json::array({x.x, x.y, x.z}); };
   // Middle of the slab: from the flat face, half the thickness inward.
-  const glm::dvec3 on_flat = p.center + (p.flat_offset - glm::dot(p.center, p.flat_normal)) * p.flat_normal;
+  const glm::dvec3 on_flat = onto_flat_face(p, p.center);
   const glm::dvec3 slab_center = on_flat - 0.5 * p.max_depth * p.flat_normal;
   return {{"outline", {p.footprint.x, p.footprint.y}},
           {"center", v(slab_center)},

@@ -62,6 +62,11 @@ struct Placement {
   std::array<glm::dvec3, 8> box{};
 };
 
+/// `point` moved along the flat-face normal onto the flat face's plane.
+inline glm::dvec3 onto_flat_face(const Placement& p, const glm::dvec3& point) {
+  return point + (p.flat_offset - glm::dot(point, p.flat_normal)) * p.flat_normal;
+}
+
 /// Rotation matrix of three.js Euler angles in order "XYZ" (degrees): Rx * Ry * Rz.
 glm::dmat3 euler_xyz_degrees(const glm::dvec3& degrees);
 
