@@ -28,30 +28,28 @@ function canvasTexture(paint, repeat) {
   return texture;
 }
 
+// A base colour with specks of light and shade (`count` squares of `size`
+// pixels at `alpha`, from a fixed seed).
+function mottle(g, n, { base, shade, count, size, alpha, seed }) {
+  const random = seeded(seed);
+  g.fillStyle = base;
+  g.fillRect(0, 0, n, n);
+  for (let i = 0; i < count; ++i) {
+    g.fillStyle = `rgba(${random() < 0.5 ? '255,255,255' : shade},${alpha})`;
+    g.fillRect(random() * n, random() * n, size, size);
+  }
+}
+
 // Light stone tiles with darker joints and a little mottling, one tile a repeat.
 const tiles = (g, n) => {
-  const random = seeded(7);
-  g.fillStyle = '#5e5b56';
-  g.fillRect(0, 0, n, n);
-  for (let i = 0; i < 1500; ++i) {
-    g.fillStyle = `rgba(${random() < 0.5 ? '255,255,255' : '0,0,0'},0.05)`;
-    g.fillRect(random() * n, random() * n, 6, 6);
-  }
+  mottle(g, n, { base: '#5e5b56', shade: '0,0,0', count: 1500, size: 6, alpha: 0.05, seed: 7 });
   g.strokeStyle = '#34322f';
   g.lineWidth = 4;
   g.strokeRect(0, 0, n, n);
 };
 
 // Warm plaster: a fine grain only.
-const plaster = (g, n) => {
-  const random = seeded(11);
-  g.fillStyle = '#8a847a';
-  g.fillRect(0, 0, n, n);
-  for (let i = 0; i < 4000; ++i) {
-    g.fillStyle = `rgba(${random() < 0.5 ? '255,255,255' : '60,50,40'},0.04)`;
-    g.fillRect(random() * n, random() * n, 3, 3);
-  }
-};
+const plaster = (g, n) => mottle(g, n, { base: '#8a847a', shade: '60,50,40', count: 4000, size: 3, alpha: 0.04, seed: 11 });
 
 /// Adds environment, table and walls around `bounds` (scene coordinates:
 /// screen, object and light) to `room`.
