@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sstream>
 
 #include <unistd.h>
 
@@ -122,4 +123,62 @@ TEST_F(Installed, UnitsGiveTheServerTheDescriptorsItsLimitsNeed) {
     ASSERT_TRUE(std::regex_search(text, m, std::regex("\nLimitNOFILE=([0-9]+)"))) << unit;
     EXPECT_GE(std::stol(m[1]), connections + 64 * sessions + 64) << unit;
   }
+}
+
+TEST(InstalledWithDestdir, EveryFileLandsOnceUnderDestdirAndTheUnitsNameTheRealPaths) {
+  // How a package is staged: --prefix /usr with DESTDIR. Each file lands
+  // under DESTDIR exactly once (not $DESTDIR$DESTDIR/etc/...), and what the
+  // units name is the path on the target system, without DESTDIR.
+  const fs::path stage = fs::temp_directory_path() / ("causticd_destdir_test_" + std::to_string(getpid()));
+  fs::remove_all(stage);
+  std::string output;
+  ASSERT_EQ(run("env DESTDIR=" + stage.string() + " " + CMAKE_COMMAND + " --install " + CAUSTIC_BUILD_DIR +
+                    " --prefix /usr",
+                &output),
+            0)
+      << output;
+  for (const char* file : {"usr/bin/causticd", "etc/causticd/causticd.conf", "usr/lib/systemd/system/causticd.service",
+                           "usr/lib/systemd/system/causticd@.service", "usr/lib/sysusers.d/causticd.conf",
+                           "usr/share/causticd/web/index.html"})
+    EXPECT_TRUE(fs::is_regular_file(stage / file)) << file;
+  const std::string doubled = stage.relative_path().string();
+  for (const auto& entry : fs::recursive_directory_iterator(stage))
+    EXPECT_EQ(fs::relative(entry.path(), stage).string().find(doubled), std::string::npos) << entry.path();
+  std::ifstream in(stage / "usr/lib/systemd/system/causticd.service");
+  const std::string unit((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(unit.find("ExecStart=/usr/bin/causticd serve --config /etc/causticd/causticd.conf"), std::string::npos)
+      << unit;
+  EXPECT_EQ(unit.find(stage.string()), std::string::npos) << unit;
+  fs::remove_all(stage);
+}
+
+TEST_F(Installed, UnitsCanBeEnabledAndDoNotRestartForeverOrAssumeAHostsGroupsAndGpus) {
+  for (const char* name : {"causticd.service", "causticd@.service"}) {
+    std::ifstream in(prefix_ / "lib/systemd/system" / name);
+    const std::string unit((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // `systemctl enable` needs an [Install] section to act on.
+    EXPECT_NE(unit.find("\n[Install]\nWantedBy=multi-user.target"), std::string::npos) << name;
+    // A configuration error (exit 2) is not restarted; anything else stops
+    // at a start limit that RestartSec=2 can reach (5 starts within 300 s).
+    EXPECT_NE(unit.find("\nRestartPreventExitStatus=2\n"), std::string::npos) << name;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(unit, m, std::regex("\nStartLimitIntervalSec=([0-9]+)\nStartLimitBurst=([0-9]+)")))
+        << name;
+    ASSERT_TRUE(std::regex_search(unit, m, std::regex("\nRestartSec=([0-9]+)"))) << name;
+    // Device rules by driver class, so that any GPU index is covered.
+    EXPECT_FALSE(std::regex_search(unit, std::regex("DeviceAllow=/dev/nvidia[0-9]"))) << name;
+    EXPECT_NE(unit.find("DeviceAllow=char-nvidia-frontend rw"), std::string::npos) << name;
+    // The dynamic user gets a home for GLib and GStreamer's registry.
+    EXPECT_NE(unit.find("HOME=%C/causticd"), std::string::npos) << name;
+  }
+  // The groups the units ask for are created where they are missing.
+  std::ifstream in(prefix_ / "lib/sysusers.d/causticd.conf");
+  const std::string sysusers((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::ifstream unit_in(prefix_ / "lib/systemd/system/causticd.service");
+  const std::string unit((std::istreambuf_iterator<char>(unit_in)), std::istreambuf_iterator<char>());
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(unit, m, std::regex("\nSupplementaryGroups=([^\n]*)")));
+  std::istringstream groups(m[1].str());
+  for (std::string group; groups >> group;)
+    EXPECT_TRUE(std::regex_search(sysusers, std::regex("\ng " + group + " "))) << group << " is not in sysusers.d";
 }

@@ -273,3 +273,21 @@ TEST(CheckConfig, AcceptsTheShippedFileAndNamesTheKeyOfABrokenOne) {
   EXPECT_NE(output.find("/nonexistent.conf"), std::string::npos) << output;
   fs::remove_all(dir);
 }
+
+TEST(Serve, AGpuThatIsNotThereIsAConfigurationErrorThatNamesIt) {
+  // Exit 2 (RestartPreventExitStatus=2 in the units: no restart loop), the
+  // key and the GPU named, not "no usable scene" blaming the scenes folder.
+  // No host here has ten GPUs; `timeout` bounds a server that would start.
+  for (const char* args : {"--egl-device 9", "--instance 18099-gpu9"}) {
+    gchar *out = nullptr, *err = nullptr;
+    gint status = 0;
+    const std::string command = std::string("timeout 120 ") + CAUSTICD_BINARY + " serve --bind 127.0.0.1 --port 0 " + args;
+    ASSERT_TRUE(g_spawn_command_line_sync(command.c_str(), &out, &err, &status, nullptr));
+    const std::string output = std::string(out ? out : "") + (err ? err : "");
+    g_free(out);
+    g_free(err);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << args << ": " << output;
+    EXPECT_NE(output.find("egl_device: GPU 9 not found"), std::string::npos) << output;
+    EXPECT_EQ(output.find("no usable scene"), std::string::npos) << output;
+  }
+}

@@ -86,6 +86,10 @@ int run_serve(const ServeOptions& opt) {
     std::printf("listening on %s\n", url.c_str());
     std::fflush(stdout);
     server.run();
+  } catch (const server::ConfigError& e) {
+    // Found only once the server looks (a GPU that is not there).
+    std::cerr << "causticd serve: " << e.what() << "\n";
+    return bad_input;
   } catch (const std::exception& e) {
     std::cerr << "causticd serve: " << e.what() << "\n";
     return runtime_failure;

@@ -61,8 +61,9 @@ EGLDisplay hardware_device_display() {
     if (display != EGL_NO_DISPLAY) return display;
   }
   if (wanted >= 0)
-    throw GlContextError("CAUSTICD_EGL_DEVICE=" + std::to_string(wanted) + ", but there are " +
-                         std::to_string(hardware) + " hardware EGL devices");
+    throw GlContextError("GPU " + std::to_string(wanted) + " not found: EGL lists " + std::to_string(hardware) +
+                         (hardware == 1 ? " hardware device" : " hardware devices") +
+                         (hardware > 0 ? " (0 .. " + std::to_string(hardware - 1) + ")" : std::string()));
   return EGL_NO_DISPLAY;
 }
 
@@ -88,7 +89,7 @@ GlContext::GlContext(EglPlatform platform) : state_(std::make_unique<State>()) {
   EGLDisplay display = EGL_NO_DISPLAY;
   if (platform != EglPlatform::surfaceless) display = hardware_device_display();
   if (display == EGL_NO_DISPLAY && platform != EglPlatform::surfaceless && wanted_device() >= 0)
-    throw GlContextError("CAUSTICD_EGL_DEVICE is set, but EGL lists no hardware device");
+    throw GlContextError("GPU " + std::to_string(wanted_device()) + " not found: EGL lists no hardware device");
   if (display == EGL_NO_DISPLAY && platform == EglPlatform::device)
     throw GlContextError("no hardware EGL device found (EGL_EXT_platform_device)");
   if (display == EGL_NO_DISPLAY) {

@@ -4,6 +4,8 @@
 #include "notify.hpp"
 #include "server_state.hpp"
 
+#include "caustic/gl_context.hpp"
+
 #include <glib-unix.h>
 #include <malloc.h>
 #include <gst/gst.h>
@@ -95,7 +97,16 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
   s.data_dir = std::move(data_dir);
   set_log_level(level_from_name(s.config.log_level));
   // Read by every GL context the process creates, before the first exists.
-  if (s.config.egl_device >= 0) setenv("CAUSTICD_EGL_DEVICE", std::to_string(s.config.egl_device).c_str(), 1);
+  if (s.config.egl_device >= 0) {
+    setenv("CAUSTICD_EGL_DEVICE", std::to_string(s.config.egl_device).c_str(), 1);
+    // A GPU that is not there is a configuration error, said as such: the
+    // gallery would otherwise fail every scene and blame the scenes folder.
+    try {
+      GlContext probe(egl_platform_from_environment());
+    } catch (const GlContextError& e) {
+      throw ConfigError(std::string("egl_device: ") + e.what());
+    }
+  }
   auto gallery = load_checked_gallery(scenes_folder(s.config, s.data_dir));
   s.renderer = gallery->renderer;
   s.gallery = std::move(gallery);
