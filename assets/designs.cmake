@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
 # Built-in designed scenes: glass whose caustic forms a picture, designed at
 # build time by `causticd design` (docs/design.md). Nothing here is committed
 # but the recipes: the photographs come from Debian's python3-skimage

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Page-level latency benchmark (prints figures, asserts nothing): the time
 // from a light change in the viewer to the first displayed frame that shows
 // it, over N changes, in Debian's chromium against `causticd serve` on

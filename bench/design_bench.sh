@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
 # Figures of docs/design.md: designs benchmark targets with `causticd design`
 # (engine check and reference tracer) and prints one table row per run.
 # Usage: bench/design_bench.sh BUILD_DIR OUT_DIR TARGET_DIR

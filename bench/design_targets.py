@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: LGPL-2.1-or-later
 """Writes the designer's benchmark targets as 16-bit PGM files (no
 dependencies beyond Python): a logo on black (a ring, a five-pointed star
 and a bar, anti-aliased by 4x4 supersampling) and, given a silhouette PNG

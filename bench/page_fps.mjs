@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The viewer's frame rate in headless Debian chromium (software WebGL), as
 // requestAnimationFrame counts it, still and while the light is dragged
 // (a scripted light move every 100 ms, the path a drag takes), for each

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Gallery and viewer as a visitor sees them, on a laptop (1280x800) and a
 // phone (390x844, touch), from a real `causticd serve` on loopback. Writes
 // gallery-desktop.png, gallery-phone.png, viewer-<scene>-desktop.png,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Runs the session cycle of `causticd serve` many times against one server
 // and watches what the server keeps: create a session, signal and stream
 // until the viewer decoded frames, then end it (DELETE on odd cycles; on even

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Measures one streaming session end to end on this machine: sustained
 // decoded frame rate and the server's CPU use, then the time from a PATCH to
 // the first frame that carries the new version (as the viewer learns it on

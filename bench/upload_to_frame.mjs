@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Upload-to-first-frame benchmark (prints figures, asserts nothing): a
 // visitor's picture chosen on the gallery page's upload card, designed by
 // the server, opened in the viewer, until its first video frame is decoded;

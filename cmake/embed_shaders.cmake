@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
 # Writes a C++ source that holds every shader file as a string, so the binary
 # does not depend on where its data files are installed.
 # Inputs: OUTPUT (the .cpp to write), SHADERS (files separated by "|").

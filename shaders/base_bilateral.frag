@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Local tone mapping, step 2: a bilateral filter of the block log-means.
 // Neighbours more than ~1.5 stops away from the centre weigh little, so the
 // base follows the edge of a bright focus instead of blurring across it.

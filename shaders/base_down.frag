@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Local tone mapping, step 1: each output texel covers 8x8 HDR texels and
 // holds the mean log2 of its lit ones (r) and the fraction lit (g); unlit
 // blocks are skipped by the bilateral step.

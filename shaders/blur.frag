@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // One direction of a separable, normalised Gaussian blur.
 uniform sampler2D uSource;
 uniform ivec2 uStep;   // (1, 0) or (0, 1)

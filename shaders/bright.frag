@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Bright pass at 1/uShrink of the resolution per side: what lies above the
 // bloom threshold, averaged over the uShrink x uShrink full-resolution
 // texels under each output texel (the excess is thresholded per texel, so

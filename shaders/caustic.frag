@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Adds E times the exact fraction of this pixel that the triangle covers;
 // additive blending then sums overlapping (folded) sheets, as light does.
 flat in float gIrradiance;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Spreads each caustic-face triangle's flux over the screen pixels it
 // overlaps. The triangle carries the constant relative irradiance
 // E = flux / projected area (energy mode) or the report's area ratio; each

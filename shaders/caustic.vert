@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // One ray per caustic-face vertex: through the object (refraction at both
 // faces, or one reflection) to the screen plane. Outputs the hit in screen
 // coordinates and what the geometry shader needs for the triangle's flux.

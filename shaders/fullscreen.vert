@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // One triangle that covers the viewport; no vertex buffer needed.
 out vec2 vUv;
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Tone-mapped RGBA -> I420 (BT.601, limited range), all three planes in one
 // R8 target of width W and height 3H/2 whose rows are the buffer's memory
 // order: Y (W x H), then U and V ((W/2) x (H/2) each, chroma averaged over

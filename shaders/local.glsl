@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Local tone mapping (after Durand and Dorsey 2002): a pixel's value is
 // divided by a power of its neighbourhood's brightness, the "base": log2 of
 // the lit pixels, averaged over 8x8 blocks and smoothed by an edge-stopping

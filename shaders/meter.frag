@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Exposure metering, step 1 on the GPU: every uStride-th pixel across and
 // down (after the local operator's compression, when on) into a small float
 // image that the CPU bins (src/scene/exposure.cpp, with the same stride and

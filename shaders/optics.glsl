@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // GLSL twin of src/optics/include/caustic/optics.hpp (same conventions):
 // directions point the way light travels; eta = n_from / n_to; the normal
 // handed to refraction faces against the incident ray.

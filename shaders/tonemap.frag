@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // HDR relative irradiance plus bloom -> local compression (when on) ->
 // exposure -> gamma -> 8-bit grey. A preview's HDR image is smaller than the
 // output: it is upsampled here (bilinear); a full frame reads its texel

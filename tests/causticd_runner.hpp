@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Running the causticd binary from a test, as a user would: the exit status
 // and everything it printed, and a fresh scratch folder per test.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // causticsrc in a pipeline: frames at the configured size and rate, a patch
 // visible in the next frames with its version, each frame taking the newest
 // picture when it is due, and no rendering while the parameters stand still.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // `causticd render` as a user runs it: every built-in scene to EXR and PNG,
 // and every kind of bad input rejected with a message and a non-zero exit.
 #include "causticd_runner.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Server configuration: file, environment and values, each bad one named.
 #include "caustic/server/config.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // `causticd design` as a user runs it: a small design end to end (its scene
 // renders with `causticd render` as written), and every kind of bad target
 // or flag rejected with exit 2, a message naming the file or flag, and no

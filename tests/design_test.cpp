@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The caustic designer against oracles that do not trust it: closed-form
 // transport maps, the plano-hyperbolic lens, energy conservation, symmetry,
 // the paraxial scaling with the focus, and the solid's topology. Renders go

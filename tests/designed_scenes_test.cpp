@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The built-in designed scenes (assets/designs.cmake) as the build wrote
 // them: each scene loads with its mesh, and a fresh engine render of the
 // files on disk forms the target picture. The SSIM is recomputed here from

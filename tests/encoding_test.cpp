@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The pipeline files as the server uses them: each codec's RTP stream,
 // depayloaded and decoded again, matches the raw render (PSNR bound).
 #include "caustic/gst/causticsrc.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Energy bookkeeping over random poses (docs/physics.md ch. 5): the summed
 // screen flux equals the flux that enters the triangles that reach the
 // screen, computed independently in double precision on the CPU.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Automatic exposure and the local tone map (docs/physics.md, "Exposure").
 // Oracles: an evenly lit screen (a flat slab) lands at the metered level,
 // 255 (1 - exp(-knee))^(1/gamma) = 235 of 255, whatever its irradiance; the

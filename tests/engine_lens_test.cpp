@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The plano-convex lens against its exact rotationally symmetric ray map
 // (docs/physics.md ch. 7), traced here in 2D with scalar trigonometry so the
 // oracle shares nothing with the engine.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Post-processing against its definition (docs/scene-format.md, "post"):
 // the picture is 255 (1 - exp(-exposure (E + strength B)))^(1/gamma) with
 // B the Gaussian (sigma = bloom_radius output pixels, normalised) of the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The engine on scenes with closed-form answers (docs/physics.md ch. 7): the
 // flat slab, a point light through index-1 glass, and the render bookkeeping.
 #include "gl_test_support.hpp"

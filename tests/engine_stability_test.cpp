@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Where the per-vertex method meets its limits (docs/physics.md ch. 6):
 // each case has a defined outcome, never NaN/Inf and never a crash.
 #include "gl_test_support.hpp"

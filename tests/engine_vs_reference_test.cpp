@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The GL engine against the independent photon tracer on every built-in
 // scene at a fixed configuration (128x128 pixels, the scenes' 256x256-vertex
 // meshes, 16 M photons). The bounds are justified in docs/accuracy.md.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Fidelity "auto" judged where it is seen: for every shipped scene, the
 // configuration its calibration picks, rendered at the streamed size (the
 // scene's render size), against the full model at that size (no box filter,

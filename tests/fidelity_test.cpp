@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // render.fidelity "auto": the choice rule on hand-made calibrations, the
 // calibration file's checks, and the physics case: a far directional light
 // on a lens needs fewer vertices than a point light imaged on the screen,

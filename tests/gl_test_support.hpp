@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Shared set-up for tests that render: one headless GL context per test
 // process, scenes built in code, and image statistics.
 #pragma once

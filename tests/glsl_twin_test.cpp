@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // shaders/optics.glsl against src/optics: the same formulas exist once in
 // GLSL and once in C++; a compute shader evaluates the GLSL ones on random
 // cases and this holds them to the C++ ones.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // What the hardening tests share: sessions on a ServerProcess, bearer
 // headers, problem+json checks on raw answers and polling the session count.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The plano-convex lens's exact rotationally symmetric ray map (the
 // physics notes, ch. 7), traced in 2D with scalar trigonometry so that it
 // shares nothing with the renderers it judges.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // OBJ loading, normals, placement and geometry checks.
 #include "caustic/mesh.hpp"
 #include "caustic/surfaces.hpp"

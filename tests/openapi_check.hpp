@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Checks a JSON response against docs/openapi.json: the documented status,
 // content type and schema (type, required, properties, items, enum, $ref).
 #pragma once

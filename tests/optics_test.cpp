@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Optics primitives against hand-computed values (docs/physics.md ch. 2-4).
 #include "caustic/optics.hpp"
 

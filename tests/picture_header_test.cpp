@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The upload sniffer on its own: sizes read from real encoder output (not
 // from the sniffer's idea of the format), and headers cut or forged.
 #include "picture_header.hpp"

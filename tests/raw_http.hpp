@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Requests written byte for byte over loopback, for what an HTTP library
 // would refuse to send: broken heads, lying lengths, slow or idle clients.
 // Every wait is bounded.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The reference photon tracer against the analytic oracles, before it is
 // trusted to judge the engine.
 #include "caustic/optics.hpp"

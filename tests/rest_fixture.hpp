@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // What the REST tests share: a server per test, a session in it, and the
 // check that an error is an RFC 9457 problem document.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Scene JSON: defaults, round trip, merge patches, --set assignments and
 // every kind of bad input, each rejected with the offending key named.
 #include "caustic/param_store.hpp"

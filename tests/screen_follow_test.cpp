@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // screen.follow_light against geometry worked by hand: a 10 mm slab whose
 // flat face lies at z = 0, its middle on the z axis, the screen plane 50 mm
 // below. Turned by theta, parallel light lands d tan(theta) off the axis; a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Visitors' pictures over the API (POST /api/v1/designs): a picture becomes
 // a streamable scene whose caustic is the picture; bad uploads are refused
 // with problem+json and leave nothing behind; limits, tokens, restarts and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Regression tests for what an outsider could do to `causticd serve`: each
 // one failed against the server before its fix. Black-box over loopback.
 #include "hardening_support.hpp"

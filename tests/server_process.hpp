@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Starts `causticd serve` on a free loopback port for a test and talks HTTP
 // to it. Traffic stays on 127.0.0.1; every wait is bounded.
 #pragma once

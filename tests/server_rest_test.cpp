@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The REST API of `causticd serve`, black-box over loopback: every endpoint,
 // every documented error, and the parameters unchanged after each error.
 #include "openapi_check.hpp"

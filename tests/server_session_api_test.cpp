@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The session endpoints beyond the parameters: the picture a REST client
 // sees without WebRTC (frame.png, frame.exr), a null that resets to the
 // scene's own value, and parse errors that say where the body broke.

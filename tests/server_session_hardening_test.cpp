@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Hardening of sessions: how many an address may hold, a token to create
 // them, viewers that must show signs of life, and a viewer that reconnects.
 // Each failed against the server before its fix. Black-box over loopback.

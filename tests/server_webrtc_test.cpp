@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // End to end without a browser: a second webrtcbin, as the viewer, connects
 // over loopback through the real signalling WebSocket and decodes frames.
 #include "server_process.hpp"

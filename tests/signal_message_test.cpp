@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The signalling parser on its own: each message kind, and the inputs that
 // once reached a library precondition instead of an error.
 #include "signal_message.hpp"

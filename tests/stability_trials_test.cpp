@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Randomised stability trials (fixed seeds): poses, lights and indices that
 // include TIR, grazing incidence, a point light almost on the flat face, a
 // screen almost touching the object, indices from 1.0001 to 4, and

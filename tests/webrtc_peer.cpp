@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 #include "webrtc_peer.hpp"
 
 #define GST_USE_UNSTABLE_API

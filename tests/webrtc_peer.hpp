@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // A receiving WebRTC peer for tests: a webrtcbin pinned to 127.0.0.1 that
 // answers the server's offer over the real signalling WebSocket, decodes the
 // video and keeps the latest picture. Runs on the thread-default main loop.

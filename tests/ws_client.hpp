@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // A minimal WebSocket client over a raw socket, for frames a browser would
 // never send (fragments past the limits) and for peers that fall silent.
 #pragma once

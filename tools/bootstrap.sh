@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
 # Sets up a Debian 12 machine for causticd, builds it, then runs it or tests it.
 #   bash tools/bootstrap.sh run    # install what is missing, build, run the main job
 #   bash tools/bootstrap.sh test   # install what is missing, build, run every test

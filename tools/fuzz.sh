@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
 # Builds the libFuzzer targets of tests/fuzz (clang, ASan, UBSan) in
 # build-fuzz/ and runs each of them:
 #   tools/fuzz.sh [SECONDS]     # default 30 s per target; 3600 for a long run

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
 # Builds causticd with a sanitizer and runs the session-cycle bench
 # (bench/session_cycles.cpp) against it:
 #   tools/sanitize.sh asan [CYCLES]   # ASan + UBSan + LSan, default 1000 cycles

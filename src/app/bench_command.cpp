@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // `causticd bench`: the engine's frame time and its error against a
 // converged reference, over methods x mesh resolutions x render sizes, on a
 // few lens set-ups, and how the reference and the engine converge. Errors

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // `causticd calibrate`: measures every configuration fidelity "auto" may
 // choose for one scene against the reference tracer and writes the result
 // beside the scene file (S.json -> S.calibration.json), where `render`,

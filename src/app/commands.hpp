@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Subcommands of the causticd executable. Each registers itself on the CLI
 // and returns the exit status when it runs.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // `causticd design`: from a target picture to the freeform face, its scene,
 // optionally the millable solid, a JSON report and a side-by-side picture.
 // Every output is written under a temporary name and renamed only once all

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // causticd: renders caustics of refractive and reflective objects.
 #include "commands.hpp"
 

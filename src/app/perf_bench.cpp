@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // `causticd bench --perf`: what a frame costs as the mesh and the picture
 // grow: caustic pass, post-processing, and the two ways out of GL (RGBA
 // read-back, and I420 converted on the GPU then read back). Writes perf.csv

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // `causticd bench --perf`: frame costs as the mesh and the picture grow.
 #pragma once
 

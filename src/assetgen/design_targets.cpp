@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Draws the target pictures of the built-in designed scenes that the build
 // makes itself (no binary picture is committed): a logo (ring, star and bar)
 // and lines of text set in a TrueType font. Both are white on black, square,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Generates the meshes of the built-in scenes (assets/scenes/*.json) from
 // their analytic surfaces. Units are millimetres; every caustic face sits
 // below a flat face with outward normal +z.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Solves linear systems that are diagonal in the 2-D DCT-II basis (grid
 // Laplacians with Neumann boundaries and their relatives) with FFTW: one
 // forward DCT-II (REDFT10), a division by the eigenvalues, one DCT-III

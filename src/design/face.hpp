@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The freeform face as a mesh: resampling the warped transport grid onto a
 // regular lens grid, the triangle mesh with explicit normals, and the
 // watertight solid a workshop can mill.

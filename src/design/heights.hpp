@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // From a lens-to-screen correspondence to the heights of the freeform face:
 // paraxial heights in closed form from the transport potential, then exact
 // Snell slopes integrated by least squares (DCT solve), repeated until the

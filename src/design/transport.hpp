@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Grid optimal transport (G. Nader and G. Guennebaud, "Instant Transport Maps
 // on 2D Grids", ACM TOG 37(6), 2018), written from the paper: the uniform
 // light on the lens is carried onto the target masses of the n x n screen

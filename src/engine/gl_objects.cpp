@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 #include "gl_objects.hpp"
 
 #include "caustic/engine.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // RAII owners for OpenGL object names and a checked shader program. Every GL
 // object the engine creates is held by one of these, so an exception on the
 // way never leaks GPU memory.

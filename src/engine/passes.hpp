@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The two GPU passes behind Engine: the caustic ray pass into a float
 // target, and post-processing (bloom, tone mapping) into an 8-bit target.
 #pragma once

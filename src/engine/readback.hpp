@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Asynchronous read-back of the tone-mapped picture through two pixel
 // buffer objects: start() queues the copy and returns; poll() hands the
 // picture over once its fence has signalled, so a streaming thread never

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Shader files from shaders/, embedded into the binary at build time.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // When causticsrc's frames leave. GstBaseSrc asks a live source for its next
 // frame as soon as the previous one left, a whole interval before it is due,
 // and then holds it until then; waiting here first lets the frame take the

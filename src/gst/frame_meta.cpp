@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/gst/frame_meta.hpp"
 
 GType caustic_frame_meta_api_get_type() {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 #include "frame_source.hpp"
 
 #include "caustic/gst/frame_meta.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The render thread behind causticsrc: it owns the GL context and draws
 // (produce_frame) whenever the parameters call for it, while the streaming
 // thread only picks up the newest finished picture, so a slow render never

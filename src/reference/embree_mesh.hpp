@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The caustic face in Embree 3: one device and one committed scene,
 // intersected with interpolated vertex normals.
 #pragma once

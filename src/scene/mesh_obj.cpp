@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // OBJ reading and writing for the caustic face, with the validation every
 // consumer of a Mesh relies on.
 #include "caustic/mesh.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Where the object sits in the world, and the scene checks that need both the
 // scene and the mesh.
 #include "caustic/mesh.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // JSON <-> Scene with strict validation: every value is checked for type,
 // finiteness and range, and the message names the key, so that a REST client
 // or a scene author sees exactly what to fix.

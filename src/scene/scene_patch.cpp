@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Changing a scene: RFC 7396 merge patches (a null restoring the scene's own
 // value) and the CLI's key.path=value assignments. The result goes through
 // scene_from_json, so a patch is validated like a whole scene.

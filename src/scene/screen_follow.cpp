@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/screen_follow.hpp"
 
 #include <glm/glm.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/server/config.hpp"
 
 #include "caustic/json_text.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // POST /api/v1/designs (a picture in, a design job out), GET and DELETE
 // /api/v1/designs/{id}: docs/api.md. Everything a picture can be refused
 // for is decided here, before it reaches the queue: who may upload, how

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Design jobs through the designer library (src/design): built only when
 // CAUSTICD_WITH_DESIGN is on; design_backend_off.cpp stands in otherwise.
 #include "design_files.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The files of a design's folder: small helpers for reading and replacing
 // them whole, and what of its report a visitor may see.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Visitors' pictures turned into glass: uploads wait in a bounded queue, a
 // worker thread of low priority designs them one at a time (so that the
 // streams keep their cores), and each finished design becomes a scene that

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // GET /api/v1/sessions/{id}/frame.png and frame.exr: what the session shows,
 // for a REST client without WebRTC. The picture lives on the session's
 // render thread (the GL context is there), so the request is paused, the

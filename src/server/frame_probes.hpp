@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Pad probes on a session pipeline: encode time and frames sent (metrics),
 // and, per RTP timestamp, the parameter version its frame shows.
 #pragma once

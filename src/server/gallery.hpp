@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The scenes a server offers: parsed scene files with their meshes, a
 // rendered thumbnail each, and the proxy geometry a browser may draw.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 #include "guard_stream.hpp"
 
 #include "request_head.hpp"

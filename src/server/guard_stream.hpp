@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The stream the HTTP library reads a connection through. It holds the
 // socket connection and closes it when the library closes the stream (so a
 // descriptor never outlives its connection), and on a WebSocket connection

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The REST API of docs/api.md (openapi.yaml).
 #include "caustic/json_text.hpp"
 #include "caustic/scene_warnings.hpp"

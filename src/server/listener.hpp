@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The server's own accept path in front of the HTTP library. The library's
 // listener gives up for good after one failed accept (descriptor
 // exhaustion), has a backlog of 10, no limit on connections and no timeout

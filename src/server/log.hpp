@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // One line per event on stderr, with the syslog priority prefix journald
 // understands (<3> error .. <7> debug).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Counters and histograms for GET /metrics (Prometheus text format 0.0.4).
 // Updated from streaming threads and the main loop alike.
 #pragma once

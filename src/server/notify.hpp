@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The systemd service protocol (sd_notify): readiness, reloading, stopping,
 // status text and watchdog pings. Every call is a no-op when the process was
 // not started with NOTIFY_SOCKET, so a plain `causticd serve` works alike.

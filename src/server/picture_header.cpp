@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 #include "picture_header.hpp"
 
 #include <cstring>

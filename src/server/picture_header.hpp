@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The format and size of an uploaded picture, read from its first bytes
 // before anything decodes it: a format outside the short list, or a header
 // that claims more pixels than the server takes, is refused on the request

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Token buckets per client address: each request that changes something
 // takes a token, tokens come back at `rate` a second up to `burst`. A drag
 // in the viewer sends a PATCH per animation frame (30-60 a second), so the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The head of an HTTP/1.x request, checked before the HTTP library sees a
 // byte of it. The library answers broken requests with empty bodies, reads
 // whole bodies before a handler can refuse them, takes "+5" or "5, 5" as a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // What the HTTP handlers share; lives on the main loop's thread.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // One viewer's stream: a pipeline (causticsrc -> encoder -> payloader ->
 // webrtcbin) with its own parameters, and the signalling that connects it to
 // the viewer's browser. Lives on the GLib main loop's thread; GStreamer

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // What a viewer may say on the signalling WebSocket, parsed apart from the
 // session so that the parser can be tested and fuzzed on its own.
 #pragma once

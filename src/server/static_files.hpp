@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Files from web/, and nothing else: no "..", no encoded escapes, no
 // symbolic links, no hidden files.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Debian's chromium as the tests and benchmarks drive it: headless, no
 // sandbox (containers), software GL, WebRTC allowed over loopback without
 // mDNS-hidden addresses, nothing fetched from the network.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // What the browser tests share: a real `causticd serve` on 127.0.0.1 (ICE
 // pinned to loopback, a small stream, designs in a folder of the test's
 // own) and bounded polling of the page.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The viewer on a phone (390x844, touch, Playwright's emulation in Debian's
 // chromium), a shared link, and the honest states: the loading steps and a
 // console without errors through a codec switch and a reconnect. Every wait

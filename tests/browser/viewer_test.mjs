@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The browser client in Debian's chromium, driven by playwright-core, against
 // a real `causticd serve` on 127.0.0.1 (ICE pinned to loopback). Every wait
 // is bounded.

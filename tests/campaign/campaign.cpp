@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Fault campaign against a running causticd: attacks it over loopback as an
 // outsider would and fails on any crash, 5xx (other than 503 load shedding),
 // error that is not problem+json, state change by a refused request, or

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Rules and JSON helpers shared by the two halves of the case generator.
 #pragma once
 

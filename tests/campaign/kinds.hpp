@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The fault kinds of the campaign and what they share.
 #pragma once
 

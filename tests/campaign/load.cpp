@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Kinds "keepalive" (descriptors a server keeps for clients that asked for
 // keep-alive and left) and "flood" (many concurrent clients).
 #include <atomic>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Kind "malformed": generated bad requests over every endpoint, the
 // contract's one-off rules, and bad signalling messages.
 #include <cmath>

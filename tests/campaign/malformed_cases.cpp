@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The generator's core and the framing faults: methods, request lines,
 // headers and body lengths.
 #include "case_rules.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Generator of hostile HTTP requests against every endpoint (the
 // "malformed" kind). Deterministic for a seed.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The content faults: bodies, tokens, parameter values, static paths and
 // WebSocket handshakes.
 #include "case_rules.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Raw loopback HTTP/1.1 and WebSocket client for the fault campaign. It is
 // written on bare POSIX sockets so that it can send bytes no HTTP library
 // would produce; every call takes a deadline so no step can hang the run.

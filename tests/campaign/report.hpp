@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Outcome counts, figures and pass/fail checks of the campaign, per kind.
 #pragma once
 

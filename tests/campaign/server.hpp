@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Starts the causticd under test with a generated config file and watches
 // the process: whether it lives, how many descriptors and threads it holds.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Kind "sessions": lifecycle faults, each bounded, and whether the server
 // reclaims what every one of them leaves behind.
 #include <cmath>

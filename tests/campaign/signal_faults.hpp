@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Bad messages on a session's signalling WebSocket (part of "malformed").
 #pragma once
 

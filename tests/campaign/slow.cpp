@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Kind "slow": idle, slow-loris and slow-body connections, while a probe
 // measures how fast the server still answers an honest client.
 #include <poll.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // load_config_file on any file: a ConfigError leaves the configuration as
 // it was; a file that is taken yields settings inside the documented ranges
 // (docs/configuration.md), whatever the text looked like.

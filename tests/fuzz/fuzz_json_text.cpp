@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // parse_json_text is the gate for every JSON text from outside, so beyond
 // "does not crash" it must keep its promises: accepted text nests no deeper
 // than asked, re-parses from its own dump to the same value, and an error

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // load_obj reads the caustic face through tinyobjloader (compiled into this
 // target, so it is instrumented too). Small limits keep a hostile file from
 // passing for a memory problem of the fuzzer's own.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // apply_merge_patch is what PATCH /sessions/{id}/params runs on a live
 // scene. A patch may be refused (SceneError); one that is taken must leave a
 // scene a renderer can use: valid, and with no NaN or Inf anywhere.

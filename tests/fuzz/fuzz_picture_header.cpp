@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // read_picture_header sees the first bytes of every uploaded picture before
 // anything decodes it. Whatever comes in, it reads only what it was given
 // (ASan), and a size comes only with a known format, both sides non-zero.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // scan_request_head decides on raw connection bytes before the HTTP library
 // sees them, and WebSocketGuard on raw frame bytes; both get the same input.
 // Beyond "does not crash" they must not depend on how the bytes arrive:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // scene_from_json on any JSON value: a SceneError is the expected answer to
 // bad input; any other exception escapes and crashes the run. An accepted
 // scene must survive what the server does next with it: validation, and a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // parse_signal_message sees every WebSocket text a viewer sends. Whatever
 // comes in, the answer is one of the four kinds, and each keeps its promise:
 // an answer holds SDP, a candidate is printable ASCII with an m-line index

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // resolve_static maps a URL path (still percent-encoded) to a file under
 // web/. The fuzzer gets a small web root with the traps a real one can hold:
 // hidden files and folders, a folder without index.html, symbolic links to

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Shared by the fuzz targets: an in-memory file for parsers that take a
 // path, and a check that turns a broken invariant into a crash libFuzzer
 // records (an exception would only be one more input that "failed").

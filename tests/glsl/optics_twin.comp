@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Evaluates shaders/optics.glsl on a batch of cases for glsl_twin_test.
 layout(local_size_x = 64) in;
 

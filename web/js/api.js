@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The REST API: sessions and coalesced parameter patches.
 
 export class ServerFull extends Error {}

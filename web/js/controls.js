@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The viewer's control modes as a state machine (the report's design): at
 // any time exactly one of none, light translation, object translation and
 // object rotation is active, and only its gizmo and helpers are visible.

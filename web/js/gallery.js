@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The home page: the upload card, then one card per scene from
 // GET /api/v1/scenes, designed objects first and the optics classics below;
 // a card opens the viewer, which starts the session.

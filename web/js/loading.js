@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The steps between opening the page (or losing the stream) and the first
 // frame, each with the seconds it took, so a slow start says where it is
 // rather than only "connecting".

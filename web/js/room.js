@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // What makes the glass read as glass: an environment to reflect (three.js's
 // RoomEnvironment, generated in the page), a tiled table and plastered walls
 // (canvas textures drawn here, nothing fetched), soft shadows, and a glass

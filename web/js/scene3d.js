@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The room the viewer draws around the streamed caustic: floor, screen, the
 // light, a plain slab standing in for the object (never the real mesh), and
 // the lightmap plane that carries the video with additive blending.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The address as a shareable link: ?scene=ID&codec=C&p=PARAMS&view=CAMERA.
 // `p` holds only what the visitor changed (a merge patch against the
 // scene's own values, numbers to five digits), `view` the camera and what

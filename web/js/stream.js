@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The WebRTC side: signalling over the session's WebSocket, the video, and
 // the "frames" data channel that says which parameter version each RTP
 // timestamp shows.

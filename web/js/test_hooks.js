@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // What scripts (the browser tests, benchmarks) may do to the viewer, on
 // window.caustic beside the state the page keeps: each hook takes the same
 // path as the control it stands for, so a test of the hook tests the page.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The gallery's "upload your picture" card: the picture goes to
 // POST /api/v1/designs, its progress is polled, and the finished design
 // opens in the viewer like any other scene.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The viewer: starts a session for ?scene=ID&codec=vp8|h264, shows the
 // streamed caustic on the lightmap plane, and turns the controls into
 // coalesced parameter patches.

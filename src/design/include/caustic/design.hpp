@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The caustic designer: from a target picture to the freeform face of a
 // refractive slab (flat face toward a collimated light at normal incidence)
 // that throws that picture on a parallel screen at the focus distance.

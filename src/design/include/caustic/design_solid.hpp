@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The solid a workshop mills: the designed face closed by side walls and the
 // flat face into one watertight slab.
 #pragma once

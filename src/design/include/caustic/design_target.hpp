@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Target pictures for the designer: reading any image OpenImageIO opens as
 // linear luminance, and box resampling onto the design grid.
 #pragma once

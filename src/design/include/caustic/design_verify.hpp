@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Checking a design the way a user would see it: the scene that renders it,
 // and the engine's (or the reference tracer's) caustic against the target.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The caustic engine: renders a scene's relative irradiance on the screen
 // rectangle with one ray per caustic-face vertex (docs/physics.md), then
 // bloom and tone mapping. Needs a current OpenGL 4.5 core context (GlContext

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // A headless OpenGL 4.5 core context through EGL, with no display server.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Measures, for one scene, every configuration fidelity "auto" may choose:
 // the engine's error against the reference tracer (full physics: Fresnel
 // on, exact point-light entry, the mesh as loaded) and its frame time.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // render.fidelity "auto": from a calibration (each cheaper configuration's
 // measured error against the reference tracer on one scene), choose the
 // cheapest configuration that meets the scene's accuracy target.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Writing and reading renders: EXR for HDR relative irradiance, PNG for the
 // tone-mapped picture (OpenImageIO).
 #pragma once

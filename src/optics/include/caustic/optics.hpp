@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Geometric-optics primitives shared by the CPU side of the appliance: the
 // reference tracer, tests and scene validation. The GLSL twins live in
 // shaders/optics.glsl; tests hold both against docs/physics.md.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The per-vertex ray method of the engine (docs/physics.md ch. 4-5) in
 // double precision on the CPU: the twin of shaders/caustic.vert and
 // caustic.geom. Tests hold the GPU renders against it (flux bookkeeping,

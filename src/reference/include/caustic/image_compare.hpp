@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // How far a rendered irradiance image is from a reference: the measures the
 // accuracy work quotes (docs/accuracy.md), in one place.
 #pragma once

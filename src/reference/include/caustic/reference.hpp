@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The reference renderer: an independent CPU photon tracer on the exact
 // geometry (the caustic face with interpolated normals, through Embree, and
 // the flat face as a plane). It shares only the scene loader and the optics

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Resamples a caustic face on a regular grid: the same surface at another
 // vertex count, for comparing mesh resolutions (and for coarser levels of
 // detail) without moving the focus, as a decimation would.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Automatic exposure. The metering statistic is a quantile of the lit pixels'
 // relative irradiance, taken from a histogram in log2 space so that the GPU
 // (shaders/meter.comp) and the CPU (tests, calibration) bin alike: the same

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The two picture types every layer exchanges. They live below the engine so
 // that the reference tracer, image files and the designer use them without
 // linking OpenGL.

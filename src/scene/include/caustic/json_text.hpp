@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Every JSON text that comes from outside (request bodies, signalling
 // messages, scene and calibration files) is parsed here, never with
 // json::parse directly, because the library's own parser has three traits

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The caustic face of an object: an indexed triangle mesh with one normal per
 // vertex, and where it sits in the world.
 #pragma once

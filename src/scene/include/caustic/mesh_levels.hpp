@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // A caustic face at several vertex counts: the mesh as loaded plus the same
 // surface resampled on coarser regular grids (built by build_mesh_levels in
 // caustic/resample.hpp), so a cheaper level keeps the focus where the full

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The live parameters of one session: the only state that the HTTP side and
 // a renderer share. Writers replace the whole scene under a mutex and bump a
 // version; a renderer compares versions (one atomic load) and copies the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The scene a caustic render models: the object (its flat face, material and
 // pose), the light, the screen rectangle, and the render and post-processing
 // settings. docs/scene-format.md documents every key of the JSON form.

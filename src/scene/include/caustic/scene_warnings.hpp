@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Settings that are valid but show a visitor little or nothing: the light
 // travels away from the screen, or misses it. They are judged on the public
 // proxy only (the object's bounding slab, as a flat slab or a flat mirror),

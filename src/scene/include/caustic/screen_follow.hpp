@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The screen rectangle that follows the light (screen.follow_light): a turned
 // light moves the caustic across the screen plane, and a fixed rectangle
 // would lose it. The plane stays where the scene put it (through

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Analytic caustic faces for the built-in scenes and for tests: height fields
 // z = h(x, y) below a flat face whose outward normal is +z. Light that enters
 // the flat face travels toward -z and leaves through the height field.

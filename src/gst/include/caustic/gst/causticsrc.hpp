@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // The `causticsrc` GStreamer element: a live source of rendered caustics.
 // See causticsrc.cpp for its documentation and an example launch line.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // CausticFrameMeta: which parameter version (and which fidelity level) a
 // buffer's picture shows, so every later stage can tell which change a frame
 // reflects.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Settings of `causticd serve`: a config file of `key = value` lines,
 // overridden by CAUSTICD_* environment variables, overridden by flags.
 // docs/configuration.md lists every key.

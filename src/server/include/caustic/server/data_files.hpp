@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // Where the installed data lives (pipelines/, web/, assets/), and the
 // pipeline templates in it.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // `causticd serve`: the HTTP API, WebSocket signalling, static web files and
 // one streaming pipeline per session, on the calling thread's GLib main loop.
 #pragma once
