@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // `cmake --install` into a temporary prefix: the installed binary finds its
 // data under that prefix and serves the gallery; the installed systemd units
 // pass `systemd-analyze verify`, and their exposure score is printed.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // causticd as a systemd service, tested as a plain process: sd_notify
 // readiness and watchdog on a test NOTIFY_SOCKET, SIGTERM with open
 // sessions, SIGHUP reloading the gallery under a running session, and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 // `causticd serve` and `causticd check-config`: the streaming server and the
 // check of its configuration (docs/configuration.md, docs/operations.md).
 #include "commands.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/gl_context.hpp"
 
 #define EGL_EGLEXT_PROTOTYPES 0
