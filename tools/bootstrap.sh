@@ -17,7 +17,9 @@ case "$mode" in
     ;;
 esac
 
-# Every Debian package the build, the tests and the headless renderer need.
+# Every Debian package the build, the tests and the headless renderer need
+# (the last lines: the plugin test's gst-inspect-1.0 and gst-launch-1.0, the
+# Debian package and lintian, and the real-systemd test's container).
 packages=(
   g++ make cmake pkg-config
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
@@ -31,6 +33,9 @@ packages=(
   clang libclang-rt-14-dev
   chromium
   fonts-dejavu-core
+  gstreamer1.0-tools
+  dpkg-dev file lintian
+  systemd-container debootstrap curl
 )
 # Node.js and npm vendor three.js and run the browser tests. A machine that
 # already has them (for example from another repository) keeps its own.

@@ -23,7 +23,13 @@
  * |[
  * causticsrc scene=... width=1024 height=1024 ! video/x-raw,format=I420 ! vp8enc ! ...
  * ]|
- * (inside causticd, which registers the element as a static plugin).
+ * Outside causticd the element comes from the plugin file libgstcaustic.so
+ * (installed in GStreamer's plugin folder, or found through GST_PLUGIN_PATH);
+ * this launch line writes two seconds of VP8:
+ * |[
+ * gst-launch-1.0 causticsrc scene=/usr/share/causticd/assets/scenes/lens.json num-buffers=60 ! video/x-raw,format=I420 ! vp8enc ! webmmux ! filesink location=out.webm
+ * ]|
+ * causticd registers the same element as a static plugin of its own.
  */
 #include "caustic/gst/causticsrc.hpp"
 
@@ -363,14 +369,15 @@ static void gst_caustic_src_init(GstCausticSrc* self) {
 
 namespace caustic::gst {
 
-static gboolean plugin_init(GstPlugin* plugin) {
+bool register_element(GstPlugin* plugin) {
   return gst_element_register(plugin, "causticsrc", GST_RANK_NONE, gst_caustic_src_get_type());
 }
 
 bool register_elements() {
-  static const bool ok = gst_plugin_register_static(GST_VERSION_MAJOR, GST_VERSION_MINOR, "caustic",
-                                                    "Caustic rendering", plugin_init, CAUSTICD_VERSION, "LGPL",
-                                                    "causticd", "causticd", "https://localhost/causticd");
+  static const bool ok = gst_plugin_register_static(
+      GST_VERSION_MAJOR, GST_VERSION_MINOR, "caustic", "Caustic rendering",
+      [](GstPlugin* plugin) -> gboolean { return register_element(plugin); }, CAUSTICD_VERSION, "LGPL", "causticd",
+      "causticd", "https://localhost.localdomain/causticd");
   return ok;
 }
 

@@ -18,7 +18,13 @@ namespace caustic::gst {
 
 /// Registers the elements of this project (causticsrc) as a static plugin
 /// named "caustic". Safe to call more than once; needs gst_init first.
+/// causticd does this; other programs load the same element from the
+/// plugin file libgstcaustic.so (plugin.cpp) in GStreamer's plugin folder.
 bool register_elements();
+
+/// Adds causticsrc to `plugin`: the one init of the static plugin and of
+/// the plugin file.
+bool register_element(GstPlugin* plugin);
 
 /// Gives a causticsrc the parameters and the meshes it renders, instead of
 /// its `scene` property; each frame draws the level its scene's

@@ -1,0 +1,206 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# causticd under a real systemd: a minimal Debian 12 booted with
+# systemd-nspawn, the package installed with apt (which pulls every run-time
+# dependency from Debian), then what an operator relies on: readiness,
+# reload, watchdog, restarts, a configuration error that does not loop, stop
+# with a session open, two template instances, enable + reboot, the
+# security rating, and purge. Exits 77 (skipped) only where systemd-nspawn
+# cannot run at all.
+#   real_systemd_test.sh PACKAGE.deb
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+source "$here/container.sh"
+
+deb="${1:?usage: real_systemd_test.sh PACKAGE.deb}"
+[[ -f "$deb" ]] || fail "no package at $deb"
+[[ $(id -u) -eq 0 ]] || skip "systemd-nspawn needs root"
+command -v systemd-nspawn >/dev/null || skip "systemd-nspawn is not installed (Debian package systemd-container)"
+command -v debootstrap >/dev/null || skip "debootstrap is not installed"
+command -v curl >/dev/null || fail "curl is needed"
+
+trap cleanup EXIT
+prepare_base
+make_overlay
+# Can a container run here at all (namespaces, cgroups)? If not, skip.
+if ! out="$(in_root /bin/true 2>&1)"; then skip "systemd-nspawn cannot run here: $out"; fi
+
+# --- the package, with apt, in the minimal root -------------------------
+grep -q '^render:' "$work/root/etc/group" && fail "the minimal root already has a render group: item 1 untested"
+cp "$deb" "$work/root/var/tmp/" # the container's /tmp is a tmpfs of its own
+note "apt-get install ./$(basename "$deb") (dependencies from Debian)"
+in_root sh -c "apt-get update -q >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends /var/tmp/$(basename "$deb")" \
+  >"$work/apt.log" 2>&1 || fail "apt-get install failed: $(tail -20 "$work/apt.log")"
+rm -f "$work/root/var/tmp/$(basename "$deb")"
+grep -q '^render:' "$work/root/etc/group" || fail "the package did not create the render group (sysusers.d)"
+
+boot
+note "booted: systemd $(c systemctl --version | head -1 | cut -d' ' -f2)"
+
+prop() { c systemctl show -P "$2" "$1"; }
+status() { on_net curl -s -o /dev/null -w '%{http_code}' --max-time "${3:-5}" "http://127.0.0.1:$1$2" || true; }
+wait_for() { # wait_for SECONDS DESCRIPTION COMMAND...
+  local seconds="$1" what="$2"
+  shift 2
+  for _ in $(seq 1 $((seconds * 10))); do
+    "$@" && return 0
+    sleep 0.1
+  done
+  fail "$what (after $seconds s)"
+}
+active() { [[ "$(prop "$1" ActiveState)" == active ]]; }
+serving() { [[ "$(status "$1" /api/v1/health)" == 200 ]]; }
+journal() { c journalctl -q --no-pager -o cat -u "$1" "${@:2}"; }
+
+# --- start: active only after READY=1 -----------------------------------
+note "start: activating until READY=1, then serving"
+c systemctl start --no-block causticd.service
+saw_activating=0
+for _ in $(seq 1 1800); do
+  state="$(prop causticd.service ActiveState)"
+  [[ "$state" == activating ]] && saw_activating=1
+  [[ "$state" == active ]] && break
+  [[ "$state" == failed ]] && fail "causticd failed to start: $(journal causticd.service | tail -20)"
+  sleep 0.1
+done
+[[ "$state" == active ]] || fail "causticd is not active after 180 s"
+((saw_activating)) || fail "causticd was never seen activating: readiness is not waited for"
+# Active means ready: the HTTP server answers at once, the gallery is there.
+[[ "$(status 8080 /api/v1/health)" == 200 ]] || fail "active, but /api/v1/health does not answer 200"
+[[ "$(status 8080 /)" == 200 ]] || fail "active, but the gallery page does not answer 200"
+scenes="$(on_net curl -s --max-time 5 http://127.0.0.1:8080/api/v1/scenes | grep -o '"id"' | wc -l)"
+((scenes >= 4)) || fail "the gallery lists $scenes scenes"
+note "serving $scenes scenes; status: $(prop causticd.service StatusText)"
+# Item 6: a home for the dynamic user; GStreamer keeps its registry.
+journal causticd.service | grep -i "home director" && fail "GLib still warns about the home directory"
+c sh -c 'ls /var/cache/private/causticd/gstreamer-1.0/registry.*.bin' >/dev/null ||
+  fail "no GStreamer registry in the cache directory"
+
+# --- reload: same main PID, HTTP answered throughout ----------------------
+note "reload: the main PID stays and HTTP answers throughout"
+pid="$(prop causticd.service MainPID)"
+probes="$work/reload-probes.txt"
+(
+  for _ in $(seq 1 600); do
+    on_net curl -s -o /dev/null -w '%{http_code} %{time_total}\n' --max-time 5 http://127.0.0.1:8080/api/v1/health || echo "000 5"
+    [[ -f "$work/reload-done" ]] && break
+    sleep 0.05
+  done
+) >"$probes" &
+probe_loop=$!
+sleep 0.3
+c systemctl reload causticd.service
+sleep 0.3
+touch "$work/reload-done"
+wait "$probe_loop"
+[[ "$(prop causticd.service MainPID)" == "$pid" ]] || fail "reload changed the main PID"
+active causticd.service || fail "not active after the reload"
+journal causticd.service | grep -q "gallery reloaded" || fail "the journal does not say the gallery was reloaded"
+count="$(wc -l <"$probes")"
+bad="$(awk '$1 != 200' "$probes" | wc -l)"
+max_ms="$(awk '{ ms = $2 * 1000; if (ms > m) m = ms } END { printf "%.0f", m }' "$probes")"
+over_100="$(awk '$2 > 0.1' "$probes" | wc -l)"
+note "reload: $count health probes, $bad failed, slowest ${max_ms} ms, $over_100 over 100 ms"
+((count >= 5 && bad == 0)) || fail "health probes failed during the reload: $(cat "$probes")"
+# The main loop never blocks: a render of thumbnails on it stalled requests
+# for seconds. Bounded at 1 s so that a loaded machine passes; the 100 ms
+# figure above is what docs/operations.md reports.
+((max_ms < 1000)) || fail "a request waited ${max_ms} ms during the reload"
+
+# --- watchdog: SIGSTOP gets the service restarted --------------------------
+note "watchdog: a stopped process is restarted (WatchdogSec=3 drop-in)"
+c mkdir -p /run/systemd/system/causticd.service.d
+printf '[Service]\nWatchdogSec=3\n' | c tee /run/systemd/system/causticd.service.d/watchdog.conf >/dev/null
+c systemctl daemon-reload
+c systemctl restart causticd.service
+pid="$(prop causticd.service MainPID)"
+restarts="$(prop causticd.service NRestarts)"
+c kill -STOP "$pid"
+wait_for 120 "no restart after SIGSTOP" sh -c "[ \"\$(nsenter -t $init_pid -a systemctl show -P MainPID causticd.service)\" != $pid ] && [ \"\$(nsenter -t $init_pid -a systemctl show -P ActiveState causticd.service)\" = active ]"
+journal causticd.service | grep -qi "watchdog timeout" || fail "the journal does not name the watchdog"
+(($(prop causticd.service NRestarts) > restarts)) || fail "NRestarts did not grow"
+c rm -f /run/systemd/system/causticd.service.d/watchdog.conf
+c systemctl daemon-reload
+c systemctl restart causticd.service
+
+# --- kill -9: restarted ----------------------------------------------------
+note "kill -9: restarted"
+pid="$(prop causticd.service MainPID)"
+c kill -KILL "$pid"
+wait_for 120 "no restart after kill -9" sh -c "[ \"\$(nsenter -t $init_pid -a systemctl show -P MainPID causticd.service)\" != $pid ] && [ \"\$(nsenter -t $init_pid -a systemctl show -P ActiveState causticd.service)\" = active ]"
+wait_for 30 "not serving after the restart" serving 8080
+
+# --- a configuration error: failed once, no restart loop -------------------
+note "configuration error: exit 2, failed, not restarted"
+c cp /etc/causticd/causticd.conf /etc/causticd/causticd.conf.good
+echo "colour = red" | c tee -a /etc/causticd/causticd.conf >/dev/null
+c systemctl reset-failed causticd.service
+restarts="$(prop causticd.service NRestarts)"
+c systemctl restart causticd.service && fail "a broken configuration started"
+sleep 6 # three RestartSec= periods: a loop would have restarted by now
+[[ "$(prop causticd.service ActiveState)" == failed ]] || fail "not failed: $(prop causticd.service ActiveState)"
+[[ "$(prop causticd.service ExecMainStatus)" == 2 ]] || fail "exit status $(prop causticd.service ExecMainStatus), not 2"
+[[ "$(prop causticd.service NRestarts)" == "$restarts" ]] || fail "a configuration error was restarted"
+journal causticd.service | grep -q "colour" || fail "the journal does not name the bad key"
+c mv /etc/causticd/causticd.conf.good /etc/causticd/causticd.conf
+c systemctl reset-failed causticd.service
+c systemctl start causticd.service
+
+# --- stop with a session open ----------------------------------------------
+note "stop with a session open"
+created="$(on_net curl -s -w '\n%{http_code}' --max-time 30 -X POST -H 'Content-Type: application/json' \
+  -d '{"scene":"lens","codec":"vp8"}' http://127.0.0.1:8080/api/v1/sessions)"
+[[ "$(tail -1 <<<"$created")" == 201 ]] || fail "creating a session answered $created"
+session="$(head -1 <<<"$created" | sed -n 's/.*"id":"\([0-9a-f]*\)".*/\1/p')"
+[[ -n "$session" ]] || fail "no session id in $created"
+# Item: logs operators can filter. The session's events carry journald
+# fields, with systemd's priorities.
+event="$(c journalctl -q --no-pager -o verbose CAUSTICD_SESSION="$session")"
+for field in "MESSAGE=session $session started: scene lens, vp8" "CAUSTICD_SCENE=lens" "CAUSTICD_CODEC=vp8" "CAUSTICD_PEER=127.0.0.1" "PRIORITY=6" "SYSLOG_IDENTIFIER=causticd"; do
+  grep -q "^ *$field\$" <<<"$event" || fail "the session's start event lacks $field: $event"
+done
+# No library writes raw warnings past the server's log.
+raw="$(journal causticd.service _TRANSPORT=stdout | grep -E 'WARNING|CRITICAL|\*\*' || true)"
+[[ -z "$raw" ]] || fail "raw library messages in the journal: $raw"
+t0=$(date +%s%N)
+c systemctl stop causticd.service
+stop_ms=$((($(date +%s%N) - t0) / 1000000))
+note "stopped in $stop_ms ms"
+[[ "$(prop causticd.service Result)" == success ]] || fail "stop result $(prop causticd.service Result)"
+((stop_ms < 2000)) || fail "stopping with a session open took $stop_ms ms"
+
+# --- two template instances side by side -------------------------------------
+note "two instances: causticd@8081 and causticd@8082"
+c systemctl start causticd@8081.service causticd@8082.service
+serving 8081 || fail "causticd@8081 does not serve"
+serving 8082 || fail "causticd@8082 does not serve"
+[[ "$(prop causticd@8081.service MainPID)" != "$(prop causticd@8082.service MainPID)" ]] || fail "one process for two instances"
+c systemctl stop causticd@8081.service causticd@8082.service
+
+# --- the security rating, online ---------------------------------------------
+c systemctl start causticd.service
+exposure="$(c systemd-analyze security --no-pager causticd.service | sed -n 's/.*Overall exposure level for causticd.service: \([0-9.]*\).*/\1/p')"
+note "systemd-analyze security (online): $exposure"
+[[ -n "$exposure" ]] || fail "systemd-analyze security gave no rating"
+awk -v e="$exposure" 'BEGIN { exit !(e < 2.0) }' || fail "exposure $exposure"
+
+# --- enable, reboot: it comes back -------------------------------------------
+note "enable + reboot"
+c systemctl enable causticd.service 2>/dev/null
+c systemctl reboot || true
+wait_down
+boot
+wait_for 180 "causticd is not active after the reboot" active causticd.service
+wait_for 30 "not serving after the reboot" serving 8080
+
+# --- purge: nothing left behind -----------------------------------------------
+note "apt-get purge"
+c sh -c "DEBIAN_FRONTEND=noninteractive apt-get purge -y -q causticd" >"$work/purge.log" 2>&1 ||
+  fail "apt-get purge failed: $(tail -20 "$work/purge.log")"
+active causticd.service && fail "still running after purge"
+c systemctl poweroff || true
+wait_down
+left="$(cd "$work/root" && find . -xdev \( -path ./proc -o -path ./sys -o -path ./run -o -path ./var/log/journal \) -prune -o \
+  -iname '*causticd*' -print | grep -v '^./var/lib/dpkg/' || true)"
+[[ -z "$left" ]] || fail "purge left behind: $left"
+note "PASS"
