@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <functional>
 #include <fstream>
+#include <regex>
+#include <sstream>
 
 using caustic::testing::http;
 using caustic::testing::ServerProcess;
@@ -291,4 +293,34 @@ TEST(Serve, AGpuThatIsNotThereIsAConfigurationErrorThatNamesIt) {
     EXPECT_NE(output.find("egl_device: GPU 9 not found"), std::string::npos) << output;
     EXPECT_EQ(output.find("no usable scene"), std::string::npos) << output;
   }
+}
+
+TEST(Logs, SessionEventsNameTheSessionSceneCodecAndPeer) {
+  // Outside systemd (stderr neither the journal nor a terminal): one line
+  // per event with the syslog prefix and the context journald would get as
+  // CAUSTICD_SESSION, CAUSTICD_SCENE, CAUSTICD_CODEC and CAUSTICD_PEER.
+  const fs::path log = fs::temp_directory_path() / ("causticd_log_" + std::to_string(getpid()) + ".txt");
+  fs::remove(log);
+  std::string id;
+  {
+    ServerProcess server({}, {{"JOURNAL_STREAM", "1:1"}},  // a stale variable must not fool it
+                         CAUSTICD_BINARY, {"sh", "-c", "exec \"$@\" 2>>" + log.string(), "sh"});
+    ASSERT_FALSE(server.url().empty());
+    const json session = create_session(server.url(), "lens");
+    id = session.value("id", "");
+    ASSERT_FALSE(id.empty());
+    const std::string token = session["token"];
+    EXPECT_EQ(http("DELETE", server.url() + "/api/v1/sessions/" + id, "", "", {{"Authorization", "Bearer " + token}}).status,
+              204u);
+  }
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string context = " [session=" + id + " scene=lens codec=vp8 peer=127.0.0.1]";
+  EXPECT_NE(text.find("<6>session " + id + " started: scene lens, vp8" + context + "\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("<6>session " + id + " ended: "), std::string::npos) << text;
+  // Every line is an event of the server's log, none a library's raw warning.
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);)
+    EXPECT_TRUE(std::regex_search(line, std::regex("^<[3-7]>"))) << line;
+  fs::remove(log);
 }

@@ -75,6 +75,8 @@ int run_serve(const ServeOptions& opt) {
                 << config.max_sessions << " need about " << needed << " file descriptors; the limit is "
                 << files.rlim_cur << " (raise LimitNOFILE)\n";
   }
+  // Before any library speaks: their warnings go out as the server's events.
+  server::route_library_messages();
   gst_init(nullptr, nullptr);
   if (!gst::register_elements()) {
     std::cerr << "causticd serve: cannot register the causticsrc element\n";

@@ -184,12 +184,12 @@ void create_session(ServerState& s, SoupServerMessage* msg) {
   try {
     session = Session::start(id, entry, options);
   } catch (const std::exception& e) {
-    log(Level::error, std::string("cannot start a session: ") + e.what());
+    log(Level::error, std::string("cannot start a session: ") + e.what(), {id, scene_id, codec, address});
     return reply_problem(msg, s.metrics, SOUP_STATUS_INTERNAL_SERVER_ERROR, "the stream could not be started");
   }
   s.sessions[id] = session;
   ++s.metrics.sessions_created;
-  log(Level::info, "session " + id + " started: scene " + scene_id + ", " + codec);
+  log(Level::info, "session " + id + " started: scene " + scene_id + ", " + codec, session->log_context());
   const std::string signal = "/api/v1/sessions/" + id + "/signal?token=" + session->token();
   soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Location",
                                ("/api/v1/sessions/" + id).c_str());

@@ -24,7 +24,7 @@ void ServerState::end_session(const std::string& id, const std::string& reason) 
   // run inside one of its own callbacks.
   auto* doomed = new std::shared_ptr<Session>(it->second);
   sessions.erase(it);
-  log(Level::info, "session " + id + " ended: " + reason);
+  log(Level::info, "session " + id + " ended: " + reason, (*doomed)->log_context());
   (*doomed)->close(reason);
   g_idle_add_full(
       G_PRIORITY_DEFAULT_IDLE, [](gpointer) -> gboolean { return G_SOURCE_REMOVE; }, doomed,
@@ -82,8 +82,10 @@ bool sessions_alive(const ServerState& s) {
   const auto now = std::chrono::steady_clock::now();
   for (const auto& [id, session] : s.sessions)
     if (auto beat = session->render_heartbeat(); beat && now - *beat > std::chrono::seconds(s.config.stall_timeout_s)) {
-      log(Level::error, "session " + id + ": render thread stuck for over " + std::to_string(s.config.stall_timeout_s) +
-                            " s; withholding the watchdog ping");
+      log(Level::error,
+          "session " + id + ": render thread stuck for over " + std::to_string(s.config.stall_timeout_s) +
+              " s; withholding the watchdog ping",
+          session->log_context());
       return false;
     }
   return true;

@@ -135,7 +135,7 @@ void Session::build() {
   for (const auto& address : c.ice_addresses) {
     gboolean ok = FALSE;
     g_signal_emit_by_name(ice, "add-local-ip-address", address.c_str(), &ok);
-    if (!ok) log(Level::warning, "session " + id_ + ": ICE refused local address " + address);
+    if (!ok) log(Level::warning, "session " + id_ + ": ICE refused local address " + address, log_context());
   }
   if (ice) gst_object_unref(ice);
   GArray* transceivers = nullptr;
@@ -184,7 +184,7 @@ void Session::on_bus_message(GstMessage* message) {
   g_error_free(error);
   g_free(debug);
   ++options_.metrics->pipeline_errors;
-  log(Level::error, "session " + id_ + ": pipeline error: " + text);
+  log(Level::error, "session " + id_ + ": pipeline error: " + text, log_context());
   if (options_.on_end) options_.on_end(id_, "pipeline error");
 }
 
@@ -233,7 +233,7 @@ void Session::offer_created(GstPromise* promise) {
   GstWebRTCSessionDescription* offer = nullptr;
   if (!reply || !gst_structure_has_field(reply, "offer")) {
     on_main([](Session& me) {
-      log(Level::error, "session " + me.id_ + ": webrtcbin made no offer");
+      log(Level::error, "session " + me.id_ + ": webrtcbin made no offer", me.log_context());
       if (me.options_.on_end) me.options_.on_end(me.id_, "negotiation failed");
     });
     return;

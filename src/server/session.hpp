@@ -9,6 +9,7 @@
 #include "caustic/param_store.hpp"
 #include "caustic/server/config.hpp"
 #include "gallery.hpp"
+#include "log.hpp"
 #include "metrics.hpp"
 
 #include <gst/gst.h>
@@ -52,6 +53,8 @@ class Session : public std::enable_shared_from_this<Session> {
   const std::string& codec() const { return options_.codec; }
   const std::string& client_address() const { return options_.client_address; }
   const std::string& scene_id() const { return scene_->id; }
+  /// What its log events carry (journald fields under systemd).
+  LogContext log_context() const { return {id_, scene_->id, options_.codec, options_.client_address}; }
   ParamStore& params() { return *params_; }
   const GalleryEntry& entry() const { return *scene_; }
 

@@ -12,6 +12,11 @@
 
 namespace caustic::server {
 
+/// Sends GLib's and the libraries' own messages (g_warning() and the like)
+/// through the server's log (journald fields under systemd, the levels of
+/// log_level) instead of raw to stderr. Call once, before gst_init().
+void route_library_messages();
+
 class Server {
  public:
   /// Loads the gallery and prepares the HTTP server. Throws std::runtime_error.
