@@ -102,6 +102,12 @@ TEST_F(Installed, SystemdUnitsVerifyAndReportTheirExposure) {
   const double exposure = std::stod(m[1]);
   std::printf("systemd-analyze security: exposure %.1f\n", exposure);
   EXPECT_LT(exposure, 2.0) << output;
+  // docs/operations.md states the rating: it must be the measured one.
+  std::ifstream doc(std::string(CAUSTIC_SOURCE_DIR) + "/docs/operations.md");
+  const std::string text((std::istreambuf_iterator<char>(doc)), std::istreambuf_iterator<char>());
+  ASSERT_TRUE(std::regex_search(text, m, std::regex("rates the unit \\*\\*([0-9.]+) ")))
+      << "docs/operations.md does not state the exposure";
+  EXPECT_EQ(m[1].str(), output.substr(output.find(": ", output.find("Overall exposure level")) + 2, m[1].length()));
 }
 
 TEST_F(Installed, UnitsGiveTheServerTheDescriptorsItsLimitsNeed) {
