@@ -27,57 +27,19 @@
  * (installed in GStreamer's plugin folder, or found through GST_PLUGIN_PATH);
  * this launch line writes two seconds of VP8:
  * |[
- * gst-launch-1.0 causticsrc scene=/usr/share/causticd/assets/scenes/lens.json num-buffers=60 ! video/x-raw,format=I420 ! vp8enc ! webmmux ! filesink location=out.webm
+ * gst-launch-1.0 causticsrc scene=/usr/share/causticd/assets/scenes/lens.json width=512 height=512 num-buffers=60 ! video/x-raw,format=I420 ! vp8enc deadline=1 ! webmmux ! filesink location=out.webm
  * ]|
  * causticd registers the same element as a static plugin of its own.
  */
 #include "caustic/gst/causticsrc.hpp"
 
 #include "caustic/gst/frame_meta.hpp"
-#include "due_wait.hpp"
-#include "frame_worker.hpp"
+#include "causticsrc_state.hpp"
 
-#include <gst/base/gstpushsrc.h>
-#include <gst/video/video.h>
-
-#include <atomic>
-#include <mutex>
-#include <string>
+using caustic::gst::State;
 
 GST_DEBUG_CATEGORY(caustic_src_debug);  // frame_source.cpp logs into it too
 #define GST_CAT_DEFAULT caustic_src_debug
-
-namespace {
-
-struct State {
-  std::mutex lock;  // guards the properties and the source hand-over
-  std::string scene_path;
-  int width = 0, height = 0;  // 0: the scene's render size
-  int fps_n = 30, fps_d = 1;
-  std::shared_ptr<caustic::ParamStore> params;
-  std::shared_ptr<const caustic::MeshLevels> meshes;
-  std::function<void()> on_overrun;  // set before streaming
-  // Streaming thread only (the worker owns `source` while it runs):
-  caustic::gst::FrameSource source;
-  std::unique_ptr<caustic::gst::FrameWorker> worker;
-  GstVideoInfo info;
-  guint64 frame_index = 0;
-  std::uint64_t overruns_told = 0, renders_logged = 0;
-  std::atomic<std::uint64_t> overruns{0};  // read from any thread
-  std::atomic<std::int64_t> heartbeat{0};  // the render thread's, read from any thread
-  GstClockTime first_due = 0;  // running time of frame 0: when it was ready
-  caustic::gst::DueWait due_wait;
-};
-
-}  // namespace
-
-struct GstCausticSrc {
-  GstPushSrc parent;
-  State* state;
-};
-struct GstCausticSrcClass {
-  GstPushSrcClass parent_class;
-};
 
 G_DEFINE_TYPE(GstCausticSrc, gst_caustic_src, GST_TYPE_PUSH_SRC)
 
@@ -379,49 +341,6 @@ bool register_elements() {
       [](GstPlugin* plugin) -> gboolean { return register_element(plugin); }, CAUSTICD_VERSION, "LGPL", "causticd",
       "causticd", "https://localhost.localdomain/causticd");
   return ok;
-}
-
-static State* checked_state(GstElement* element) {
-  g_return_val_if_fail(G_TYPE_CHECK_INSTANCE_TYPE(element, gst_caustic_src_get_type()), nullptr);
-  return reinterpret_cast<GstCausticSrc*>(element)->state;
-}
-
-void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const MeshLevels> meshes) {
-  if (State* s = checked_state(causticsrc)) {
-    std::lock_guard lock(s->lock);
-    s->params = std::move(params);
-    s->meshes = std::move(meshes);
-  }
-}
-
-std::optional<std::chrono::steady_clock::time_point> render_heartbeat(GstElement* causticsrc) {
-  State* s = checked_state(causticsrc);
-  const std::int64_t ticks = s ? s->heartbeat.load() : 0;
-  if (ticks == 0) return std::nullopt;
-  return std::chrono::steady_clock::time_point(std::chrono::steady_clock::duration(ticks));
-}
-
-void set_overrun_observer(GstElement* causticsrc, std::function<void()> observer) {
-  if (State* s = checked_state(causticsrc)) s->on_overrun = std::move(observer);
-}
-
-void set_frame_observer(GstElement* causticsrc, FrameObserver observer) {
-  // Set before streaming starts; the streaming thread reads it without a lock.
-  if (State* s = checked_state(causticsrc)) s->source.observer = std::move(observer);
-}
-
-void request_snapshot(GstElement* causticsrc, SnapshotDone done) {
-  State* s = checked_state(causticsrc);
-  if (!s) return done(nullptr, nullptr);
-  std::lock_guard lock(s->source.snapshots->lock);
-  s->source.snapshots->pending.push_back(std::move(done));
-}
-
-std::shared_ptr<ParamStore> param_store(GstElement* causticsrc) {
-  State* s = checked_state(causticsrc);
-  if (!s) return nullptr;
-  std::lock_guard lock(s->lock);
-  return s->params;
 }
 
 }  // namespace caustic::gst

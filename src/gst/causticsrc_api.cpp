@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// The C++ side of causticsrc: what causticd hands an element and asks of it
+// (causticsrc.hpp), beside GObject properties that carry only plain values.
+#include "causticsrc_state.hpp"
+
+namespace caustic::gst {
+
+namespace {
+
+State* checked_state(GstElement* element) {
+  g_return_val_if_fail(G_TYPE_CHECK_INSTANCE_TYPE(element, gst_caustic_src_get_type()), nullptr);
+  return reinterpret_cast<GstCausticSrc*>(element)->state;
+}
+
+}  // namespace
+
+void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const MeshLevels> meshes) {
+  if (State* s = checked_state(causticsrc)) {
+    std::lock_guard lock(s->lock);
+    s->params = std::move(params);
+    s->meshes = std::move(meshes);
+  }
+}
+
+std::optional<std::chrono::steady_clock::time_point> render_heartbeat(GstElement* causticsrc) {
+  State* s = checked_state(causticsrc);
+  const std::int64_t ticks = s ? s->heartbeat.load() : 0;
+  if (ticks == 0) return std::nullopt;
+  return std::chrono::steady_clock::time_point(std::chrono::steady_clock::duration(ticks));
+}
+
+void set_overrun_observer(GstElement* causticsrc, std::function<void()> observer) {
+  if (State* s = checked_state(causticsrc)) s->on_overrun = std::move(observer);
+}
+
+void set_frame_observer(GstElement* causticsrc, FrameObserver observer) {
+  // Set before streaming starts; the streaming thread reads it without a lock.
+  if (State* s = checked_state(causticsrc)) s->source.observer = std::move(observer);
+}
+
+void request_snapshot(GstElement* causticsrc, SnapshotDone done) {
+  State* s = checked_state(causticsrc);
+  if (!s) return done(nullptr, nullptr);
+  std::lock_guard lock(s->source.snapshots->lock);
+  s->source.snapshots->pending.push_back(std::move(done));
+}
+
+std::shared_ptr<ParamStore> param_store(GstElement* causticsrc) {
+  State* s = checked_state(causticsrc);
+  if (!s) return nullptr;
+  std::lock_guard lock(s->lock);
+  return s->params;
+}
+
+}  // namespace caustic::gst

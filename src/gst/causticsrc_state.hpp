@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// What a causticsrc instance holds, shared by the element (causticsrc.cpp)
+// and the C++ functions that reach into it (causticsrc_api.cpp): settings
+// under a lock, streaming state owned by the streaming thread.
+#pragma once
+
+#include "caustic/gst/causticsrc.hpp"
+#include "due_wait.hpp"
+#include "frame_worker.hpp"
+
+#include <gst/base/gstpushsrc.h>
+#include <gst/video/video.h>
+
+#include <atomic>
+#include <mutex>
+#include <string>
+
+namespace caustic::gst {
+
+struct State {
+  std::mutex lock;  // guards the properties and the source hand-over
+  std::string scene_path;
+  int width = 0, height = 0;  // 0: the scene's render size
+  int fps_n = 30, fps_d = 1;
+  std::shared_ptr<caustic::ParamStore> params;
+  std::shared_ptr<const caustic::MeshLevels> meshes;
+  std::function<void()> on_overrun;  // set before streaming
+  // Streaming thread only (the worker owns `source` while it runs):
+  caustic::gst::FrameSource source;
+  std::unique_ptr<caustic::gst::FrameWorker> worker;
+  GstVideoInfo info;
+  guint64 frame_index = 0;
+  std::uint64_t overruns_told = 0, renders_logged = 0;
+  std::atomic<std::uint64_t> overruns{0};  // read from any thread
+  std::atomic<std::int64_t> heartbeat{0};  // the render thread's, read from any thread
+  GstClockTime first_due = 0;  // running time of frame 0: when it was ready
+  caustic::gst::DueWait due_wait;
+};
+
+}  // namespace caustic::gst
+
+struct GstCausticSrc {
+  GstPushSrc parent;
+  caustic::gst::State* state;
+};
+struct GstCausticSrcClass {
+  GstPushSrcClass parent_class;
+};
+
+GType gst_caustic_src_get_type();
