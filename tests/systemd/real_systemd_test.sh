@@ -160,6 +160,26 @@ sleep 6 # three RestartSec= periods: a loop would have restarted by now
 [[ "$(prop causticd.service NRestarts)" == "$restarts" ]] || fail "a configuration error was restarted"
 journal causticd.service | grep -q "colour" || fail "the journal does not name the bad key"
 c mv /etc/causticd/causticd.conf.good /etc/causticd/causticd.conf
+
+# --- any other failure stops at the start limit ----------------------------
+# A process that always fails with exit 1 (a stand-in for a crash at start):
+# restarted every RestartSec=2 until StartLimitBurst=5 within 300 s.
+note "a failure that repeats: restarted, then stopped by the start limit"
+c mkdir -p /run/systemd/system/causticd.service.d
+printf '[Service]\nExecStart=\nExecStart=/bin/sh -c "exit 1"\n' | c tee /run/systemd/system/causticd.service.d/crash.conf >/dev/null
+c systemctl daemon-reload
+c systemctl reset-failed causticd.service
+c systemctl start causticd.service && fail "a failing ExecStart started"
+# systemd 252 leaves Result=exit-code and says so in the journal.
+wait_for 60 "no start limit reached" sh -c "nsenter -t $init_pid -a journalctl -q -u causticd.service | grep -q 'Start request repeated too quickly'"
+[[ "$(prop causticd.service ActiveState)" == failed ]] || fail "not failed at the start limit"
+restarts="$(prop causticd.service NRestarts)"
+note "start limit hit after $restarts restarts"
+sleep 3 # one more RestartSec=: nothing restarts it now
+[[ "$(prop causticd.service ActiveState)" == failed && "$(prop causticd.service NRestarts)" == "$restarts" ]] ||
+  fail "restarted past the start limit"
+c rm -f /run/systemd/system/causticd.service.d/crash.conf
+c systemctl daemon-reload
 c systemctl reset-failed causticd.service
 c systemctl start causticd.service
 
