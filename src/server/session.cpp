@@ -4,7 +4,6 @@
 #include "caustic/gst/causticsrc.hpp"
 #include "caustic/server/data_files.hpp"
 #include "frame_probes.hpp"
-#include "log.hpp"
 #include "signal_message.hpp"
 
 #define GST_USE_UNSTABLE_API
