@@ -21,7 +21,7 @@ echo "Depends: $depends"
 for needed in libc6 libgstreamer1.0-0 libsoup-3.0-0 libembree3-3 gstreamer1.0-plugins-bad gstreamer1.0-nice libgl1-mesa-dri; do
   grep -q "\b$needed\b" <<<"$depends" || fail "Depends lacks $needed"
 done
-dpkg-deb --ctrl-tarfile "$deb" | tar -xO ./conffiles | grep -qx /etc/causticd/causticd.conf || fail "causticd.conf is not a conffile"
+dpkg-deb --ctrl-tarfile "$deb" | tar -xO ./conffiles | grep -x /etc/causticd/causticd.conf >/dev/null || fail "causticd.conf is not a conffile"
 contents="$(dpkg-deb -c "$deb")"
 for file in ./usr/bin/causticd ./etc/causticd/causticd.conf ./usr/lib/systemd/system/causticd.service \
   ./usr/lib/systemd/system/causticd@.service ./usr/lib/sysusers.d/causticd.conf \
