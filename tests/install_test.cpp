@@ -33,6 +33,11 @@ int run(const std::string& command, std::string* output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 class Installed : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -103,8 +108,7 @@ TEST_F(Installed, SystemdUnitsVerifyAndReportTheirExposure) {
   std::printf("systemd-analyze security: exposure %.1f\n", exposure);
   EXPECT_LT(exposure, 2.0) << output;
   // docs/operations.md states the rating: it must be the measured one.
-  std::ifstream doc(std::string(CAUSTIC_SOURCE_DIR) + "/docs/operations.md");
-  const std::string text((std::istreambuf_iterator<char>(doc)), std::istreambuf_iterator<char>());
+  const std::string text = read_text(std::string(CAUSTIC_SOURCE_DIR) + "/docs/operations.md");
   ASSERT_TRUE(std::regex_search(text, m, std::regex("rates the unit \\*\\*([0-9.]+) ")))
       << "docs/operations.md does not state the exposure";
   EXPECT_EQ(m[1].str(), output.substr(output.find(": ", output.find("Overall exposure level")) + 2, m[1].length()));
@@ -125,8 +129,7 @@ TEST_F(Installed, UnitsGiveTheServerTheDescriptorsItsLimitsNeed) {
   ASSERT_GT(connections, 0);
   ASSERT_GT(sessions, 0);
   for (const char* unit : {"causticd.service", "causticd@.service"}) {
-    std::ifstream in(prefix_ / "lib/systemd/system" / unit);
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string text = read_text(prefix_ / "lib/systemd/system" / unit);
     ASSERT_TRUE(std::regex_search(text, m, std::regex("\nLimitNOFILE=([0-9]+)"))) << unit;
     EXPECT_GE(std::stol(m[1]), connections + 64 * sessions + 64) << unit;
   }
@@ -151,8 +154,7 @@ TEST(InstalledWithDestdir, EveryFileLandsOnceUnderDestdirAndTheUnitsNameTheRealP
   const std::string doubled = stage.relative_path().string();
   for (const auto& entry : fs::recursive_directory_iterator(stage))
     EXPECT_EQ(fs::relative(entry.path(), stage).string().find(doubled), std::string::npos) << entry.path();
-  std::ifstream in(stage / "usr/lib/systemd/system/causticd.service");
-  const std::string unit((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string unit = read_text(stage / "usr/lib/systemd/system/causticd.service");
   EXPECT_NE(unit.find("ExecStart=/usr/bin/causticd serve --config /etc/causticd/causticd.conf"), std::string::npos)
       << unit;
   EXPECT_EQ(unit.find(stage.string()), std::string::npos) << unit;
@@ -161,8 +163,7 @@ TEST(InstalledWithDestdir, EveryFileLandsOnceUnderDestdirAndTheUnitsNameTheRealP
 
 TEST_F(Installed, UnitsCanBeEnabledAndDoNotRestartForeverOrAssumeAHostsGroupsAndGpus) {
   for (const char* name : {"causticd.service", "causticd@.service"}) {
-    std::ifstream in(prefix_ / "lib/systemd/system" / name);
-    const std::string unit((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string unit = read_text(prefix_ / "lib/systemd/system" / name);
     // `systemctl enable` needs an [Install] section to act on.
     EXPECT_NE(unit.find("\n[Install]\nWantedBy=multi-user.target"), std::string::npos) << name;
     // A configuration error (exit 2) is not restarted; anything else stops
@@ -179,10 +180,8 @@ TEST_F(Installed, UnitsCanBeEnabledAndDoNotRestartForeverOrAssumeAHostsGroupsAnd
     EXPECT_NE(unit.find("HOME=%C/causticd"), std::string::npos) << name;
   }
   // The groups the units ask for are created where they are missing.
-  std::ifstream in(prefix_ / "lib/sysusers.d/causticd.conf");
-  const std::string sysusers((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::ifstream unit_in(prefix_ / "lib/systemd/system/causticd.service");
-  const std::string unit((std::istreambuf_iterator<char>(unit_in)), std::istreambuf_iterator<char>());
+  const std::string sysusers = read_text(prefix_ / "lib/sysusers.d/causticd.conf");
+  const std::string unit = read_text(prefix_ / "lib/systemd/system/causticd.service");
   std::smatch m;
   ASSERT_TRUE(std::regex_search(unit, m, std::regex("\nSupplementaryGroups=([^\n]*)")));
   std::istringstream groups(m[1].str());
