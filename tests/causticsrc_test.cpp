@@ -6,6 +6,7 @@
 #include "caustic/gst/frame_meta.hpp"
 
 #include <gst/app/gstappsink.h>
+#include <gst/video/video.h>
 #include <gst/gst.h>
 #include <gtest/gtest.h>
 
@@ -307,4 +308,45 @@ TEST_F(CausticSrc, MissingSceneIsAnErrorOnTheBus) {
   g_free(debug);
   gst_message_unref(msg);
   gst_object_unref(bus);
+}
+
+// still-interval-ms: a still scene's unchanged picture goes out only at
+// the keep-alive rate, a change goes out at the next frame due, and a key
+// frame request from downstream sends a frame at once.
+TEST_F(CausticSrc, AnUnchangedPictureIsSentOnlyAtTheKeepAliveRate) {
+  start("causticsrc name=src scene=" + scene("slab") +
+        " width=32 height=32 framerate=30/1 still-interval-ms=300 ! appsink name=sink");
+  std::vector<Frame> frames;
+  for (int i = 0; i < 4; ++i) frames.push_back(take(pull()));
+  for (std::size_t i = 1; i < frames.size(); ++i)
+    EXPECT_EQ(frames[i].pts - frames[i - 1].pts, 300 * GST_MSECOND) << i;  // nine frame slots
+  guint64 skipped = 0;
+  g_object_get(src_, "skipped", &skipped, nullptr);
+  EXPECT_GE(skipped, 3u * 8u);
+}
+
+TEST_F(CausticSrc, AChangeIsSentAtOnceNotAtTheNextKeepAlive) {
+  start("causticsrc name=src scene=" + scene("wavy") +
+        " width=64 height=64 framerate=30/1 progressive=false still-interval-ms=5000 ! appsink name=sink");
+  const Frame first = take(pull());
+  const std::uint64_t version =
+      caustic::gst::param_store(src_)->apply_patch({{"light", {{"direction", {0.15, 0.05, -1}}}}});
+  const Frame next = take(pull());
+  EXPECT_EQ(next.version, version);
+  EXPECT_LT(next.pts - first.pts, 5 * GST_SECOND);
+  EXPECT_NE(next.pixels, first.pixels);
+}
+
+TEST_F(CausticSrc, AKeyFrameRequestSendsTheUnchangedPictureAtOnce) {
+  start("causticsrc name=src scene=" + scene("slab") +
+        " width=32 height=32 framerate=30/1 still-interval-ms=20000 ! appsink name=sink");
+  const Frame first = take(pull());
+  GstPad* pad = gst_element_get_static_pad(sink_, "sink");
+  ASSERT_TRUE(gst_pad_push_event(pad, gst_video_event_new_upstream_force_key_unit(GST_CLOCK_TIME_NONE, TRUE, 1)));
+  gst_object_unref(pad);
+  GstSample* sample = pull();
+  ASSERT_NE(sample, nullptr) << "no frame after the key frame request";
+  const Frame next = take(sample);
+  EXPECT_LT(next.pts - first.pts, 20 * GST_SECOND);
+  EXPECT_EQ(next.pixels, first.pixels);
 }

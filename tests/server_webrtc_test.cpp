@@ -45,8 +45,21 @@ TEST_P(WebRtc, ViewerReceivesTheStreamAndSeesAPatch) {
   EXPECT_GT(peer.frame_messages(), 0) << "no frame message on the data channel";
   EXPECT_EQ(peer.version(), 1u);
   EXPECT_TRUE(peer.wait_for_version(patched.json()["version"], 10.0)) << "version " << peer.version();
-  ASSERT_TRUE(peer.wait_for_frames(15, 30.0)) << peer.error();
+  ASSERT_TRUE(peer.wait_for_frames(3, 30.0)) << peer.error();
   EXPECT_GT(mean_abs_difference(before, peer.last_picture()), 1.0) << "the patch did not reach the stream";
+
+  // Still again: the unchanged picture is encoded at the keep-alive rate
+  // (still_interval_ms, 1 s), not 30 times a second.
+  auto encoded = [&] {
+    const std::string text = http("GET", server.url() + "/metrics").body;
+    const auto at = text.find("causticd_encode_seconds_count ");
+    return at == std::string::npos ? -1L : std::stol(text.substr(at + 30));
+  };
+  const long encoded_before = encoded();
+  peer.wait_for_frames(1000, 4.0);  // plays the stream for 4 s
+  const long still_frames = encoded() - encoded_before;
+  EXPECT_GE(still_frames, 2);
+  EXPECT_LE(still_frames, 8) << "a still picture was encoded at the frame rate";
 
   // The server measured what it sent.
   const std::string metrics = http("GET", server.url() + "/metrics").body;

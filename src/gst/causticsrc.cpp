@@ -7,7 +7,9 @@
  * reflective object throws on a screen, rendered with OpenGL in a headless
  * EGL context of its own (a GPU when there is one, llvmpipe otherwise). It
  * renders again only when the parameters changed and otherwise re-sends the
- * last picture; every buffer carries a CausticFrameMeta with the parameter
+ * last picture, at the frame rate or, with still-interval-ms, only that
+ * often (a force-key-unit event from downstream sends the next frame at
+ * once, so that an encoder can answer it); every buffer carries a CausticFrameMeta with the parameter
  * version it shows and its fidelity level. While the parameters keep
  * changing (progressive=true), frames are previews (level 1: a coarser mesh
  * level, the caustic at 1/preview-divisor of the size, no bloom); once they
@@ -44,7 +46,8 @@ GST_DEBUG_CATEGORY(caustic_src_debug);  // frame_source.cpp logs into it too
 G_DEFINE_TYPE(GstCausticSrc, gst_caustic_src, GST_TYPE_PUSH_SRC)
 
 enum { PROP_0, PROP_SCENE, PROP_WIDTH, PROP_HEIGHT, PROP_FRAMERATE, PROP_RENDERS, PROP_OVERRUNS, PROP_PROGRESSIVE, PROP_SETTLE_MS,
-       PROP_PREVIEW_DIVISOR, PROP_PREVIEW_MESH, PROP_PICTURE_VERSION };
+       PROP_PREVIEW_DIVISOR, PROP_PREVIEW_MESH, PROP_PICTURE_VERSION,
+       PROP_STILL_INTERVAL_MS, PROP_SKIPPED };
 
 static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
     "src", GST_PAD_SRC, GST_PAD_ALWAYS,
@@ -69,6 +72,7 @@ static void gst_caustic_src_set_property(GObject* object, guint id, const GValue
     case PROP_SETTLE_MS: s.source.progressive.settle = std::chrono::milliseconds(g_value_get_uint(value)); break;
     case PROP_PREVIEW_DIVISOR: s.source.progressive.divisor = g_value_get_int(value); break;
     case PROP_PREVIEW_MESH: s.source.progressive.mesh = g_value_get_int(value); break;
+    case PROP_STILL_INTERVAL_MS: s.still_interval = g_value_get_uint(value) * GST_MSECOND; break;
     default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
 }
@@ -88,6 +92,8 @@ static void gst_caustic_src_get_property(GObject* object, guint id, GValue* valu
     case PROP_SETTLE_MS: g_value_set_uint(value, static_cast<guint>(s.source.progressive.settle.count())); break;
     case PROP_PREVIEW_DIVISOR: g_value_set_int(value, s.source.progressive.divisor); break;
     case PROP_PREVIEW_MESH: g_value_set_int(value, s.source.progressive.mesh); break;
+    case PROP_STILL_INTERVAL_MS: g_value_set_uint(value, static_cast<guint>(s.still_interval / GST_MSECOND)); break;
+    case PROP_SKIPPED: g_value_set_uint64(value, s.skipped.load()); break;
     default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
 }
@@ -155,8 +161,14 @@ static gboolean gst_caustic_src_start(GstBaseSrc* src) {
   return TRUE;
 }
 
+static void forget_last_sent(State& s) {
+  if (s.last_sent) gst_buffer_unref(s.last_sent);
+  s.last_sent = nullptr;
+}
+
 static gboolean gst_caustic_src_stop(GstBaseSrc* src) {
   State& s = state_of(src);
+  forget_last_sent(s);
   s.worker.reset();  // joins the render thread, which frees its GL context
   caustic::gst::release(s.source);
   caustic::gst::answer_snapshots(s.source);  // requests that came too late get no picture
@@ -184,6 +196,16 @@ static gboolean gst_caustic_src_query(GstBaseSrc* src, GstQuery* query) {
   return GST_BASE_SRC_CLASS(gst_caustic_src_parent_class)->query(src, query);
 }
 
+// A key frame asked for from downstream: the encoder makes it, but only
+// from a frame it is given, so the next frame goes out even if unchanged.
+static gboolean gst_caustic_src_event(GstBaseSrc* src, GstEvent* event) {
+  if (gst_video_event_is_force_key_unit(event)) {
+    state_of(src).send_next = true;
+    return TRUE;
+  }
+  return GST_BASE_SRC_CLASS(gst_caustic_src_parent_class)->event(src, event);
+}
+
 static gboolean gst_caustic_src_unlock(GstBaseSrc* src) {
   state_of(src).due_wait.unlock();
   return TRUE;
@@ -208,17 +230,34 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
   // Frame 0 is stamped when its picture is ready and the rest follow at the
   // frame rate, so that a frame's timestamp is when it leaves: GstBaseSrc
   // then waits for exactly that time (its start-up offset stays near zero).
-  GstClockTime due = s.first_due + gst_util_uint64_scale(s.frame_index * GST_SECOND, d, n);
-  if (s.frame_index > 0)
-    if (const GstFlowReturn r = s.due_wait.wait(GST_ELEMENT(push), due); r != GST_FLOW_OK) return r;
+  GstClockTime due = 0;
   GstBuffer* picture = nullptr;
   try {
     if (!s.worker || s.worker->width() != width || s.worker->height() != height) {
       s.worker.reset();
       s.worker = std::make_unique<caustic::gst::FrameWorker>(s.source, params, meshes, width, height, &s.heartbeat);
     }
-    picture = s.worker->latest(std::chrono::nanoseconds(gst_util_uint64_scale(GST_SECOND, d, n)));
-    if (s.frame_index == 0) due = s.first_due = caustic::gst::running_time_now(GST_ELEMENT(push));
+    // An unchanged picture waits for the next due frame that shows a new
+    // one, or for its keep-alive, or for a key frame request: a still scene
+    // then costs the encoder (nearly) nothing.
+    for (;; ++s.frame_index) {
+      due = s.first_due + gst_util_uint64_scale(s.frame_index * GST_SECOND, d, n);
+      if (s.frame_index > 0)
+        if (const GstFlowReturn r = s.due_wait.wait(GST_ELEMENT(push), due); r != GST_FLOW_OK) return r;
+      picture = s.worker->latest(std::chrono::nanoseconds(gst_util_uint64_scale(GST_SECOND, d, n)));
+      if (s.frame_index == 0) due = s.first_due = caustic::gst::running_time_now(GST_ELEMENT(push));
+      if (s.still_interval == 0 || picture != s.last_sent || due >= s.last_sent_due + s.still_interval ||
+          s.send_next.exchange(false))
+        break;
+      gst_buffer_unref(picture);
+      picture = nullptr;
+      ++s.skipped;
+    }
+    if (s.still_interval > 0 && picture != s.last_sent) {
+      if (s.last_sent) gst_buffer_unref(s.last_sent);
+      s.last_sent = gst_buffer_ref(picture);
+    }
+    s.last_sent_due = due;
     const CausticFrameMeta* meta = caustic_buffer_get_frame_meta(picture);
     const std::uint64_t renders = s.source.renders;
     if (renders != s.renders_logged)
@@ -253,6 +292,7 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
 
 static void gst_caustic_src_finalize(GObject* object) {
   auto* self = reinterpret_cast<GstCausticSrc*>(object);
+  forget_last_sent(*self->state);
   self->state->worker.reset();
   caustic::gst::release(self->state->source);
   delete self->state;
@@ -306,6 +346,16 @@ static void gst_caustic_src_class_init(GstCausticSrcClass* klass) {
       gobject, PROP_PREVIEW_MESH,
       g_param_spec_int("preview-mesh", "Preview mesh", "Mesh level of previews (vertices per side) when coarser", 2,
                        2048, 32, rw));
+  g_object_class_install_property(
+      gobject, PROP_STILL_INTERVAL_MS,
+      g_param_spec_uint("still-interval-ms", "Still interval",
+                        "While the picture is unchanged, send it again only this often (ms; a key frame request "
+                        "sends the next frame at once); 0: every frame at the frame rate",
+                        0, 60000, 0, rw));
+  g_object_class_install_property(
+      gobject, PROP_SKIPPED,
+      g_param_spec_uint64("skipped", "Skipped", "Frames not sent because the picture was unchanged (still-interval-ms)",
+                          0, G_MAXUINT64, 0, static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
   gst_element_class_set_static_metadata(element, "Caustic source", "Source/Video",
                                         "Renders the caustic of a refractive or reflective object, live",
                                         "causticd developers");
@@ -316,6 +366,7 @@ static void gst_caustic_src_class_init(GstCausticSrcClass* klass) {
   basesrc->stop = gst_caustic_src_stop;
   basesrc->get_times = gst_caustic_src_get_times;
   basesrc->query = gst_caustic_src_query;
+  basesrc->event = gst_caustic_src_event;
   basesrc->unlock = gst_caustic_src_unlock;
   basesrc->unlock_stop = gst_caustic_src_unlock_stop;
   GST_PUSH_SRC_CLASS(klass)->create = gst_caustic_src_create;

@@ -45,6 +45,10 @@ void request_snapshot(GstElement* causticsrc, SnapshotDone done) {
   s->source.snapshots->pending.push_back(std::move(done));
 }
 
+void send_next_frame(GstElement* causticsrc) {
+  if (State* s = checked_state(causticsrc)) s->send_next = true;
+}
+
 std::shared_ptr<ParamStore> param_store(GstElement* causticsrc) {
   State* s = checked_state(causticsrc);
   if (!s) return nullptr;

@@ -22,6 +22,7 @@ struct State {
   std::string scene_path;
   int width = 0, height = 0;  // 0: the scene's render size
   int fps_n = 30, fps_d = 1;
+  GstClockTime still_interval = 0;  // re-send an unchanged picture this often; 0: every frame
   std::shared_ptr<caustic::ParamStore> params;
   std::shared_ptr<const caustic::MeshLevels> meshes;
   std::function<void()> on_overrun;  // set before streaming
@@ -34,6 +35,12 @@ struct State {
   std::atomic<std::uint64_t> overruns{0};  // read from any thread
   std::atomic<std::int64_t> heartbeat{0};  // the render thread's, read from any thread
   GstClockTime first_due = 0;  // running time of frame 0: when it was ready
+  // The picture last pushed, held so that its address stays its own: the
+  // worker hands back the very same buffer while nothing changed.
+  GstBuffer* last_sent = nullptr;
+  GstClockTime last_sent_due = 0;
+  std::atomic<bool> send_next{false};         // a key frame was asked for: send even if unchanged
+  std::atomic<std::uint64_t> skipped{0};      // unchanged frames not sent (still-interval-ms), any thread
   caustic::gst::DueWait due_wait;
 };
 

@@ -59,6 +59,7 @@ constexpr IntKey kIntKeys[] = {
     {"egl_device", &ServerConfig::egl_device, -1, 63},
     {"stall_timeout_s", &ServerConfig::stall_timeout_s, 2, 3600},
     {"settle_ms", &ServerConfig::settle_ms, 0, 10000},
+    {"still_interval_ms", &ServerConfig::still_interval_ms, 0, 60000},
     {"max_connections", &ServerConfig::max_connections, 8, 100000},
     {"max_connections_per_address", &ServerConfig::max_connections_per_address, 1, 100000},
     {"header_timeout_s", &ServerConfig::header_timeout_s, 1, 600},

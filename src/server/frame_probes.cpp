@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "frame_probes.hpp"
 
+#include "caustic/gst/causticsrc.hpp"
 #include "caustic/gst/frame_meta.hpp"
 
 #include <gst/rtp/rtp.h>
+#include <gst/video/video.h>
 
 #include <map>
 #include <memory>
@@ -131,6 +133,35 @@ void install_frame_probes(GstElement* pipeline, Metrics* metrics, FrameTold tell
       new FrameTeller{clock, std::move(tell)}, [](gpointer d) { delete static_cast<FrameTeller*>(d); });
   gst_object_unref(rtp);
   gst_object_unref(pay);
+}
+
+void pass_key_unit_requests(GstElement* pipeline) {
+  GstElement* encoder = gst_bin_get_by_name(GST_BIN(pipeline), "encoder");
+  GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline), "src");
+  GstPad* out = gst_element_get_static_pad(encoder, "src");
+  // The probe holds a weak pointer: the pipeline owns both elements.
+  gst_pad_add_probe(
+      out, GST_PAD_PROBE_TYPE_EVENT_UPSTREAM,
+      [](GstPad*, GstPadProbeInfo* info, gpointer data) {
+        if (gst_video_event_is_force_key_unit(GST_PAD_PROBE_INFO_EVENT(info)))
+          if (auto* src = static_cast<GstElement*>(g_weak_ref_get(static_cast<GWeakRef*>(data)))) {
+            caustic::gst::send_next_frame(src);
+            gst_object_unref(src);
+          }
+        return GST_PAD_PROBE_OK;
+      },
+      [src] {
+        auto* ref = new GWeakRef;
+        g_weak_ref_init(ref, src);
+        return ref;
+      }(),
+      [](gpointer data) {
+        g_weak_ref_clear(static_cast<GWeakRef*>(data));
+        delete static_cast<GWeakRef*>(data);
+      });
+  gst_object_unref(out);
+  gst_object_unref(src);
+  gst_object_unref(encoder);
 }
 
 }  // namespace caustic::server

@@ -19,4 +19,10 @@ using FrameTold = std::function<void(guint32 rtp_timestamp, std::uint64_t versio
 /// Needs elements named "encoder" and "pay" in `pipeline`.
 void install_frame_probes(GstElement* pipeline, Metrics* metrics, FrameTold tell);
 
+/// Passes a viewer's key frame requests (PLI/FIR, a force-key-unit event
+/// that the element "encoder" keeps to itself) on to causticsrc "src" as
+/// well, which then sends a frame even if its picture is unchanged: with
+/// frames only on change, the encoder would otherwise wait for one.
+void pass_key_unit_requests(GstElement* pipeline);
+
 }  // namespace caustic::server

@@ -91,7 +91,8 @@ void Session::build() {
   }
   GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline_), "src");
   gst::set_source(src, params_, scene_->levels);
-  g_object_set(src, "progressive", c.settle_ms > 0, "settle-ms", static_cast<guint>(c.settle_ms), nullptr);
+  g_object_set(src, "progressive", c.settle_ms > 0, "settle-ms", static_cast<guint>(c.settle_ms), "still-interval-ms",
+               static_cast<guint>(c.still_interval_ms), nullptr);
   Metrics* metrics = options_.metrics;
   gst::set_frame_observer(src, [metrics](const FrameStats& stats, std::uint64_t) {
     ++metrics->frames_rendered;
@@ -101,6 +102,7 @@ void Session::build() {
   gst_object_unref(src);
 
   Ref self_ref = weak_from_this();
+  pass_key_unit_requests(pipeline_);
   install_frame_probes(pipeline_, metrics, [self_ref](guint32 rtp_timestamp, std::uint64_t version, std::uint32_t level) {
     if (auto s = self_ref.lock()) s->tell_frame(rtp_timestamp, version, level);
   });

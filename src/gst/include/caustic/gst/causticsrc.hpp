@@ -52,6 +52,11 @@ void set_frame_observer(GstElement* causticsrc, FrameObserver observer);
 using SnapshotDone = std::function<void(const Rgba8Image* ldr, const HdrImage* hdr)>;
 void request_snapshot(GstElement* causticsrc, SnapshotDone done);
 
+/// Sends the next frame due even if its picture is unchanged (under
+/// still-interval-ms): what an encoder that was asked for a key frame, and
+/// that keeps the request to itself, needs to make one now. Any thread.
+void send_next_frame(GstElement* causticsrc);
+
 /// The parameters a causticsrc renders (null before a source was set or loaded).
 std::shared_ptr<ParamStore> param_store(GstElement* causticsrc);
 

@@ -37,6 +37,7 @@ struct ServerConfig {
   std::string log_level = "info";         ///< error, warning, notice, info or debug
   int egl_device = -1;                    ///< index of the hardware EGL device; -1: the first usable
   int stall_timeout_s = 20;               ///< a render thread stuck this long stops the watchdog pings
+  int still_interval_ms = 1000;           ///< an unchanged picture is re-sent this often; 0: every frame
   int settle_ms = 40;                     ///< still this long -> the full frame after previews; 0: no previews
   // Limits on what clients may hold or send (docs/reliability.md says why
   // each default is where it is).
