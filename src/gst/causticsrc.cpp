@@ -246,9 +246,12 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
         if (const GstFlowReturn r = s.due_wait.wait(GST_ELEMENT(push), due); r != GST_FLOW_OK) return r;
       picture = s.worker->latest(std::chrono::nanoseconds(gst_util_uint64_scale(GST_SECOND, d, n)));
       if (s.frame_index == 0) due = s.first_due = caustic::gst::running_time_now(GST_ELEMENT(push));
-      if (s.still_interval == 0 || picture != s.last_sent || due >= s.last_sent_due + s.still_interval ||
-          s.send_next.exchange(false))
+      if (s.still_interval == 0 || picture != s.last_sent || due >= s.last_sent_due + s.still_interval)
         break;
+      if (s.send_next.exchange(false)) {
+        GST_DEBUG_OBJECT(push, "frame %" G_GUINT64_FORMAT ": sent unchanged for a key frame request", s.frame_index);
+        break;
+      }
       gst_buffer_unref(picture);
       picture = nullptr;
       ++s.skipped;
