@@ -12,6 +12,7 @@
 // exit non-zero). Loopback only; every wait is bounded.
 //
 //   session_cycles --causticd build/bin/causticd --cycles 1000 --report cycles.json
+#include "proc_stats.hpp"
 #include "webrtc_peer.hpp"
 
 #include <CLI/CLI.hpp>
@@ -109,13 +110,6 @@ Sample settled_sample(const std::string& pid, int cycle, double seconds) {
     if (same) break;
   }
   return s;
-}
-
-std::string cpu_model() {
-  std::ifstream in("/proc/cpuinfo");
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-  return "unknown";
 }
 
 // The server under test; SIGTERM (then SIGKILL after `exit_timeout_s`) when done.
@@ -257,7 +251,8 @@ int main(int argc, char** argv) {
   const std::string renderer = health.is_object() ? health.value("renderer", "not reported") : "not reported";
   const Sample baseline = settled_sample(server.pid(), 0, 5);
 
-  std::printf("machine: %u cores (nproc), %s; renderer %s\n", std::thread::hardware_concurrency(), cpu_model().c_str(),
+  std::printf("machine: %u cores (nproc), %s; renderer %s\n", std::thread::hardware_concurrency(),
+              caustic::bench::cpu_model().c_str(),
               renderer.c_str());
   std::printf("server: %s, %dx%d %s, scene %s; %d cycles, odd ones DELETE, even ones drop the WebSocket\n",
               causticd.c_str(), size, size, codec.c_str(), scene.c_str(), cycles);
@@ -360,7 +355,7 @@ int main(int argc, char** argv) {
 
   if (!report.empty()) {
     json j = {{"machine",
-               {{"nproc", std::thread::hardware_concurrency()}, {"cpu", cpu_model()}, {"renderer", renderer}}},
+               {{"nproc", std::thread::hardware_concurrency()}, {"cpu", caustic::bench::cpu_model()}, {"renderer", renderer}}},
               {"causticd", causticd},
               {"codec", codec},
               {"size", size},

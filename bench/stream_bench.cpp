@@ -5,6 +5,7 @@
 // the "frames" data channel). Prints a table; asserts nothing.
 //
 //   caustic-stream-bench --codec vp8 --width 1024 --height 1024 --seconds 20 --patches 100
+#include "proc_stats.hpp"
 #include "server_process.hpp"
 #include "webrtc_peer.hpp"
 
@@ -23,32 +24,8 @@ using caustic::testing::ServerProcess;
 using caustic::testing::WebRtcPeer;
 using nlohmann::json;
 
-namespace {
-
-// utime + stime of a process, in seconds.
-double cpu_seconds(const std::string& pid) {
-  std::ifstream in("/proc/" + pid + "/stat");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::istringstream fields(text.substr(text.rfind(')') + 2));
-  std::string f;
-  double utime = 0, stime = 0;
-  for (int i = 3; fields >> f; ++i) {
-    if (i == 14) utime = std::stod(f);
-    if (i == 15) {
-      stime = std::stod(f);
-      break;
-    }
-  }
-  return (utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
-}
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
-}
-
-}  // namespace
+using caustic::bench::cpu_seconds;
+using caustic::bench::percentile;
 
 int main(int argc, char** argv) {
   CLI::App app{"Streaming benchmark of causticd serve (loopback only)"};
@@ -88,6 +65,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "no video: %s\n", peer.error().c_str());
     return 1;
   }
+  std::printf("machine: %s\n", caustic::bench::machine().c_str());
   std::printf("session: %s, %dx%d at %d fps, scene %s\n", codec.c_str(), width, height, framerate, scene.c_str());
 
   // Steady state: parameters unchanged, frames re-sent and encoded.
