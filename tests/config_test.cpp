@@ -85,6 +85,12 @@ TEST(Config, ValuesAreCheckedAndNamed) {
   ServerConfig c;
   expect_error(c, "port", "70000", "port");
   expect_error(c, "port", "80a", "port");
+  expect_error(c, "ice_port_range", "80-90", "ice_port_range");
+  expect_error(c, "ice_port_range", "5000-4000", "ice_port_range");
+  expect_error(c, "ice_port_range", "5000", "ice_port_range");
+  expect_error(c, "instance_index", "-1", "instance_index");
+  expect_error(c, "trusted_proxies", "proxy.example", "trusted_proxies");
+  expect_error(c, "drain_timeout_s", "forever", "drain_timeout_s");
   expect_error(c, "max_sessions", "0", "max_sessions");
   expect_error(c, "codec", "av1", "codec");
   expect_error(c, "bind_address", "example.com; rm", "bind_address");

@@ -153,9 +153,9 @@ struct Listener {
   }
 };
 
-TEST(Service, SigtermClosesOpenSessionsAndExitsZeroWithinTwoSeconds) {
+TEST(Service, WithoutDrainSigtermClosesOpenSessionsAndExitsZeroWithinTwoSeconds) {
   NotifySocket notify(fs::temp_directory_path() / "causticd_notify_term.sock");
-  ServerProcess server({}, {{"NOTIFY_SOCKET", notify.path().string()}});
+  ServerProcess server({"--set", "drain_timeout_s=0"}, {{"NOTIFY_SOCKET", notify.path().string()}});
   ASSERT_TRUE(notify.wait_for("READY=1", 10000));
   const json viewed = create_session(server.url(), "lens");
   create_session(server.url(), "wavy");
@@ -171,6 +171,54 @@ TEST(Service, SigtermClosesOpenSessionsAndExitsZeroWithinTwoSeconds) {
   EXPECT_LT(took, std::chrono::seconds(2));
   // The connected viewer was told before the server went.
   EXPECT_TRUE(viewer.spin([&] { return viewer.heard("\"bye\""); }, 1000));
+}
+
+// Draining: the first SIGTERM refuses new sessions (a proxy sends them
+// elsewhere) while running ones go on; the last one ending stops the server,
+// and so does a second signal.
+TEST(Service, SigtermDrainsUntilTheLastSessionEnds) {
+  NotifySocket notify(fs::temp_directory_path() / "causticd_notify_drain.sock");
+  ServerProcess server({}, {{"NOTIFY_SOCKET", notify.path().string()}});
+  ASSERT_TRUE(notify.wait_for("READY=1", 10000));
+  const json viewed = create_session(server.url(), "lens");
+  const json other = create_session(server.url(), "wavy");
+  Listener viewer("ws" + server.url().substr(4) + viewed["signal_url"].get<std::string>());
+  ASSERT_NE(viewer.socket, nullptr);
+  viewer.spin([&] { return viewer.heard("offer"); }, 10000);
+  server.signal(SIGTERM);
+  EXPECT_TRUE(notify.wait_for("STOPPING=1\nSTATUS=draining: 2 sessions", 2000));
+  const auto health = http("GET", server.url() + "/api/v1/health");
+  EXPECT_EQ(health.status, 503u);
+  EXPECT_EQ(health.json()["status"], "draining");
+  EXPECT_EQ(health.json()["free_sessions"], 0);
+  const auto refused = http("POST", server.url() + "/api/v1/sessions", R"({"scene": "lens"})");
+  EXPECT_EQ(refused.status, 503u) << refused.body;
+  EXPECT_NE(refused.body.find("stopping"), std::string::npos) << refused.body;
+  // The running sessions go on: a patch, and the viewer is not told to go.
+  const auto bearer = [](const json& s) {
+    return std::vector<std::pair<std::string, std::string>>{{"Authorization", "Bearer " + s["token"].get<std::string>()}};
+  };
+  const auto patched = http("PATCH", server.url() + viewed["url"].get<std::string>() + "/params",
+                            R"({"object": {"ior": 1.6}})", "application/merge-patch+json", bearer(viewed));
+  EXPECT_EQ(patched.status, 200u) << patched.body;
+  EXPECT_FALSE(viewer.spin([&] { return viewer.heard("\"bye\""); }, 1000));
+  EXPECT_EQ(server.wait_exit(500), -1) << "exited while sessions were running";
+  // Both end: the server follows.
+  EXPECT_EQ(http("DELETE", server.url() + other["url"].get<std::string>(), "", "", bearer(other)).status, 204u);
+  EXPECT_EQ(http("DELETE", server.url() + viewed["url"].get<std::string>(), "", "", bearer(viewed)).status, 204u);
+  EXPECT_EQ(server.wait_exit(5000), 0);
+}
+
+TEST(Service, ASecondSigtermOrTheDrainTimeoutEndsTheDrain) {
+  for (const bool second_signal : {true, false}) {
+    ServerProcess server({"--set", second_signal ? "drain_timeout_s=600" : "drain_timeout_s=1"});
+    create_session(server.url(), "lens");
+    server.signal(SIGTERM);
+    for (int i = 0; i < 50 && http("GET", server.url() + "/api/v1/health").status != 503; ++i) g_usleep(20000);
+    EXPECT_EQ(http("GET", server.url() + "/api/v1/health").json()["status"], "draining");
+    if (second_signal) server.signal(SIGTERM);
+    EXPECT_EQ(server.wait_exit(10000), 0) << (second_signal ? "second signal" : "timeout");
+  }
 }
 
 TEST(Service, SighupAddsASceneWithoutDroppingTheRunningSession) {

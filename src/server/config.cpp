@@ -38,6 +38,22 @@ void check_uri(const std::string& key, const std::string& value, const char* sch
     throw ConfigError(key + ": must look like " + std::string(schemes) + "://host:port, got \"" + value + "\"");
 }
 
+// A comma-separated list of IP addresses; empty items are skipped.
+std::vector<std::string> address_list(const std::string& key, const std::string& value) {
+  std::vector<std::string> list;
+  static const std::regex address("^[0-9.]+$|^[0-9a-fA-F:]+$");
+  for (std::size_t start = 0; start <= value.size();) {
+    const auto comma = std::min(value.find(',', start), value.size());
+    const std::string item = trim(value.substr(start, comma - start));
+    if (!item.empty()) {
+      if (!std::regex_match(item, address)) throw ConfigError(key + ": \"" + item + "\" is not an IP address");
+      list.push_back(item);
+    }
+    start = comma + 1;
+  }
+  return list;
+}
+
 }  // namespace
 
 namespace {
@@ -52,6 +68,9 @@ struct IntKey {
 constexpr IntKey kIntKeys[] = {
     {"port", &ServerConfig::port, 0, 65535},
     {"max_sessions", &ServerConfig::max_sessions, 1, 1000},
+    {"instance_index", &ServerConfig::instance_index, 0, 999},
+    {"drain_timeout_s", &ServerConfig::drain_timeout_s, 0, 86400},
+    {"agent_port", &ServerConfig::agent_port, 0, 65535},
     {"bitrate_kbps", &ServerConfig::bitrate_kbps, 100, 100000},
     {"framerate", &ServerConfig::framerate, 1, 120},
     {"keyframe_interval", &ServerConfig::keyframe_interval, 1, 10000},
@@ -83,7 +102,8 @@ constexpr IntKey kIntKeys[] = {
 constexpr const char* kOtherKeys[] = {"bind_address", "codec",         "width",          "height",
                                       "stun_server",  "turn_server",   "ice_addresses",  "max_body_bytes",
                                       "scenes_dir",   "web_dir",       "log_level",      "max_ws_message_bytes",
-                                      "session_create_token", "design_uploads", "design_upload_token", "state_dir"};
+                                      "session_create_token", "design_uploads", "design_upload_token", "state_dir",
+                                      "ice_port_range", "trusted_proxies"};
 
 }  // namespace
 
@@ -124,19 +144,16 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
     check_uri(key, value, "turn|turns");
     c.turn_server = value;
   } else if (key == "ice_addresses") {
-    std::vector<std::string> list;
-    static const std::regex address("^[0-9.]+$|^[0-9a-fA-F:]+$");
-    std::string item;
-    for (std::size_t start = 0; start <= value.size();) {
-      const auto comma = std::min(value.find(',', start), value.size());
-      item = trim(value.substr(start, comma - start));
-      if (!item.empty()) {
-        if (!std::regex_match(item, address)) throw ConfigError(key + ": \"" + item + "\" is not an IP address");
-        list.push_back(item);
-      }
-      start = comma + 1;
-    }
-    c.ice_addresses = list;
+    c.ice_addresses = address_list(key, value);
+  } else if (key == "trusted_proxies") {
+    c.trusted_proxies = address_list(key, value);
+  } else if (key == "ice_port_range") {
+    static const std::regex range("^([0-9]{1,5})-([0-9]{1,5})$");
+    std::smatch m;
+    if (!value.empty() && (!std::regex_match(value, m, range) || std::stoi(m[1]) < 1024 || std::stoi(m[2]) > 65535 ||
+                           std::stoi(m[1]) > std::stoi(m[2])))
+      throw ConfigError(key + ": must be lo-hi with 1024 <= lo <= hi <= 65535, got \"" + value + "\"");
+    c.ice_port_range = value;
   } else if (key == "max_body_bytes") {
     c.max_body_bytes = static_cast<std::size_t>(parse_int(key, value, 1024, 16 * 1024 * 1024));
   } else if (key == "max_ws_message_bytes") {

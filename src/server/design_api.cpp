@@ -97,7 +97,7 @@ void upload(ServerState& s, SoupServerMessage* msg) {
   // Charged only for a picture that would be designed: the designs are
   // what costs (refusals are cheap, and the general rate limit covers them).
   int retry = 1;
-  if (!s.design_rate.admit(client_address(msg), s.config.design_uploads_per_hour / 3600.0,
+  if (!s.design_rate.admit(client_address(msg, s.config.trusted_proxies), s.config.design_uploads_per_hour / 3600.0,
                            upload_burst(s.config.design_uploads_per_hour), &retry)) {
     ++s.metrics.rate_limited;
     soup_message_headers_replace(response, "Retry-After", std::to_string(retry).c_str());

@@ -56,10 +56,14 @@ std::string query_token(SoupServerMessage* msg) {
   return token;
 }
 
+// 503 while draining: a proxy's health check then stops sending new
+// sessions here, while the routes of running sessions go on regardless.
 void health(ServerState& s, SoupServerMessage* msg) {
-  reply_json(msg, SOUP_STATUS_OK,
-             {{"status", "ok"}, {"version", CAUSTICD_VERSION}, {"sessions", s.sessions.size()},
-              {"max_sessions", s.config.max_sessions}});
+  nlohmann::json body = {{"status", s.draining ? "draining" : "ok"}, {"version", CAUSTICD_VERSION},
+                         {"sessions", s.sessions.size()}, {"max_sessions", s.config.max_sessions},
+                         {"free_sessions", free_sessions(s)}};
+  if (s.config.instance_index > 0) body["instance"] = s.config.instance_index;
+  reply_json(msg, s.draining ? SOUP_STATUS_SERVICE_UNAVAILABLE : SOUP_STATUS_OK, body);
 }
 
 void scenes(ServerState& s, SoupServerMessage* msg) {
@@ -161,13 +165,19 @@ void create_session(ServerState& s, SoupServerMessage* msg) {
                            "codec");
     codec = body["codec"];
   }
+  if (s.draining) {
+    ++s.metrics.sessions_rejected;
+    soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After", "5");
+    return reply_problem(msg, s.metrics, SOUP_STATUS_SERVICE_UNAVAILABLE,
+                         "this instance is stopping and takes no new sessions");
+  }
   if (static_cast<int>(s.sessions.size()) >= s.config.max_sessions) {
     ++s.metrics.sessions_rejected;
     soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After", "10");
     return reply_problem(msg, s.metrics, SOUP_STATUS_SERVICE_UNAVAILABLE,
                          "the server is full (" + std::to_string(s.config.max_sessions) + " sessions)");
   }
-  const std::string address = client_address(msg);
+  const std::string address = client_address(msg, s.config.trusted_proxies);
   int held = 0;
   for (const auto& [sid, session] : s.sessions) held += session->client_address() == address;
   if (held >= s.config.max_sessions_per_address) {
@@ -190,11 +200,12 @@ void create_session(ServerState& s, SoupServerMessage* msg) {
   s.sessions[id] = session;
   ++s.metrics.sessions_created;
   log(Level::info, "session " + id + " started: scene " + scene_id + ", " + codec, session->log_context());
-  const std::string signal = "/api/v1/sessions/" + id + "/signal?token=" + session->token();
-  soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Location",
-                               ("/api/v1/sessions/" + id).c_str());
+  // Every later request of the session names this instance (instance.hpp).
+  const std::string url = url_prefix(s.config) + "/api/v1/sessions/" + id;
+  const std::string signal = url + "/signal?token=" + session->token();
+  soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Location", url.c_str());
   reply_json(msg, SOUP_STATUS_CREATED,
-             {{"id", id}, {"token", session->token()}, {"codec", codec}, {"signal_url", signal},
+             {{"id", id}, {"token", session->token()}, {"codec", codec}, {"url", url}, {"signal_url", signal},
               {"params", public_params(*session)}});
 }
 
@@ -263,8 +274,8 @@ void session_route(ServerState& s, SoupServerMessage* msg, const Route& route) {
 // What a mutating request costs: a token from its address's bucket.
 bool within_rate(ServerState& s, SoupServerMessage* msg) {
   int retry = 1;
-  if (s.rate_limiter.admit(client_address(msg), s.config.rate_limit_per_s, s.config.rate_limit_burst, &retry))
-    return true;
+  const std::string address = client_address(msg, s.config.trusted_proxies);
+  if (s.rate_limiter.admit(address, s.config.rate_limit_per_s, s.config.rate_limit_burst, &retry)) return true;
   ++s.metrics.rate_limited;
   soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After",
                                std::to_string(retry).c_str());
@@ -330,7 +341,10 @@ void handle_http(SoupServer*, SoupServerMessage* msg, const char* raw_path, GHas
   // Nothing may leave a C callback as an exception: it would end the
   // process. A failure here is the server's fault, and says so.
   try {
-    route_http(s, msg, raw_path ? raw_path : "");
+    std::string path = raw_path ? raw_path : "";
+    if (strip_instance_prefix(s.config, path) == PathOwner::other_instance)
+      return reply_problem(msg, s.metrics, 421, "this is not the instance that path names");
+    route_http(s, msg, path);
   } catch (const std::exception& e) {
     log(Level::error, std::string("request failed: ") + e.what());
     reply_problem(msg, s.metrics, SOUP_STATUS_INTERNAL_SERVER_ERROR, "the request failed inside the server");
@@ -346,7 +360,8 @@ void handle_signal_socket(SoupServer*, SoupServerMessage* msg, const char* raw_p
   try {
     static const std::regex signal_path("^/api/v1/sessions/([0-9a-f]{32})/signal$");
     std::smatch m;
-    const std::string path = raw_path ? raw_path : "";
+    std::string path = raw_path ? raw_path : "";
+    strip_instance_prefix(s.config, path);  // another's prefix then matches no session
     const std::string token = query_token(msg);
     auto it = std::regex_match(path, m, signal_path) ? s.sessions.find(m[1]) : s.sessions.end();
     if (it == s.sessions.end() || !same_secret(token, it->second->token())) {
@@ -361,7 +376,7 @@ void handle_signal_socket(SoupServer*, SoupServerMessage* msg, const char* raw_p
   }
 }
 
-void on_request_started(SoupServer*, SoupServerMessage* msg, gpointer) {
+void on_request_started(SoupServer*, SoupServerMessage* msg, gpointer data) {
   // Every plain answer closes its connection: libsoup 3.2 leaks the socket
   // of a keep-alive connection that the client closes (fixed in 3.3), and
   // one request per connection is what the accept path's limits count.
@@ -371,6 +386,9 @@ void on_request_started(SoupServer*, SoupServerMessage* msg, gpointer) {
   soup_message_headers_replace(headers, "Referrer-Policy", "no-referrer");
   soup_message_headers_replace(headers, "X-Frame-Options", "DENY");
   soup_message_headers_replace(headers, "Content-Security-Policy", kContentSecurityPolicy);
+  // Which instance answered, for an operator reading a proxy's traffic.
+  if (const int n = static_cast<ServerState*>(data)->config.instance_index; n > 0)
+    soup_message_headers_replace(headers, "X-Causticd-Instance", std::to_string(n).c_str());
 }
 
 }  // namespace caustic::server

@@ -40,9 +40,22 @@ std::string bearer_token(SoupServerMessage* msg) {
   return start == std::string::npos ? "" : text.substr(start);
 }
 
-std::string client_address(SoupServerMessage* msg) {
+std::string client_address(SoupServerMessage* msg, const std::vector<std::string>& trusted_proxies) {
   const char* host = soup_server_message_get_remote_host(msg);
-  return host ? host : "unknown";
+  if (!host) return "unknown";
+  if (std::find(trusted_proxies.begin(), trusted_proxies.end(), host) == trusted_proxies.end()) return host;
+  const char* forwarded =
+      soup_message_headers_get_list(soup_server_message_get_request_headers(msg), "X-Forwarded-For");
+  if (!forwarded) return host;
+  std::string last = forwarded;
+  last = last.substr(last.rfind(',') == std::string::npos ? 0 : last.rfind(',') + 1);
+  last.erase(0, last.find_first_not_of(" \t"));
+  last.erase(last.find_last_not_of(" \t") + 1);
+  // Only an address: anything else would let a client choose its bucket.
+  GInetAddress* parsed = g_inet_address_new_from_string(last.c_str());
+  if (!parsed) return host;
+  g_object_unref(parsed);
+  return last;
 }
 
 bool same_secret(const std::string& a, const std::string& b) {

@@ -22,7 +22,10 @@ void reply_bytes(SoupServerMessage* msg, guint status, const std::string& conten
 /// RFC 9110 11.1).
 std::string bearer_token(SoupServerMessage* msg);
 /// The client's IP address as text ("unknown" when the library has none).
-std::string client_address(SoupServerMessage* msg);
+/// From a peer in `trusted_proxies`, the last address of X-Forwarded-For
+/// (the one that proxy added) instead: behind a proxy, limits per address
+/// then count visitors, not the proxy.
+std::string client_address(SoupServerMessage* msg, const std::vector<std::string>& trusted_proxies);
 
 /// Pages load scripts, styles and images from this server only; the video
 /// arrives over WebRTC and the viewer talks to the API and its WebSocket.

@@ -48,7 +48,8 @@ ListenerLimits listener_limits(const ServerConfig& c) {
 struct Server::State {
   ServerState shared;
   GMainLoop* loop = nullptr;
-  guint reaper = 0, sigint = 0, sigterm = 0, sighup = 0, watchdog = 0;
+  guint reaper = 0, sigint = 0, sigterm = 0, sighup = 0, watchdog = 0, drain = 0;
+  std::chrono::steady_clock::time_point drain_deadline;
   std::function<ServerConfig()> reloader;
   // The gallery is re-read (meshes, thumbnails: seconds on a CPU) on a
   // thread of its own, so requests and pings go on meanwhile.
@@ -70,7 +71,7 @@ std::shared_ptr<const Gallery> load_checked_gallery(const std::filesystem::path&
 }
 
 std::string status_line(const ServerState& s) {
-  return "STATUS=" + std::to_string(s.sessions.size()) + " sessions, " + std::to_string(s.gallery->entries.size()) +
+  return std::string("STATUS=") + (s.draining ? "draining: " : "") + std::to_string(s.sessions.size()) + " sessions, " + std::to_string(s.gallery->entries.size()) +
          " scenes, " + s.renderer;
 }
 
@@ -126,10 +127,15 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
   s.soup = soup_server_new("server-header", "causticd", nullptr);
   g_signal_connect(s.soup, "request-started", G_CALLBACK(on_request_started), &s);
   s.listener = std::make_unique<Listener>(s.soup, s.metrics, listener_limits(s.config));
-  soup_server_add_websocket_handler(s.soup, "/api/v1/sessions", nullptr, nullptr, handle_signal_socket, &s, nullptr);
   // The same path also carries plain requests (POST, and everything under
   // /api/v1/sessions/{id}): a handler entry with both callbacks takes both.
-  soup_server_add_handler(s.soup, "/api/v1/sessions", handle_http, &s, nullptr);
+  // With an instance number, its prefixed path too (instance.hpp).
+  std::vector<std::string> session_paths = {"/api/v1/sessions"};
+  if (s.config.instance_index > 0) session_paths.push_back(url_prefix(s.config) + "/api/v1/sessions");
+  for (const std::string& sessions : session_paths) {
+    soup_server_add_websocket_handler(s.soup, sessions.c_str(), nullptr, nullptr, handle_signal_socket, &s, nullptr);
+    soup_server_add_handler(s.soup, sessions.c_str(), handle_http, &s, nullptr);
+  }
   soup_server_add_handler(s.soup, nullptr, handle_http, &s, nullptr);
   state_->loop = g_main_loop_new(nullptr, FALSE);
 }
@@ -141,8 +147,9 @@ Server::~Server() {
   if (state_->gallery_loader.joinable()) state_->gallery_loader.join();
   for (auto& [id, session] : s.sessions) session->close("server shutting down");
   s.sessions.clear();
-  for (guint source : {state_->reaper, state_->sigint, state_->sigterm, state_->sighup, state_->watchdog})
+  for (guint source : {state_->reaper, state_->sigint, state_->sigterm, state_->sighup, state_->watchdog, state_->drain})
     if (source) g_source_remove(source);
+  s.agent.reset();
   s.listener.reset();
   if (s.soup) {
     soup_server_disconnect(s.soup);
@@ -156,7 +163,9 @@ Server::~Server() {
 
 std::string Server::listen() {
   auto& s = state_->shared;
-  return s.listener->listen(s.config.bind_address, s.config.port);
+  const std::string url = s.listener->listen(s.config.bind_address, s.config.port);
+  if (s.config.agent_port > 0) s.agent = std::make_unique<CapacityAgent>(s, s.config.bind_address, s.config.agent_port);
+  return url;
 }
 
 void Server::run() {
@@ -185,14 +194,42 @@ void Server::run() {
         return G_SOURCE_CONTINUE;
       },
       &s);
-  auto quit = [](gpointer loop) -> gboolean {
-    notify("STOPPING=1");
-    log(Level::notice, "stopping: closing every session");
-    g_main_loop_quit(static_cast<GMainLoop*>(loop));
+  // The first SIGTERM or SIGINT drains (running sessions go on, new ones
+  // are refused, a proxy sends them elsewhere) for up to drain_timeout_s;
+  // the next one, or the last session ending, stops.
+  auto stop = [](gpointer data) -> gboolean {
+    auto& st = *static_cast<State*>(data);
+    ServerState& s = st.shared;
+    if (s.draining || s.sessions.empty() || s.config.drain_timeout_s == 0) {
+      notify("STOPPING=1");
+      log(Level::notice, s.sessions.empty() ? "stopping" : "stopping: closing every session");
+      g_main_loop_quit(st.loop);
+      return G_SOURCE_CONTINUE;
+    }
+    s.draining = true;
+    st.drain_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(s.config.drain_timeout_s);
+    notify("STOPPING=1\n" + status_line(s));
+    log(Level::notice, "draining: no new sessions; the " + std::to_string(s.sessions.size()) +
+                           " running go on for at most " + std::to_string(s.config.drain_timeout_s) +
+                           " s (a second signal stops at once)");
+    st.drain = g_timeout_add(
+        250,
+        [](gpointer data) -> gboolean {
+          auto& st = *static_cast<State*>(data);
+          const bool late = std::chrono::steady_clock::now() >= st.drain_deadline;
+          if (!st.shared.sessions.empty() && !late) return G_SOURCE_CONTINUE;
+          log(Level::notice, late ? "drain timeout: closing the " + std::to_string(st.shared.sessions.size()) +
+                                        " sessions left"
+                                  : "drained: every session has ended");
+          g_main_loop_quit(st.loop);
+          st.drain = 0;
+          return G_SOURCE_REMOVE;
+        },
+        &st);
     return G_SOURCE_CONTINUE;
   };
-  state_->sigint = g_unix_signal_add(SIGINT, quit, state_->loop);
-  state_->sigterm = g_unix_signal_add(SIGTERM, quit, state_->loop);
+  state_->sigint = g_unix_signal_add(SIGINT, stop, state_.get());
+  state_->sigterm = g_unix_signal_add(SIGTERM, stop, state_.get());
   state_->sighup = g_unix_signal_add(
       SIGHUP,
       [](gpointer self) -> gboolean {
@@ -232,11 +269,16 @@ void Server::reload() {
     try {
       ServerConfig next = state_->reloader();
       check_config(next, s.data_dir);
-      if (next.bind_address != s.config.bind_address || next.port != s.config.port || next.egl_device != s.config.egl_device) {
-        log(Level::warning, "bind_address, port and egl_device take effect at the next restart; kept as they are");
+      if (next.bind_address != s.config.bind_address || next.port != s.config.port ||
+          next.egl_device != s.config.egl_device || next.instance_index != s.config.instance_index ||
+          next.agent_port != s.config.agent_port) {
+        log(Level::warning, "bind_address, port, egl_device, instance_index and agent_port take effect at the next "
+                            "restart; kept as they are");
         next.bind_address = s.config.bind_address;
         next.port = s.config.port;
         next.egl_device = s.config.egl_device;
+        next.instance_index = s.config.instance_index;
+        next.agent_port = s.config.agent_port;
       }
       s.config = std::move(next);
       set_log_level(level_from_name(s.config.log_level));

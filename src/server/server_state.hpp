@@ -5,6 +5,7 @@
 #include "caustic/server/config.hpp"
 #include "design_jobs.hpp"
 #include "gallery.hpp"
+#include "instance.hpp"
 #include "listener.hpp"
 #include "metrics.hpp"
 #include "rate_limit.hpp"
@@ -30,6 +31,8 @@ struct ServerState {
   RateLimiter rate_limiter;
   RateLimiter design_rate;                ///< uploads per address, apart from the other requests
   std::unique_ptr<DesignJobs> designs;    ///< null when the state folder is unusable
+  bool draining = false;                  ///< stopping: no new sessions, running ones go on
+  std::unique_ptr<CapacityAgent> agent;   ///< when agent_port is set
 
   /// A scene for a session: the gallery's, else a finished design's; null
   /// if none, or (`*loading`) while the design is read back into memory.

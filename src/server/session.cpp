@@ -4,6 +4,7 @@
 #include "caustic/gst/causticsrc.hpp"
 #include "caustic/server/data_files.hpp"
 #include "frame_probes.hpp"
+#include "ice_setup.hpp"
 #include "signal_message.hpp"
 
 #define GST_USE_UNSTABLE_API
@@ -121,24 +122,8 @@ void Session::build() {
   } else {
     log(Level::warning, "session " + id_ + ": no rtpbin inside webrtcbin; only signalling pings show the viewer alive");
   }
-  GstWebRTCICE* ice = nullptr;
-  g_object_get(webrtc_, "ice-agent", &ice, nullptr);
-  // libnice asks the LAN's router for port mappings (UPnP IGD) by default; a
-  // server has no NAT of its own to open, and each agent's UPnP client costs
-  // a thread, SSDP multicast and, with gssdp 1.6, a leaked socket address.
-  if (ice && g_object_class_find_property(G_OBJECT_GET_CLASS(ice), "agent")) {
-    GObject* agent = nullptr;
-    g_object_get(ice, "agent", &agent, nullptr);
-    if (agent && g_object_class_find_property(G_OBJECT_GET_CLASS(agent), "upnp")) g_object_set(agent, "upnp", FALSE, nullptr);
-    if (agent) g_object_unref(agent);
-  }
-  // libnice gathers on every interface otherwise; tests pin it to loopback.
-  for (const auto& address : c.ice_addresses) {
-    gboolean ok = FALSE;
-    g_signal_emit_by_name(ice, "add-local-ip-address", address.c_str(), &ok);
-    if (!ok) log(Level::warning, "session " + id_ + ": ICE refused local address " + address, log_context());
-  }
-  if (ice) gst_object_unref(ice);
+  for (const auto& refused : configure_ice(webrtc_, c))
+    log(Level::warning, "session " + id_ + ": ICE refused local address " + refused, log_context());
   GArray* transceivers = nullptr;
   g_signal_emit_by_name(webrtc_, "get-transceivers", &transceivers);
   for (guint i = 0; transceivers && i < transceivers->len; ++i) {

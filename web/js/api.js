@@ -19,9 +19,12 @@ export async function createSession(scene, codec) {
   return body;
 }
 
+// A session's own URL: behind a proxy it names the instance that holds it.
+const sessionUrl = (session) => session.url ?? `/api/v1/sessions/${session.id}`;
+
 // Ends a session; keepalive lets it go out while the page unloads.
 export function deleteSession(session) {
-  return fetch(`/api/v1/sessions/${session.id}`, {
+  return fetch(sessionUrl(session), {
     method: 'DELETE',
     keepalive: true,
     headers: { Authorization: `Bearer ${session.token}` },
@@ -62,7 +65,7 @@ export class ParamChannel {
       this.inFlight = true;
       const sentAt = performance.now();
       try {
-        const response = await fetch(`/api/v1/sessions/${this.session.id}/params`, {
+        const response = await fetch(`${sessionUrl(this.session)}/params`, {
           method: 'PATCH',
           headers: { 'Content-Type': 'application/merge-patch+json', Authorization: `Bearer ${this.session.token}` },
           body: JSON.stringify(patch),

@@ -20,7 +20,13 @@ class ConfigError : public std::runtime_error {
 struct ServerConfig {
   std::string bind_address = "127.0.0.1";
   int port = 8080;
-  int max_sessions = 4;
+  int max_sessions = 12;                  ///< measured: still sessions a 2-core host holds (docs/scaling.md)
+  // Several instances behind a proxy (docs/scaling.md).
+  int instance_index = 0;                 ///< this instance's number in session URLs (/i/<n>/...); 0: none
+  int drain_timeout_s = 60;               ///< on SIGTERM, running sessions may go on this long; 0: stop at once
+  int agent_port = 0;                     ///< TCP port of the capacity agent (HAProxy agent-check); 0: off
+  std::string ice_port_range;             ///< "lo-hi": UDP ports ICE may use; empty: any
+  std::vector<std::string> trusted_proxies;  ///< peers whose X-Forwarded-For names the client
   std::string codec = "vp8";              ///< default when a session names none
   int bitrate_kbps = 4000;
   int framerate = 30;

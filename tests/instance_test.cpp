@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// One instance's side of running behind a proxy: its number in the session
+// URLs (and the plain paths still working), another instance's prefix
+// refused, X-Forwarded-For believed only from a trusted proxy, and ICE
+// candidates kept inside the configured port range.
+#include "raw_http.hpp"
+#include "server_process.hpp"
+#include "ws_client.hpp"
+
+#include <gtest/gtest.h>
+
+#include <regex>
+
+using caustic::testing::http;
+using caustic::testing::ServerProcess;
+using nlohmann::json;
+namespace ct = caustic::testing;
+
+namespace {
+
+std::vector<std::pair<std::string, std::string>> bearer(const json& session) {
+  return {{"Authorization", "Bearer " + session["token"].get<std::string>()}};
+}
+
+unsigned create_from(const std::string& url, const std::string& forwarded_for) {
+  return http("POST", url + "/api/v1/sessions", R"({"scene": "lens"})", "application/json",
+              {{"X-Forwarded-For", forwarded_for}})
+      .status;
+}
+
+}  // namespace
+
+TEST(Instance, SessionUrlsNameTheInstanceAndAnotherInstancesPrefixIsRefused) {
+  ServerProcess server({"--set", "instance_index=3"});
+  const auto created = http("POST", server.url() + "/api/v1/sessions", R"({"scene": "lens"})");
+  ASSERT_EQ(created.status, 201u) << created.body;
+  const json s = created.json();
+  const std::string id = s["id"];
+  EXPECT_EQ(s["url"], "/i/3/api/v1/sessions/" + id);
+  EXPECT_EQ(s["signal_url"].get<std::string>().rfind("/i/3/api/v1/sessions/" + id + "/signal?token=", 0), 0u);
+  EXPECT_EQ(http("GET", server.url() + "/i/3/api/v1/sessions/" + id + "/params", "", "", bearer(s)).status, 200u);
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/sessions/" + id + "/params", "", "", bearer(s)).status, 200u);
+  const auto elsewhere = http("GET", server.url() + "/i/4/api/v1/sessions/" + id + "/params", "", "", bearer(s));
+  EXPECT_EQ(elsewhere.status, 421u);
+  EXPECT_EQ(elsewhere.content_type, "application/problem+json");
+  const json health = http("GET", server.url() + "/i/3/api/v1/health").json();
+  EXPECT_EQ(health["instance"], 3);
+  EXPECT_EQ(health["free_sessions"], health["max_sessions"].get<int>() - 1);
+  const std::string head = ct::raw_request(server.port(), "GET /api/v1/health HTTP/1.1\r\nHost: x\r\n\r\n");
+  EXPECT_EQ(ct::raw_header(head, "X-Causticd-Instance"), "3");
+  // The signalling WebSocket at its prefixed URL; another prefix gets none.
+  const int fd = ct::ws_open(server.port(), s["signal_url"]);
+  EXPECT_GE(fd, 0);
+  if (fd >= 0) ::close(fd);
+  std::string other = s["signal_url"];
+  other.replace(0, 4, "/i/4");
+  EXPECT_LT(ct::ws_open(server.port(), other), 0);
+}
+
+TEST(Instance, WithoutANumberUrlsAreThePlainOnes) {
+  ServerProcess server;
+  const json s = http("POST", server.url() + "/api/v1/sessions", R"({"scene": "lens"})").json();
+  EXPECT_EQ(s["url"], "/api/v1/sessions/" + s["id"].get<std::string>());
+  EXPECT_FALSE(http("GET", server.url() + "/api/v1/health").json().contains("instance"));
+  EXPECT_EQ(http("GET", server.url() + "/i/1/api/v1/health").status, 421u);
+}
+
+TEST(Instance, ForwardedForCountsOnlyFromATrustedProxy) {
+  // Trusted (loopback is the proxy): each visitor address has its own limit.
+  {
+    ServerProcess server({"--set", "trusted_proxies=127.0.0.1", "--set", "max_sessions_per_address=1"});
+    EXPECT_EQ(create_from(server.url(), "10.0.0.1"), 201u);
+    EXPECT_EQ(create_from(server.url(), "192.0.2.7, 10.0.0.2"), 201u);  // the last address is the proxy's word
+    EXPECT_EQ(create_from(server.url(), "10.0.0.1"), 429u);
+    EXPECT_EQ(create_from(server.url(), "not an address"), 201u);  // counted as the proxy itself
+    EXPECT_EQ(create_from(server.url(), "<script>"), 429u);
+  }
+  // Not trusted: a client cannot choose its bucket.
+  ServerProcess server({"--set", "max_sessions_per_address=1"});
+  EXPECT_EQ(create_from(server.url(), "10.0.0.1"), 201u);
+  EXPECT_EQ(create_from(server.url(), "10.0.0.2"), 429u);
+}
+
+TEST(Instance, IceCandidatesUseOnlyTheConfiguredPorts) {
+  ServerProcess server({"--set", "ice_port_range=41700-41709"});
+  const json s = http("POST", server.url() + "/api/v1/sessions", R"({"scene": "lens"})").json();
+  const int fd = ct::ws_open(server.port(), s["signal_url"]);
+  ASSERT_GE(fd, 0);
+  int candidates = 0;
+  for (int k = 0; k < 40; ++k) {
+    const auto text = ct::ws_read_text(fd, 5000);
+    if (!text) break;
+    const json m = json::parse(*text, nullptr, false);
+    if (!m.is_object() || m.value("type", "") != "ice") continue;
+    std::smatch port;
+    const std::string candidate = m.value("candidate", "");
+    // Active TCP candidates name port 9, as RFC 6544 has them: no socket.
+    if (candidate.find(" UDP ") == std::string::npos) continue;
+    ASSERT_TRUE(std::regex_search(candidate, port, std::regex(" ([0-9]+) typ "))) << candidate;
+    EXPECT_GE(std::stoi(port[1]), 41700) << candidate;
+    EXPECT_LE(std::stoi(port[1]), 41709) << candidate;
+    ++candidates;
+  }
+  ::close(fd);
+  EXPECT_GT(candidates, 0) << "no UDP candidate";
+}

@@ -1,0 +1,225 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Two causticd instances behind each shipped proxy configuration (proxy/):
+// new sessions spread by free capacity, every request and the signalling
+// WebSocket of a session land on its instance, and a stopped instance
+// drains (its running sessions go on, new ones go to the other) and then
+// exits. The proxies run as plain processes on loopback ports; the shipped
+// files are used as they are, with only addresses and ports replaced.
+#include "raw_http.hpp"
+#include "server_process.hpp"
+#include "ws_client.hpp"
+
+#include <gtest/gtest.h>
+
+#include <netinet/in.h>
+#include <sys/socket.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+using caustic::testing::http;
+using caustic::testing::ServerProcess;
+using nlohmann::json;
+namespace fs = std::filesystem;
+namespace ct = caustic::testing;
+
+namespace {
+
+// A loopback port free right now (the kernel's pick, then released).
+int free_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t size = sizeof a;
+  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &size);
+  ::close(fd);
+  return ntohs(a.sin_port);
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void replace_all(std::string& text, const std::string& from, const std::string& to) {
+  std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "the shipped configuration no longer has \"" << from << "\"";
+  for (; at != std::string::npos; at = text.find(from, at + to.size())) text.replace(at, from.size(), to);
+}
+
+std::string find_program(const std::string& name) {
+  for (const char* dir : {"/usr/sbin", "/usr/bin", "/sbin", "/bin"})
+    if (fs::exists(fs::path(dir) / name)) return (fs::path(dir) / name).string();
+  return "";
+}
+
+struct Instance {
+  int agent_port;
+  std::unique_ptr<ServerProcess> server;
+};
+
+class Proxied : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override {
+    const std::string program = find_program(GetParam());
+    if (program.empty()) GTEST_SKIP() << GetParam() << " is not installed (tools/bootstrap.sh installs it)";
+    dir_ = fs::temp_directory_path() / ("causticd_proxy_" + GetParam() + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    fs::permissions(dir_, fs::perms::all);
+    // Instance 1 holds three sessions, instance 2 one: the spread shows.
+    for (int n : {1, 2}) {
+      const int agent = free_port();
+      instances_.push_back({agent, std::make_unique<ServerProcess>(std::vector<std::string>{
+                                       "--max-sessions", n == 1 ? "3" : "1", "--set", "instance_index=" + std::to_string(n),
+                                       "--set", "agent_port=" + std::to_string(agent), "--set", "trusted_proxies=127.0.0.1",
+                                       "--set", "max_sessions_per_address=10", "--set", "drain_timeout_s=120"})});
+      ASSERT_FALSE(instances_.back().server->url().empty());
+    }
+    port_ = free_port();
+    std::string config = read_file(fs::path(CAUSTIC_PROXY_DIR) / (GetParam() == "haproxy" ? "haproxy.cfg" : "nginx.conf"));
+    for (int n : {1, 2}) {
+      replace_all(config, "127.0.0.1:808" + std::to_string(n),
+                  "127.0.0.1:" + std::to_string(instances_[n - 1].server->port()));
+      if (GetParam() == "haproxy")
+        replace_all(config, "agent-port 908" + std::to_string(n), "agent-port " + std::to_string(instances_[n - 1].agent_port));
+    }
+    std::vector<std::string> argv;
+    if (GetParam() == "haproxy") {
+      replace_all(config, "bind :80", "bind 127.0.0.1:" + std::to_string(port_));
+      replace_all(config, "log /dev/log local0", "log stderr local0");
+      std::ofstream(dir_ / "haproxy.cfg") << config;
+      argv = {program, "-db", "-f", (dir_ / "haproxy.cfg").string()};
+    } else {
+      replace_all(config, "listen 80;", "listen 127.0.0.1:" + std::to_string(port_) + ";");
+      replace_all(config, "/var/log/nginx/causticd.log", (dir_ / "access.log").string());
+      std::ofstream(dir_ / "site.conf") << config;
+      std::ofstream(dir_ / "nginx.conf") << "daemon off;\nworker_processes 1;\npid " << (dir_ / "nginx.pid").string()
+                                         << ";\nerror_log stderr warn;\nevents {}\nhttp {\n  client_body_temp_path "
+                                         << (dir_ / "body").string() << ";\n  proxy_temp_path "
+                                         << (dir_ / "proxy").string() << ";\n  include " << (dir_ / "site.conf").string()
+                                         << ";\n}\n";
+      argv = {program, "-p", dir_.string(), "-c", (dir_ / "nginx.conf").string()};
+    }
+    std::vector<const char*> args;
+    for (const auto& a : argv) args.push_back(a.c_str());
+    args.push_back(nullptr);
+    GError* error = nullptr;
+    proxy_ = g_subprocess_newv(args.data(), G_SUBPROCESS_FLAGS_NONE, &error);
+    ASSERT_NE(proxy_, nullptr) << error->message;
+    for (int i = 0; i < 100; ++i, g_usleep(100000))  // until it listens
+      if (const int fd = ct::raw_connect(port_); fd >= 0) {
+        ::close(fd);
+        break;
+      }
+    ASSERT_EQ(http("GET", url() + "/api/v1/scenes").status, 200u) << GetParam() << " does not answer";
+    g_usleep(1500000);  // HAProxy's agents have reported once
+  }
+  void TearDown() override {
+    if (proxy_) {
+      g_subprocess_send_signal(proxy_, SIGTERM);
+      g_subprocess_wait(proxy_, nullptr, nullptr);
+      g_object_unref(proxy_);
+    }
+    instances_.clear();
+    if (!dir_.empty()) fs::remove_all(dir_);
+  }
+
+  std::string url() const { return "http://127.0.0.1:" + std::to_string(port_); }
+  // The instance a session's URL names (1 or 2), 0 if none.
+  static int instance_of(const json& session) {
+    std::smatch m;
+    const std::string u = session.value("url", "");
+    return std::regex_search(u, m, std::regex("^/i/([0-9]+)/api/v1/sessions/[0-9a-f]{32}$")) ? std::stoi(m[1]) : 0;
+  }
+  static std::vector<std::pair<std::string, std::string>> bearer(const json& session) {
+    return {{"Authorization", "Bearer " + session["token"].get<std::string>()}};
+  }
+  ct::Response create() { return http("POST", url() + "/api/v1/sessions", R"({"scene": "lens", "codec": "vp8"})"); }
+
+  fs::path dir_;
+  std::vector<Instance> instances_;
+  int port_ = 0;
+  GSubprocess* proxy_ = nullptr;
+};
+
+}  // namespace
+
+TEST_P(Proxied, SessionsSpreadByFreeCapacityAndEveryRequestReachesTheirInstance) {
+  std::vector<json> sessions;
+  int on[3] = {0, 0, 0};
+  for (int i = 0; i < 4; ++i) {
+    const auto r = create();
+    ASSERT_EQ(r.status, 201u) << "session " << i + 1 << ": " << r.body;
+    sessions.push_back(r.json());
+    ++on[instance_of(sessions.back())];
+  }
+  EXPECT_EQ(on[1], 3);
+  EXPECT_EQ(on[2], 1);
+  EXPECT_EQ(create().status, 503u) << "both instances are full";
+
+  for (const json& s : sessions) {
+    const int n = instance_of(s);
+    // Only the owner knows the session: any other instance would refuse it.
+    const auto params = http("GET", url() + s["url"].get<std::string>() + "/params", "", "", bearer(s));
+    EXPECT_EQ(params.status, 200u) << params.body;
+    const std::string head = ct::raw_request(port_, "GET " + s["url"].get<std::string>() +
+                                                       "/params HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer " +
+                                                       s["token"].get<std::string>() + "\r\nConnection: close\r\n\r\n");
+    EXPECT_EQ(ct::raw_header(head, "X-Causticd-Instance"), std::to_string(n));
+    // The signalling WebSocket, through the proxy, to the same instance.
+    const int fd = ct::ws_open(port_, s["signal_url"].get<std::string>());
+    ASSERT_GE(fd, 0) << "no WebSocket through " << GetParam() << " for instance " << n;
+    bool offered = false;
+    for (int k = 0; k < 20 && !offered; ++k)
+      if (auto text = ct::ws_read_text(fd, 10000)) offered = text->find("\"offer\"") != std::string::npos;
+      else break;
+    ::close(fd);
+    EXPECT_TRUE(offered) << "no offer from instance " << n;
+  }
+  // A path naming an instance that does not exist goes nowhere.
+  EXPECT_EQ(http("GET", url() + "/i/7/api/v1/health").status, 404u);
+}
+
+TEST_P(Proxied, AStoppedInstanceDrainsAndNewSessionsGoToTheOther) {
+  std::vector<json> first, second;
+  for (int i = 0; i < 4; ++i) {
+    const auto r = create();
+    ASSERT_EQ(r.status, 201u) << r.body;
+    (instance_of(r.json()) == 1 ? first : second).push_back(r.json());
+  }
+  ASSERT_EQ(first.size(), 3u);
+  ASSERT_EQ(second.size(), 1u);
+  EXPECT_EQ(http("DELETE", url() + second[0]["url"].get<std::string>(), "", "", bearer(second[0])).status, 204u);
+  ServerProcess& one = *instances_[0].server;
+  one.signal(SIGTERM);
+  for (int i = 0; i < 50 && http("GET", one.url() + "/api/v1/health").status != 503; ++i) g_usleep(100000);
+  ASSERT_EQ(http("GET", one.url() + "/api/v1/health").json()["status"], "draining");
+  g_usleep(1500000);  // the agent has told HAProxy
+
+  // Its running sessions go on, through the proxy.
+  for (const json& s : first) {
+    const auto patched = http("PATCH", url() + s["url"].get<std::string>() + "/params", R"({"object": {"ior": 1.6}})",
+                              "application/merge-patch+json", bearer(s));
+    EXPECT_EQ(patched.status, 200u) << patched.body;
+  }
+  // New sessions go to the other instance, until it is full.
+  const auto next = create();
+  ASSERT_EQ(next.status, 201u) << next.body;
+  EXPECT_EQ(instance_of(next.json()), 2);
+  EXPECT_EQ(create().status, 503u);
+  EXPECT_EQ(one.wait_exit(500), -1) << "the draining instance left while its sessions ran";
+  // Its last session ends: it exits, cleanly.
+  for (const json& s : first)
+    EXPECT_EQ(http("DELETE", url() + s["url"].get<std::string>(), "", "", bearer(s)).status, 204u);
+  EXPECT_EQ(one.wait_exit(10000), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(ShippedConfigurations, Proxied, ::testing::Values("haproxy", "nginx"));
