@@ -61,7 +61,9 @@ TEST_F(Installed, FhsLayoutHoldsEverythingTheServerNeeds) {
                            "share/causticd/pipelines/vp8.pipeline", "share/causticd/pipelines/h264.pipeline",
                            "share/causticd/web/index.html", "share/causticd/web/vendor/three/build/three.module.js",
                            "lib/systemd/system/causticd.service", "lib/systemd/system/causticd@.service",
-                           "etc/causticd/causticd.conf", "share/doc/causticd/operations.md"})
+                           "etc/causticd/causticd.conf", "share/doc/causticd/operations.md",
+                           "share/doc/causticd/scaling.md", "share/doc/causticd/examples/haproxy.cfg",
+                           "share/doc/causticd/examples/nginx.conf"})
     EXPECT_TRUE(fs::is_regular_file(prefix_ / file)) << file;
 }
 

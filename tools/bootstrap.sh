@@ -19,7 +19,8 @@ esac
 
 # Every Debian package the build, the tests and the headless renderer need
 # (the last lines: the plugin test's gst-inspect-1.0 and gst-launch-1.0, the
-# Debian package and lintian, and the real-systemd test's container).
+# Debian package and lintian, the real-systemd test's container, and the
+# proxies the scaling tests put in front of two instances).
 packages=(
   g++ make cmake pkg-config
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
@@ -36,6 +37,7 @@ packages=(
   gstreamer1.0-tools
   dpkg-dev file lintian
   systemd-container debootstrap curl
+  haproxy nginx
 )
 # Node.js and npm vendor three.js and run the browser tests. A machine that
 # already has them (for example from another repository) keeps its own.
@@ -52,7 +54,22 @@ if ((${#missing[@]})); then
   sudo=()
   if [[ $(id -u) -ne 0 ]]; then sudo=(sudo); fi
   "${sudo[@]}" apt-get update -q
+  # The tests run the proxies as their own processes: their Debian services
+  # (nginx's default site on port 80) are not started by this install.
+  # Where no policy is in place, one that denies service starts is, for the
+  # install alone.
+  policy=/usr/sbin/policy-rc.d made_policy=0
+  if [[ ! -e $policy ]]; then
+    made_policy=1
+    printf '#!/bin/sh\nexit 101\n' | "${sudo[@]}" tee "$policy" >/dev/null
+    "${sudo[@]}" chmod 755 "$policy"
+    trap '"${sudo[@]}" rm -f "$policy"' EXIT
+  fi
   DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+  if ((made_policy)); then
+    "${sudo[@]}" rm -f "$policy"
+    trap - EXIT
+  fi
 fi
 
 # The photographs of the built-in designed scenes are scikit-image's test

@@ -3,8 +3,8 @@
 # causticd under a real systemd: a minimal Debian 12 booted with
 # systemd-nspawn, the package installed with apt (which pulls every run-time
 # dependency from Debian), then what an operator relies on: readiness,
-# reload, watchdog, restarts, a configuration error that does not loop, stop
-# with a session open, two template instances, enable + reboot, the
+# reload, watchdog, restarts, a configuration error that does not loop, a stop
+# that drains a running session, two template instances, enable + reboot, the
 # security rating, and purge. Exits 77 (skipped) only where systemd-nspawn
 # cannot run at all.
 #   real_systemd_test.sh PACKAGE.deb
@@ -57,6 +57,8 @@ active() { [[ "$(prop "$1" ActiveState)" == active ]]; }
 # Active again under another main PID than $1.
 restarted() { [[ "$(prop causticd.service MainPID)" != "$1" ]] && active causticd.service; }
 serving() { [[ "$(status "$1" /api/v1/health)" == 200 ]]; }
+draining() { [[ "$(status 8080 /api/v1/health)" == 503 ]]; }
+inactive() { [[ "$(prop "$1" ActiveState)" == inactive ]]; }
 # (grep reads to the end of a pipe: with pipefail, grep -q stopping early
 # could fail the pipe through SIGPIPE.)
 journal() { c journalctl -q --no-pager -o cat -u "$1" "${@:2}"; }
@@ -209,12 +211,22 @@ done
 # No library writes raw warnings past the server's log.
 raw="$(journal causticd.service _TRANSPORT=stdout | grep -E 'WARNING|CRITICAL|\*\*' || true)"
 [[ -z "$raw" ]] || fail "raw library messages in the journal: $raw"
+# A stop drains: the service stays up, refusing new sessions, until its
+# last session ends; then it is gone within moments.
+token="$(head -1 <<<"$created" | sed -n 's/.*"token":"\([0-9a-f]*\)".*/\1/p')"
+c systemctl stop --no-block causticd.service
+wait_for 10 "no drain after stop" draining
+[[ "$(prop causticd.service ActiveState)" == deactivating ]] || fail "draining but $(prop causticd.service ActiveState)"
+refused="$(on_net curl -s -o /dev/null -w '%{http_code}' --max-time 10 -X POST -H 'Content-Type: application/json' \
+  -d '{"scene":"lens"}' http://127.0.0.1:8080/api/v1/sessions)"
+[[ "$refused" == 503 ]] || fail "a new session while draining answered $refused"
 t0=$(date +%s%N)
-c systemctl stop causticd.service
+on_net curl -s --max-time 10 -X DELETE -H "Authorization: Bearer $token" "http://127.0.0.1:8080/api/v1/sessions/$session" >/dev/null
+wait_for 10 "still running after its last session ended" inactive causticd.service
 stop_ms=$((($(date +%s%N) - t0) / 1000000))
-note "stopped in $stop_ms ms"
+note "drained: stopped $stop_ms ms after the last session ended"
 [[ "$(prop causticd.service Result)" == success ]] || fail "stop result $(prop causticd.service Result)"
-((stop_ms < 2000)) || fail "stopping with a session open took $stop_ms ms"
+((stop_ms < 3000)) || fail "stopping after the last session took $stop_ms ms"
 
 # --- two template instances side by side -------------------------------------
 note "two instances: causticd@8081 and causticd@8082"
