@@ -80,7 +80,8 @@ class Proxied : public ::testing::TestWithParam<std::string> {
       instances_.push_back({agent, std::make_unique<ServerProcess>(std::vector<std::string>{
                                        "--max-sessions", n == 1 ? "3" : "1", "--set", "instance_index=" + std::to_string(n),
                                        "--set", "agent_port=" + std::to_string(agent), "--set", "trusted_proxies=127.0.0.1",
-                                       "--set", "max_sessions_per_address=10", "--set", "drain_timeout_s=120"})});
+                                       "--set", "max_sessions_per_address=10", "--set", "drain_timeout_s=120",
+                                       "--set", "design_resolution=64"})});
       ASSERT_FALSE(instances_.back().server->url().empty());
     }
     port_ = free_port();
@@ -220,6 +221,32 @@ TEST_P(Proxied, AStoppedInstanceDrainsAndNewSessionsGoToTheOther) {
   for (const json& s : first)
     EXPECT_EQ(http("DELETE", url() + s["url"].get<std::string>(), "", "", bearer(s)).status, 204u);
   EXPECT_EQ(one.wait_exit(10000), 0);
+}
+
+// A visitor's design is kept by the instance that made it: its status URL,
+// and the viewer's session of it, name that instance.
+TEST_P(Proxied, AVisitorsDesignStaysWithTheInstanceThatMadeIt) {
+  if (!DESIGN_BUILT_IN) GTEST_SKIP() << "built without the designer";
+  const auto png = http("GET", url() + "/api/v1/scenes/lens/thumbnail.png");
+  ASSERT_EQ(png.status, 200u);
+  const auto upload = http("POST", url() + "/api/v1/designs?name=Lens", png.body, "image/png");
+  ASSERT_EQ(upload.status, 202u) << upload.body;
+  std::smatch m;
+  const std::string status_url = upload.json()["status_url"];
+  ASSERT_TRUE(std::regex_match(status_url, m, std::regex("^/i/([12])/api/v1/designs/[0-9a-f]{32}$"))) << status_url;
+  const int n = std::stoi(m[1]);
+  json design;
+  for (int i = 0; i < 600; ++i, g_usleep(200000)) {
+    design = http("GET", url() + status_url).json();
+    if (design.value("state", "") == "ready" || design.value("state", "") == "failed") break;
+  }
+  ASSERT_EQ(design.value("state", ""), "ready") << design.dump();
+  const std::string home = "/i/" + std::to_string(n);
+  EXPECT_EQ(http("GET", url() + home + "/api/v1/scenes/" + design["scene"].get<std::string>()).status, 200u);
+  const auto session =
+      http("POST", url() + home + "/api/v1/sessions", json{{"scene", design["scene"]}, {"codec", "vp8"}}.dump());
+  ASSERT_EQ(session.status, 201u) << session.body;
+  EXPECT_EQ(instance_of(session.json()), n);
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedConfigurations, Proxied, ::testing::Values("haproxy", "nginx"));

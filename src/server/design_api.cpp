@@ -113,7 +113,8 @@ void upload(ServerState& s, SoupServerMessage* msg) {
     return refuse(s, msg, e.status, e.what());
   }
   ++s.metrics.designs_submitted;
-  const std::string where = "/api/v1/designs/" + ticket.id;
+  // Kept by this instance: behind a proxy, its URL says so (instance.hpp).
+  const std::string where = url_prefix(s.config) + "/api/v1/designs/" + ticket.id;
   soup_message_headers_replace(response, "Location", where.c_str());
   reply_json(msg, SOUP_STATUS_ACCEPTED,
              {{"id", ticket.id}, {"token", ticket.token}, {"status_url", where}, {"design", s.designs->describe(ticket.id)}});

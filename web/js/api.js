@@ -5,8 +5,10 @@ export class ServerFull extends Error {}
 // A refusal that asking again will not change (an unknown scene, a bad codec).
 export class Refused extends Error {}
 
-export async function createSession(scene, codec) {
-  const response = await fetch('/api/v1/sessions', {
+// `home`: '' or '/i/<n>', the instance that must hold the session (the
+// one that keeps a visitor's design, behind a proxy).
+export async function createSession(scene, codec, home = '') {
+  const response = await fetch(`${home}/api/v1/sessions`, {
     method: 'POST',
     headers: { 'Content-Type': 'application/json' },
     body: JSON.stringify({ scene, codec }),

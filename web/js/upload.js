@@ -47,7 +47,10 @@ export function uploadCard(codecOf) {
       });
       const ssim = design.report?.engine?.ssim;
       say(`Ready${ssim ? ` (SSIM ${ssim.toFixed(3)})` : ''}: opening…`);
-      location.href = `viewer.html?scene=${encodeURIComponent(design.scene)}&codec=${codecOf()}`;
+      // Behind a proxy the design is kept by the instance its status URL names.
+      const instance = answer.status_url.match(/^\/i\/([0-9]+)\//)?.[1];
+      location.href = `viewer.html?scene=${encodeURIComponent(design.scene)}&codec=${codecOf()}` +
+        (instance ? `&instance=${instance}` : '');
     } catch (error) {
       say(`Not designed: ${error.message}`);
       bar.hidden = true;

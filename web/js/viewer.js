@@ -14,6 +14,9 @@ import { installTestHooks } from './test_hooks.js';
 
 const query = new URLSearchParams(location.search);
 const sceneId = query.get('scene') ?? 'wavy';
+// A visitor's design lives on one instance behind a proxy: the page asks
+// that one for the scene and the session (docs/scaling.md).
+const home = /^[0-9]{1,3}$/.test(query.get('instance') ?? '') ? `/i/${query.get('instance')}` : '';
 const video = document.getElementById('video');
 const stateLabel = document.getElementById('state');
 const versionLabel = document.getElementById('version');
@@ -117,7 +120,7 @@ async function connect() {
   setConnection(retry ? 'reconnecting' : 'connecting');
   loading.begin('session');
   try {
-    session = await createSession(sceneId, state.codec);
+    session = await createSession(sceneId, state.codec, home);
   } catch (error) {
     if (error instanceof Refused) {
       // Permanent: say what to do instead of asking again forever.
@@ -133,7 +136,7 @@ async function connect() {
   if (firstTime) {
     loading.begin('room');
     // One scene by id: a visitor's design is not in the public list.
-    const { proxy } = await (await fetch(`/api/v1/scenes/${encodeURIComponent(sceneId)}`)).json();
+    const { proxy } = await (await fetch(`${home}/api/v1/scenes/${encodeURIComponent(sceneId)}`)).json();
     room = new CausticRoom(document.getElementById('stage'), video, proxy, firstQuality);
     state.quality = room.quality;
     controls = new ControlModes(room, {
