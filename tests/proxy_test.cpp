@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Two causticd instances behind each shipped proxy configuration (proxy/):
 // new sessions spread by free capacity, every request and the signalling
-// WebSocket of a session land on its instance, and a stopped instance
+// WebSocket of a session land on its instance (a viewer gets video), and a stopped instance
 // drains (its running sessions go on, new ones go to the other) and then
 // exits. The proxies run as plain processes on loopback ports; the shipped
 // files are used as they are, with only addresses and ports replaced.
 #include "raw_http.hpp"
 #include "server_process.hpp"
-#include "ws_client.hpp"
+#include "webrtc_peer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -70,6 +70,7 @@ class Proxied : public ::testing::TestWithParam<std::string> {
   void SetUp() override {
     const std::string program = find_program(GetParam());
     if (program.empty()) GTEST_SKIP() << GetParam() << " is not installed (tools/bootstrap.sh installs it)";
+    gst_init(nullptr, nullptr);
     dir_ = fs::temp_directory_path() / ("causticd_proxy_" + GetParam() + "_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
@@ -81,7 +82,7 @@ class Proxied : public ::testing::TestWithParam<std::string> {
                                        "--max-sessions", n == 1 ? "3" : "1", "--set", "instance_index=" + std::to_string(n),
                                        "--set", "agent_port=" + std::to_string(agent), "--set", "trusted_proxies=127.0.0.1",
                                        "--set", "max_sessions_per_address=10", "--set", "drain_timeout_s=120",
-                                       "--set", "design_resolution=64"})});
+                                       "--set", "design_resolution=64", "--width", "320", "--height", "240"})});
       ASSERT_FALSE(instances_.back().server->url().empty());
     }
     port_ = free_port();
@@ -175,15 +176,11 @@ TEST_P(Proxied, SessionsSpreadByFreeCapacityAndEveryRequestReachesTheirInstance)
                                                        "/params HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer " +
                                                        s["token"].get<std::string>() + "\r\nConnection: close\r\n\r\n");
     EXPECT_EQ(ct::raw_header(head, "X-Causticd-Instance"), std::to_string(n));
-    // The signalling WebSocket, through the proxy, to the same instance.
-    const int fd = ct::ws_open(port_, s["signal_url"].get<std::string>());
-    ASSERT_GE(fd, 0) << "no WebSocket through " << GetParam() << " for instance " << n;
-    bool offered = false;
-    for (int k = 0; k < 20 && !offered; ++k)
-      if (auto text = ct::ws_read_text(fd, 10000)) offered = text->find("\"offer\"") != std::string::npos;
-      else break;
-    ::close(fd);
-    EXPECT_TRUE(offered) << "no offer from instance " << n;
+    // A viewer: signalling through the proxy to the same instance, media
+    // straight from it. Its going away ends the session.
+    ct::WebRtcPeer peer("vp8", "ws://127.0.0.1:" + std::to_string(port_) + s["signal_url"].get<std::string>());
+    EXPECT_TRUE(peer.wait_for_frames(2, 60)) << "no video from instance " << n << " through " << GetParam() << ": "
+                                             << peer.error();
   }
   // A path naming an instance that does not exist goes nowhere.
   EXPECT_EQ(http("GET", url() + "/i/7/api/v1/health").status, 404u);
