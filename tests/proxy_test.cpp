@@ -5,60 +5,30 @@
 // drains (its running sessions go on, new ones go to the other) and then
 // exits. The proxies run as plain processes on loopback ports; the shipped
 // files are used as they are, with only addresses and ports replaced.
+#include "helper_processes.hpp"
 #include "raw_http.hpp"
 #include "server_process.hpp"
 #include "webrtc_peer.hpp"
 
 #include <gtest/gtest.h>
 
-#include <netinet/in.h>
-#include <sys/socket.h>
 
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <regex>
-#include <sstream>
 
+using caustic::testing::find_program;
+using caustic::testing::free_port;
 using caustic::testing::http;
+using caustic::testing::read_file;
+using caustic::testing::replace_all;
 using caustic::testing::ServerProcess;
 using nlohmann::json;
 namespace fs = std::filesystem;
 namespace ct = caustic::testing;
 
 namespace {
-
-// A loopback port free right now (the kernel's pick, then released).
-int free_port() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t size = sizeof a;
-  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &size);
-  ::close(fd);
-  return ntohs(a.sin_port);
-}
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-void replace_all(std::string& text, const std::string& from, const std::string& to) {
-  std::size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << "the shipped configuration no longer has \"" << from << "\"";
-  for (; at != std::string::npos; at = text.find(from, at + to.size())) text.replace(at, from.size(), to);
-}
-
-std::string find_program(const std::string& name) {
-  for (const char* dir : {"/usr/sbin", "/usr/bin", "/sbin", "/bin"})
-    if (fs::exists(fs::path(dir) / name)) return (fs::path(dir) / name).string();
-  return "";
-}
 
 struct Instance {
   int agent_port;
@@ -110,12 +80,8 @@ class Proxied : public ::testing::TestWithParam<std::string> {
                                          << ";\n}\n";
       argv = {program, "-p", dir_.string(), "-c", (dir_ / "nginx.conf").string()};
     }
-    std::vector<const char*> args;
-    for (const auto& a : argv) args.push_back(a.c_str());
-    args.push_back(nullptr);
-    GError* error = nullptr;
-    proxy_ = g_subprocess_newv(args.data(), G_SUBPROCESS_FLAGS_NONE, &error);
-    ASSERT_NE(proxy_, nullptr) << error->message;
+    proxy_.start(argv);
+    ASSERT_TRUE(proxy_.running());
     for (int i = 0; i < 100; ++i, g_usleep(100000))  // until it listens
       if (const int fd = ct::raw_connect(port_); fd >= 0) {
         ::close(fd);
@@ -125,11 +91,7 @@ class Proxied : public ::testing::TestWithParam<std::string> {
     g_usleep(1500000);  // HAProxy's agents have reported once
   }
   void TearDown() override {
-    if (proxy_) {
-      g_subprocess_send_signal(proxy_, SIGTERM);
-      g_subprocess_wait(proxy_, nullptr, nullptr);
-      g_object_unref(proxy_);
-    }
+    proxy_.stop();
     instances_.clear();
     if (!dir_.empty()) fs::remove_all(dir_);
   }
@@ -149,7 +111,7 @@ class Proxied : public ::testing::TestWithParam<std::string> {
   fs::path dir_;
   std::vector<Instance> instances_;
   int port_ = 0;
-  GSubprocess* proxy_ = nullptr;
+  ct::ChildProcess proxy_;
 };
 
 }  // namespace

@@ -71,6 +71,8 @@ constexpr IntKey kIntKeys[] = {
     {"instance_index", &ServerConfig::instance_index, 0, 999},
     {"drain_timeout_s", &ServerConfig::drain_timeout_s, 0, 86400},
     {"agent_port", &ServerConfig::agent_port, 0, 65535},
+    {"viewer_link_ttl_s", &ServerConfig::viewer_link_ttl_s, 10, 7 * 24 * 3600},
+    {"broadcast_timeout_s", &ServerConfig::broadcast_timeout_s, 10, 7 * 24 * 3600},
     {"bitrate_kbps", &ServerConfig::bitrate_kbps, 100, 100000},
     {"framerate", &ServerConfig::framerate, 1, 120},
     {"keyframe_interval", &ServerConfig::keyframe_interval, 1, 10000},
@@ -103,7 +105,8 @@ constexpr const char* kOtherKeys[] = {"bind_address", "codec",         "width", 
                                       "stun_server",  "turn_server",   "ice_addresses",  "max_body_bytes",
                                       "scenes_dir",   "web_dir",       "log_level",      "max_ws_message_bytes",
                                       "session_create_token", "design_uploads", "design_upload_token", "state_dir",
-                                      "ice_port_range", "trusted_proxies"};
+                                      "ice_port_range", "trusted_proxies", "janus_admin_url", "janus_admin_secret",
+                                      "janus_streaming_key", "janus_token_secret", "janus_ws_url", "janus_rtp_address"};
 
 }  // namespace
 
@@ -147,6 +150,28 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
     c.ice_addresses = address_list(key, value);
   } else if (key == "trusted_proxies") {
     c.trusted_proxies = address_list(key, value);
+  } else if (key == "janus_admin_url") {
+    // Janus's admin API can do anything to it: it stays on this host.
+    static const std::regex admin("^http://(127\\.0\\.0\\.1|localhost|\\[::1\\]):[0-9]{1,5}(/[A-Za-z0-9._~/-]*)?$");
+    if (!value.empty() && !std::regex_match(value, admin))
+      throw ConfigError(key + ": must be http://127.0.0.1:PORT/PATH (the admin API stays on this host), got \"" + value +
+                        "\"");
+    c.janus_admin_url = value;
+  } else if (key == "janus_admin_secret" || key == "janus_streaming_key" || key == "janus_token_secret") {
+    static const std::regex secret("^[A-Za-z0-9._~+/=-]{16,256}$");
+    if (!value.empty() && !std::regex_match(value, secret))
+      throw ConfigError(key + ": must be 16 to 256 characters of A-Z a-z 0-9 . _ ~ + / = -");
+    (key == "janus_admin_secret" ? c.janus_admin_secret
+                                 : key == "janus_streaming_key" ? c.janus_streaming_key : c.janus_token_secret) = value;
+  } else if (key == "janus_ws_url") {
+    static const std::regex ws("^(wss?://[A-Za-z0-9.:\\[\\]-]+)?/[A-Za-z0-9._~/-]*$");
+    if (!value.empty() && !std::regex_match(value, ws))
+      throw ConfigError(key + ": must be ws://host:port/path, wss://host/path or a path on this server, got \"" + value + "\"");
+    c.janus_ws_url = value;
+  } else if (key == "janus_rtp_address") {
+    const auto list = address_list(key, value);
+    if (list.size() != 1) throw ConfigError(key + ": must be one IP address, got \"" + value + "\"");
+    c.janus_rtp_address = list[0];
   } else if (key == "ice_port_range") {
     static const std::regex range("^([0-9]{1,5})-([0-9]{1,5})$");
     std::smatch m;
@@ -230,6 +255,17 @@ void check_config(const ServerConfig& c, const std::filesystem::path& data_dir) 
   if (!std::filesystem::is_directory(web)) throw ConfigError("web_dir: " + web.string() + " is not a folder");
   if (!std::filesystem::is_regular_file(data_dir / "pipelines" / (c.codec + ".pipeline")))
     throw ConfigError("codec: no pipeline " + c.codec + ".pipeline in " + (data_dir / "pipelines").string());
+  check_broadcast_keys(c);
+}
+
+void check_broadcast_keys(const ServerConfig& c) {
+  // Broadcasts need every Janus credential, and a place viewers reach.
+  if (!c.janus_admin_url.empty())
+    for (const auto& [key, value] : {std::pair{"janus_admin_secret", &c.janus_admin_secret},
+                                     std::pair{"janus_streaming_key", &c.janus_streaming_key},
+                                     std::pair{"janus_token_secret", &c.janus_token_secret},
+                                     std::pair{"janus_ws_url", &c.janus_ws_url}})
+      if (value->empty()) throw ConfigError(std::string(key) + ": must be set when janus_admin_url is");
 }
 
 void load_config_environment(ServerConfig& config) {

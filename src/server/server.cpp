@@ -26,6 +26,7 @@ void ServerState::end_session(const std::string& id, const std::string& reason) 
   sessions.erase(it);
   log(Level::info, "session " + id + " ended: " + reason, (*doomed)->log_context());
   (*doomed)->close(reason);
+  end_broadcast(*this, id);
   g_idle_add_full(
       G_PRIORITY_DEFAULT_IDLE, [](gpointer) -> gboolean { return G_SOURCE_REMOVE; }, doomed,
       [](gpointer data) { delete static_cast<std::shared_ptr<Session>*>(data); });
@@ -48,7 +49,7 @@ ListenerLimits listener_limits(const ServerConfig& c) {
 struct Server::State {
   ServerState shared;
   GMainLoop* loop = nullptr;
-  guint reaper = 0, sigint = 0, sigterm = 0, sighup = 0, watchdog = 0, drain = 0;
+  guint reaper = 0, sigint = 0, sigterm = 0, sighup = 0, watchdog = 0, drain = 0, broadcasts = 0;
   std::chrono::steady_clock::time_point drain_deadline;
   std::function<ServerConfig()> reloader;
   // The gallery is re-read (meshes, thumbnails: seconds on a CPU) on a
@@ -111,6 +112,11 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
       throw ConfigError(std::string("egl_device: ") + e.what());
     }
   }
+  if (!s.config.janus_admin_url.empty()) {
+    check_broadcast_keys(s.config);
+    s.janus = std::make_unique<JanusAdmin>(s.config.janus_admin_url, s.config.janus_admin_secret,
+                                           s.config.janus_streaming_key);
+  }
   auto gallery = load_checked_gallery(scenes_folder(s.config, s.data_dir));
   s.renderer = gallery->renderer;
   s.gallery = std::move(gallery);
@@ -147,7 +153,8 @@ Server::~Server() {
   if (state_->gallery_loader.joinable()) state_->gallery_loader.join();
   for (auto& [id, session] : s.sessions) session->close("server shutting down");
   s.sessions.clear();
-  for (guint source : {state_->reaper, state_->sigint, state_->sigterm, state_->sighup, state_->watchdog, state_->drain})
+  for (guint source : {state_->reaper, state_->sigint, state_->sigterm, state_->sighup, state_->watchdog, state_->drain,
+                       state_->broadcasts})
     if (source) g_source_remove(source);
   s.agent.reset();
   s.listener.reset();
@@ -181,7 +188,11 @@ void Server::run() {
         for (const auto& [id, session] : st.sessions) {
           if (!session->connected() && now - session->idle_since() > std::chrono::seconds(st.config.idle_timeout_s))
             doomed.emplace_back(id, "idle: no viewer connected");
-          else if (session->connected() &&
+          else if (session->broadcast() &&
+                   now - session->last_sign_of_life() > std::chrono::seconds(st.config.broadcast_timeout_s))
+            doomed.emplace_back(id, "silent: the presenter sent nothing for " +
+                                        std::to_string(st.config.broadcast_timeout_s) + " s");
+          else if (!session->broadcast() && session->connected() &&
                    now - session->last_sign_of_life() > std::chrono::seconds(st.config.viewer_timeout_s))
             doomed.emplace_back(id, "silent: the viewer showed no sign of life for " +
                                         std::to_string(st.config.viewer_timeout_s) + " s");
@@ -194,6 +205,14 @@ void Server::run() {
         return G_SOURCE_CONTINUE;
       },
       &s);
+  if (s.janus)
+    state_->broadcasts = g_timeout_add_seconds(
+        2,
+        [](gpointer data) -> gboolean {
+          check_broadcasts(*static_cast<ServerState*>(data));
+          return G_SOURCE_CONTINUE;
+        },
+        &s);
   // The first SIGTERM or SIGINT drains (running sessions go on, new ones
   // are refused, a proxy sends them elsewhere) for up to drain_timeout_s;
   // the next one, or the last session ending, stops.

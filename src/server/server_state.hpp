@@ -4,8 +4,10 @@
 
 #include "caustic/server/config.hpp"
 #include "design_jobs.hpp"
+#include "broadcast.hpp"
 #include "gallery.hpp"
 #include "instance.hpp"
+#include "janus_admin.hpp"
 #include "listener.hpp"
 #include "metrics.hpp"
 #include "rate_limit.hpp"
@@ -33,6 +35,8 @@ struct ServerState {
   std::unique_ptr<DesignJobs> designs;    ///< null when the state folder is unusable
   bool draining = false;                  ///< stopping: no new sessions, running ones go on
   std::unique_ptr<CapacityAgent> agent;   ///< when agent_port is set
+  std::unique_ptr<JanusAdmin> janus;      ///< when janus_admin_url is set: broadcasts
+  std::map<std::string, Mountpoint> mountpoints;  ///< by session id, for broadcasts
 
   /// A scene for a session: the gallery's, else a finished design's; null
   /// if none, or (`*loading`) while the design is read back into memory.
@@ -48,6 +52,16 @@ struct ServerState {
 bool route_designs(ServerState& s, SoupServerMessage* msg, const std::string& path);
 /// GET /api/v1/sessions/{id}/frame.png or .exr (`hdr`), answered later (frame_api.cpp).
 void session_frame(ServerState& s, SoupServerMessage* msg, Session& session, bool hdr);
+/// Parses a JSON object body of one of `types`, answering 415/413/400
+/// itself on failure (session_create.cpp).
+bool read_json_body(ServerState& s, SoupServerMessage* msg, std::initializer_list<const char*> types,
+                    nlohmann::json* out);
+/// Answers POST /api/v1/sessions (session_create.cpp).
+void create_session(ServerState& s, SoupServerMessage* msg);
+/// What a session's holder may see of its parameters: the scene without the
+/// mesh, the version, fidelity, and warnings (`extra`: about what the
+/// request itself wrote).
+nlohmann::json public_params(Session& session, nlohmann::json extra = nlohmann::json::array());
 /// 405 with the Allow header.
 void not_allowed(ServerState& s, SoupServerMessage* msg, const char* allow);
 

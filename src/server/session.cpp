@@ -4,8 +4,6 @@
 #include "caustic/gst/causticsrc.hpp"
 #include "caustic/server/data_files.hpp"
 #include "frame_probes.hpp"
-#include "ice_setup.hpp"
-#include "signal_message.hpp"
 
 #define GST_USE_UNSTABLE_API
 #include <gst/sdp/sdp.h>
@@ -33,6 +31,26 @@ std::string random_hex() {
     out += buf;
   }
   return out;
+}
+
+FrameDatagrams::FrameDatagrams(const std::string& host, int port) {
+  GInetAddress* address = g_inet_address_new_from_string(host.c_str());
+  if (!address) throw std::runtime_error("not an address: " + host);
+  to_ = g_inet_socket_address_new(address, static_cast<guint16>(port));
+  socket_ = g_socket_new(g_inet_address_get_family(address), G_SOCKET_TYPE_DATAGRAM, G_SOCKET_PROTOCOL_UDP, nullptr);
+  g_object_unref(address);
+  if (!socket_) throw std::runtime_error("cannot open a UDP socket");
+  g_socket_set_blocking(socket_, FALSE);
+}
+
+FrameDatagrams::~FrameDatagrams() {
+  if (socket_) g_object_unref(socket_);
+  if (to_) g_object_unref(to_);
+}
+
+void FrameDatagrams::send(const std::string& text) {
+  // A lost frame message is worth nothing: no retry, no error.
+  g_socket_send_to(socket_, to_, text.data(), text.size(), nullptr, nullptr);
 }
 
 Session::Session(std::string id, std::shared_ptr<const GalleryEntry> scene, SessionOptions options)
@@ -76,10 +94,17 @@ void Session::build() {
       {"bitrate_kbps", std::to_string(c.bitrate_kbps)},
       {"keyframe_interval", std::to_string(c.keyframe_interval)},
       {"h264_level", macroblocks <= 3600 ? "3.1" : "4"}};
-  std::string description = pipeline_description(options_.data_dir, options_.codec, values) +
-                            " ! webrtcbin name=webrtc bundle-policy=max-bundle";
-  if (!c.stun_server.empty()) description += " stun-server=" + c.stun_server;
-  if (!c.turn_server.empty()) description += " turn-server=" + c.turn_server;
+  std::string description = pipeline_description(options_.data_dir, options_.codec, values);
+  if (options_.broadcast) {
+    // RTP to the Janus mountpoint, RTCP both ways on the next port: Janus
+    // latches the sender from its RTCP and passes viewers' PLIs back.
+    description += " ! rtpsink name=rtp uri=rtp://" + options_.broadcast->host + ":" +
+                   std::to_string(options_.broadcast->video_port);
+  } else {
+    description += " ! webrtcbin name=webrtc bundle-policy=max-bundle";
+    if (!c.stun_server.empty()) description += " stun-server=" + c.stun_server;
+    if (!c.turn_server.empty()) description += " turn-server=" + c.turn_server;
+  }
 
   GError* error = nullptr;
   pipeline_ = gst_parse_launch(description.c_str(), &error);
@@ -108,44 +133,12 @@ void Session::build() {
     if (auto s = self_ref.lock()) s->tell_frame(rtp_timestamp, version, level);
   });
 
-  webrtc_ = gst_bin_get_by_name(GST_BIN(pipeline_), "webrtc");
-  // Every RTCP packet from the viewer's receiver (receiver reports arrive
-  // about once a second from any WebRTC peer) proves it is still there.
-  if (GstElement* rtpbin = gst_bin_get_by_name(GST_BIN(webrtc_), "rtpbin")) {
-    g_signal_connect_data(
-        rtpbin, "on-ssrc-active",
-        G_CALLBACK((+[](GstElement*, guint, guint, gpointer data) {
-          if (auto s = static_cast<Ref*>(data)->lock()) s->alive_now();
-        })),
-        new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
-    gst_object_unref(rtpbin);
+  if (options_.broadcast) {
+    frames_out_ = std::make_unique<FrameDatagrams>(options_.broadcast->host, options_.broadcast->data_port);
+    alive_now();  // the presenter, who just created it
   } else {
-    log(Level::warning, "session " + id_ + ": no rtpbin inside webrtcbin; only signalling pings show the viewer alive");
+    setup_webrtc();
   }
-  for (const auto& refused : configure_ice(webrtc_, c))
-    log(Level::warning, "session " + id_ + ": ICE refused local address " + refused, log_context());
-  GArray* transceivers = nullptr;
-  g_signal_emit_by_name(webrtc_, "get-transceivers", &transceivers);
-  for (guint i = 0; transceivers && i < transceivers->len; ++i) {
-    auto* t = g_array_index(transceivers, GstWebRTCRTPTransceiver*, i);
-    g_object_set(t, "direction", GST_WEBRTC_RTP_TRANSCEIVER_DIRECTION_SENDONLY, "do-nack", TRUE, nullptr);
-  }
-  if (transceivers) g_array_unref(transceivers);
-
-  auto* self = new Ref(weak_from_this());
-  g_signal_connect_data(
-      webrtc_, "on-negotiation-needed",
-      G_CALLBACK((+[](GstElement*, gpointer data) {
-        if (auto s = static_cast<Ref*>(data)->lock()) s->on_main([](Session& me) { me.negotiate(); });
-      })),
-      self, [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
-  g_signal_connect_data(
-      webrtc_, "on-ice-candidate",
-      G_CALLBACK((+[](GstElement*, guint mline, gchar* candidate, gpointer data) {
-        nlohmann::json message = {{"type", "ice"}, {"candidate", candidate}, {"sdpMLineIndex", mline}};
-        if (auto s = static_cast<Ref*>(data)->lock()) s->on_main([message](Session& me) { me.send(message); });
-      })),
-      new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
 
   GstBus* bus = gst_element_get_bus(pipeline_);
   bus_watch_ = gst_bus_add_watch_full(
@@ -174,67 +167,6 @@ void Session::on_bus_message(GstMessage* message) {
   if (options_.on_end) options_.on_end(id_, "pipeline error");
 }
 
-void Session::negotiate() {
-  if (offered_ || closed_) return;
-  // Offering before the payloader's caps reach webrtcbin can yield no offer
-  // (webrtcbin 1.22): wait for caps on its sink pad first.
-  GstPad* pad = gst_element_get_static_pad(webrtc_, "sink_0");
-  GstCaps* caps = pad ? gst_pad_get_current_caps(pad) : nullptr;
-  if (pad) gst_object_unref(pad);
-  if (!caps) {
-    auto* self = new Ref(weak_from_this());
-    g_timeout_add_full(
-        G_PRIORITY_DEFAULT, 50,
-        [](gpointer data) -> gboolean {
-          if (auto s = static_cast<Ref*>(data)->lock()) s->negotiate();
-          return G_SOURCE_REMOVE;
-        },
-        self, [](gpointer data) { delete static_cast<Ref*>(data); });
-    return;
-  }
-  gst_caps_unref(caps);
-  offered_ = true;
-  // Unordered, unreliable: a late frame message is worth nothing.
-  GstStructure* options = gst_structure_new("options", "ordered", G_TYPE_BOOLEAN, FALSE, "max-retransmits", G_TYPE_INT,
-                                            0, nullptr);
-  GstWebRTCDataChannel* channel = nullptr;
-  g_signal_emit_by_name(webrtc_, "create-data-channel", "frames", options, &channel);
-  gst_structure_free(options);
-  {
-    std::lock_guard lock(channel_lock_);
-    channel_ = channel;
-  }
-  GstPromise* promise = gst_promise_new_with_change_func(
-      [](GstPromise* p, gpointer data) {
-        if (auto s = static_cast<Ref*>(data)->lock()) s->offer_created(p);
-        gst_promise_unref(p);
-      },
-      new Ref(weak_from_this()), [](gpointer data) { delete static_cast<Ref*>(data); });
-  g_signal_emit_by_name(webrtc_, "create-offer", nullptr, promise);
-}
-
-void Session::offer_created(GstPromise* promise) {
-  if (gst_promise_wait(promise) != GST_PROMISE_RESULT_REPLIED) return;
-  const GstStructure* reply = gst_promise_get_reply(promise);
-  GstWebRTCSessionDescription* offer = nullptr;
-  if (!reply || !gst_structure_has_field(reply, "offer")) {
-    on_main([](Session& me) {
-      log(Level::error, "session " + me.id_ + ": webrtcbin made no offer", me.log_context());
-      if (me.options_.on_end) me.options_.on_end(me.id_, "negotiation failed");
-    });
-    return;
-  }
-  gst_structure_get(reply, "offer", GST_TYPE_WEBRTC_SESSION_DESCRIPTION, &offer, nullptr);
-  GstPromise* done = gst_promise_new();
-  g_signal_emit_by_name(webrtc_, "set-local-description", offer, done);
-  gst_promise_unref(done);
-  gchar* text = gst_sdp_message_as_text(offer->sdp);
-  nlohmann::json message = {{"type", "offer"}, {"sdp", text}};
-  g_free(text);
-  gst_webrtc_session_description_free(offer);
-  on_main([message](Session& me) { me.send(message); });
-}
-
 std::optional<std::chrono::steady_clock::time_point> Session::render_heartbeat() const {
   if (!pipeline_) return std::nullopt;
   GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline_), "src");
@@ -245,6 +177,10 @@ std::optional<std::chrono::steady_clock::time_point> Session::render_heartbeat()
 }
 
 void Session::tell_frame(guint32 rtp_timestamp, std::uint64_t version, std::uint32_t level) {
+  if (frames_out_) {
+    frames_out_->send(nlohmann::json{{"rtp_timestamp", rtp_timestamp}, {"version", version}, {"level", level}}.dump());
+    return;
+  }
   std::lock_guard lock(channel_lock_);
   if (!channel_) return;
   GstWebRTCDataChannelState state;
@@ -253,82 +189,6 @@ void Session::tell_frame(guint32 rtp_timestamp, std::uint64_t version, std::uint
   const std::string text =
       nlohmann::json{{"rtp_timestamp", rtp_timestamp}, {"version", version}, {"level", level}}.dump();
   gst_webrtc_data_channel_send_string(channel_, text.c_str());
-}
-
-void Session::send(const nlohmann::json& message) {
-  if (!socket_ || soup_websocket_connection_get_state(socket_) != SOUP_WEBSOCKET_STATE_OPEN) {
-    if (outbox_.size() < 256) outbox_.push_back(message);
-    return;
-  }
-  soup_websocket_connection_send_text(socket_, message.dump().c_str());
-}
-
-void Session::attach(SoupWebsocketConnection* socket) {
-  if (socket_) {
-    g_signal_handler_disconnect(socket_, socket_message_);
-    g_signal_handler_disconnect(socket_, socket_closed_);
-    soup_websocket_connection_close(socket_, SOUP_WEBSOCKET_CLOSE_NORMAL, "replaced by a new connection");
-    g_object_unref(socket_);
-    socket_ = nullptr;
-  }
-  if (had_viewer_) {
-    // The old peer's offer, ICE state and data channel mean nothing to the
-    // new one: start its stream afresh with the same parameters.
-    teardown_pipeline();
-    outbox_.clear();
-    build();
-  }
-  had_viewer_ = true;
-  alive_now();
-  socket_ = G_TYPE_CHECK_INSTANCE_CAST(g_object_ref(socket), SOUP_TYPE_WEBSOCKET_CONNECTION, SoupWebsocketConnection);
-  soup_websocket_connection_set_max_incoming_payload_size(socket_, kMaxSignalMessageBytes);
-  socket_message_ = g_signal_connect_data(
-      socket_, "message",
-      G_CALLBACK((+[](SoupWebsocketConnection*, gint type, GBytes* bytes, gpointer data) {
-        auto s = static_cast<Ref*>(data)->lock();
-        if (!s) return;
-        if (type != SOUP_WEBSOCKET_DATA_TEXT) {
-          s->send({{"type", "error"}, {"message", "signalling messages are JSON text, not binary"}});
-          return;
-        }
-        gsize size = 0;
-        const auto* text = static_cast<const char*>(g_bytes_get_data(bytes, &size));
-        s->on_socket_message(std::string(text, size));
-      })),
-      new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
-  socket_closed_ = g_signal_connect_data(
-      socket_, "closed",
-      G_CALLBACK((+[](SoupWebsocketConnection*, gpointer data) {
-        auto s = static_cast<Ref*>(data)->lock();
-        if (s && !s->closed_ && s->options_.on_end) s->options_.on_end(s->id_, "peer disconnected");
-      })),
-      new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
-  std::vector<nlohmann::json> pending;
-  pending.swap(outbox_);
-  for (const auto& m : pending) send(m);
-}
-
-void Session::on_socket_message(const std::string& text) {
-  const SignalMessage message = parse_signal_message(text);
-  if (const auto* error = std::get_if<SignalError>(&message)) {
-    send({{"type", "error"}, {"message", error->message}});
-    return;
-  }
-  alive_now();
-  if (const auto* answer = std::get_if<SignalAnswer>(&message)) {
-    GstSDPMessage* sdp = nullptr;
-    gst_sdp_message_new(&sdp);
-    gst_sdp_message_parse_buffer(reinterpret_cast<const guint8*>(answer->sdp.data()),
-                                 static_cast<guint>(answer->sdp.size()), sdp);
-    GstWebRTCSessionDescription* description = gst_webrtc_session_description_new(GST_WEBRTC_SDP_TYPE_ANSWER, sdp);
-    GstPromise* done = gst_promise_new();
-    g_signal_emit_by_name(webrtc_, "set-remote-description", description, done);
-    gst_promise_unref(done);
-    gst_webrtc_session_description_free(description);
-  } else if (const auto* ice = std::get_if<SignalIce>(&message)) {
-    if (ice->candidate.empty()) return;  // end of candidates
-    g_signal_emit_by_name(webrtc_, "add-ice-candidate", ice->mline, ice->candidate.c_str());
-  }
 }
 
 void Session::alive_now() {

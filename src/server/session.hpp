@@ -30,6 +30,27 @@ typedef struct _GstWebRTCDataChannel GstWebRTCDataChannel;
 
 namespace caustic::server {
 
+/// Where a broadcast session sends its stream (a Janus mountpoint): RTP to
+/// video_port (RTCP on the next one), frame messages as datagrams to data_port.
+struct RtpTarget {
+  std::string host;
+  int video_port = 0, data_port = 0;
+};
+
+/// Frame messages as UDP datagrams, from the streaming thread.
+class FrameDatagrams {
+ public:
+  FrameDatagrams(const std::string& host, int port);
+  ~FrameDatagrams();
+  FrameDatagrams(const FrameDatagrams&) = delete;
+  FrameDatagrams& operator=(const FrameDatagrams&) = delete;
+  void send(const std::string& text);
+
+ private:
+  GSocket* socket_ = nullptr;
+  GSocketAddress* to_ = nullptr;
+};
+
 struct SessionOptions {
   std::string codec;  ///< vp8 | h264
   std::string client_address;  ///< who created it (per-address limits)
@@ -37,6 +58,7 @@ struct SessionOptions {
   std::filesystem::path data_dir;
   Metrics* metrics;
   std::function<void(const std::string& id, const std::string& reason)> on_end;  ///< asks the owner to remove it
+  std::optional<RtpTarget> broadcast;  ///< set: no webrtcbin, the stream goes to a Janus mountpoint
 };
 
 class Session : public std::enable_shared_from_this<Session> {
@@ -66,8 +88,12 @@ class Session : public std::enable_shared_from_this<Session> {
   /// or an RTCP packet from its WebRTC receiver. A frozen or vanished
   /// viewer shows neither.
   std::chrono::steady_clock::time_point last_sign_of_life() const;
-  /// True while a viewer's socket is attached; idle_since() says since when none has been.
-  bool connected() const { return socket_ != nullptr; }
+  /// True while a viewer's socket is attached, and always for a broadcast
+  /// (its viewers are Janus's); idle_since() says since when none has been.
+  bool connected() const { return socket_ != nullptr || broadcast(); }
+  bool broadcast() const { return options_.broadcast.has_value(); }
+  /// Notes a sign of life from the session's holder (a request with its token).
+  void alive_now();
   std::chrono::steady_clock::time_point idle_since() const { return idle_since_; }
   /// When the session's render thread last proved alive (main thread);
   /// none before it started. It comes round every few milliseconds even
@@ -90,7 +116,7 @@ class Session : public std::enable_shared_from_this<Session> {
   Session(std::string id, std::shared_ptr<const GalleryEntry> scene, SessionOptions options);
   void build();
   void teardown_pipeline();
-  void alive_now();
+  void setup_webrtc();
   void send(const nlohmann::json& message);
   void on_socket_message(const std::string& text);
   void negotiate();
@@ -115,6 +141,7 @@ class Session : public std::enable_shared_from_this<Session> {
   std::atomic<std::int64_t> alive_ns_{0};  // steady clock; written from streaming threads too
   std::mutex channel_lock_;
   GstWebRTCDataChannel* channel_ = nullptr;  // the "frames" channel
+  std::unique_ptr<FrameDatagrams> frames_out_;  // a broadcast's frame messages
 };
 
 /// 128 random bits as 32 hex digits (from the system's CSPRNG).

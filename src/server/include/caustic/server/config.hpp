@@ -27,6 +27,15 @@ struct ServerConfig {
   int agent_port = 0;                     ///< TCP port of the capacity agent (HAProxy agent-check); 0: off
   std::string ice_port_range;             ///< "lo-hi": UDP ports ICE may use; empty: any
   std::vector<std::string> trusted_proxies;  ///< peers whose X-Forwarded-For names the client
+  // Broadcast sessions through the Janus WebRTC server (docs/scaling.md).
+  std::string janus_admin_url;            ///< http://127.0.0.1:7088/admin; empty: no broadcasts
+  std::string janus_admin_secret;         ///< Janus's admin_secret
+  std::string janus_streaming_key;        ///< the streaming plugin's admin_key
+  std::string janus_token_secret;         ///< Janus's token_auth_secret: viewer tokens are signed with it
+  std::string janus_ws_url;               ///< where viewers' browsers reach Janus's WebSocket API
+  std::string janus_rtp_address = "127.0.0.1";  ///< Janus's RTP listener, as seen from here
+  int viewer_link_ttl_s = 3600;           ///< a viewer link's token expires this long after it was made
+  int broadcast_timeout_s = 3600;         ///< a broadcast whose presenter sends nothing this long ends
   std::string codec = "vp8";              ///< default when a session names none
   int bitrate_kbps = 4000;
   int framerate = 30;
@@ -82,8 +91,12 @@ std::filesystem::path web_folder(const ServerConfig& config, const std::filesyst
 /// $HOME/.local/state/causticd.
 std::filesystem::path state_folder(const ServerConfig& config);
 
-/// Checks what a file alone cannot: the folders exist and the default
-/// codec's pipeline is among the data files. Throws ConfigError naming the key.
+/// With janus_admin_url set, every key broadcasts need is set too. Throws
+/// ConfigError naming the first that is not.
+void check_broadcast_keys(const ServerConfig& config);
+/// Checks what a file alone cannot: the folders exist, the default codec's
+/// pipeline is among the data files, and check_broadcast_keys. Throws
+/// ConfigError naming the key.
 void check_config(const ServerConfig& config, const std::filesystem::path& data_dir);
 
 /// Sets one key from text, checking type and range. Throws ConfigError that

@@ -1,0 +1,211 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "broadcast.hpp"
+
+#include "http_util.hpp"
+#include "janus_admin.hpp"
+#include "log.hpp"
+#include "server_state.hpp"
+
+#include <glib.h>
+
+#include <chrono>
+
+namespace caustic::server {
+namespace {
+
+// The streaming plugin's create request. Ports 0 let Janus choose (first
+// time); a re-creation after a Janus restart asks for the same ones.
+nlohmann::json create_request(const Mountpoint& m, const std::string& session_id, const std::string& codec,
+                              const ServerConfig& c) {
+  nlohmann::json video = {{"type", "video"}, {"mid", "v"},          {"label", "caustic"},
+                          {"port", m.video_port}, {"rtcpport", m.video_port ? m.video_port + 1 : 0},
+                          {"iface", c.janus_rtp_address}, {"bufferkf", true}};
+  if (codec == "h264") {
+    // Chrome answers packetization-mode=0 to an offer without it.
+    const bool level4 = ((c.width + 15) / 16) * ((c.height + 15) / 16) > 3600;
+    video["pt"] = 102;
+    video["codec"] = "h264";
+    video["fmtp"] = std::string("profile-level-id=") + (level4 ? "42e028" : "42e01f") + ";packetization-mode=1";
+  } else {
+    video["pt"] = 96;
+    video["codec"] = "vp8";
+  }
+  const nlohmann::json data = {{"type", "data"}, {"mid", "d"}, {"label", "frames"},
+                               {"port", m.data_port}, {"iface", c.janus_rtp_address}};
+  return {{"request", "create"}, {"type", "rtp"},     {"id", m.id},       {"name", "causticd-" + session_id},
+          {"is_private", true},  {"secret", m.secret}, {"pin", m.pin},     {"permanent", false},
+          {"media", {video, data}}};
+}
+
+// The ports Janus gave; false unless RTCP sits on the port after RTP (what
+// rtpsink sends to and listens on).
+bool read_ports(const nlohmann::json& response, Mountpoint& m) {
+  const auto ports = response.value("stream", nlohmann::json::object()).value("ports", nlohmann::json::array());
+  for (const auto& p : ports) {
+    if (p.value("type", "") == "video") {
+      m.video_port = p.value("port", 0);
+      if (p.value("rtcp_port", 0) != m.video_port + 1) return false;
+    } else if (p.value("type", "") == "data") {
+      m.data_port = p.value("port", 0);
+    }
+  }
+  return m.video_port > 0 && m.data_port > 0;
+}
+
+void destroy(ServerState& s, const Mountpoint& m) {
+  if (!s.janus) return;
+  const std::uint64_t id = m.id;
+  s.janus->plugin_request({{"request", "destroy"}, {"id", m.id}, {"secret", m.secret}},
+                          [id](const JanusAdmin::Answer& a) {
+                            if (!a.error.empty() && a.error_code != 455)
+                              log(Level::warning, "mountpoint " + std::to_string(id) + " not destroyed: " + a.error);
+                          });
+}
+
+// A paused request, answered once Janus has. Holds the message; a client
+// that went away meanwhile is noticed.
+struct Pending {
+  SoupServerMessage* msg;
+  bool gone = false;
+  gulong handler = 0;
+  explicit Pending(SoupServerMessage* m) : msg(SOUP_SERVER_MESSAGE(g_object_ref(m))) {
+    handler = g_signal_connect(msg, "disconnected", G_CALLBACK(+[](SoupServerMessage*, gpointer self) {
+                                 static_cast<Pending*>(self)->gone = true;
+                               }),
+                               this);
+    // A status now: libsoup would otherwise take the unanswered request on
+    // this path for a failed WebSocket handshake. The answer replaces it.
+    soup_server_message_set_status(msg, SOUP_STATUS_INTERNAL_SERVER_ERROR, nullptr);
+    soup_server_message_pause(msg);
+  }
+  ~Pending() {
+    g_signal_handler_disconnect(msg, handler);
+    if (!gone) soup_server_message_unpause(msg);
+    g_object_unref(msg);
+  }
+};
+
+}  // namespace
+
+std::string janus_token(const std::string& secret, std::int64_t expires) {
+  const std::string data = std::to_string(expires) + ",janus,janus.plugin.streaming";
+  GHmac* hmac = g_hmac_new(G_CHECKSUM_SHA1, reinterpret_cast<const guchar*>(secret.data()), secret.size());
+  g_hmac_update(hmac, reinterpret_cast<const guchar*>(data.data()), static_cast<gssize>(data.size()));
+  guint8 digest[20];
+  gsize size = sizeof digest;
+  g_hmac_get_digest(hmac, digest, &size);
+  g_hmac_unref(hmac);
+  gchar* base64 = g_base64_encode(digest, size);
+  const std::string token = data + ":" + base64;
+  g_free(base64);
+  return token;
+}
+
+void create_broadcast(ServerState& s, SoupServerMessage* msg, std::shared_ptr<const GalleryEntry> entry,
+                      const std::string& codec, const std::string& address) {
+  const std::string id = random_hex();
+  Mountpoint m;
+  m.id = std::stoull(random_hex().substr(0, 12), nullptr, 16) | 1;  // Janus's ids: positive, not 0
+  m.secret = random_hex();
+  m.pin = random_hex().substr(0, 16);
+  auto pending = std::make_shared<Pending>(msg);
+  ServerState* state = &s;
+  s.janus->plugin_request(create_request(m, id, codec, s.config), [=](const JanusAdmin::Answer& a) mutable {
+    ServerState& st = *state;
+    SoupServerMessage* out = pending->msg;
+    if (!a.error.empty()) {
+      log(Level::error, "broadcast: Janus did not create the mountpoint: " + a.error, {id, entry->id, codec, address});
+      return reply_problem(out, st.metrics, SOUP_STATUS_BAD_GATEWAY, "the broadcast server did not take the stream");
+    }
+    if (!read_ports(a.response, m)) {
+      destroy(st, m);
+      return reply_problem(out, st.metrics, SOUP_STATUS_BAD_GATEWAY, "the broadcast server gave unusable ports");
+    }
+    if (pending->gone || st.draining || static_cast<int>(st.sessions.size()) >= st.config.max_sessions) {
+      destroy(st, m);
+      soup_message_headers_replace(soup_server_message_get_response_headers(out), "Retry-After", "10");
+      return reply_problem(out, st.metrics, SOUP_STATUS_SERVICE_UNAVAILABLE, "the server is full");
+    }
+    SessionOptions options{codec, address, &st.config, st.data_dir, &st.metrics,
+                           [state](const std::string& sid, const std::string& why) { state->end_session(sid, why); },
+                           RtpTarget{st.config.janus_rtp_address, m.video_port, m.data_port}};
+    std::shared_ptr<Session> session;
+    try {
+      session = Session::start(id, entry, options);
+    } catch (const std::exception& e) {
+      destroy(st, m);
+      log(Level::error, std::string("cannot start a broadcast: ") + e.what(), {id, entry->id, codec, address});
+      return reply_problem(out, st.metrics, SOUP_STATUS_INTERNAL_SERVER_ERROR, "the stream could not be started");
+    }
+    st.sessions[id] = session;
+    st.mountpoints[id] = m;
+    ++st.metrics.sessions_created;
+    log(Level::info, "broadcast " + id + " started: scene " + entry->id + ", " + codec + ", mountpoint " +
+                         std::to_string(m.id),
+        session->log_context());
+    const std::string url = url_prefix(st.config) + "/api/v1/sessions/" + id;
+    soup_message_headers_replace(soup_server_message_get_response_headers(out), "Location", url.c_str());
+    reply_json(out, SOUP_STATUS_CREATED,
+               {{"id", id}, {"token", session->token()}, {"codec", codec}, {"mode", "broadcast"}, {"url", url},
+                {"viewers_url", url + "/viewers"}, {"params", public_params(*session)}});
+  });
+}
+
+void broadcast_viewers(ServerState& s, SoupServerMessage* msg, Session& session) {
+  const auto it = s.mountpoints.find(session.id());
+  if (!session.broadcast() || it == s.mountpoints.end())
+    return reply_problem(msg, s.metrics, SOUP_STATUS_CONFLICT, "this session is not a broadcast; its viewer is you");
+  const Mountpoint& m = it->second;
+  const std::int64_t expires = g_get_real_time() / G_USEC_PER_SEC + s.config.viewer_link_ttl_s;
+  const std::string token = janus_token(s.config.janus_token_secret, expires);
+  // In the fragment: a browser never sends it, so no log keeps the token.
+  gchar* escaped = g_uri_escape_string(token.c_str(), nullptr, FALSE);
+  gchar* janus = g_uri_escape_string(s.config.janus_ws_url.c_str(), nullptr, FALSE);
+  const std::string watch = "/watch.html#scene=" + session.scene_id() + "&mountpoint=" + std::to_string(m.id) +
+                            "&pin=" + m.pin + "&token=" + escaped + "&janus=" + janus;
+  g_free(escaped);
+  g_free(janus);
+  session.alive_now();
+  reply_json(msg, SOUP_STATUS_CREATED,
+             {{"janus_url", s.config.janus_ws_url}, {"mountpoint", m.id},  {"pin", m.pin},
+              {"token", token},                    {"expires", expires},   {"scene", session.scene_id()},
+              {"instance", s.config.instance_index}, {"watch_url", watch}});
+}
+
+void end_broadcast(ServerState& s, const std::string& id) {
+  const auto it = s.mountpoints.find(id);
+  if (it == s.mountpoints.end()) return;
+  destroy(s, it->second);
+  s.mountpoints.erase(it);
+}
+
+void check_broadcasts(ServerState& s) {
+  if (!s.janus) return;
+  ServerState* state = &s;
+  for (auto& [sid, mountpoint] : s.mountpoints) {
+    if (mountpoint.recreating) continue;
+    const std::string id = sid;
+    s.janus->plugin_request(
+        {{"request", "info"}, {"id", mountpoint.id}, {"secret", mountpoint.secret}},
+        [state, id](const JanusAdmin::Answer& a) {
+          auto it = state->mountpoints.find(id);
+          auto session = state->sessions.find(id);
+          if (a.error_code != 455 || it == state->mountpoints.end() || session == state->sessions.end()) return;
+          // Janus lost it (a restart): the same id, secret, pin and ports.
+          it->second.recreating = true;
+          log(Level::notice, "broadcast " + id + ": Janus lost mountpoint " + std::to_string(it->second.id) +
+                                 "; creating it again", session->second->log_context());
+          state->janus->plugin_request(
+              create_request(it->second, id, session->second->codec(), state->config),
+              [state, id](const JanusAdmin::Answer& made) {
+                auto again = state->mountpoints.find(id);
+                if (again == state->mountpoints.end()) return;
+                again->second.recreating = false;
+                if (!made.error.empty())
+                  log(Level::warning, "broadcast " + id + ": mountpoint not created again: " + made.error);
+              });
+        });
+  }
+}
+
+}  // namespace caustic::server

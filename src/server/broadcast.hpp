@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Broadcast sessions: rendered and encoded once, forwarded by the Janus
+// WebRTC server to any number of viewers (docs/scaling.md). The session's
+// holder changes the scene as usual; causticd creates a private mountpoint
+// for it (random pin and secret) through Janus's admin API, re-creates it
+// when Janus restarts, and destroys it with the session. Viewers get signed,
+// short-lived links (POST .../viewers) and talk to Janus directly.
+#pragma once
+
+#include "gallery.hpp"
+
+#include <libsoup/soup.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace caustic::server {
+
+struct ServerState;
+class Session;
+
+/// What causticd knows of a broadcast's mountpoint.
+struct Mountpoint {
+  std::uint64_t id = 0;
+  std::string secret, pin;
+  int video_port = 0, data_port = 0;
+  bool recreating = false;
+};
+
+/// Answers POST /api/v1/sessions with "mode": "broadcast" (the request was
+/// checked and admitted): creates the mountpoint, then the session, and
+/// answers once Janus has (the message is paused meanwhile).
+void create_broadcast(ServerState& s, SoupServerMessage* msg, std::shared_ptr<const GalleryEntry> entry,
+                      const std::string& codec, const std::string& address);
+
+/// Answers POST /api/v1/sessions/{id}/viewers (the holder's token checked).
+void broadcast_viewers(ServerState& s, SoupServerMessage* msg, Session& session);
+
+/// The session `id` ended: its mountpoint, if any, goes.
+void end_broadcast(ServerState& s, const std::string& id);
+
+/// Asks Janus for each mountpoint; one it lost (a restart) is created again
+/// on the same ports, so the running pipeline needs no change.
+void check_broadcasts(ServerState& s);
+
+/// Janus's token_auth token for the streaming plugin, valid until
+/// `expires` (Unix seconds): "<expires>,janus,janus.plugin.streaming:" and
+/// the Base64 HMAC-SHA1 of what precedes the colon, keyed with `secret`.
+std::string janus_token(const std::string& secret, std::int64_t expires);
+
+}  // namespace caustic::server

@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// The streaming plugin of the Janus WebRTC server, through Janus's admin
+// API on this host: causticd creates a private mountpoint per broadcast
+// session and destroys it with the session. Requests are asynchronous on
+// the main loop (a Janus that hangs never blocks the server); each gets an
+// answer or an error within `timeout_s`.
+#pragma once
+
+#include <libsoup/soup.h>
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace caustic::server {
+
+class JanusAdmin {
+ public:
+  /// `url`: the admin endpoint (http://127.0.0.1:7088/admin).
+  JanusAdmin(std::string url, std::string admin_secret, std::string streaming_key, int timeout_s = 5);
+  ~JanusAdmin();
+  JanusAdmin(const JanusAdmin&) = delete;
+  JanusAdmin& operator=(const JanusAdmin&) = delete;
+
+  /// The plugin's answer ("response"), or `error` set: Janus unreachable,
+  /// or the plugin's own error ("error_code" 455: no such mountpoint).
+  struct Answer {
+    nlohmann::json response;
+    std::string error;
+    int error_code = 0;
+  };
+  using Done = std::function<void(const Answer&)>;
+
+  /// Sends `request` (a streaming plugin request: create, info, destroy...)
+  /// with the admin credentials added. `done` runs on the main loop.
+  void plugin_request(nlohmann::json request, Done done);
+
+ private:
+  std::string url_, secret_, key_;
+  SoupSession* http_ = nullptr;
+  // Answers that arrive while (or after) this is destroyed are dropped:
+  // their callbacks may reach into what owns it.
+  std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
+  unsigned long long transaction_ = 0;
+};
+
+}  // namespace caustic::server

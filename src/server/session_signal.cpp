@@ -1,0 +1,198 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// The WebRTC side of a one-viewer session: webrtcbin's set-up, the offer,
+// and the signalling WebSocket that carries it to the viewer's browser.
+#include "ice_setup.hpp"
+#include "session.hpp"
+#include "signal_message.hpp"
+
+#define GST_USE_UNSTABLE_API
+#include <gst/sdp/sdp.h>
+#include <gst/webrtc/webrtc.h>
+
+namespace caustic::server {
+namespace {
+
+using Ref = std::weak_ptr<Session>;
+
+}  // namespace
+
+void Session::setup_webrtc() {
+  const ServerConfig& c = *options_.config;
+  webrtc_ = gst_bin_get_by_name(GST_BIN(pipeline_), "webrtc");
+  // Every RTCP packet from the viewer's receiver (receiver reports arrive
+  // about once a second from any WebRTC peer) proves it is still there.
+  if (GstElement* rtpbin = gst_bin_get_by_name(GST_BIN(webrtc_), "rtpbin")) {
+    g_signal_connect_data(
+        rtpbin, "on-ssrc-active",
+        G_CALLBACK((+[](GstElement*, guint, guint, gpointer data) {
+          if (auto s = static_cast<Ref*>(data)->lock()) s->alive_now();
+        })),
+        new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
+    gst_object_unref(rtpbin);
+  } else {
+    log(Level::warning, "session " + id_ + ": no rtpbin inside webrtcbin; only signalling pings show the viewer alive");
+  }
+  for (const auto& refused : configure_ice(webrtc_, c))
+    log(Level::warning, "session " + id_ + ": ICE refused local address " + refused, log_context());
+  GArray* transceivers = nullptr;
+  g_signal_emit_by_name(webrtc_, "get-transceivers", &transceivers);
+  for (guint i = 0; transceivers && i < transceivers->len; ++i) {
+    auto* t = g_array_index(transceivers, GstWebRTCRTPTransceiver*, i);
+    g_object_set(t, "direction", GST_WEBRTC_RTP_TRANSCEIVER_DIRECTION_SENDONLY, "do-nack", TRUE, nullptr);
+  }
+  if (transceivers) g_array_unref(transceivers);
+
+  auto* self = new Ref(weak_from_this());
+  g_signal_connect_data(
+      webrtc_, "on-negotiation-needed",
+      G_CALLBACK((+[](GstElement*, gpointer data) {
+        if (auto s = static_cast<Ref*>(data)->lock()) s->on_main([](Session& me) { me.negotiate(); });
+      })),
+      self, [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
+  g_signal_connect_data(
+      webrtc_, "on-ice-candidate",
+      G_CALLBACK((+[](GstElement*, guint mline, gchar* candidate, gpointer data) {
+        nlohmann::json message = {{"type", "ice"}, {"candidate", candidate}, {"sdpMLineIndex", mline}};
+        if (auto s = static_cast<Ref*>(data)->lock()) s->on_main([message](Session& me) { me.send(message); });
+      })),
+      new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
+}
+
+void Session::negotiate() {
+  if (offered_ || closed_) return;
+  // Offering before the payloader's caps reach webrtcbin can yield no offer
+  // (webrtcbin 1.22): wait for caps on its sink pad first.
+  GstPad* pad = gst_element_get_static_pad(webrtc_, "sink_0");
+  GstCaps* caps = pad ? gst_pad_get_current_caps(pad) : nullptr;
+  if (pad) gst_object_unref(pad);
+  if (!caps) {
+    auto* self = new Ref(weak_from_this());
+    g_timeout_add_full(
+        G_PRIORITY_DEFAULT, 50,
+        [](gpointer data) -> gboolean {
+          if (auto s = static_cast<Ref*>(data)->lock()) s->negotiate();
+          return G_SOURCE_REMOVE;
+        },
+        self, [](gpointer data) { delete static_cast<Ref*>(data); });
+    return;
+  }
+  gst_caps_unref(caps);
+  offered_ = true;
+  // Unordered, unreliable: a late frame message is worth nothing.
+  GstStructure* options = gst_structure_new("options", "ordered", G_TYPE_BOOLEAN, FALSE, "max-retransmits", G_TYPE_INT,
+                                            0, nullptr);
+  GstWebRTCDataChannel* channel = nullptr;
+  g_signal_emit_by_name(webrtc_, "create-data-channel", "frames", options, &channel);
+  gst_structure_free(options);
+  {
+    std::lock_guard lock(channel_lock_);
+    channel_ = channel;
+  }
+  GstPromise* promise = gst_promise_new_with_change_func(
+      [](GstPromise* p, gpointer data) {
+        if (auto s = static_cast<Ref*>(data)->lock()) s->offer_created(p);
+        gst_promise_unref(p);
+      },
+      new Ref(weak_from_this()), [](gpointer data) { delete static_cast<Ref*>(data); });
+  g_signal_emit_by_name(webrtc_, "create-offer", nullptr, promise);
+}
+
+void Session::offer_created(GstPromise* promise) {
+  if (gst_promise_wait(promise) != GST_PROMISE_RESULT_REPLIED) return;
+  const GstStructure* reply = gst_promise_get_reply(promise);
+  GstWebRTCSessionDescription* offer = nullptr;
+  if (!reply || !gst_structure_has_field(reply, "offer")) {
+    on_main([](Session& me) {
+      log(Level::error, "session " + me.id_ + ": webrtcbin made no offer", me.log_context());
+      if (me.options_.on_end) me.options_.on_end(me.id_, "negotiation failed");
+    });
+    return;
+  }
+  gst_structure_get(reply, "offer", GST_TYPE_WEBRTC_SESSION_DESCRIPTION, &offer, nullptr);
+  GstPromise* done = gst_promise_new();
+  g_signal_emit_by_name(webrtc_, "set-local-description", offer, done);
+  gst_promise_unref(done);
+  gchar* text = gst_sdp_message_as_text(offer->sdp);
+  nlohmann::json message = {{"type", "offer"}, {"sdp", text}};
+  g_free(text);
+  gst_webrtc_session_description_free(offer);
+  on_main([message](Session& me) { me.send(message); });
+}
+
+void Session::send(const nlohmann::json& message) {
+  if (!socket_ || soup_websocket_connection_get_state(socket_) != SOUP_WEBSOCKET_STATE_OPEN) {
+    if (outbox_.size() < 256) outbox_.push_back(message);
+    return;
+  }
+  soup_websocket_connection_send_text(socket_, message.dump().c_str());
+}
+
+void Session::attach(SoupWebsocketConnection* socket) {
+  if (socket_) {
+    g_signal_handler_disconnect(socket_, socket_message_);
+    g_signal_handler_disconnect(socket_, socket_closed_);
+    soup_websocket_connection_close(socket_, SOUP_WEBSOCKET_CLOSE_NORMAL, "replaced by a new connection");
+    g_object_unref(socket_);
+    socket_ = nullptr;
+  }
+  if (had_viewer_) {
+    // The old peer's offer, ICE state and data channel mean nothing to the
+    // new one: start its stream afresh with the same parameters.
+    teardown_pipeline();
+    outbox_.clear();
+    build();
+  }
+  had_viewer_ = true;
+  alive_now();
+  socket_ = G_TYPE_CHECK_INSTANCE_CAST(g_object_ref(socket), SOUP_TYPE_WEBSOCKET_CONNECTION, SoupWebsocketConnection);
+  soup_websocket_connection_set_max_incoming_payload_size(socket_, kMaxSignalMessageBytes);
+  socket_message_ = g_signal_connect_data(
+      socket_, "message",
+      G_CALLBACK((+[](SoupWebsocketConnection*, gint type, GBytes* bytes, gpointer data) {
+        auto s = static_cast<Ref*>(data)->lock();
+        if (!s) return;
+        if (type != SOUP_WEBSOCKET_DATA_TEXT) {
+          s->send({{"type", "error"}, {"message", "signalling messages are JSON text, not binary"}});
+          return;
+        }
+        gsize size = 0;
+        const auto* text = static_cast<const char*>(g_bytes_get_data(bytes, &size));
+        s->on_socket_message(std::string(text, size));
+      })),
+      new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
+  socket_closed_ = g_signal_connect_data(
+      socket_, "closed",
+      G_CALLBACK((+[](SoupWebsocketConnection*, gpointer data) {
+        auto s = static_cast<Ref*>(data)->lock();
+        if (s && !s->closed_ && s->options_.on_end) s->options_.on_end(s->id_, "peer disconnected");
+      })),
+      new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
+  std::vector<nlohmann::json> pending;
+  pending.swap(outbox_);
+  for (const auto& m : pending) send(m);
+}
+
+void Session::on_socket_message(const std::string& text) {
+  const SignalMessage message = parse_signal_message(text);
+  if (const auto* error = std::get_if<SignalError>(&message)) {
+    send({{"type", "error"}, {"message", error->message}});
+    return;
+  }
+  alive_now();
+  if (const auto* answer = std::get_if<SignalAnswer>(&message)) {
+    GstSDPMessage* sdp = nullptr;
+    gst_sdp_message_new(&sdp);
+    gst_sdp_message_parse_buffer(reinterpret_cast<const guint8*>(answer->sdp.data()),
+                                 static_cast<guint>(answer->sdp.size()), sdp);
+    GstWebRTCSessionDescription* description = gst_webrtc_session_description_new(GST_WEBRTC_SDP_TYPE_ANSWER, sdp);
+    GstPromise* done = gst_promise_new();
+    g_signal_emit_by_name(webrtc_, "set-remote-description", description, done);
+    gst_promise_unref(done);
+    gst_webrtc_session_description_free(description);
+  } else if (const auto* ice = std::get_if<SignalIce>(&message)) {
+    if (ice->candidate.empty()) return;  // end of candidates
+    g_signal_emit_by_name(webrtc_, "add-ice-candidate", ice->mline, ice->candidate.c_str());
+  }
+}
+
+}  // namespace caustic::server

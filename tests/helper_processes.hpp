@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// What the tests that run other servers beside causticd (proxies, Janus)
+// share: a free loopback port, the shipped configuration files read and
+// adapted, and a child process that is stopped when the test ends.
+#pragma once
+
+#include <gio/gio.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace caustic::testing {
+
+/// A loopback TCP port free right now (the kernel's pick, then released).
+inline int free_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t size = sizeof a;
+  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &size);
+  ::close(fd);
+  return ntohs(a.sin_port);
+}
+
+inline std::string read_file(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// Replaces every `from` in `text`; a shipped file that no longer has it
+/// fails the test (the test would otherwise run a configuration unadapted).
+inline void replace_all(std::string& text, const std::string& from, const std::string& to) {
+  std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "the shipped configuration no longer has \"" << from << "\"";
+  for (; at != std::string::npos; at = text.find(from, at + to.size())) text.replace(at, from.size(), to);
+}
+
+/// The installed program's path, or "" when it is not installed.
+inline std::string find_program(const std::string& name) {
+  for (const char* dir : {"/usr/sbin", "/usr/bin", "/sbin", "/bin"})
+    if (std::filesystem::exists(std::filesystem::path(dir) / name)) return (std::filesystem::path(dir) / name).string();
+  return "";
+}
+
+/// A child process, stopped (SIGTERM, then waited for) when this goes.
+class ChildProcess {
+ public:
+  ChildProcess() = default;
+  explicit ChildProcess(const std::vector<std::string>& argv) { start(argv); }
+  ~ChildProcess() { stop(); }
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+
+  void start(const std::vector<std::string>& argv) {
+    stop();
+    std::vector<const char*> args;
+    for (const auto& a : argv) args.push_back(a.c_str());
+    args.push_back(nullptr);
+    GError* error = nullptr;
+    process_ = g_subprocess_newv(args.data(), G_SUBPROCESS_FLAGS_NONE, &error);
+    if (!process_) {
+      ADD_FAILURE() << argv[0] << ": " << error->message;
+      g_error_free(error);
+    }
+  }
+  void stop() {
+    if (!process_) return;
+    g_subprocess_send_signal(process_, SIGTERM);
+    g_subprocess_wait(process_, nullptr, nullptr);
+    g_object_unref(process_);
+    process_ = nullptr;
+  }
+  bool running() const { return process_ != nullptr; }
+
+ private:
+  GSubprocess* process_ = nullptr;
+};
+
+}  // namespace caustic::testing

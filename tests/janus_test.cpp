@@ -1,0 +1,287 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Broadcast sessions against a real Janus, run from the shipped
+// configuration (janus/, with its ports and secrets filled in), on
+// loopback: the mountpoint comes and goes with the session and receives the
+// stream; viewer links carry tokens and a pin that Janus checks; only the
+// session's holder may change it; a Janus restart gets the mountpoint back.
+// (Janus gathers no ICE candidates on loopback, so video to browsers is the
+// namespace test's: tests/janus/broadcast_test.sh.)
+#include "helper_processes.hpp"
+#include "raw_http.hpp"
+#include "server_process.hpp"
+
+#include <gtest/gtest.h>
+
+#include "../src/server/broadcast.hpp"
+
+#include <filesystem>
+
+using caustic::testing::http;
+using caustic::testing::ServerProcess;
+using nlohmann::json;
+namespace fs = std::filesystem;
+namespace ct = caustic::testing;
+
+namespace {
+
+const char* const kAdminSecret = "test-admin-secret-0123";
+const char* const kStreamingKey = "test-streaming-key-0123";
+const char* const kTokenSecret = "test-token-secret-0123";
+
+// A Janus WebSocket API client: one request, its answer (events that
+// follow an "ack" included), synchronously on the thread-default loop.
+class JanusClient {
+ public:
+  explicit JanusClient(const std::string& url) {
+    SoupMessage* msg = soup_message_new("GET", url.c_str());
+    const char* protocols[] = {"janus-protocol", nullptr};
+    soup_session_websocket_connect_async(
+        http_, msg, nullptr, const_cast<char**>(protocols), G_PRIORITY_DEFAULT, nullptr,
+        [](GObject* source, GAsyncResult* result, gpointer data) {
+          auto* self = static_cast<JanusClient*>(data);
+          self->socket_ = soup_session_websocket_connect_finish(SOUP_SESSION(source), result, nullptr);
+          if (!self->socket_) return;
+          g_signal_connect(self->socket_, "message", G_CALLBACK(+[](SoupWebsocketConnection*, gint, GBytes* b, gpointer me) {
+                             gsize size = 0;
+                             const auto* text = static_cast<const char*>(g_bytes_get_data(b, &size));
+                             static_cast<JanusClient*>(me)->inbox_.push_back(json::parse(text, text + size, nullptr, false));
+                           }),
+                           self);
+        },
+        this);
+    g_object_unref(msg);
+    spin([&] { return socket_ != nullptr; }, 5000);
+  }
+  ~JanusClient() {
+    if (socket_) g_object_unref(socket_);
+    g_object_unref(http_);
+  }
+  bool connected() const { return socket_ != nullptr; }
+
+  // Sends `m` and returns the first answer for its transaction that is not an ack.
+  json call(json m, int ms = 10000) {
+    const std::string t = std::to_string(++transaction_);
+    m["transaction"] = t;
+    soup_websocket_connection_send_text(socket_, m.dump().c_str());
+    json found;
+    spin(
+        [&] {
+          for (auto it = inbox_.begin(); it != inbox_.end(); ++it)
+            if (it->value("transaction", "") == t && it->value("janus", "") != "ack") {
+              found = *it;
+              inbox_.erase(it);
+              return true;
+            }
+          return false;
+        },
+        ms);
+    return found;
+  }
+
+ private:
+  bool spin(const std::function<bool()>& done, int ms) {
+    for (int waited = 0; waited < ms && !done(); waited += 5) {
+      while (g_main_context_iteration(nullptr, FALSE)) {
+      }
+      g_usleep(5000);
+    }
+    return done();
+  }
+  SoupSession* http_ = soup_session_new();
+  SoupWebsocketConnection* socket_ = nullptr;
+  std::vector<json> inbox_;
+  int transaction_ = 0;
+};
+
+class Broadcast : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string janus = ct::find_program("janus");
+    if (janus.empty()) GTEST_SKIP() << "janus is not installed (tools/bootstrap.sh installs it)";
+    dir_ = fs::temp_directory_path() / ("causticd_janus_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    admin_port_ = ct::free_port();
+    ws_port_ = ct::free_port();
+    for (const auto& file : fs::directory_iterator(CAUSTIC_JANUS_DIR)) {
+      std::string text = ct::read_file(file.path());
+      const std::string name = file.path().filename();
+      if (name == "janus.jcfg") {
+        ct::replace_all(text, "/etc/causticd/janus", dir_.string());
+        ct::replace_all(text, "@JANUS_ADMIN_SECRET@", kAdminSecret);
+        ct::replace_all(text, "@JANUS_TOKEN_SECRET@", kTokenSecret);
+      }
+      if (name == "janus.plugin.streaming.jcfg") ct::replace_all(text, "@JANUS_STREAMING_KEY@", kStreamingKey);
+      if (name == "janus.transport.http.jcfg") ct::replace_all(text, "admin_port = 7088", "admin_port = " + std::to_string(admin_port_));
+      if (name == "janus.transport.websockets.jcfg") ct::replace_all(text, "ws_port = 8188", "ws_port = " + std::to_string(ws_port_));
+      std::ofstream(dir_ / name) << text;
+    }
+    start_janus();
+    server_ = std::make_unique<ServerProcess>(std::vector<std::string>{
+        "--width", "320", "--height", "240", "--set", "janus_admin_url=http://127.0.0.1:" + std::to_string(admin_port_) + "/admin",
+        "--set", std::string("janus_admin_secret=") + kAdminSecret, "--set", std::string("janus_streaming_key=") + kStreamingKey,
+        "--set", std::string("janus_token_secret=") + kTokenSecret, "--set", "janus_ws_url=" + ws_url(), "--set",
+        "viewer_link_ttl_s=60"});
+    ASSERT_FALSE(server_->url().empty());
+  }
+  void TearDown() override {
+    server_.reset();
+    janus_.stop();
+    if (!dir_.empty()) fs::remove_all(dir_);
+  }
+
+  void start_janus() {
+    janus_.start({ct::find_program("janus"), "-F", dir_.string(), "-C", (dir_ / "janus.jcfg").string(), "-o", "-d", "2"});
+    for (int i = 0; i < 100; ++i, g_usleep(100000))  // until it listens
+      if (const int fd = ct::raw_connect(admin_port_); fd >= 0) {
+        ::close(fd);
+        break;
+      }
+  }
+  std::string ws_url() const { return "ws://127.0.0.1:" + std::to_string(ws_port_) + "/"; }
+
+  // A streaming plugin request through Janus's admin API; null if Janus does not answer.
+  json admin(json request) {
+    request["admin_key"] = kStreamingKey;
+    const auto r = http("POST", "http://127.0.0.1:" + std::to_string(admin_port_) + "/admin",
+                                  json{{"janus", "message_plugin"}, {"transaction", "t"}, {"admin_secret", kAdminSecret},
+                                       {"plugin", "janus.plugin.streaming"}, {"request", request}}
+                                      .dump());
+    return r.status == 200 ? r.json().value("response", json()) : json();
+  }
+  // The mountpoint's info, or its error.
+  json info(std::uint64_t id, const std::string& secret) { return admin({{"request", "info"}, {"id", id}, {"secret", secret}}); }
+
+  json create_broadcast() {
+    const auto r = http("POST", server_->url() + "/api/v1/sessions", R"({"scene": "lens", "mode": "broadcast"})");
+    EXPECT_EQ(r.status, 201u) << r.body;
+    return r.json();
+  }
+  static std::vector<std::pair<std::string, std::string>> bearer(const std::string& token) {
+    return {{"Authorization", "Bearer " + token}};
+  }
+
+  fs::path dir_;
+  int admin_port_ = 0, ws_port_ = 0;
+  ct::ChildProcess janus_;
+  std::unique_ptr<ServerProcess> server_;
+};
+
+}  // namespace
+
+TEST(JanusToken, IsTheFormatJanusChecks) {
+  // The expected value is openssl's, not this code's:
+  //   printf %s '1700000000,janus,janus.plugin.streaming' | openssl dgst -sha1 -hmac secret -binary | base64
+  EXPECT_EQ(caustic::server::janus_token("secret", 1700000000),
+            "1700000000,janus,janus.plugin.streaming:dwvIvxr0mdOVyZJ3U4ZTq/+8q5s=");
+}
+
+TEST_F(Broadcast, TheMountpointLivesWithTheSessionAndReceivesTheStream) {
+  const json s = create_broadcast();
+  ASSERT_EQ(s.value("mode", ""), "broadcast");
+  const auto viewers = http("POST", server_->url() + s["viewers_url"].get<std::string>(), "", "", bearer(s["token"]));
+  ASSERT_EQ(viewers.status, 201u) << viewers.body;
+  const json link = viewers.json();
+  const std::uint64_t id = link["mountpoint"];
+  // Only causticd knows the secret; the admin key lists private mountpoints.
+  const json list = admin({{"request", "list"}});
+  ASSERT_TRUE(list.contains("list")) << list.dump();
+  json media;
+  for (const auto& m : list["list"])
+    if (m.value("id", std::uint64_t{0}) == id) media = m["media"];
+  ASSERT_EQ(media.size(), 2u) << list.dump();
+  g_usleep(2500000);
+  for (const auto& m : admin({{"request", "list"}})["list"]) {
+    if (m.value("id", std::uint64_t{0}) != id) continue;
+    for (const auto& track : m["media"])  // video and frame messages arrive (a keep-alive a second while still)
+      EXPECT_LT(track.value("age_ms", 1000000), 2000) << track.dump();
+  }
+  EXPECT_EQ(link["janus_url"], ws_url());
+  EXPECT_NE(link["watch_url"].get<std::string>().find("#scene=lens&mountpoint=" + std::to_string(id)), std::string::npos);
+
+  EXPECT_EQ(http("DELETE", server_->url() + s["url"].get<std::string>(), "", "", bearer(s["token"])).status, 204u);
+  bool gone = false;
+  for (int i = 0; i < 50 && !gone; ++i, g_usleep(100000)) {
+    gone = true;
+    for (const auto& m : admin({{"request", "list"}}).value("list", json::array())) gone &= m.value("id", std::uint64_t{0}) != id;
+  }
+  EXPECT_TRUE(gone) << "the mountpoint outlived its session";
+}
+
+TEST_F(Broadcast, ViewerLinksAreCheckedByJanusAndViewersCannotChangeTheScene) {
+  const json s = create_broadcast();
+  const json link = http("POST", server_->url() + s["viewers_url"].get<std::string>(), "", "", bearer(s["token"])).json();
+  JanusClient janus(ws_url());
+  ASSERT_TRUE(janus.connected());
+  // No token, a forged one, an expired one (signed right, but past): refused.
+  EXPECT_EQ(janus.call({{"janus", "create"}}).value("error", json::object()).value("code", 0), 403);
+  EXPECT_EQ(janus.call({{"janus", "create"}, {"token", "1999999999,janus,janus.plugin.streaming:AAAA"}})
+                .value("error", json::object()).value("code", 0), 403);
+  const std::string expired = caustic::server::janus_token(kTokenSecret, g_get_real_time() / G_USEC_PER_SEC - 10);
+  EXPECT_EQ(janus.call({{"janus", "create"}, {"token", expired}}).value("error", json::object()).value("code", 0), 403);
+  // The link's token opens a session; the wrong pin gets no stream, the right one an offer.
+  const std::string token = link["token"];
+  const json created = janus.call({{"janus", "create"}, {"token", token}});
+  ASSERT_EQ(created.value("janus", ""), "success") << created.dump();
+  const std::uint64_t session = created["data"]["id"];
+  const json attached =
+      janus.call({{"janus", "attach"}, {"session_id", session}, {"plugin", "janus.plugin.streaming"}, {"token", token}});
+  ASSERT_EQ(attached.value("janus", ""), "success") << attached.dump();
+  const std::uint64_t handle = attached["data"]["id"];
+  auto watch = [&](const std::string& pin) {
+    return janus.call({{"janus", "message"}, {"session_id", session}, {"handle_id", handle}, {"token", token},
+                       {"body", {{"request", "watch"}, {"id", link["mountpoint"]}, {"pin", pin}}}});
+  };
+  const json wrong = watch("not-the-pin");
+  EXPECT_FALSE(wrong.contains("jsep")) << wrong.dump();
+  EXPECT_NE(wrong.dump().find("error"), std::string::npos) << wrong.dump();
+  const json right = watch(link["pin"]);
+  ASSERT_TRUE(right.contains("jsep")) << right.dump();
+  EXPECT_EQ(right["jsep"].value("type", ""), "offer");
+  EXPECT_NE(right["jsep"].value("sdp", "").find("VP8/90000"), std::string::npos);
+
+  // A viewer holds the link, not the session's token: no changes, no links.
+  const std::string params = server_->url() + s["url"].get<std::string>() + "/params";
+  EXPECT_EQ(http("PATCH", params, R"({"object": {"ior": 1.6}})", "application/merge-patch+json", bearer(token)).status,
+            401u);
+  EXPECT_EQ(http("POST", server_->url() + s["viewers_url"].get<std::string>(), "", "", bearer(link["pin"])).status,
+            401u);
+  EXPECT_EQ(http("PATCH", params, R"({"object": {"ior": 1.6}})", "application/merge-patch+json", bearer(s["token"])).status,
+            200u);
+}
+
+TEST_F(Broadcast, AJanusRestartGetsTheMountpointBack) {
+  const json s = create_broadcast();
+  const json link = http("POST", server_->url() + s["viewers_url"].get<std::string>(), "", "", bearer(s["token"])).json();
+  const std::uint64_t id = link["mountpoint"];
+  janus_.stop();
+  start_janus();
+  json found;
+  for (int i = 0; i < 100 && found.is_null(); ++i, g_usleep(100000))
+    for (const auto& m : admin({{"request", "list"}}).value("list", json::array()))
+      if (m.value("id", std::uint64_t{0}) == id) found = m;
+  ASSERT_FALSE(found.is_null()) << "the mountpoint did not come back";
+  g_usleep(2500000);
+  for (const auto& m : admin({{"request", "list"}})["list"]) {
+    if (m.value("id", std::uint64_t{0}) != id) continue;
+    EXPECT_LT(m["media"][0].value("age_ms", 1000000), 2000) << "no stream into the new mountpoint";
+  }
+  // The same link still works: pin and token are unchanged.
+  JanusClient janus(ws_url());
+  const std::string token = link["token"];
+  const json created = janus.call({{"janus", "create"}, {"token", token}});
+  ASSERT_EQ(created.value("janus", ""), "success");
+  const json attached = janus.call(
+      {{"janus", "attach"}, {"session_id", created["data"]["id"]}, {"plugin", "janus.plugin.streaming"}, {"token", token}});
+  const json offer = janus.call({{"janus", "message"}, {"session_id", created["data"]["id"]}, {"handle_id", attached["data"]["id"]},
+                                 {"token", token}, {"body", {{"request", "watch"}, {"id", id}, {"pin", link["pin"]}}}});
+  EXPECT_TRUE(offer.contains("jsep")) << offer.dump();
+}
+
+TEST_F(Broadcast, BadRequestsAreRefusedAndPlainSessionsHaveNoViewerLinks) {
+  EXPECT_EQ(http("POST", server_->url() + "/api/v1/sessions", R"({"scene": "lens", "mode": "many"})").status, 422u);
+  EXPECT_EQ(http("POST", server_->url() + "/api/v1/sessions", R"({"scene": "lens", "mode": 3})").status, 422u);
+  const json plain = http("POST", server_->url() + "/api/v1/sessions", R"({"scene": "lens"})").json();
+  EXPECT_EQ(http("POST", server_->url() + plain["url"].get<std::string>() + "/viewers", "", "", bearer(plain["token"])).status,
+            409u);
+}
