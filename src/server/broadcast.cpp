@@ -30,7 +30,7 @@ nlohmann::json create_request(const Mountpoint& m, const std::string& session_id
     video["pt"] = 96;
     video["codec"] = "vp8";
   }
-  const nlohmann::json data = {{"type", "data"}, {"mid", "d"}, {"label", "frames"},
+  const nlohmann::json data = {{"type", "data"}, {"mid", "d"}, {"label", "frames"}, {"datatype", "text"},
                                {"port", m.data_port}, {"iface", c.janus_rtp_address}};
   return {{"request", "create"}, {"type", "rtp"},     {"id", m.id},       {"name", "causticd-" + session_id},
           {"is_private", true},  {"secret", m.secret}, {"pin", m.pin},     {"permanent", false},
@@ -183,16 +183,21 @@ void check_broadcasts(ServerState& s) {
   if (!s.janus) return;
   ServerState* state = &s;
   for (auto& [sid, mountpoint] : s.mountpoints) {
-    if (mountpoint.recreating) continue;
+    const auto now = std::chrono::steady_clock::now();
+    if (mountpoint.recreating != std::chrono::steady_clock::time_point{} &&
+        now - mountpoint.recreating < std::chrono::seconds(10))
+      continue;
     const std::string id = sid;
     s.janus->plugin_request(
         {{"request", "info"}, {"id", mountpoint.id}, {"secret", mountpoint.secret}},
         [state, id](const JanusAdmin::Answer& a) {
           auto it = state->mountpoints.find(id);
           auto session = state->sessions.find(id);
+          if (!a.error.empty() && a.error_code != 455)
+            log(Level::debug, "broadcast " + id + ": mountpoint check: " + a.error);
           if (a.error_code != 455 || it == state->mountpoints.end() || session == state->sessions.end()) return;
           // Janus lost it (a restart): the same id, secret, pin and ports.
-          it->second.recreating = true;
+          it->second.recreating = std::chrono::steady_clock::now();
           log(Level::notice, "broadcast " + id + ": Janus lost mountpoint " + std::to_string(it->second.id) +
                                  "; creating it again", session->second->log_context());
           state->janus->plugin_request(
@@ -200,9 +205,11 @@ void check_broadcasts(ServerState& s) {
               [state, id](const JanusAdmin::Answer& made) {
                 auto again = state->mountpoints.find(id);
                 if (again == state->mountpoints.end()) return;
-                again->second.recreating = false;
+                again->second.recreating = {};
                 if (!made.error.empty())
                   log(Level::warning, "broadcast " + id + ": mountpoint not created again: " + made.error);
+                else
+                  log(Level::info, "broadcast " + id + ": mountpoint " + std::to_string(again->second.id) + " is back");
               });
         });
   }

@@ -11,6 +11,7 @@
 
 #include <libsoup/soup.h>
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -25,7 +26,9 @@ struct Mountpoint {
   std::uint64_t id = 0;
   std::string secret, pin;
   int video_port = 0, data_port = 0;
-  bool recreating = false;
+  /// When a re-creation was asked for (0: none in flight). One whose answer
+  /// never came (a Janus that died on it) is asked again after a while.
+  std::chrono::steady_clock::time_point recreating{};
 };
 
 /// Answers POST /api/v1/sessions with "mode": "broadcast" (the request was

@@ -200,7 +200,7 @@ void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path)
   }
   if (path.rfind("/api/", 0) == 0) return reply_problem(msg, s.metrics, SOUP_STATUS_NOT_FOUND, "no such endpoint");
   if (!read) return not_allowed(s, msg, "GET, HEAD");
-  serve_static(web_folder(s.config, s.data_dir), path, msg, s.metrics);
+  serve_static(web_folder(s.config, s.data_dir), path, msg, s.metrics, s.config.janus_ws_url);
 }
 
 }  // namespace
@@ -279,9 +279,11 @@ void on_request_started(SoupServer*, SoupServerMessage* msg, gpointer data) {
   soup_message_headers_replace(headers, "X-Content-Type-Options", "nosniff");
   soup_message_headers_replace(headers, "Referrer-Policy", "no-referrer");
   soup_message_headers_replace(headers, "X-Frame-Options", "DENY");
-  soup_message_headers_replace(headers, "Content-Security-Policy", kContentSecurityPolicy);
+  const auto& config = static_cast<ServerState*>(data)->config;
+  soup_message_headers_replace(headers, "Content-Security-Policy",
+                               allow_connect(kContentSecurityPolicy, config.janus_ws_url).c_str());
   // Which instance answered, for an operator reading a proxy's traffic.
-  if (const int n = static_cast<ServerState*>(data)->config.instance_index; n > 0)
+  if (const int n = config.instance_index; n > 0)
     soup_message_headers_replace(headers, "X-Causticd-Instance", std::to_string(n).c_str());
 }
 

@@ -58,6 +58,15 @@ std::string client_address(SoupServerMessage* msg, const std::vector<std::string
   return last;
 }
 
+std::string allow_connect(std::string policy, const std::string& url) {
+  const auto scheme = url.find("://");
+  if (scheme == std::string::npos) return policy;
+  const std::string origin = url.substr(0, url.find('/', scheme + 3));
+  const std::string connect = "connect-src 'self'";
+  if (const auto at = policy.find(connect); at != std::string::npos) policy.insert(at + connect.size(), " " + origin);
+  return policy;
+}
+
 bool same_secret(const std::string& a, const std::string& b) {
   if (a.size() != b.size()) return false;
   unsigned char diff = 0;

@@ -36,6 +36,9 @@ inline constexpr const char* kContentSecurityPolicy =
     "font-src 'self' data:; "
     "media-src 'self' blob: mediastream:; connect-src 'self'; object-src 'none'; base-uri 'none'; "
     "frame-ancestors 'none'; form-action 'self'";
+/// `policy` that lets pages also connect to `url`'s origin (scheme, host,
+/// port: the broadcast server's WebSocket API); unchanged for "" or a path.
+std::string allow_connect(std::string policy, const std::string& url);
 /// Compares in time independent of where the strings differ.
 bool same_secret(const std::string& a, const std::string& b);
 

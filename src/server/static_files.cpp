@@ -76,7 +76,7 @@ std::string page_policy(const std::string& html) {
 }  // namespace
 
 void serve_static(const std::filesystem::path& root, const std::string& url_path, SoupServerMessage* msg,
-                  Metrics& metrics) {
+                  Metrics& metrics, const std::string& connect_also) {
   static const std::map<std::string, std::string> types = {
       {".html", "text/html; charset=utf-8"}, {".js", "text/javascript"},     {".mjs", "text/javascript"},
       {".css", "text/css"},                  {".json", "application/json"}, {".png", "image/png"},
@@ -89,7 +89,7 @@ void serve_static(const std::filesystem::path& root, const std::string& url_path
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (file->extension() == ".html")
     soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Content-Security-Policy",
-                                 page_policy(bytes).c_str());
+                                 allow_connect(page_policy(bytes), connect_also).c_str());
   reply_bytes(msg, SOUP_STATUS_OK, type->second, bytes.data(), bytes.size());
 }
 

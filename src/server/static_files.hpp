@@ -18,7 +18,9 @@ namespace caustic::server {
 /// regular file. "/" and folder paths map to their index.html.
 std::optional<std::filesystem::path> resolve_static(const std::filesystem::path& root, const std::string& url_path);
 
+/// Answers a GET of a file under `root`; pages may also connect to
+/// `connect_also`'s origin (the broadcast server, http_util.hpp).
 void serve_static(const std::filesystem::path& root, const std::string& url_path, SoupServerMessage* msg,
-                  Metrics& metrics);
+                  Metrics& metrics, const std::string& connect_also = "");
 
 }  // namespace caustic::server

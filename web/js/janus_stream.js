@@ -1,0 +1,109 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// A broadcast through the Janus WebRTC server: its WebSocket API (create,
+// attach to the streaming plugin, watch the mountpoint with its pin, answer
+// the offer, start), with the viewer link's token on every request, the
+// video, and the "frames" data channel that announces parameter versions.
+
+const KEEPALIVE_MS = 25000;  // Janus ends a session silent for 60 s
+
+export class JanusStream {
+  constructor({ url, mountpoint, pin, token }, video, { onState, onVersion }) {
+    Object.assign(this, { url, mountpoint, pin, token, video, onState, onVersion });
+    this.pending = new Map();  // transaction -> { resolve, reject }
+    this.next = 0;
+    this.closed = false;
+  }
+
+  async start() {
+    this.socket = new WebSocket(this.url, 'janus-protocol');
+    this.socket.onmessage = ({ data }) => this.onMessage(JSON.parse(data));
+    this.socket.onclose = () => this.fail('the connection to the broadcast server closed');
+    await new Promise((resolve, reject) => {
+      this.socket.onopen = resolve;
+      this.socket.onerror = () => reject(new Error('the broadcast server does not answer'));
+    });
+    this.session = (await this.request({ janus: 'create' })).data.id;
+    this.keepalive = setInterval(() => this.send({ janus: 'keepalive', session_id: this.session }), KEEPALIVE_MS);
+    this.handle = (await this.request({ janus: 'attach', session_id: this.session,
+                                       plugin: 'janus.plugin.streaming' })).data.id;
+    this.pc = new RTCPeerConnection({ iceServers: [] });
+    this.pc.ontrack = (event) => {
+      if ('jitterBufferTarget' in event.receiver) event.receiver.jitterBufferTarget = 0;
+      this.video.srcObject = event.streams[0] ?? new MediaStream([event.track]);
+      this.video.play().catch(() => {});
+    };
+    this.pc.ondatachannel = ({ channel }) => this.listen(channel);
+    this.pc.onicecandidate = ({ candidate }) => {
+      this.send({ janus: 'trickle', session_id: this.session, handle_id: this.handle,
+                  candidate: candidate ? candidate.toJSON() : { completed: true } });
+    };
+    this.pc.onconnectionstatechange = () => {
+      if (this.pc.connectionState === 'connected') this.onState('live');
+      if (this.pc.connectionState === 'failed') this.fail('the connection was lost');
+    };
+    const watched = await this.message({ request: 'watch', id: this.mountpoint, pin: this.pin });
+    if (!watched.jsep) throw new Error(watched.plugindata?.data?.error ?? 'the broadcast refused this link');
+    await this.pc.setRemoteDescription(watched.jsep);
+    // Janus relays the mountpoint's data once the page has a channel of
+    // its own (which sets up the SCTP association); it may answer on it.
+    if (watched.jsep.sdp.includes('m=application')) this.listen(this.pc.createDataChannel('JanusDataChannel'));
+    const answer = await this.pc.createAnswer();
+    await this.pc.setLocalDescription(answer);
+    await this.message({ request: 'start' }, { type: answer.type, sdp: answer.sdp });
+  }
+
+  // Frame messages: {"version", "level"} of the newest picture sent.
+  listen(channel) {
+    this.channels = (this.channels ?? 0) + 1;
+    channel.binaryType = 'arraybuffer';
+    channel.onmessage = ({ data }) => {
+      const { version, level } = JSON.parse(typeof data === 'string' ? data : new TextDecoder().decode(data));
+      this.onVersion(version, level);
+    };
+  }
+
+  send(message) {
+    if (this.socket?.readyState === WebSocket.OPEN) {
+      this.socket.send(JSON.stringify({ ...message, token: this.token, transaction: `t${++this.next}` }));
+    }
+    return `t${this.next}`;
+  }
+
+  // A request's answer: "success", or for a plugin message the event after its "ack".
+  request(message) {
+    return new Promise((resolve, reject) => {
+      const transaction = this.send(message);
+      this.pending.set(transaction, { resolve, reject });
+    });
+  }
+
+  message(body, jsep) {
+    return this.request({ janus: 'message', session_id: this.session, handle_id: this.handle, body,
+                          ...(jsep ? { jsep } : {}) });
+  }
+
+  onMessage(m) {
+    const waiting = this.pending.get(m.transaction);
+    if (m.janus === 'ack' || !waiting) {
+      if (m.janus === 'hangup') this.fail('the broadcast server hung up');
+      return;
+    }
+    this.pending.delete(m.transaction);
+    if (m.janus === 'error') waiting.reject(new Error(m.error?.reason ?? 'refused'));
+    else waiting.resolve(m);
+  }
+
+  fail(reason) {
+    if (this.closed) return;
+    this.close();
+    this.onState('lost', reason);
+  }
+
+  close() {
+    this.closed = true;
+    clearInterval(this.keepalive);
+    if (this.session) this.send({ janus: 'destroy', session_id: this.session });
+    this.socket?.close();
+    this.pc?.close();
+  }
+}
