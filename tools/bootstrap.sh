@@ -19,8 +19,9 @@ esac
 
 # Every Debian package the build, the tests and the headless renderer need
 # (the last lines: the plugin test's gst-inspect-1.0 and gst-launch-1.0, the
-# Debian package and lintian, the real-systemd test's container, and the
-# proxies the scaling tests put in front of two instances).
+# Debian package and lintian, the real-systemd test's container, the
+# proxies the scaling tests put in front of two instances, and Janus with
+# the network namespace its broadcast test needs).
 packages=(
   g++ make cmake pkg-config
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
@@ -37,7 +38,7 @@ packages=(
   gstreamer1.0-tools
   dpkg-dev file lintian
   systemd-container debootstrap curl
-  haproxy nginx
+  haproxy nginx janus iproute2
 )
 # Node.js and npm vendor three.js and run the browser tests. A machine that
 # already has them (for example from another repository) keeps its own.
@@ -54,8 +55,9 @@ if ((${#missing[@]})); then
   sudo=()
   if [[ $(id -u) -ne 0 ]]; then sudo=(sudo); fi
   "${sudo[@]}" apt-get update -q
-  # The tests run the proxies as their own processes: their Debian services
-  # (nginx's default site on port 80) are not started by this install.
+  # The tests run the proxies and Janus as their own processes: their Debian
+  # services (nginx's default site on port 80, Janus's sample configuration
+  # with its well-known admin secret) are not started by this install.
   # Where no policy is in place, one that denies service starts is, for the
   # install alone.
   policy=/usr/sbin/policy-rc.d made_policy=0
@@ -69,6 +71,11 @@ if ((${#missing[@]})); then
   if ((made_policy)); then
     "${sudo[@]}" rm -f "$policy"
     trap - EXIT
+  fi
+  # Nor started at the next boot: Debian's janus.service would serve its
+  # sample configuration (docs/scaling.md runs the appliance's own).
+  if [[ " ${missing[*]} " == *" janus "* ]] && command -v systemctl >/dev/null; then
+    "${sudo[@]}" systemctl disable --quiet janus.service 2>/dev/null || true
   fi
 fi
 
