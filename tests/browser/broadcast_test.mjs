@@ -7,68 +7,16 @@
 // needs a non-loopback interface for ICE: JANUS_ICE_INTERFACE). Every wait
 // is bounded.
 import assert from 'node:assert/strict';
-import { spawn } from 'node:child_process';
-import { mkdirSync, mkdtempSync, openSync, readdirSync, readFileSync, writeFileSync } from 'node:fs';
-import net from 'node:net';
-import path from 'node:path';
+import { mkdirSync } from 'node:fs';
 import { after, before, test } from 'node:test';
 
 import { launchChromium } from './chromium.mjs';
-import { shots, startServer, until } from './harness.mjs';
+import { shots, until } from './harness.mjs';
+import { api as call, Janus, sentFrames as sent, videoStat } from './janus_harness.mjs';
 
 const VIEWERS = 4;
-const secrets = { admin: 'bc-admin-secret-0123456', key: 'bc-streaming-key-012345', token: 'bc-token-secret-0123456' };
-const dir = mkdtempSync('/tmp/causticd-janus-');
-let browser, server, janus, ports;
+let browser, server, janus;
 
-const freePort = () => new Promise((resolve) => {
-  const s = net.createServer().listen(0, '127.0.0.1', () => { const { port } = s.address(); s.close(() => resolve(port)); });
-});
-
-// The shipped configuration (janus/), with this test's ports and secrets.
-function writeJanusConfig() {
-  for (const name of readdirSync(process.env.CAUSTIC_JANUS_DIR)) {
-    let text = readFileSync(path.join(process.env.CAUSTIC_JANUS_DIR, name), 'utf8')
-      .replaceAll('/etc/causticd/janus', dir).replaceAll('@JANUS_ADMIN_SECRET@', secrets.admin)
-      .replaceAll('@JANUS_TOKEN_SECRET@', secrets.token).replaceAll('@JANUS_STREAMING_KEY@', secrets.key)
-      .replace('admin_port = 7088', `admin_port = ${ports.admin}`).replace('ws_port = 8188', `ws_port = ${ports.ws}`);
-    writeFileSync(path.join(dir, name), text);
-  }
-}
-
-async function startJanus() {
-  janus = spawn('janus', ['-F', dir, '-C', `${dir}/janus.jcfg`, '-o', '-d', '3', '-E', process.env.JANUS_ICE_INTERFACE],
-                { stdio: ['ignore', openSync(`${dir}/janus.log`, 'a'), openSync(`${dir}/janus.log`, 'a')] });
-  for (let i = 0; i < 100; i += 1) {
-    const up = await new Promise((resolve) => {
-      const c = net.connect(ports.ws, '127.0.0.1', () => { c.destroy(); resolve(true); }).on('error', () => resolve(false));
-    });
-    if (up) return;
-    await new Promise((r) => setTimeout(r, 100));
-  }
-  throw new Error('janus did not start');
-}
-
-const stopJanus = () => new Promise((resolve) => { janus.once('exit', resolve); janus.kill('SIGTERM'); });
-
-async function api(method, url, body, token) {
-  const response = await fetch(`${server.url}${url}`, {
-    method, headers: { 'Content-Type': 'application/json', ...(token ? { Authorization: `Bearer ${token}` } : {}) },
-    body: body ? JSON.stringify(body) : undefined,
-  });
-  return { status: response.status, body: response.status === 204 ? null : await response.json() };
-}
-
-async function sentFrames() {
-  const text = await (await fetch(`${server.url}/metrics`)).text();
-  return Number(/causticd_frames_sent_total (\d+)/.exec(text)[1]);
-}
-
-const videoStat = (name) => window.caustic.peer()?.getStats().then((report) => {
-  let n = 0;
-  report.forEach((r) => { if (r.type === 'inbound-rtp' && r.kind === 'video') n = r[name]; });
-  return n;
-});
 // Passed to the page whole: no reference to videoStat.
 const framesDecoded = () => window.caustic.peer()?.getStats().then((report) => {
   let n = 0;
@@ -77,20 +25,18 @@ const framesDecoded = () => window.caustic.peer()?.getStats().then((report) => {
 });
 
 before(async () => {
-  ports = { admin: await freePort(), ws: await freePort() };
-  writeJanusConfig();
-  await startJanus();
-  server = await startServer(['--set', `janus_admin_url=http://127.0.0.1:${ports.admin}/admin`,
-                              '--set', `janus_admin_secret=${secrets.admin}`, '--set', `janus_streaming_key=${secrets.key}`,
-                              '--set', `janus_token_secret=${secrets.token}`,
-                              '--set', `janus_ws_url=ws://127.0.0.1:${ports.ws}/`, '--set', 'drain_timeout_s=0']);
+  janus = await Janus.start();
+  server = await janus.startServer();
   browser = await launchChromium();
 });
 after(async () => {
   await browser?.close();
   server?.kill('SIGTERM');
-  if (janus) await stopJanus();
+  if (janus) await janus.stop();
 });
+
+const api = (method, url, body, token) => call(server, method, url, body, token);
+const sentFrames = () => sent(server);
 
 // `retry`: while the mountpoint is being created again, ask again (bounded).
 async function openViewer(link, { retry = false } = {}) {
@@ -159,8 +105,8 @@ test('viewers of one broadcast all see it, a late joiner at once, and the holder
   pages.push(late);
 
   // Janus restarts: the mountpoint comes back and a viewer can rejoin with the same link.
-  await stopJanus();
-  await startJanus();
+  await janus.stop();
+  await janus.run();
   const again = await openViewer(link, { retry: true });
   assert.ok((await again.evaluate(framesDecoded)) > 0);
   for (const p of [...pages, again]) await p.close();

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-or-later
-# Runs tests/browser/broadcast_test.mjs in a private network namespace:
-# Janus never gathers ICE candidates on a loopback interface, so the
-# namespace gets a veth carrying 127.0.0.2 for Janus's ICE, and everything
-# (Janus, causticd, chromium) talks inside it, to nothing outside. Exits 77
-# (skipped) only where namespaces cannot be made (not root, no ip netns).
+# Runs a command (the broadcast browser test, the broadcast benchmark) in a
+# private network namespace: Janus never gathers ICE candidates on a
+# loopback interface, so the namespace gets a veth carrying 127.0.0.2 for
+# Janus's ICE (JANUS_ICE_INTERFACE), and everything (Janus, causticd,
+# chromium) talks inside it, to nothing outside. Exits 77 (skipped) only
+# where namespaces cannot be made (not root, no ip netns).
+#   in_namespace.sh COMMAND [ARG...]
 set -euo pipefail
-here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+(($#)) || { echo "usage: in_namespace.sh COMMAND [ARG...]" >&2; exit 2; }
 skip() { echo "SKIPPED: $*"; exit 77; }
 [[ $(id -u) -eq 0 ]] || skip "network namespaces need root"
 command -v ip >/dev/null || skip "no ip (iproute2)"
@@ -20,5 +22,5 @@ ip -n "$ns" link add jv0 type veth peer name jv1
 ip -n "$ns" addr add 127.0.0.2/32 dev jv0
 ip -n "$ns" link set jv0 up
 ip -n "$ns" link set jv1 up
-# Bounded: the test's own waits are, and this caps them all.
-timeout 540 ip netns exec "$ns" env JANUS_ICE_INTERFACE=jv0 node --test "$here/../browser/broadcast_test.mjs"
+# Bounded: the command's own waits are, and this caps them all.
+timeout "${CAUSTIC_NAMESPACE_TIMEOUT:-540}" ip netns exec "$ns" env JANUS_ICE_INTERFACE=jv0 "$@"
