@@ -121,7 +121,7 @@ class Broadcast : public ::testing::Test {
         "--width", "320", "--height", "240", "--set", "janus_admin_url=http://127.0.0.1:" + std::to_string(admin_port_) + "/admin",
         "--set", std::string("janus_admin_secret=") + kAdminSecret, "--set", std::string("janus_streaming_key=") + kStreamingKey,
         "--set", std::string("janus_token_secret=") + kTokenSecret, "--set", "janus_ws_url=" + ws_url(), "--set",
-        "viewer_link_ttl_s=60"});
+        "viewer_link_ttl_s=60", "--set", "drain_timeout_s=0"});
     ASSERT_FALSE(server_->url().empty());
   }
   void TearDown() override {
@@ -276,6 +276,15 @@ TEST_F(Broadcast, AJanusRestartGetsTheMountpointBack) {
   const json offer = janus.call({{"janus", "message"}, {"session_id", created["data"]["id"]}, {"handle_id", attached["data"]["id"]},
                                  {"token", token}, {"body", {{"request", "watch"}, {"id", id}, {"pin", link["pin"]}}}});
   EXPECT_TRUE(offer.contains("jsep")) << offer.dump();
+}
+
+TEST_F(Broadcast, AStoppingServerTakesItsMountpointsWithIt) {
+  create_broadcast();
+  create_broadcast();
+  ASSERT_EQ(admin({{"request", "list"}}).value("list", json::array()).size(), 2u);
+  server_->signal(SIGTERM);
+  EXPECT_EQ(server_->wait_exit(10000), 0);
+  EXPECT_EQ(admin({{"request", "list"}}).value("list", json::array()).size(), 0u) << "mountpoints outlived causticd";
 }
 
 TEST_F(Broadcast, BadRequestsAreRefusedAndPlainSessionsHaveNoViewerLinks) {

@@ -179,6 +179,16 @@ void end_broadcast(ServerState& s, const std::string& id) {
   s.mountpoints.erase(it);
 }
 
+void end_all_broadcasts(ServerState& s) {
+  if (!s.janus) return;
+  for (const auto& [id, m] : s.mountpoints) {
+    const auto a = s.janus->plugin_request_now({{"request", "destroy"}, {"id", m.id}, {"secret", m.secret}});
+    if (!a.error.empty() && a.error_code != 455)
+      log(Level::warning, "broadcast " + id + ": mountpoint not destroyed: " + a.error);
+  }
+  s.mountpoints.clear();
+}
+
 void check_broadcasts(ServerState& s) {
   if (!s.janus) return;
   ServerState* state = &s;

@@ -43,6 +43,10 @@ void broadcast_viewers(ServerState& s, SoupServerMessage* msg, Session& session)
 /// The session `id` ended: its mountpoint, if any, goes.
 void end_broadcast(ServerState& s, const std::string& id);
 
+/// The server stops: every mountpoint goes now (waiting for Janus's answers,
+/// briefly), so that none outlives causticd in a Janus that keeps running.
+void end_all_broadcasts(ServerState& s);
+
 /// Asks Janus for each mountpoint; one it lost (a restart) is created again
 /// on the same ports, so the running pipeline needs no change.
 void check_broadcasts(ServerState& s);

@@ -14,7 +14,7 @@ JanusAdmin::~JanusAdmin() {
   g_object_unref(http_);
 }
 
-void JanusAdmin::plugin_request(nlohmann::json request, Done done) {
+SoupMessage* JanusAdmin::message(nlohmann::json request) {
   request["admin_key"] = key_;
   const nlohmann::json body = {{"janus", "message_plugin"},
                                {"transaction", "causticd-" + std::to_string(++transaction_)},
@@ -22,11 +22,56 @@ void JanusAdmin::plugin_request(nlohmann::json request, Done done) {
                                {"plugin", "janus.plugin.streaming"},
                                {"request", std::move(request)}};
   SoupMessage* msg = soup_message_new("POST", url_.c_str());
-  if (!msg) return done({{}, "not a URL: " + url_});
+  if (!msg) return nullptr;
   const std::string text = body.dump();
   GBytes* bytes = g_bytes_new(text.data(), text.size());
   soup_message_set_request_body_from_bytes(msg, "application/json", bytes);
   g_bytes_unref(bytes);
+  return msg;
+}
+
+JanusAdmin::Answer JanusAdmin::read_answer(SoupMessage* msg, GBytes* reply, GError* error) {
+  Answer answer;
+  if (error) {
+    answer.error = std::string("Janus does not answer: ") + error->message;
+  } else if (soup_message_get_status(msg) != SOUP_STATUS_OK) {
+    answer.error = "Janus answered HTTP " + std::to_string(soup_message_get_status(msg));
+  } else {
+    gsize size = 0;
+    const auto* text = static_cast<const char*>(g_bytes_get_data(reply, &size));
+    const auto json = nlohmann::json::parse(text, text + size, nullptr, false);
+    if (!json.is_object()) {
+      answer.error = "Janus answered something that is not JSON";
+    } else if (json.value("janus", "") != "success") {
+      answer.error = "Janus refused: " + json.value("error", nlohmann::json::object()).value("reason", json.dump());
+    } else {
+      answer.response = json.value("response", nlohmann::json::object());
+      if (answer.response.contains("error_code")) {
+        answer.error_code = answer.response.value("error_code", 0);
+        answer.error = answer.response.value("error", "the streaming plugin refused");
+      }
+    }
+  }
+  return answer;
+}
+
+JanusAdmin::Answer JanusAdmin::plugin_request_now(nlohmann::json request, int timeout_s) {
+  SoupMessage* msg = message(std::move(request));
+  if (!msg) return {{}, "not a URL: " + url_};
+  SoupSession* http = soup_session_new_with_options("timeout", timeout_s, nullptr);
+  GError* error = nullptr;
+  GBytes* reply = soup_session_send_and_read(http, msg, nullptr, &error);
+  Answer answer = read_answer(msg, reply, error);
+  if (error) g_error_free(error);
+  if (reply) g_bytes_unref(reply);
+  g_object_unref(msg);
+  g_object_unref(http);
+  return answer;
+}
+
+void JanusAdmin::plugin_request(nlohmann::json request, Done done) {
+  SoupMessage* msg = message(std::move(request));
+  if (!msg) return done({{}, "not a URL: " + url_});
   struct Call {
     Done done;
     SoupMessage* msg;
@@ -38,28 +83,8 @@ void JanusAdmin::plugin_request(nlohmann::json request, Done done) {
         std::unique_ptr<Call> call(static_cast<Call*>(data));
         GError* error = nullptr;
         GBytes* reply = soup_session_send_and_read_finish(SOUP_SESSION(source), result, &error);
-        Answer answer;
-        if (error) {
-          answer.error = std::string("Janus does not answer: ") + error->message;
-          g_error_free(error);
-        } else if (soup_message_get_status(call->msg) != SOUP_STATUS_OK) {
-          answer.error = "Janus answered HTTP " + std::to_string(soup_message_get_status(call->msg));
-        } else {
-          gsize size = 0;
-          const auto* text = static_cast<const char*>(g_bytes_get_data(reply, &size));
-          const auto json = nlohmann::json::parse(text, text + size, nullptr, false);
-          if (!json.is_object()) {
-            answer.error = "Janus answered something that is not JSON";
-          } else if (json.value("janus", "") != "success") {
-            answer.error = "Janus refused: " + json.value("error", nlohmann::json::object()).value("reason", json.dump());
-          } else {
-            answer.response = json.value("response", nlohmann::json::object());
-            if (answer.response.contains("error_code")) {
-              answer.error_code = answer.response.value("error_code", 0);
-              answer.error = answer.response.value("error", "the streaming plugin refused");
-            }
-          }
-        }
+        const Answer answer = read_answer(call->msg, reply, error);
+        if (error) g_error_free(error);
         if (reply) g_bytes_unref(reply);
         g_object_unref(call->msg);
         if (!call->alive.expired()) call->done(answer);

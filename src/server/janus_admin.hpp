@@ -36,7 +36,14 @@ class JanusAdmin {
   /// with the admin credentials added. `done` runs on the main loop.
   void plugin_request(nlohmann::json request, Done done);
 
+  /// The same, waiting for the answer (at most `timeout_s`): for the last
+  /// requests while the server stops, when no main loop runs any more.
+  Answer plugin_request_now(nlohmann::json request, int timeout_s = 2);
+
  private:
+  SoupMessage* message(nlohmann::json request);  // null for a bad URL
+  static Answer read_answer(SoupMessage* msg, GBytes* reply, GError* error);
+
   std::string url_, secret_, key_;
   SoupSession* http_ = nullptr;
   // Answers that arrive while (or after) this is destroyed are dropped:

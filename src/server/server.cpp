@@ -151,6 +151,7 @@ Server::~Server() {
   state_->alive.reset();
   state_->loader_cancel = true;
   if (state_->gallery_loader.joinable()) state_->gallery_loader.join();
+  end_all_broadcasts(s);
   for (auto& [id, session] : s.sessions) session->close("server shutting down");
   s.sessions.clear();
   for (guint source : {state_->reaper, state_->sigint, state_->sigterm, state_->sighup, state_->watchdog, state_->drain,
