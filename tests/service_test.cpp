@@ -212,7 +212,15 @@ TEST(Service, SigtermDrainsUntilTheLastSessionEnds) {
 TEST(Service, ASecondSigtermOrTheDrainTimeoutEndsTheDrain) {
   for (const bool second_signal : {true, false}) {
     ServerProcess server({"--set", second_signal ? "drain_timeout_s=600" : "drain_timeout_s=1"});
-    create_session(server.url(), "lens");
+    const json s = create_session(server.url(), "lens");
+    // A session that streams (its first picture rendered), as in a drain
+    // that matters: stopping one still starting is another case.
+    const std::vector<std::pair<std::string, std::string>> bearer = {
+        {"Authorization", "Bearer " + s["token"].get<std::string>()}};
+    for (int i = 0; i < 300 && http("GET", server.url() + s["url"].get<std::string>() + "/frame.png", "", "", bearer)
+                                       .status != 200;
+         ++i)
+      g_usleep(100000);
     server.signal(SIGTERM);
     for (int i = 0; i < 50 && http("GET", server.url() + "/api/v1/health").status != 503; ++i) g_usleep(20000);
     EXPECT_EQ(http("GET", server.url() + "/api/v1/health").json()["status"], "draining");

@@ -132,7 +132,9 @@ void session_route(ServerState& s, SoupServerMessage* msg, const Route& route) {
     soup_server_message_set_status(msg, SOUP_STATUS_NO_CONTENT, nullptr);
     return;
   }
-  session.alive_now();  // the holder is there (what keeps a broadcast going)
+  // A broadcast's holder is there; a one-viewer session's liveness is its
+  // viewer's (RTCP, signalling), which a REST client polling must not fake.
+  if (session.broadcast()) session.alive_now();
   if (route.rest == "/viewers")
     return method == "POST" ? broadcast_viewers(s, msg, session) : not_allowed(s, msg, "POST");
   if (route.rest != "/params") {
