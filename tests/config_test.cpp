@@ -120,3 +120,43 @@ TEST(Config, EnvironmentOverridesAndIsChecked) {
   unsetenv("CAUSTICD_PORT");
   unsetenv("CAUSTICD_MAX_SESSIONS");
 }
+
+// A value an operator chose and a later layer replaces is said, naming the
+// key and both places; the shipped file's defaults replaced are not.
+TEST(Config, AKeySetAgainInALaterPlaceIsWarnedAbout) {
+  ServerConfig c;
+  ConfigSources sources;
+  const auto file = write_config("causticd_layers.conf",
+                                 "port = 9000\nmax_sessions = 12\nlog_level = debug\nlog_level = info\n"
+                                 "janus_admin_secret =\nframerate = 25\n");
+  load_config_file(c, file, &sources);
+  ASSERT_EQ(c.warnings.size(), 1u);  // log_level, written twice
+  EXPECT_NE(c.warnings[0].find("log_level"), std::string::npos) << c.warnings[0];
+  EXPECT_NE(c.warnings[0].find("causticd_layers.conf:3"), std::string::npos) << c.warnings[0];
+  EXPECT_NE(c.warnings[0].find("causticd_layers.conf:4"), std::string::npos) << c.warnings[0];
+  setenv("CAUSTICD_PORT", "9100", 1);
+  setenv("CAUSTICD_MAX_SESSIONS", "4", 1);                               // the default was written: not said
+  setenv("CAUSTICD_JANUS_ADMIN_SECRET", "0123456789abcdef0123", 1);      // an empty one was written: not said
+  setenv("CAUSTICD_FRAMERATE", "25", 1);                                 // the same value: not said
+  load_config_environment(c, &sources);
+  unsetenv("CAUSTICD_PORT");
+  unsetenv("CAUSTICD_MAX_SESSIONS");
+  unsetenv("CAUSTICD_JANUS_ADMIN_SECRET");
+  unsetenv("CAUSTICD_FRAMERATE");
+  EXPECT_EQ(c.port, 9100);
+  EXPECT_EQ(c.janus_admin_secret, "0123456789abcdef0123");
+  ASSERT_EQ(c.warnings.size(), 2u);
+  EXPECT_NE(c.warnings[1].find("port: the value set at"), std::string::npos) << c.warnings[1];
+  EXPECT_NE(c.warnings[1].find("causticd_layers.conf:1"), std::string::npos) << c.warnings[1];
+  EXPECT_NE(c.warnings[1].find("environment CAUSTICD_PORT"), std::string::npos) << c.warnings[1];
+  // A flag over the environment's choice.
+  set_config_value(c, "port", "9200");
+  sources.set(c, "port", "9200", "--port");
+  ASSERT_EQ(c.warnings.size(), 3u);
+  EXPECT_NE(c.warnings[2].find("environment CAUSTICD_PORT is overridden by --port"), std::string::npos)
+      << c.warnings[2];
+  // Without a record of sources, nothing is said (check-config of one file).
+  ServerConfig plain;
+  load_config_file(plain, file);
+  EXPECT_TRUE(plain.warnings.empty());
+}

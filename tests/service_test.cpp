@@ -330,6 +330,13 @@ TEST(CheckConfig, AcceptsTheShippedFileAndNamesTheKeyOfABrokenOne) {
   }
   EXPECT_EQ(run("/nonexistent.conf", &output), 2);
   EXPECT_NE(output.find("/nonexistent.conf"), std::string::npos) << output;
+  // A key written twice: the first is not silently dropped.
+  std::ofstream(dir / "twice.conf") << "port = 9000\nport = 9001\n";
+  EXPECT_EQ(run((dir / "twice.conf").string(), &output), 0) << output;
+  EXPECT_NE(output.find("warning: port: the value set at " + (dir / "twice.conf").string() + ":1 is overridden by " +
+                        (dir / "twice.conf").string() + ":2"),
+            std::string::npos)
+      << output;
   fs::remove_all(dir);
 }
 

@@ -31,22 +31,27 @@ struct ServeOptions {
 // the start and every SIGHUP read. Throws server::ConfigError.
 server::ServerConfig read_config(const ServeOptions& opt) {
   server::ServerConfig config;
-  if (!opt.config_file.empty()) server::load_config_file(config, opt.config_file);
-  server::load_config_environment(config);
+  server::ConfigSources sources;
+  if (!opt.config_file.empty()) server::load_config_file(config, opt.config_file, &sources);
+  server::load_config_environment(config, &sources);
+  const auto set = [&](const std::string& key, const std::string& value, const std::string& where) {
+    server::set_config_value(config, key, value);
+    sources.set(config, key, value, where);
+  };
   // A template unit's instance name: "<port>" or "<port>-gpu<N>".
   if (!opt.instance.empty()) {
     static const std::regex pattern("^([0-9]{1,5})(-gpu([0-9]{1,2}))?$");
     std::smatch m;
     if (!std::regex_match(opt.instance, m, pattern))
       throw server::ConfigError("--instance: must be <port> or <port>-gpu<N>, got \"" + opt.instance + "\"");
-    server::set_config_value(config, "port", m[1]);
-    if (m[3].matched) server::set_config_value(config, "egl_device", m[3]);
+    set("port", m[1], "--instance");
+    if (m[3].matched) set("egl_device", m[3], "--instance");
   }
-  for (const auto& [key, value] : opt.overrides) server::set_config_value(config, key, value);
+  for (const auto& [key, value] : opt.overrides) set(key, value, "the command line");
   if (!opt.ice_addresses.empty()) {
     std::string joined;
     for (const auto& a : opt.ice_addresses) joined += (joined.empty() ? "" : ",") + a;
-    server::set_config_value(config, "ice_addresses", joined);
+    set("ice_addresses", joined, "--ice-address");
   }
   return config;
 }
@@ -105,8 +110,10 @@ int run_serve(const ServeOptions& opt) {
 int run_check_config(const std::string& file) {
   try {
     server::ServerConfig config;
-    server::load_config_file(config, file);
+    server::ConfigSources sources;
+    server::load_config_file(config, file, &sources);
     server::check_config(config, server::data_dir());
+    for (const auto& warning : config.warnings) std::cerr << "causticd check-config: warning: " << warning << "\n";
   } catch (const server::ConfigError& e) {
     std::cerr << "causticd check-config: " << e.what() << "\n";
     return bad_input;

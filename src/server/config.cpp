@@ -207,7 +207,20 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
   }
 }
 
-void load_config_file(ServerConfig& config, const std::filesystem::path& file) {
+void ConfigSources::set(ServerConfig& config, const std::string& key, const std::string& value,
+                        const std::string& where) {
+  auto [it, first] = origins_.try_emplace(key, Origin{value, where});
+  if (first) return;
+  // Compared as settings, not text ("60" and " 60" are one value).
+  ServerConfig earlier, now;
+  set_config_value(earlier, key, it->second.value);
+  set_config_value(now, key, value);
+  if (earlier != now && earlier != ServerConfig{})
+    config.warnings.push_back(key + ": the value set at " + it->second.where + " is overridden by " + where);
+  it->second = Origin{value, where};
+}
+
+void load_config_file(ServerConfig& config, const std::filesystem::path& file, ConfigSources* sources) {
   std::ifstream in(file);
   if (!in) throw ConfigError("cannot read config file " + file.string());
   ServerConfig next = config;
@@ -219,7 +232,9 @@ void load_config_file(ServerConfig& config, const std::filesystem::path& file) {
     const std::string where = file.string() + ":" + std::to_string(number) + ": ";
     if (eq == std::string::npos) throw ConfigError(where + "expected key = value");
     try {
-      set_config_value(next, trim(text.substr(0, eq)), text.substr(eq + 1));
+      const std::string key = trim(text.substr(0, eq));
+      set_config_value(next, key, text.substr(eq + 1));
+      if (sources) sources->set(next, key, text.substr(eq + 1), where.substr(0, where.size() - 2));
     } catch (const ConfigError& e) {
       throw ConfigError(where + e.what());
     }
@@ -268,7 +283,7 @@ void check_broadcast_keys(const ServerConfig& c) {
       if (value->empty()) throw ConfigError(std::string(key) + ": must be set when janus_admin_url is");
 }
 
-void load_config_environment(ServerConfig& config) {
+void load_config_environment(ServerConfig& config, ConfigSources* sources) {
   ServerConfig next = config;
   for (char** env = environ; env && *env; ++env) {
     const std::string entry = *env;
@@ -279,6 +294,7 @@ void load_config_environment(ServerConfig& config) {
     if (std::find(config_keys().begin(), config_keys().end(), key) == config_keys().end()) continue;
     try {
       set_config_value(next, key, entry.substr(eq + 1));
+      if (sources) sources->set(next, key, entry.substr(eq + 1), "environment " + entry.substr(0, eq));
     } catch (const ConfigError& e) {
       throw ConfigError("environment CAUSTICD_" + entry.substr(9, eq - 9) + ": " + e.what());
     }

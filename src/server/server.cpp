@@ -101,6 +101,7 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
   s.config = std::move(config);
   s.data_dir = std::move(data_dir);
   set_log_level(level_from_name(s.config.log_level));
+  for (const auto& warning : s.config.warnings) log(Level::warning, warning);
   // Read by every GL context the process creates, before the first exists.
   if (s.config.egl_device >= 0) {
     setenv("CAUSTICD_EGL_DEVICE", std::to_string(s.config.egl_device).c_str(), 1);
@@ -289,6 +290,7 @@ void Server::reload() {
     try {
       ServerConfig next = state_->reloader();
       check_config(next, s.data_dir);
+      for (const auto& warning : next.warnings) log(Level::warning, warning);
       if (next.bind_address != s.config.bind_address || next.port != s.config.port ||
           next.egl_device != s.config.egl_device || next.instance_index != s.config.instance_index ||
           next.agent_port != s.config.agent_port) {

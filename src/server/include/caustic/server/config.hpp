@@ -79,6 +79,30 @@ struct ServerConfig {
   int design_expiry_s = 7 * 24 * 3600;    ///< a design is removed this long after its upload unless kept
   int design_max_stored = 100;            ///< designs kept at once (any state); 503 beyond
   std::filesystem::path state_dir;        ///< empty: $STATE_DIRECTORY, else $XDG_STATE_HOME/causticd, else ~/.local/state/causticd
+
+  /// What reading the settings found worth saying (a key set in one place
+  /// and overridden in a later one): logged at start and at every reload.
+  std::vector<std::string> warnings;
+
+  bool operator==(const ServerConfig&) const = default;
+};
+
+/// Where each key was set while the layers are read (file, environment,
+/// flags), so that a value an operator chose and a later layer replaces is
+/// said rather than silently dropped. A value equal to the default (as the
+/// shipped file writes every key) is no choice: replacing it is not said.
+class ConfigSources {
+ public:
+  /// Records that `key` was just set to `value` at `where` ("FILE:LINE",
+  /// "environment CAUSTICD_PORT", "--port"); adds a warning to `config`
+  /// when an earlier place chose another, non-default value.
+  void set(ServerConfig& config, const std::string& key, const std::string& value, const std::string& where);
+
+ private:
+  struct Origin {
+    std::string value, where;
+  };
+  std::map<std::string, Origin> origins_;
 };
 
 /// The gallery folder: scenes_dir, or <data>/assets/scenes when empty.
@@ -105,10 +129,10 @@ void set_config_value(ServerConfig& config, const std::string& key, const std::s
 
 /// Reads `key = value` lines ('#' starts a comment). Throws ConfigError with
 /// the file, line and key on any error; `config` is untouched then.
-void load_config_file(ServerConfig& config, const std::filesystem::path& file);
+void load_config_file(ServerConfig& config, const std::filesystem::path& file, ConfigSources* sources = nullptr);
 
 /// Applies CAUSTICD_<KEY> variables (e.g. CAUSTICD_PORT=9000) from `environ`.
-void load_config_environment(ServerConfig& config);
+void load_config_environment(ServerConfig& config, ConfigSources* sources = nullptr);
 
 /// The keys, for documentation and help text.
 const std::vector<std::string>& config_keys();
