@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -52,6 +53,25 @@ inline std::string find_program(const std::string& name) {
   for (const char* dir : {"/usr/sbin", "/usr/bin", "/sbin", "/bin"})
     if (std::filesystem::exists(std::filesystem::path(dir) / name)) return (std::filesystem::path(dir) / name).string();
   return "";
+}
+
+/// Runs a shell command line to its end; its exit status (-1 if it did not
+/// exit), with stdout and stderr in `output`.
+inline int run_command(const std::string& command, std::string* output) {
+  gchar *out = nullptr, *err = nullptr;
+  gint status = 0;
+  GError* error = nullptr;
+  const gchar* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
+  if (!g_spawn_sync(nullptr, const_cast<gchar**>(argv), nullptr, G_SPAWN_DEFAULT, nullptr, nullptr, &out, &err, &status,
+                    &error)) {
+    *output = error->message;
+    g_error_free(error);
+    return -1;
+  }
+  *output = std::string(out ? out : "") + (err ? err : "");
+  g_free(out);
+  g_free(err);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 /// A child process, stopped (SIGTERM, then waited for) when this goes.

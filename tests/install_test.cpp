@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 
@@ -63,7 +64,8 @@ TEST_F(Installed, FhsLayoutHoldsEverythingTheServerNeeds) {
                            "lib/systemd/system/causticd.service", "lib/systemd/system/causticd@.service",
                            "etc/causticd/causticd.conf", "share/doc/causticd/operations.md",
                            "share/doc/causticd/scaling.md", "share/doc/causticd/examples/haproxy.cfg",
-                           "share/doc/causticd/examples/nginx.conf"})
+                           "share/doc/causticd/examples/nginx.conf", "lib/systemd/system/causticd-janus.service",
+                           "share/causticd/janus/janus.jcfg", "share/causticd/janus/setup-broadcast"})
     EXPECT_TRUE(fs::is_regular_file(prefix_ / file)) << file;
 }
 
@@ -97,7 +99,9 @@ TEST_F(Installed, SystemdUnitsVerifyAndReportTheirExposure) {
   fs::create_symlink(units / "causticd@.service", units / "causticd@8081-gpu1.service");
   std::string output;
   const int status = run("systemd-analyze verify --man=no " + (units / "causticd.service").string() + " " +
-                             (units / "causticd@8081-gpu1.service").string(), &output);
+                             (units / "causticd@8081-gpu1.service").string() + " " +
+                             (units / "causticd-janus.service").string(),
+                         &output);
   EXPECT_EQ(status, 0) << output;
   // Anything verify says is a problem with the units (it stays quiet on good ones).
   EXPECT_EQ(output.find("causticd"), std::string::npos) << output;
@@ -114,6 +118,55 @@ TEST_F(Installed, SystemdUnitsVerifyAndReportTheirExposure) {
   ASSERT_TRUE(std::regex_search(text, m, std::regex("rates the unit \\*\\*([0-9.]+) ")))
       << "docs/operations.md does not state the exposure";
   EXPECT_EQ(m[1].str(), output.substr(output.find(": ", output.find("Overall exposure level")) + 2, m[1].length()));
+  // Janus faces the viewers: hardened as far as it runs.
+  ASSERT_EQ(run("systemd-analyze security --offline=true --no-pager " + (units / "causticd-janus.service").string(),
+                &output),
+            0)
+      << output;
+  ASSERT_TRUE(std::regex_search(output, m, std::regex("Overall exposure level for causticd-janus.service: ([0-9.]+)")))
+      << output;
+  std::printf("systemd-analyze security causticd-janus.service: exposure %s\n", m[1].str().c_str());
+  EXPECT_LT(std::stod(m[1]), 2.0) << output;
+}
+
+// The secrets causticd and its Janus share: made once, random, the same in
+// both places, readable by their owner alone, kept by a second run (an
+// upgrade), and no placeholder left in Janus's files.
+TEST_F(Installed, SetupBroadcastMakesSharedSecretsOnceForRootAlone) {
+  const fs::path conf = prefix_ / "etc/causticd-broadcast-test";
+  const std::string script = (prefix_ / "share/causticd/janus/setup-broadcast").string();
+  std::string output;
+  ASSERT_EQ(run(script + " " + conf.string() + " 2>&1", &output), 0) << output;
+  const std::string env = read_text(conf / "broadcast.env");
+  std::map<std::string, std::string> secrets;
+  std::smatch m;
+  for (auto it = env.cbegin(); std::regex_search(it, env.cend(), m, std::regex("\n(CAUSTICD_JANUS_[A-Z_]+)=([^\n]*)"));
+       it = m[0].second)
+    secrets[m[1]] = m[2];
+  ASSERT_EQ(secrets.size(), 3u) << env;
+  for (const auto& [key, value] : secrets) {
+    EXPECT_TRUE(std::regex_match(value, std::regex("[A-Za-z0-9+/]{32}"))) << key << "=" << value;
+    for (const auto& [other, v] : secrets) EXPECT_TRUE(key == other || v != value) << key << " and " << other;
+  }
+  const std::string janus = read_text(conf / "janus/janus.jcfg");
+  EXPECT_NE(janus.find("admin_secret = \"" + secrets["CAUSTICD_JANUS_ADMIN_SECRET"] + "\""), std::string::npos);
+  EXPECT_NE(janus.find("token_auth_secret = \"" + secrets["CAUSTICD_JANUS_TOKEN_SECRET"] + "\""), std::string::npos);
+  EXPECT_NE(read_text(conf / "janus/janus.plugin.streaming.jcfg")
+                .find("admin_key = \"" + secrets["CAUSTICD_JANUS_STREAMING_KEY"] + "\""),
+            std::string::npos);
+  for (const auto& file : fs::directory_iterator(conf / "janus")) {
+    EXPECT_EQ(read_text(file.path()).find("@JANUS_"), std::string::npos) << file.path();
+    EXPECT_EQ(fs::status(file.path()).permissions() & (fs::perms::group_all | fs::perms::others_all), fs::perms::none)
+        << file.path();
+  }
+  EXPECT_EQ(fs::status(conf / "broadcast.env").permissions() & (fs::perms::group_all | fs::perms::others_all),
+            fs::perms::none);
+  // Again: nothing changes; a removed Janus file comes back with the same secrets.
+  fs::remove(conf / "janus/janus.jcfg");
+  ASSERT_EQ(run(script + " " + conf.string() + " 2>&1", &output), 0) << output;
+  EXPECT_EQ(read_text(conf / "broadcast.env"), env);
+  EXPECT_EQ(read_text(conf / "janus/janus.jcfg"), janus);
+  fs::remove_all(conf);
 }
 
 TEST_F(Installed, UnitsGiveTheServerTheDescriptorsItsLimitsNeed) {
@@ -181,6 +234,29 @@ TEST_F(Installed, UnitsCanBeEnabledAndDoNotRestartForeverOrAssumeAHostsGroupsAnd
     // The dynamic user gets a home for GLib and GStreamer's registry.
     EXPECT_NE(unit.find("HOME=%C/causticd"), std::string::npos) << name;
   }
+  // Janus: the appliance's own configuration, every file of it handed over
+  // as a credential (root-only files, a dynamic user), never Debian's
+  // janus.service beside it; causticd reads the shared secrets.
+  const std::string janus = read_text(prefix_ / "lib/systemd/system/causticd-janus.service");
+  EXPECT_NE(janus.find("\nConflicts=janus.service\n"), std::string::npos) << janus;
+  EXPECT_NE(janus.find("\nExecStart=/usr/bin/janus -F %d -C %d/janus.jcfg"), std::string::npos) << janus;
+  EXPECT_NE(janus.find("\nDynamicUser=yes\n"), std::string::npos) << janus;
+  EXPECT_NE(janus.find("\n[Install]\nWantedBy=multi-user.target"), std::string::npos) << janus;
+  int templates = 0;
+  for (const auto& file : fs::directory_iterator(prefix_ / "share/causticd/janus"))
+    if (file.path().extension() == ".jcfg") {
+      ++templates;
+      const std::string name = file.path().filename();
+      EXPECT_NE(janus.find("\nLoadCredential=" + name + ":" + (prefix_ / "etc/causticd/janus" / name).string() + "\n"),
+                std::string::npos)
+          << name << " is not handed to Janus";
+    }
+  EXPECT_EQ(templates, 4);
+  for (const char* name : {"causticd.service", "causticd@.service"})
+    EXPECT_NE(read_text(prefix_ / "lib/systemd/system" / name)
+                  .find("\nEnvironmentFile=-" + (prefix_ / "etc/causticd/broadcast.env").string() + "\n"),
+              std::string::npos)
+        << name;
   // The groups the units ask for are created where they are missing.
   const std::string sysusers = read_text(prefix_ / "lib/sysusers.d/causticd.conf");
   const std::string unit = read_text(prefix_ / "lib/systemd/system/causticd.service");

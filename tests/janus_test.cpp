@@ -15,6 +15,8 @@
 #include "../src/server/broadcast.hpp"
 
 #include <filesystem>
+#include <sstream>
+#include <tuple>
 
 using caustic::testing::http;
 using caustic::testing::ServerProcess;
@@ -24,9 +26,6 @@ namespace ct = caustic::testing;
 
 namespace {
 
-const char* const kAdminSecret = "test-admin-secret-0123";
-const char* const kStreamingKey = "test-streaming-key-0123";
-const char* const kTokenSecret = "test-token-secret-0123";
 
 // A Janus WebSocket API client: one request, its answer (events that
 // follow an "ack" included), synchronously on the thread-default loop.
@@ -103,25 +102,33 @@ class Broadcast : public ::testing::Test {
     fs::create_directories(dir_);
     admin_port_ = ct::free_port();
     ws_port_ = ct::free_port();
-    for (const auto& file : fs::directory_iterator(CAUSTIC_JANUS_DIR)) {
-      std::string text = ct::read_file(file.path());
-      const std::string name = file.path().filename();
-      if (name == "janus.jcfg") {
-        ct::replace_all(text, "/etc/causticd/janus", dir_.string());
-        ct::replace_all(text, "@JANUS_ADMIN_SECRET@", kAdminSecret);
-        ct::replace_all(text, "@JANUS_TOKEN_SECRET@", kTokenSecret);
-      }
-      if (name == "janus.plugin.streaming.jcfg") ct::replace_all(text, "@JANUS_STREAMING_KEY@", kStreamingKey);
-      if (name == "janus.transport.http.jcfg") ct::replace_all(text, "admin_port = 7088", "admin_port = " + std::to_string(admin_port_));
-      if (name == "janus.transport.websockets.jcfg") ct::replace_all(text, "ws_port = 8188", "ws_port = " + std::to_string(ws_port_));
-      std::ofstream(dir_ / name) << text;
+    // As the package does at install: secrets made once, shared by
+    // Janus's files and causticd's environment (the units' EnvironmentFile=).
+    std::string output;
+    ASSERT_EQ(ct::run_command(std::string(CAUSTIC_JANUS_DIR "/setup-broadcast ") + dir_.string(), &output), 0) << output;
+    std::vector<std::pair<std::string, std::string>> environment;
+    std::istringstream env(ct::read_file(dir_ / "broadcast.env"));
+    for (std::string line; std::getline(env, line);)
+      if (const auto eq = line.find('='); line.rfind("CAUSTICD_", 0) == 0 && eq != std::string::npos)
+        environment.emplace_back(line.substr(0, eq), line.substr(eq + 1));
+    for (const auto& [key, value] : environment)
+      (key == "CAUSTICD_JANUS_ADMIN_SECRET" ? admin_secret_ : key == "CAUSTICD_JANUS_STREAMING_KEY" ? streaming_key_ : token_secret_) =
+          value;
+    ASSERT_EQ(admin_secret_.size(), 32u);
+    janus_dir_ = dir_ / "janus";
+    // Ports of this test's own.
+    for (const auto& [name, from, to] : {std::tuple{"janus.transport.http.jcfg", "admin_port = 7088", admin_port_},
+                                         std::tuple{"janus.transport.websockets.jcfg", "ws_port = 8188", ws_port_}}) {
+      std::string text = ct::read_file(janus_dir_ / name);
+      ct::replace_all(text, from, std::string(from).substr(0, std::string(from).find('=') + 2) + std::to_string(to));
+      std::ofstream(janus_dir_ / name) << text;
     }
     start_janus();
-    server_ = std::make_unique<ServerProcess>(std::vector<std::string>{
-        "--width", "320", "--height", "240", "--set", "janus_admin_url=http://127.0.0.1:" + std::to_string(admin_port_) + "/admin",
-        "--set", std::string("janus_admin_secret=") + kAdminSecret, "--set", std::string("janus_streaming_key=") + kStreamingKey,
-        "--set", std::string("janus_token_secret=") + kTokenSecret, "--set", "janus_ws_url=" + ws_url(), "--set",
-        "viewer_link_ttl_s=60", "--set", "drain_timeout_s=0"});
+    server_ = std::make_unique<ServerProcess>(
+        std::vector<std::string>{"--width", "320", "--height", "240", "--set",
+                                 "janus_admin_url=http://127.0.0.1:" + std::to_string(admin_port_) + "/admin", "--set",
+                                 "janus_ws_url=" + ws_url(), "--set", "viewer_link_ttl_s=60", "--set", "drain_timeout_s=0"},
+        environment);
     ASSERT_FALSE(server_->url().empty());
   }
   void TearDown() override {
@@ -131,7 +138,7 @@ class Broadcast : public ::testing::Test {
   }
 
   void start_janus() {
-    janus_.start({ct::find_program("janus"), "-F", dir_.string(), "-C", (dir_ / "janus.jcfg").string(), "-o", "-d", "2"});
+    janus_.start({ct::find_program("janus"), "-F", janus_dir_.string(), "-C", (janus_dir_ / "janus.jcfg").string(), "-o", "-d", "2"});
     for (int i = 0; i < 100; ++i, g_usleep(100000))  // until it listens
       if (const int fd = ct::raw_connect(admin_port_); fd >= 0) {
         ::close(fd);
@@ -142,9 +149,9 @@ class Broadcast : public ::testing::Test {
 
   // A streaming plugin request through Janus's admin API; null if Janus does not answer.
   json admin(json request) {
-    request["admin_key"] = kStreamingKey;
+    request["admin_key"] = streaming_key_;
     const auto r = http("POST", "http://127.0.0.1:" + std::to_string(admin_port_) + "/admin",
-                                  json{{"janus", "message_plugin"}, {"transaction", "t"}, {"admin_secret", kAdminSecret},
+                                  json{{"janus", "message_plugin"}, {"transaction", "t"}, {"admin_secret", admin_secret_},
                                        {"plugin", "janus.plugin.streaming"}, {"request", request}}
                                       .dump());
     return r.status == 200 ? r.json().value("response", json()) : json();
@@ -161,7 +168,8 @@ class Broadcast : public ::testing::Test {
     return {{"Authorization", "Bearer " + token}};
   }
 
-  fs::path dir_;
+  fs::path dir_, janus_dir_;
+  std::string admin_secret_, streaming_key_, token_secret_;
   int admin_port_ = 0, ws_port_ = 0;
   ct::ChildProcess janus_;
   std::unique_ptr<ServerProcess> server_;
@@ -217,7 +225,7 @@ TEST_F(Broadcast, ViewerLinksAreCheckedByJanusAndViewersCannotChangeTheScene) {
   EXPECT_EQ(janus.call({{"janus", "create"}}).value("error", json::object()).value("code", 0), 403);
   EXPECT_EQ(janus.call({{"janus", "create"}, {"token", "1999999999,janus,janus.plugin.streaming:AAAA"}})
                 .value("error", json::object()).value("code", 0), 403);
-  const std::string expired = caustic::server::janus_token(kTokenSecret, g_get_real_time() / G_USEC_PER_SEC - 10);
+  const std::string expired = caustic::server::janus_token(token_secret_, g_get_real_time() / G_USEC_PER_SEC - 10);
   EXPECT_EQ(janus.call({{"janus", "create"}, {"token", expired}}).value("error", json::object()).value("code", 0), 403);
   // The link's token opens a session; the wrong pin gets no stream, the right one an offer.
   const std::string token = link["token"];

@@ -24,7 +24,8 @@ done
 dpkg-deb --ctrl-tarfile "$deb" | tar -xO ./conffiles | grep -x /etc/causticd/causticd.conf >/dev/null || fail "causticd.conf is not a conffile"
 contents="$(dpkg-deb -c "$deb")"
 for file in ./usr/bin/causticd ./etc/causticd/causticd.conf ./usr/lib/systemd/system/causticd.service \
-  ./usr/lib/systemd/system/causticd@.service ./usr/lib/sysusers.d/causticd.conf \
+  ./usr/lib/systemd/system/causticd@.service ./usr/lib/systemd/system/causticd-janus.service \
+  ./usr/share/causticd/janus/setup-broadcast ./usr/lib/sysusers.d/causticd.conf \
   "./usr/lib/$(dpkg-architecture -qDEB_HOST_MULTIARCH 2>/dev/null || echo x86_64-linux-gnu)/gstreamer-1.0/libgstcaustic.so" \
   ./usr/share/causticd/web/index.html ./usr/share/doc/causticd/copyright ./usr/share/doc/causticd/changelog.gz; do
   grep -q " $file\$" <<<"$contents" || fail "the package lacks $file"

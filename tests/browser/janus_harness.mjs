@@ -22,9 +22,9 @@ export class Janus {
     const janus = new Janus();
     janus.dir = mkdtempSync('/tmp/causticd-janus-');
     janus.ports = { admin: await freePort(), ws: await freePort() };
-    for (const name of readdirSync(process.env.CAUSTIC_JANUS_DIR)) {
+    for (const name of readdirSync(process.env.CAUSTIC_JANUS_DIR).filter((n) => n.endsWith('.jcfg'))) {
       const text = readFileSync(path.join(process.env.CAUSTIC_JANUS_DIR, name), 'utf8')
-        .replaceAll('/etc/causticd/janus', janus.dir).replaceAll('@JANUS_ADMIN_SECRET@', secrets.admin)
+        .replaceAll('@JANUS_ADMIN_SECRET@', secrets.admin)
         .replaceAll('@JANUS_TOKEN_SECRET@', secrets.token).replaceAll('@JANUS_STREAMING_KEY@', secrets.key)
         .replace('admin_port = 7088', `admin_port = ${janus.ports.admin}`)
         .replace('ws_port = 8188', `ws_port = ${janus.ports.ws}`);

@@ -4,8 +4,9 @@
 # systemd-nspawn, the package installed with apt (which pulls every run-time
 # dependency from Debian), then what an operator relies on: readiness,
 # reload, watchdog, restarts, a configuration error that does not loop, a stop
-# that drains a running session, two template instances, enable + reboot, the
-# security rating, and purge. Exits 77 (skipped) only where systemd-nspawn
+# that drains a running session, two template instances, broadcasts through
+# causticd-janus (in place of Debian's janus.service), enable + reboot, the
+# security ratings, and purge. Exits 77 (skipped) only where systemd-nspawn
 # cannot run at all.
 #   real_systemd_test.sh PACKAGE.deb
 set -euo pipefail
@@ -33,7 +34,7 @@ note "apt-get install ./$(basename "$deb") (dependencies from Debian)"
 # fail rather than wait).
 exec 8>"$cache/.apt.lock"
 flock -w 900 8 || fail "another run holds $cache/.apt.lock"
-in_root sh -c "apt-get update -q >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends /var/tmp/$(basename "$deb") gstreamer1.0-tools" \
+in_root sh -c "apt-get update -q >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends /var/tmp/$(basename "$deb") gstreamer1.0-tools janus" \
   >"$work/apt.log" 2>&1 || fail "apt-get install failed: $(tail -20 "$work/apt.log")"
 flock -u 8
 rm -f "$work/root/var/tmp/$(basename "$deb")"
@@ -236,12 +237,48 @@ serving 8082 || fail "causticd@8082 does not serve"
 [[ "$(prop causticd@8081.service MainPID)" != "$(prop causticd@8082.service MainPID)" ]] || fail "one process for two instances"
 c systemctl stop causticd@8081.service causticd@8082.service
 
-# --- the security rating, online ---------------------------------------------
+# --- broadcasts: causticd-janus with the secrets made at install -------------
+note "broadcast: causticd-janus.service in place of Debian's janus.service"
+for file in /etc/causticd/broadcast.env /etc/causticd/janus/janus.jcfg /etc/causticd/janus/janus.plugin.streaming.jcfg; do
+  [[ "$(c stat -c '%a %U' "$file")" == "600 root" ]] || fail "$file is $(c stat -c '%a %U' "$file"), not 600 root"
+done
+c systemctl start janus.service # Debian's, as its package leaves it on a host
+c systemctl start causticd-janus.service
+wait_for 30 "causticd-janus is not active" active causticd-janus.service
+inactive janus.service || fail "Debian's janus.service still runs beside causticd-janus"
+admin_up() { on_net curl -s -o /dev/null --max-time 2 -d '{"janus":"ping","transaction":"t"}' http://127.0.0.1:7088/admin; }
+wait_for 30 "Janus's admin API does not answer" admin_up
+# Debian's well-known admin secret opens nothing here.
+answer="$(on_net curl -s --max-time 5 -d '{"janus":"list_sessions","transaction":"t","admin_secret":"janusoverlord"}' \
+  http://127.0.0.1:7088/admin)"
+grep -q '"error"' <<<"$answer" || fail "Janus accepted Debian's default admin secret: $answer"
+c cp /etc/causticd/causticd.conf /etc/causticd/causticd.conf.good
+printf 'janus_admin_url = http://127.0.0.1:7088/admin\njanus_ws_url = /janus/\n' | c tee -a /etc/causticd/causticd.conf >/dev/null
 c systemctl start causticd.service
-exposure="$(c systemd-analyze security --no-pager causticd.service | sed -n 's/.*Overall exposure level for causticd.service: \([0-9.]*\).*/\1/p')"
-note "systemd-analyze security (online): $exposure"
-[[ -n "$exposure" ]] || fail "systemd-analyze security gave no rating"
-awk -v e="$exposure" 'BEGIN { exit !(e < 2.0) }' || fail "exposure $exposure"
+# A broadcast made through Janus's admin API with the shared secrets (a
+# wrong one would answer 502 or 503), and a viewer link for it.
+created="$(on_net curl -s -w '\n%{http_code}' --max-time 30 -X POST -H 'Content-Type: application/json' \
+  -d '{"scene":"lens","mode":"broadcast"}' http://127.0.0.1:8080/api/v1/sessions)"
+[[ "$(tail -1 <<<"$created")" == 201 ]] || fail "creating a broadcast answered $created; $(journal causticd.service | tail -5)"
+session="$(head -1 <<<"$created" | sed -n 's/.*"id":"\([0-9a-f]*\)".*/\1/p')"
+token="$(head -1 <<<"$created" | sed -n 's/.*"token":"\([0-9a-f]*\)".*/\1/p')"
+viewers="$(on_net curl -s -w '\n%{http_code}' --max-time 10 -X POST -H "Authorization: Bearer $token" \
+  "http://127.0.0.1:8080/api/v1/sessions/$session/viewers")"
+[[ "$(tail -1 <<<"$viewers")" == 201 ]] || fail "a viewer link answered $viewers"
+grep -q '"pin"' <<<"$viewers" || fail "the viewer link has no pin: $viewers"
+on_net curl -s --max-time 10 -X DELETE -H "Authorization: Bearer $token" "http://127.0.0.1:8080/api/v1/sessions/$session" >/dev/null
+c systemctl stop causticd.service
+c mv /etc/causticd/causticd.conf.good /etc/causticd/causticd.conf
+
+# --- the security ratings, online --------------------------------------------
+c systemctl start causticd.service
+for unit in causticd.service causticd-janus.service; do
+  exposure="$(c systemd-analyze security --no-pager "$unit" | sed -n "s/.*Overall exposure level for $unit: \([0-9.]*\).*/\1/p")"
+  note "systemd-analyze security $unit (online): $exposure"
+  [[ -n "$exposure" ]] || fail "systemd-analyze security gave no rating for $unit"
+  awk -v e="$exposure" 'BEGIN { exit !(e < 2.0) }' || fail "$unit exposure $exposure"
+done
+c systemctl stop causticd-janus.service
 
 # --- enable, reboot: it comes back -------------------------------------------
 note "enable + reboot"
