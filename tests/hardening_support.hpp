@@ -22,10 +22,6 @@ inline json create_session(const ServerProcess& server, const std::string& scene
   return r.json();
 }
 
-inline std::vector<std::pair<std::string, std::string>> bearer(const json& s) {
-  return {{"Authorization", "Bearer " + s["token"].get<std::string>()}};
-}
-
 inline std::string params_url(const ServerProcess& server, const json& s) {
   return server.url() + "/api/v1/sessions/" + s["id"].get<std::string>() + "/params";
 }

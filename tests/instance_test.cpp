@@ -11,16 +11,13 @@
 
 #include <regex>
 
+using caustic::testing::bearer;
 using caustic::testing::http;
 using caustic::testing::ServerProcess;
 using nlohmann::json;
 namespace ct = caustic::testing;
 
 namespace {
-
-std::vector<std::pair<std::string, std::string>> bearer(const json& session) {
-  return {{"Authorization", "Bearer " + session["token"].get<std::string>()}};
-}
 
 unsigned create_from(const std::string& url, const std::string& forwarded_for) {
   return http("POST", url + "/api/v1/sessions", R"({"scene": "lens"})", "application/json",

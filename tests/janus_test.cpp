@@ -18,6 +18,7 @@
 #include <sstream>
 #include <tuple>
 
+using caustic::testing::bearer_token;
 using caustic::testing::http;
 using caustic::testing::ServerProcess;
 using nlohmann::json;
@@ -164,9 +165,6 @@ class Broadcast : public ::testing::Test {
     EXPECT_EQ(r.status, 201u) << r.body;
     return r.json();
   }
-  static std::vector<std::pair<std::string, std::string>> bearer(const std::string& token) {
-    return {{"Authorization", "Bearer " + token}};
-  }
 
   fs::path dir_, janus_dir_;
   std::string admin_secret_, streaming_key_, token_secret_;
@@ -187,7 +185,7 @@ TEST(JanusToken, IsTheFormatJanusChecks) {
 TEST_F(Broadcast, TheMountpointLivesWithTheSessionAndReceivesTheStream) {
   const json s = create_broadcast();
   ASSERT_EQ(s.value("mode", ""), "broadcast");
-  const auto viewers = http("POST", server_->url() + s["viewers_url"].get<std::string>(), "", "", bearer(s["token"]));
+  const auto viewers = http("POST", server_->url() + s["viewers_url"].get<std::string>(), "", "", bearer_token(s["token"]));
   ASSERT_EQ(viewers.status, 201u) << viewers.body;
   const json link = viewers.json();
   const std::uint64_t id = link["mountpoint"];
@@ -207,7 +205,7 @@ TEST_F(Broadcast, TheMountpointLivesWithTheSessionAndReceivesTheStream) {
   EXPECT_EQ(link["janus_url"], ws_url());
   EXPECT_NE(link["watch_url"].get<std::string>().find("#scene=lens&mountpoint=" + std::to_string(id)), std::string::npos);
 
-  EXPECT_EQ(http("DELETE", server_->url() + s["url"].get<std::string>(), "", "", bearer(s["token"])).status, 204u);
+  EXPECT_EQ(http("DELETE", server_->url() + s["url"].get<std::string>(), "", "", bearer_token(s["token"])).status, 204u);
   bool gone = false;
   for (int i = 0; i < 50 && !gone; ++i, g_usleep(100000)) {
     gone = true;
@@ -218,7 +216,7 @@ TEST_F(Broadcast, TheMountpointLivesWithTheSessionAndReceivesTheStream) {
 
 TEST_F(Broadcast, ViewerLinksAreCheckedByJanusAndViewersCannotChangeTheScene) {
   const json s = create_broadcast();
-  const json link = http("POST", server_->url() + s["viewers_url"].get<std::string>(), "", "", bearer(s["token"])).json();
+  const json link = http("POST", server_->url() + s["viewers_url"].get<std::string>(), "", "", bearer_token(s["token"])).json();
   JanusClient janus(ws_url());
   ASSERT_TRUE(janus.connected());
   // No token, a forged one, an expired one (signed right, but past): refused.
@@ -250,17 +248,17 @@ TEST_F(Broadcast, ViewerLinksAreCheckedByJanusAndViewersCannotChangeTheScene) {
 
   // A viewer holds the link, not the session's token: no changes, no links.
   const std::string params = server_->url() + s["url"].get<std::string>() + "/params";
-  EXPECT_EQ(http("PATCH", params, R"({"object": {"ior": 1.6}})", "application/merge-patch+json", bearer(token)).status,
+  EXPECT_EQ(http("PATCH", params, R"({"object": {"ior": 1.6}})", "application/merge-patch+json", bearer_token(token)).status,
             401u);
-  EXPECT_EQ(http("POST", server_->url() + s["viewers_url"].get<std::string>(), "", "", bearer(link["pin"])).status,
+  EXPECT_EQ(http("POST", server_->url() + s["viewers_url"].get<std::string>(), "", "", bearer_token(link["pin"])).status,
             401u);
-  EXPECT_EQ(http("PATCH", params, R"({"object": {"ior": 1.6}})", "application/merge-patch+json", bearer(s["token"])).status,
+  EXPECT_EQ(http("PATCH", params, R"({"object": {"ior": 1.6}})", "application/merge-patch+json", bearer_token(s["token"])).status,
             200u);
 }
 
 TEST_F(Broadcast, AJanusRestartGetsTheMountpointBack) {
   const json s = create_broadcast();
-  const json link = http("POST", server_->url() + s["viewers_url"].get<std::string>(), "", "", bearer(s["token"])).json();
+  const json link = http("POST", server_->url() + s["viewers_url"].get<std::string>(), "", "", bearer_token(s["token"])).json();
   const std::uint64_t id = link["mountpoint"];
   janus_.stop();
   start_janus();
@@ -299,6 +297,6 @@ TEST_F(Broadcast, BadRequestsAreRefusedAndPlainSessionsHaveNoViewerLinks) {
   EXPECT_EQ(http("POST", server_->url() + "/api/v1/sessions", R"({"scene": "lens", "mode": "many"})").status, 422u);
   EXPECT_EQ(http("POST", server_->url() + "/api/v1/sessions", R"({"scene": "lens", "mode": 3})").status, 422u);
   const json plain = http("POST", server_->url() + "/api/v1/sessions", R"({"scene": "lens"})").json();
-  EXPECT_EQ(http("POST", server_->url() + plain["url"].get<std::string>() + "/viewers", "", "", bearer(plain["token"])).status,
+  EXPECT_EQ(http("POST", server_->url() + plain["url"].get<std::string>() + "/viewers", "", "", bearer_token(plain["token"])).status,
             409u);
 }

@@ -20,6 +20,7 @@
 
 using caustic::testing::find_program;
 using caustic::testing::free_port;
+using caustic::testing::bearer;
 using caustic::testing::http;
 using caustic::testing::read_file;
 using caustic::testing::replace_all;
@@ -102,9 +103,6 @@ class Proxied : public ::testing::TestWithParam<std::string> {
     std::smatch m;
     const std::string u = session.value("url", "");
     return std::regex_search(u, m, std::regex("^/i/([0-9]+)/api/v1/sessions/[0-9a-f]{32}$")) ? std::stoi(m[1]) : 0;
-  }
-  static std::vector<std::pair<std::string, std::string>> bearer(const json& session) {
-    return {{"Authorization", "Bearer " + session["token"].get<std::string>()}};
   }
   ct::Response create() { return http("POST", url() + "/api/v1/sessions", R"({"scene": "lens", "codec": "vp8"})"); }
 

@@ -37,9 +37,6 @@ class Rest : public ::testing::Test {
     return r.json();
   }
   std::string session_url(const json& s) const { return server_.url() + "/api/v1/sessions/" + s["id"].get<std::string>(); }
-  static std::vector<std::pair<std::string, std::string>> bearer(const json& s) {
-    return {{"Authorization", "Bearer " + s["token"].get<std::string>()}};
-  }
   ServerProcess server_;
 };
 

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 
+using caustic::testing::bearer_token;
 using caustic::testing::http;
 using caustic::testing::Response;
 using caustic::testing::ServerProcess;
@@ -262,7 +263,7 @@ TEST_F(DesignApi, DesignsSurviveARestartExpireUnlessKeptAndTheirOwnerMayDeleteTh
     // Only the token that came with the upload deletes it.
     const std::string url = server.url() + "/api/v1/designs/" + deleted;
     expect_problem(http("DELETE", url, "", "", {{"Authorization", "Bearer 0123456789abcdef0123456789abcdef"}}), 401);
-    EXPECT_EQ(http("DELETE", url, "", "", {{"Authorization", "Bearer " + token}}).status, 204u);
+    EXPECT_EQ(http("DELETE", url, "", "", bearer_token(token)).status, 204u);
     expect_problem(http("GET", url), 404);
     EXPECT_FALSE(fs::exists(state.path / "designs" / deleted));
   }

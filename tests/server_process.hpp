@@ -155,4 +155,13 @@ inline Response http(const std::string& method, const std::string& url, const st
   return r;
 }
 
+/// The Authorization header of a session's holder (an answer of POST
+/// /api/v1/sessions), or of any bearer token.
+inline std::vector<std::pair<std::string, std::string>> bearer_token(const std::string& token) {
+  return {{"Authorization", "Bearer " + token}};
+}
+inline std::vector<std::pair<std::string, std::string>> bearer(const nlohmann::json& session) {
+  return bearer_token(session["token"].get<std::string>());
+}
+
 }  // namespace caustic::testing

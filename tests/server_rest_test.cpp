@@ -9,6 +9,7 @@
 #include <fstream>
 
 using caustic::testing::expect_problem;
+using caustic::testing::bearer;
 using caustic::testing::http;
 using caustic::testing::Response;
 using caustic::testing::Rest;
@@ -294,7 +295,7 @@ TEST(OpenApiDocument, MatchesTheRealResponses) {
   check("/api/v1/sessions", "post", http("POST", base + "/api/v1/sessions", "{}", "text/plain"));
   const json s = created.json();
   const std::string url = base + "/api/v1/sessions/" + s["id"].get<std::string>();
-  const auto auth = std::vector<std::pair<std::string, std::string>>{{"Authorization", "Bearer " + s["token"].get<std::string>()}};
+  const auto auth = bearer(s);
   check("/api/v1/sessions/{id}/params", "get", http("GET", url + "/params", "", "", auth));
   check("/api/v1/sessions/{id}/params", "get", http("GET", url + "/params"));
   check("/api/v1/sessions/{id}/params", "patch",

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 
+using caustic::testing::bearer;
 using caustic::testing::expect_problem;
 using caustic::testing::http;
 using caustic::testing::Response;

@@ -4,6 +4,7 @@
 #include "server_process.hpp"
 #include "webrtc_peer.hpp"
 
+using caustic::testing::bearer;
 using caustic::testing::http;
 using caustic::testing::ServerProcess;
 using caustic::testing::WebRtcPeer;
@@ -38,7 +39,7 @@ TEST_P(WebRtc, ViewerReceivesTheStreamAndSeesAPatch) {
   EXPECT_EQ(peer.height(), 240);
   const auto before = peer.last_picture();
 
-  const auto auth = std::vector<std::pair<std::string, std::string>>{{"Authorization", "Bearer " + s["token"].get<std::string>()}};
+  const auto auth = bearer(s);
   const auto patched = http("PATCH", server.url() + "/api/v1/sessions/" + s["id"].get<std::string>() + "/params",
                             R"({"light": {"direction": [0.2, 0.1, -1]}})", "application/merge-patch+json", auth);
   ASSERT_EQ(patched.status, 200u) << patched.body;

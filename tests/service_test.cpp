@@ -14,6 +14,8 @@
 #include <regex>
 #include <sstream>
 
+using caustic::testing::bearer;
+using caustic::testing::bearer_token;
 using caustic::testing::http;
 using caustic::testing::ServerProcess;
 using nlohmann::json;
@@ -195,9 +197,6 @@ TEST(Service, SigtermDrainsUntilTheLastSessionEnds) {
   EXPECT_EQ(refused.status, 503u) << refused.body;
   EXPECT_NE(refused.body.find("stopping"), std::string::npos) << refused.body;
   // The running sessions go on: a patch, and the viewer is not told to go.
-  const auto bearer = [](const json& s) {
-    return std::vector<std::pair<std::string, std::string>>{{"Authorization", "Bearer " + s["token"].get<std::string>()}};
-  };
   const auto patched = http("PATCH", server.url() + viewed["url"].get<std::string>() + "/params",
                             R"({"object": {"ior": 1.6}})", "application/merge-patch+json", bearer(viewed));
   EXPECT_EQ(patched.status, 200u) << patched.body;
@@ -215,9 +214,7 @@ TEST(Service, ASecondSigtermOrTheDrainTimeoutEndsTheDrain) {
     const json s = create_session(server.url(), "lens");
     // A session that streams (its first picture rendered), as in a drain
     // that matters: stopping one still starting is another case.
-    const std::vector<std::pair<std::string, std::string>> bearer = {
-        {"Authorization", "Bearer " + s["token"].get<std::string>()}};
-    for (int i = 0; i < 300 && http("GET", server.url() + s["url"].get<std::string>() + "/frame.png", "", "", bearer)
+    for (int i = 0; i < 300 && http("GET", server.url() + s["url"].get<std::string>() + "/frame.png", "", "", bearer(s))
                                        .status != 200;
          ++i)
       g_usleep(100000);
@@ -237,7 +234,7 @@ TEST(Service, SighupAddsASceneWithoutDroppingTheRunningSession) {
   EXPECT_EQ(scene_ids(server.url()), std::vector<std::string>{"lens"});
   const json session = create_session(server.url(), "lens");
   const std::string params = server.url() + "/api/v1/sessions/" + session["id"].get<std::string>() + "/params";
-  const std::vector<std::pair<std::string, std::string>> bearer = {{"Authorization", "Bearer " + session["token"].get<std::string>()}};
+  const auto auth = bearer(session);
 
   scene_folder("hup_extra", {"wavy"});
   fs::copy_file(fs::temp_directory_path() / "causticd_service_hup_extra" / "wavy.json", scenes / "wavy.json");
@@ -246,7 +243,7 @@ TEST(Service, SighupAddsASceneWithoutDroppingTheRunningSession) {
   EXPECT_TRUE(notify.wait_for("READY=1", 20000));
   EXPECT_EQ(scene_ids(server.url()), (std::vector<std::string>{"lens", "wavy"}));
   // The session lives on and still takes patches.
-  const auto patched = http("PATCH", params, R"({"object": {"ior": 1.6}})", "application/merge-patch+json", bearer);
+  const auto patched = http("PATCH", params, R"({"object": {"ior": 1.6}})", "application/merge-patch+json", auth);
   EXPECT_EQ(patched.status, 200u) << patched.body;
   EXPECT_EQ(http("GET", server.url() + "/api/v1/health").json()["sessions"], 1);
   // A gallery that loses every scene is not taken: the old one stays.
@@ -373,7 +370,7 @@ TEST(Logs, SessionEventsNameTheSessionSceneCodecAndPeer) {
     id = session.value("id", "");
     ASSERT_FALSE(id.empty());
     const std::string token = session["token"];
-    EXPECT_EQ(http("DELETE", server.url() + "/api/v1/sessions/" + id, "", "", {{"Authorization", "Bearer " + token}}).status,
+    EXPECT_EQ(http("DELETE", server.url() + "/api/v1/sessions/" + id, "", "", bearer_token(token)).status,
               204u);
   }
   std::ifstream in(log);

@@ -281,9 +281,9 @@ void on_request_started(SoupServer*, SoupServerMessage* msg, gpointer data) {
   soup_message_headers_replace(headers, "X-Content-Type-Options", "nosniff");
   soup_message_headers_replace(headers, "Referrer-Policy", "no-referrer");
   soup_message_headers_replace(headers, "X-Frame-Options", "DENY");
-  const auto& config = static_cast<ServerState*>(data)->config;
-  soup_message_headers_replace(headers, "Content-Security-Policy",
-                               allow_connect(kContentSecurityPolicy, config.janus_ws_url).c_str());
+  const auto& state = *static_cast<ServerState*>(data);
+  const auto& config = state.config;
+  soup_message_headers_replace(headers, "Content-Security-Policy", state.api_policy.c_str());
   // Which instance answered, for an operator reading a proxy's traffic.
   if (const int n = config.instance_index; n > 0)
     soup_message_headers_replace(headers, "X-Causticd-Instance", std::to_string(n).c_str());

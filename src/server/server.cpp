@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/server/server.hpp"
 
+#include "http_util.hpp"
 #include "log.hpp"
 #include "notify.hpp"
 #include "server_state.hpp"
@@ -99,6 +100,7 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
   state_->owner = this;
   auto& s = state_->shared;
   s.config = std::move(config);
+  s.api_policy = allow_connect(kContentSecurityPolicy, s.config.janus_ws_url);
   s.data_dir = std::move(data_dir);
   set_log_level(level_from_name(s.config.log_level));
   for (const auto& warning : s.config.warnings) log(Level::warning, warning);
@@ -303,6 +305,7 @@ void Server::reload() {
         next.agent_port = s.config.agent_port;
       }
       s.config = std::move(next);
+      s.api_policy = allow_connect(kContentSecurityPolicy, s.config.janus_ws_url);
       set_log_level(level_from_name(s.config.log_level));
     } catch (const ConfigError& e) {
       log(Level::error, std::string("reload: the configuration is kept: ") + e.what());

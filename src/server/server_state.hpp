@@ -23,6 +23,9 @@ namespace caustic::server {
 
 struct ServerState {
   ServerConfig config;
+  /// The API answers' Content-Security-Policy: made from `config` (Janus's
+  /// WebSocket origin) whenever it is set, not for every request.
+  std::string api_policy;
   std::filesystem::path data_dir;
   std::shared_ptr<const Gallery> gallery;
   std::string renderer;

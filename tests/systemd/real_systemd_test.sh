@@ -245,7 +245,8 @@ done
 c systemctl start janus.service # Debian's, as its package leaves it on a host
 c systemctl start causticd-janus.service
 wait_for 30 "causticd-janus is not active" active causticd-janus.service
-inactive janus.service || fail "Debian's janus.service still runs beside causticd-janus"
+stopped() { [[ "$(prop "$1" ActiveState)" == inactive || "$(prop "$1" ActiveState)" == failed ]]; }
+stopped janus.service || fail "Debian's janus.service is $(prop janus.service ActiveState) beside causticd-janus"
 admin_up() { on_net curl -s -o /dev/null --max-time 2 -d '{"janus":"ping","transaction":"t"}' http://127.0.0.1:7088/admin; }
 wait_for 30 "Janus's admin API does not answer" admin_up
 # Debian's well-known admin secret opens nothing here.
