@@ -103,6 +103,10 @@ class ChildProcess {
     process_ = nullptr;
   }
   bool running() const { return process_ != nullptr; }
+  /// SIGSTOP freezes it (a server that takes long to answer), SIGCONT thaws it.
+  void signal(int sig) {
+    if (process_) g_subprocess_send_signal(process_, sig);
+  }
 
  private:
   GSubprocess* process_ = nullptr;

@@ -293,6 +293,31 @@ TEST_F(Broadcast, AStoppingServerTakesItsMountpointsWithIt) {
   EXPECT_EQ(admin({{"request", "list"}}).value("list", json::array()).size(), 0u) << "mountpoints outlived causticd";
 }
 
+// A client that leaves while Janus is still answering (frozen here) gets no
+// session, and the mountpoint made for it goes.
+TEST_F(Broadcast, AClientThatLeavesBeforeJanusAnswersLeavesNothingBehind) {
+  janus_.signal(SIGSTOP);
+  const std::string body = R"({"scene": "lens", "mode": "broadcast"})";
+  const int fd = ct::raw_connect(server_->port());
+  ASSERT_GE(fd, 0);
+  ASSERT_TRUE(ct::raw_send(fd, "POST /api/v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+                               "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body));
+  g_usleep(500000);  // the request is read and Janus asked
+  ::close(fd);
+  g_usleep(500000);  // the server notices
+  janus_.signal(SIGCONT);
+  // Janus answers the create; the server destroys what it made.
+  bool clean = false;
+  for (int i = 0; i < 100 && !clean; ++i, g_usleep(100000)) {
+    const json list = admin({{"request", "list"}});
+    clean = list.is_object() && list.value("list", json::array()).empty();
+  }
+  EXPECT_TRUE(clean) << admin({{"request", "list"}}).dump();
+  EXPECT_EQ(http("GET", server_->url() + "/api/v1/health").json()["sessions"], 0);
+  // And the server goes on making broadcasts.
+  create_broadcast();
+}
+
 TEST_F(Broadcast, BadRequestsAreRefusedAndPlainSessionsHaveNoViewerLinks) {
   EXPECT_EQ(http("POST", server_->url() + "/api/v1/sessions", R"({"scene": "lens", "mode": "many"})").status, 422u);
   EXPECT_EQ(http("POST", server_->url() + "/api/v1/sessions", R"({"scene": "lens", "mode": 3})").status, 422u);

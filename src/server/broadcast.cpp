@@ -121,10 +121,19 @@ void create_broadcast(ServerState& s, SoupServerMessage* msg, std::shared_ptr<co
       destroy(st, m);
       return reply_problem(out, st.metrics, SOUP_STATUS_BAD_GATEWAY, "the broadcast server gave unusable ports");
     }
-    if (pending->gone || st.draining || static_cast<int>(st.sessions.size()) >= st.config.max_sessions) {
+    // While Janus answered, the client may have left, or the server begun
+    // to stop or filled up: the mountpoint goes again, and each is said.
+    if (pending->gone || !st.listener->client_connected(out)) {
+      destroy(st, m);
+      log(Level::info, "broadcast not started: its client went away while Janus answered", {id, entry->id, codec, address});
+      return;
+    }
+    if (st.draining || static_cast<int>(st.sessions.size()) >= st.config.max_sessions) {
       destroy(st, m);
       soup_message_headers_replace(soup_server_message_get_response_headers(out), "Retry-After", "10");
-      return reply_problem(out, st.metrics, SOUP_STATUS_SERVICE_UNAVAILABLE, "the server is full");
+      return reply_problem(out, st.metrics, SOUP_STATUS_SERVICE_UNAVAILABLE,
+                           st.draining ? "this instance is stopping and takes no new sessions"
+                                       : "the server is full (" + std::to_string(st.config.max_sessions) + " sessions)");
     }
     SessionOptions options{codec, address, &st.config, st.data_dir, &st.metrics,
                            [state](const std::string& sid, const std::string& why) { state->end_session(sid, why); },

@@ -19,6 +19,7 @@ struct Listener::Connection {
   std::uint64_t id = 0;
   GSocket* socket = nullptr;  // owned until handed over, then watched weakly
   std::string address;
+  guint16 port = 0;  // the client's, which with the address names the connection
   bool handed = false;
   std::size_t peeked = 0;
   GSource* io = nullptr;
@@ -32,6 +33,10 @@ struct Gone {
   std::weak_ptr<Listener*> owner;
   std::uint64_t id;
 };
+
+guint16 port_of(GSocketAddress* address) {
+  return address && G_IS_INET_SOCKET_ADDRESS(address) ? g_inet_socket_address_get_port(G_INET_SOCKET_ADDRESS(address)) : 0;
+}
 
 std::string address_of(GSocket* socket) {
   GSocketAddress* remote = g_socket_get_remote_address(socket, nullptr);
@@ -208,6 +213,10 @@ void Listener::admit(GSocket* socket) {
   c->id = next_id_++;
   c->socket = socket;
   c->address = address;
+  if (GSocketAddress* remote = g_socket_get_remote_address(socket, nullptr)) {
+    c->port = port_of(remote);
+    g_object_unref(remote);
+  }
   const std::uint64_t id = c->id;
   c->timer = after_ms(alive_, static_cast<guint>(limits_.header_timeout_s * 1000), [id](Listener& l) {
     auto it = l.connections_.find(id);
@@ -321,6 +330,21 @@ void Listener::drop(std::uint64_t id) {
   }
   if (--per_address_[c.address] <= 0) per_address_.erase(c.address);
   connections_.erase(it);
+}
+
+bool Listener::client_connected(SoupServerMessage* msg) const {
+  GSocketAddress* remote = soup_server_message_get_remote_address(msg);
+  if (!remote || !G_IS_INET_SOCKET_ADDRESS(remote)) return false;
+  gchar* host = g_inet_address_to_string(g_inet_socket_address_get_address(G_INET_SOCKET_ADDRESS(remote)));
+  const std::string address = host;
+  g_free(host);
+  const guint16 port = port_of(remote);
+  for (const auto& [id, c] : connections_) {
+    if (c->port != port || c->address != address || !c->socket) continue;
+    pollfd hangup{g_socket_get_fd(c->socket), POLLRDHUP, 0};
+    return !(::poll(&hangup, 1, 0) == 1 && (hangup.revents & (POLLRDHUP | POLLHUP | POLLERR)));
+  }
+  return false;  // its record is gone with its socket
 }
 
 void Listener::socket_gone(gpointer data, GObject*) {

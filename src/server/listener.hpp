@@ -49,6 +49,11 @@ class Listener {
   /// False while accepting has failed (no descriptors left) for over `grace`.
   bool accepting(std::chrono::seconds grace = std::chrono::seconds(5)) const;
   int open_connections() const { return static_cast<int>(connections_.size()); }
+  /// False once the client of `msg`'s connection has closed it (or its
+  /// sending side): the library does not watch the connection of a request
+  /// it was told to pause, so an answer that waits on another server asks
+  /// here before acting for a client that may have left.
+  bool client_connected(SoupServerMessage* msg) const;
 
  private:
   struct Connection;
