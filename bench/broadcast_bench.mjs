@@ -44,7 +44,7 @@ try {
   for (const n of counts) {
     while (pages.length < n) {
       const page = await browser.newPage();
-      await page.goto(`${server.url}${link.watch_url}`);
+      await page.goto(`${server.url}${link.watch_url}&view=video`);  // the forwarding, not WebGL rooms
       await until(page, () => window.caustic.connection === 'live', 60, 'a live viewer');
       pages.push(page);
     }

@@ -179,6 +179,19 @@ std::optional<std::chrono::steady_clock::time_point> Session::render_heartbeat()
 void Session::tell_frame(guint32 rtp_timestamp, std::uint64_t version, std::uint32_t level) {
   if (frames_out_) {
     frames_out_->send(nlohmann::json{{"rtp_timestamp", rtp_timestamp}, {"version", version}, {"level", level}}.dump());
+    // Viewers draw the room from what places it (screen, light, the
+    // object's pose), in a message of its own under one datagram: with a
+    // new version's first frame, and each second for viewers who join later.
+    const auto now = std::chrono::steady_clock::now();
+    if (version != params_told_ || now - params_told_at_ >= std::chrono::seconds(1)) {
+      const ParamStore::Snapshot snap = params_->snapshot();
+      const nlohmann::json scene = scene_to_json(snap.scene);
+      nlohmann::json room = {{"light", scene.at("light")}, {"screen", scene.at("screen")}, {"object", nlohmann::json::object()}};
+      for (const char* key : {"position", "rotation_deg", "ior"}) room["object"][key] = scene.at("object").at(key);
+      frames_out_->send(nlohmann::json{{"params", room}, {"version", snap.version}}.dump());
+      params_told_ = version;
+      params_told_at_ = now;
+    }
     return;
   }
   std::lock_guard lock(channel_lock_);

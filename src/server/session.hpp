@@ -142,6 +142,9 @@ class Session : public std::enable_shared_from_this<Session> {
   std::mutex channel_lock_;
   GstWebRTCDataChannel* channel_ = nullptr;  // the "frames" channel
   std::unique_ptr<FrameDatagrams> frames_out_;  // a broadcast's frame messages
+  // What a broadcast last told its viewers of the scene (streaming thread only).
+  std::uint64_t params_told_ = 0;
+  std::chrono::steady_clock::time_point params_told_at_;
 };
 
 /// 128 random bits as 32 hex digits (from the system's CSPRNG).

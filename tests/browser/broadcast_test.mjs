@@ -39,9 +39,11 @@ const api = (method, url, body, token) => call(server, method, url, body, token)
 const sentFrames = () => sent(server);
 
 // `retry`: while the mountpoint is being created again, ask again (bounded).
-async function openViewer(link, { retry = false } = {}) {
+// The counting viewers show the plain video: four WebGL rooms on this
+// machine's two cores would measure the rooms, not the forwarding.
+async function openViewer(link, { retry = false, view = 'video' } = {}) {
   const page = await browser.newPage();
-  await page.goto(`${server.url}${link.watch_url}`);
+  await page.goto(`${server.url}${link.watch_url}${view === 'video' ? '&view=video' : ''}`);
   for (let attempt = 0; ; attempt += 1) {
     if (attempt > 0) await page.reload();  // the same link: only its fragment would change nothing
     await until(page, () => window.caustic.connection === 'live' || window.caustic.error, 30, 'a live connection');
@@ -92,12 +94,27 @@ test('viewers of one broadcast all see it, a late joiner at once, and the holder
   for (const n of decoded) assert.ok(n >= 0.5 * sent, `a viewer decoded ${n} of ${sent} frames`);
   // Every viewer hears of the last version on the frames channel.
   for (const p of pages) await until(p, (v) => window.caustic.version >= v, 20, `version ${version}`, version);
+
+  // A viewer in the room: the slab, screen and light where the holder's
+  // last PATCH put them (carried on the stream's data), the video on the
+  // lightmap plane.
+  const holder = (await api('GET', `${session.url}/params`, null, session.token)).body;
+  const roomPage = await openViewer(link, { view: 'room' });
+  await until(roomPage, (v) => window.caustic.paramsVersion >= v && window.caustic.room(), 30,
+              `the room placed by version ${version}`, holder.version);
+  const shown = await roomPage.evaluate(() => window.caustic.params);
+  assert.deepEqual(shown.light, holder.params.light);
+  assert.deepEqual(shown.screen, holder.params.screen);
+  assert.deepEqual(shown.object.rotation_deg, holder.params.object.rotation_deg);
+  assert.deepEqual(Object.keys(shown.object).sort(), ['ior', 'position', 'rotation_deg']);  // no more than the pose
+  await roomPage.waitForTimeout(1500);  // a few rendered frames of the video in the room
   mkdirSync(shots, { recursive: true });
-  await pages[0].screenshot({ path: `${shots}/broadcast-viewer.png` });
+  await roomPage.screenshot({ path: `${shots}/broadcast-viewer.png` });
+  pages.push(roomPage);
 
   // A late joiner: its first frame follows its connection at once.
   const late = await browser.newPage();
-  await late.goto(`${server.url}${link.watch_url}`);
+  await late.goto(`${server.url}${link.watch_url}&view=video`);
   await until(late, () => window.caustic.firstFrameAt > 0, 30, 'the late joiner\'s first frame');
   const wait = await late.evaluate(() => Math.max(0, window.caustic.firstFrameAt - window.caustic.connectedAt));
   console.log(`late joiner: first frame ${wait.toFixed(0)} ms after its connection`);

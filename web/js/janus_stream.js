@@ -7,8 +7,8 @@
 const KEEPALIVE_MS = 25000;  // Janus ends a session silent for 60 s
 
 export class JanusStream {
-  constructor({ url, mountpoint, pin, token }, video, { onState, onVersion }) {
-    Object.assign(this, { url, mountpoint, pin, token, video, onState, onVersion });
+  constructor({ url, mountpoint, pin, token }, video, { onState, onVersion, onParams }) {
+    Object.assign(this, { url, mountpoint, pin, token, video, onState, onVersion, onParams });
     this.pending = new Map();  // transaction -> { resolve, reject }
     this.next = 0;
     this.closed = false;
@@ -52,13 +52,16 @@ export class JanusStream {
     await this.message({ request: 'start' }, { type: answer.type, sdp: answer.sdp });
   }
 
-  // Frame messages: {"version", "level"} of the newest picture sent.
+  // Frame messages: {"version", "level"} of the newest picture sent, and
+  // {"params", "version"}: what places the room (screen, light, the
+  // object's pose), on each change and each second.
   listen(channel) {
     this.channels = (this.channels ?? 0) + 1;
     channel.binaryType = 'arraybuffer';
     channel.onmessage = ({ data }) => {
-      const { version, level } = JSON.parse(typeof data === 'string' ? data : new TextDecoder().decode(data));
-      this.onVersion(version, level);
+      const message = JSON.parse(typeof data === 'string' ? data : new TextDecoder().decode(data));
+      if (message.params) this.onParams?.(message.params, message.version);
+      else this.onVersion(message.version, message.level);
     };
   }
 
