@@ -129,3 +129,34 @@ test('viewers of one broadcast all see it, a late joiner at once, and the holder
   for (const p of [...pages, again]) await p.close();
   assert.equal((await api('DELETE', session.url, null, session.token)).status, 204);
 });
+
+// H.264 through Janus (an explicit fmtp on the mountpoint: Janus does not
+// learn it from the stream): a viewer decodes it, and it is H.264.
+test('an H.264 broadcast plays', async () => {
+  const created = await api('POST', '/api/v1/sessions', { scene: 'lens', mode: 'broadcast', codec: 'h264' });
+  assert.equal(created.status, 201, JSON.stringify(created.body));
+  const session = created.body;
+  assert.equal(session.codec, 'h264');
+  const link = (await api('POST', session.viewers_url, null, session.token)).body;
+  const page = await openViewer(link);
+  const codec = await page.evaluate(() => window.caustic.peer().getStats().then((report) => {
+    let id = '', mime = '';
+    report.forEach((r) => { if (r.type === 'inbound-rtp' && r.kind === 'video') id = r.codecId; });
+    report.forEach((r) => { if (r.id === id) mime = r.mimeType; });
+    return mime;
+  }));
+  assert.equal(codec.toLowerCase(), 'video/h264');
+  // Frames keep coming as the holder changes the scene.
+  const decoded = await page.evaluate(videoStat, 'framesDecoded');
+  for (let i = 0; i < 10; i += 1) {
+    await api('PATCH', `${session.url}/params`, { object: { ior: 1.45 + 0.01 * i } }, session.token);
+    await new Promise((resolve) => setTimeout(resolve, 100));
+  }
+  await until(page, (n) => window.caustic.peer()?.getStats().then((report) => {
+    let now = 0;
+    report.forEach((r) => { if (r.type === 'inbound-rtp' && r.kind === 'video') now = r.framesDecoded; });
+    return now > n;
+  }), 30, 'more decoded H.264 frames', decoded);
+  await page.close();
+  assert.equal((await api('DELETE', session.url, null, session.token)).status, 204);
+});
