@@ -16,13 +16,17 @@
 #include <map>
 #include <memory>
 #include <regex>
+#include <tuple>
+#include <vector>
 
 namespace caustic::app {
 namespace {
 
 struct ServeOptions {
   std::string config_file;
-  std::map<std::string, std::string> overrides;  // config key -> value from flags
+  // (config key, value, the flag that said it), in command-line order: a
+  // key given twice is said, not silently the last.
+  std::vector<std::tuple<std::string, std::string, std::string>> overrides;
   std::vector<std::string> ice_addresses;
   std::string instance;
 };
@@ -47,7 +51,7 @@ server::ServerConfig read_config(const ServeOptions& opt) {
     set("port", m[1], "--instance");
     if (m[3].matched) set("egl_device", m[3], "--instance");
   }
-  for (const auto& [key, value] : opt.overrides) set(key, value, "the command line");
+  for (const auto& [key, value, flag] : opt.overrides) set(key, value, flag);
   if (!opt.ice_addresses.empty()) {
     std::string joined;
     for (const auto& a : opt.ice_addresses) joined += (joined.empty() ? "" : ",") + a;
@@ -141,7 +145,7 @@ std::function<int()> add_serve_command(CLI::App& app) {
   for (const auto& [flag, key] : flags) {
     const std::string k = key;
     cmd->add_option_function<std::string>(
-        flag, [opt, k](const std::string& value) { opt->overrides[k] = value; },
+        flag, [opt, k, f = std::string(flag)](const std::string& value) { opt->overrides.emplace_back(k, value, f); },
         "Overrides the config key " + k);
   }
   cmd->add_option_function<std::vector<std::string>>(
@@ -150,7 +154,8 @@ std::function<int()> add_serve_command(CLI::App& app) {
         for (const auto& item : items) {
           const auto eq = item.find('=');
           // A missing '=' leaves the value empty: set_config_value names the key in its error.
-          opt->overrides[item.substr(0, eq)] = eq == std::string::npos ? "" : item.substr(eq + 1);
+          opt->overrides.emplace_back(item.substr(0, eq), eq == std::string::npos ? "" : item.substr(eq + 1),
+                                      "--set " + item.substr(0, eq));
         }
       },
       "Sets any config key: --set key=value (repeatable; docs/configuration.md)");
