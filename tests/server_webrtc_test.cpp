@@ -56,11 +56,16 @@ TEST_P(WebRtc, ViewerReceivesTheStreamAndSeesAPatch) {
     const auto at = text.find("causticd_encode_seconds_count ");
     return at == std::string::npos ? -1L : std::stol(text.substr(at + 30));
   };
+  // The patch's previews and full frame, and key frames the peer asked for,
+  // may still be on their way on a loaded machine: let them pass first.
+  peer.wait_for_frames(1000, 1.5);
   const long encoded_before = encoded();
   peer.wait_for_frames(1000, 4.0);  // plays the stream for 4 s
   const long still_frames = encoded() - encoded_before;
   EXPECT_GE(still_frames, 2);
-  EXPECT_LE(still_frames, 8) << "a still picture was encoded at the frame rate";
+  // About 4 keep-alive frames, and a few for key frame requests; at the
+  // frame rate it would be 120 (30 on a machine loaded to a quarter of it).
+  EXPECT_LE(still_frames, 16) << "a still picture was encoded at the frame rate";
 
   // The server measured what it sent.
   const std::string metrics = http("GET", server.url() + "/metrics").body;

@@ -12,6 +12,7 @@
 #include <malloc.h>
 #include <gst/gst.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <thread>
@@ -155,7 +156,11 @@ Server::~Server() {
   state_->loader_cancel = true;
   if (state_->gallery_loader.joinable()) state_->gallery_loader.join();
   end_all_broadcasts(s);
-  for (auto& [id, session] : s.sessions) session->close("server shutting down");
+  std::vector<std::weak_ptr<Session>> closing;
+  for (auto& [id, session] : s.sessions) {
+    session->close("server shutting down");
+    closing.push_back(session);
+  }
   s.sessions.clear();
   for (guint source : {state_->reaper, state_->sigint, state_->sigterm, state_->sighup, state_->watchdog, state_->drain,
                        state_->broadcasts})
@@ -166,8 +171,16 @@ Server::~Server() {
     soup_server_disconnect(s.soup);
     g_object_unref(s.soup);
   }
-  // Let the sessions' last callbacks run before the loop goes.
-  while (g_main_context_iteration(nullptr, FALSE)) {
+  // Let the sessions' last callbacks run before the loop goes. A library
+  // thread (ICE's) may hold a session a moment longer; its deletion comes
+  // back to this loop (Session::start): wait for it, bounded.
+  const auto left = [&] {
+    return std::any_of(closing.begin(), closing.end(), [](const auto& w) { return !w.expired(); });
+  };
+  for (int i = 0; i == 0 || (left() && i < 200); ++i) {
+    while (g_main_context_iteration(nullptr, FALSE)) {
+    }
+    if (left()) g_usleep(10000);
   }
   g_main_loop_unref(state_->loop);
 }

@@ -14,6 +14,7 @@
 #include <map>
 #include <mutex>
 #include <random>
+#include <thread>
 
 namespace caustic::server {
 namespace {
@@ -66,7 +67,21 @@ Session::Session(std::string id, std::shared_ptr<const GalleryEntry> scene, Sess
 
 std::shared_ptr<Session> Session::start(const std::string& id, std::shared_ptr<const GalleryEntry> scene,
                                         SessionOptions options) {
-  std::shared_ptr<Session> session(new Session(id, std::move(scene), std::move(options)));
+  // The last reference may go on a library's thread: a callback of ICE's
+  // own thread (a candidate gathered as the session ends) or of a streaming
+  // thread holds one while it runs. Tearing the pipeline down there frees
+  // the very thread and agent that are calling, so the session is always
+  // deleted on the thread that made it, the main loop's.
+  std::shared_ptr<Session> session(new Session(id, std::move(scene), std::move(options)), [](Session* s) {
+    if (std::this_thread::get_id() == s->owner_thread_) return delete s;
+    g_main_context_invoke_full(
+        s->context_, G_PRIORITY_DEFAULT,
+        [](gpointer p) -> gboolean {
+          delete static_cast<Session*>(p);
+          return G_SOURCE_REMOVE;
+        },
+        s, nullptr);
+  });
   session->build();
   return session;
 }

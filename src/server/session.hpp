@@ -23,6 +23,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 // From <gst/webrtc/webrtc.h>, which needs GST_USE_UNSTABLE_API.
@@ -132,6 +133,7 @@ class Session : public std::enable_shared_from_this<Session> {
   GstElement* pipeline_ = nullptr;
   GstElement* webrtc_ = nullptr;
   GMainContext* context_ = nullptr;
+  std::thread::id owner_thread_ = std::this_thread::get_id();  // made, and deleted, on the main loop's thread
   guint bus_watch_ = 0;
   SoupWebsocketConnection* socket_ = nullptr;
   gulong socket_message_ = 0, socket_closed_ = 0;
