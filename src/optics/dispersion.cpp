@@ -60,7 +60,7 @@ const Material* find_material(std::string_view name) {
 }
 
 double index(const Sellmeier& law, double nm) {
-  const double l2 = micrometres(nm) * micrometres(nm);
+  const double l = micrometres(nm), l2 = l * l;
   double n2 = 1.0;
   for (std::size_t k = 0; k < law.b.size(); ++k) {
     if (law.b[k] == 0.0) continue;

@@ -17,9 +17,7 @@
 #pragma once
 
 #include <array>
-#include <optional>
 #include <span>
-#include <string>
 #include <string_view>
 
 namespace caustic::optics {
