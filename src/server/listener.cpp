@@ -34,20 +34,28 @@ struct Gone {
   std::uint64_t id;
 };
 
-guint16 port_of(GSocketAddress* address) {
-  return address && G_IS_INET_SOCKET_ADDRESS(address) ? g_inet_socket_address_get_port(G_INET_SOCKET_ADDRESS(address)) : 0;
+// A client's address as text ("unknown" without one) and its port: with
+// both, one connection among several from the same host.
+struct Peer {
+  std::string address = "unknown";
+  guint16 port = 0;
+};
+
+Peer peer_of(GSocketAddress* remote) {
+  Peer peer;
+  if (!remote || !G_IS_INET_SOCKET_ADDRESS(remote)) return peer;
+  gchar* s = g_inet_address_to_string(g_inet_socket_address_get_address(G_INET_SOCKET_ADDRESS(remote)));
+  peer.address = s;
+  g_free(s);
+  peer.port = g_inet_socket_address_get_port(G_INET_SOCKET_ADDRESS(remote));
+  return peer;
 }
 
-std::string address_of(GSocket* socket) {
+Peer peer_of(GSocket* socket) {
   GSocketAddress* remote = g_socket_get_remote_address(socket, nullptr);
-  std::string text = "unknown";
-  if (remote && G_IS_INET_SOCKET_ADDRESS(remote)) {
-    gchar* s = g_inet_address_to_string(g_inet_socket_address_get_address(G_INET_SOCKET_ADDRESS(remote)));
-    text = s;
-    g_free(s);
-  }
+  const Peer peer = peer_of(remote);
   if (remote) g_object_unref(remote);
-  return text;
+  return peer;
 }
 
 void clear_source(GSource*& source) {
@@ -195,7 +203,8 @@ void Listener::refuse(GSocket* socket, unsigned status, const std::string& detai
 }
 
 void Listener::admit(GSocket* socket) {
-  const std::string address = address_of(socket);
+  const Peer peer = peer_of(socket);
+  const std::string& address = peer.address;
   const int total = static_cast<int>(connections_.size());
   const int from_here = per_address_[address];
   if (total >= limits_.max_connections || from_here >= limits_.max_connections_per_address) {
@@ -213,10 +222,7 @@ void Listener::admit(GSocket* socket) {
   c->id = next_id_++;
   c->socket = socket;
   c->address = address;
-  if (GSocketAddress* remote = g_socket_get_remote_address(socket, nullptr)) {
-    c->port = port_of(remote);
-    g_object_unref(remote);
-  }
+  c->port = peer.port;
   const std::uint64_t id = c->id;
   c->timer = after_ms(alive_, static_cast<guint>(limits_.header_timeout_s * 1000), [id](Listener& l) {
     auto it = l.connections_.find(id);
@@ -335,12 +341,9 @@ void Listener::drop(std::uint64_t id) {
 bool Listener::client_connected(SoupServerMessage* msg) const {
   GSocketAddress* remote = soup_server_message_get_remote_address(msg);
   if (!remote || !G_IS_INET_SOCKET_ADDRESS(remote)) return false;
-  gchar* host = g_inet_address_to_string(g_inet_socket_address_get_address(G_INET_SOCKET_ADDRESS(remote)));
-  const std::string address = host;
-  g_free(host);
-  const guint16 port = port_of(remote);
+  const Peer peer = peer_of(remote);
   for (const auto& [id, c] : connections_) {
-    if (c->port != port || c->address != address || !c->socket) continue;
+    if (c->port != peer.port || c->address != peer.address || !c->socket) continue;
     pollfd hangup{g_socket_get_fd(c->socket), POLLRDHUP, 0};
     return !(::poll(&hangup, 1, 0) == 1 && (hangup.revents & (POLLRDHUP | POLLHUP | POLLERR)));
   }
