@@ -69,9 +69,10 @@ std::shared_ptr<Session> Session::start(const std::string& id, std::shared_ptr<c
                                         SessionOptions options) {
   // The last reference may go on a library's thread: a callback of ICE's
   // own thread (a candidate gathered as the session ends) or of a streaming
-  // thread holds one while it runs. Tearing the pipeline down there frees
-  // the very thread and agent that are calling, so the session is always
-  // deleted on the thread that made it, the main loop's.
+  // thread holds one while it runs. Tearing the pipeline down there would
+  // free the thread and agent that are calling (not seen to happen; done
+  // against a rare crash at stop, docs/reliability.md), so the session is
+  // always deleted on the thread that made it, the main loop's.
   std::shared_ptr<Session> session(new Session(id, std::move(scene), std::move(options)), [](Session* s) {
     if (std::this_thread::get_id() == s->owner_thread_) return delete s;
     g_main_context_invoke_full(
