@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Colour from spectra, held against the CIE's published derived figures
+// rather than the code's own sums: the white points of illuminants E, A and
+// D65 (CIE 015:2018), points of the spectrum locus, the integral of y-bar,
+// the sRGB white (IEC 61966-2-1). A mistyped table row moves one of them.
+#include "caustic/colour.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+using namespace caustic::optics;
+
+namespace {
+
+void expect_xy(const Xyz& c, double x, double y, double tolerance) {
+  const auto xy = chromaticity(c);
+  EXPECT_NEAR(xy[0], x, tolerance);
+  EXPECT_NEAR(xy[1], y, tolerance);
+}
+
+}  // namespace
+
+TEST(Colour, TheIntegralOfYBarIsTheCiesFigure) {
+  // ∫ y-bar dλ = 106.857 over 360..830 nm; 380..780 holds all but 0.001 %.
+  double sum = 0;
+  for (int nm = 380; nm < 780; ++nm) sum += cie1931(nm + 0.5).y;
+  EXPECT_NEAR(sum, 106.857, 0.02);
+  EXPECT_EQ(cie1931(379).y, 0.0);
+  EXPECT_EQ(cie1931(781).x, 0.0);
+  EXPECT_DOUBLE_EQ(cie1931(555).y, 1.0);  // the peak of photopic vision
+}
+
+TEST(Colour, TheSpectrumLocusPassesThroughItsTabulatedPoints) {
+  // CIE 015:2018 chromaticities of monochromatic stimuli (2-degree observer).
+  expect_xy(cie1931(450), 0.15664, 0.01770, 5e-5);
+  expect_xy(cie1931(520), 0.07430, 0.83380, 5e-5);
+  expect_xy(cie1931(700), 0.73469, 0.26531, 5e-5);
+}
+
+TEST(Colour, StandardIlluminantsHaveTheirPublishedWhitePoints) {
+  expect_xy(tristimulus({Illuminant::equal}), 1.0 / 3, 1.0 / 3, 1e-4);
+  expect_xy(tristimulus({Illuminant::d65}), 0.31272, 0.32903, 2e-4);
+  // Illuminant A is a blackbody at 2856 K (with c2 = 1.4388e-2 m K).
+  expect_xy(tristimulus({Illuminant::blackbody, 2856}), 0.44757, 0.40745, 2e-4);
+  // The Planckian locus at 6500 K (Wyszecki & Stiles, Table 1(3.11)).
+  expect_xy(tristimulus({Illuminant::blackbody, 6500}), 0.3135, 0.3237, 3e-4);
+  expect_xy(tristimulus({Illuminant::led}), 0.320, 0.354, 1e-3);
+}
+
+TEST(Colour, D65IsTheSrgbWhite) {
+  const Xyz d65 = tristimulus({Illuminant::d65});
+  const Rgb white = linear_srgb({d65.x / d65.y, 1.0, d65.z / d65.y});
+  EXPECT_NEAR(white.r, 1.0, 2e-3);
+  EXPECT_NEAR(white.g, 1.0, 2e-3);
+  EXPECT_NEAR(white.b, 1.0, 2e-3);
+  EXPECT_NEAR(luminance(white), 1.0, 1e-3);
+}
+
+TEST(Colour, WavelengthWeightsSumToWhiteForEveryLightAndCount) {
+  for (const LightSpectrum light : {LightSpectrum{Illuminant::d65}, LightSpectrum{Illuminant::equal},
+                                    LightSpectrum{Illuminant::blackbody, 2700}, LightSpectrum{Illuminant::led}}) {
+    for (int k : {1, 2, 3, 8, 16, kMaxWavelengths}) {
+      const auto samples = wavelength_samples(light, k);
+      ASSERT_EQ(samples.size(), static_cast<std::size_t>(k));
+      Rgb sum;
+      for (const auto& s : samples) {
+        sum.r += s.weight.r;
+        sum.g += s.weight.g;
+        sum.b += s.weight.b;
+        EXPECT_GT(s.to_nm, s.from_nm);
+        EXPECT_GE(s.nm, s.from_nm);
+        EXPECT_LE(s.nm, s.to_nm);
+      }
+      EXPECT_NEAR(sum.r, 1.0, 1e-12);
+      EXPECT_NEAR(sum.g, 1.0, 1e-12);
+      EXPECT_NEAR(sum.b, 1.0, 1e-12);
+      EXPECT_EQ(samples.front().from_nm, kVisibleMinNm);
+      EXPECT_EQ(samples.back().to_nm, kVisibleMaxNm);
+    }
+  }
+}
+
+TEST(Colour, ThreeBandsAreBlueGreenRed) {
+  const auto s = wavelength_samples({Illuminant::d65}, 3);
+  // 380-513 nm is mostly blue, 513-646 nm mostly green (with red), 646-780 nm red.
+  EXPECT_GT(s[0].weight.b, s[0].weight.g);
+  EXPECT_GT(s[0].weight.b, s[0].weight.r);
+  EXPECT_GT(s[1].weight.g, s[1].weight.b);
+  EXPECT_GT(s[2].weight.r, s[2].weight.g);
+  EXPECT_GT(s[2].weight.r, s[2].weight.b);
+}
+
+TEST(Colour, AWarmLightPutsMoreOfEachChannelInTheLongerBands) {
+  // Balanced, both lights are white; what differs is how the bands share
+  // each channel: a 2700 K lamp has more deep red and less violet than a
+  // 10000 K sky, so its red comes more from the last bands, its blue less
+  // from the first.
+  const auto warm = wavelength_samples({Illuminant::blackbody, 2700}, 8);
+  const auto cool = wavelength_samples({Illuminant::blackbody, 10000}, 8);
+  EXPECT_GT(warm[6].weight.r + warm[7].weight.r, cool[6].weight.r + cool[7].weight.r);
+  EXPECT_LT(warm[0].weight.b, cool[0].weight.b);
+}
+
+TEST(Colour, BadCountsAndTemperaturesAreRefused) {
+  EXPECT_THROW(wavelength_samples({}, 0), std::invalid_argument);
+  EXPECT_THROW(wavelength_samples({}, kMaxWavelengths + 1), std::invalid_argument);
+  EXPECT_THROW(wavelength_samples({Illuminant::blackbody, 10}, 4), std::invalid_argument);
+  EXPECT_THROW(wavelength_samples({Illuminant::blackbody, std::nan("")}, 4), std::invalid_argument);
+}
