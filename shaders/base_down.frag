@@ -12,7 +12,7 @@ void main() {
   float sum = 0.0, lit = 0.0;
   for (int dy = 0; dy < 8; ++dy)
     for (int dx = 0; dx < 8; ++dx) {
-      float h = texelFetch(uHdr, min(base + ivec2(dx, dy), last), 0).r;
+      float h = luminance(texelFetch(uHdr, min(base + ivec2(dx, dy), last), 0).rgb);
       if (h > exp2(uLog2Lit)) {
         sum += log2(h);
         lit += 1.0;

@@ -4,16 +4,17 @@ uniform sampler2D uSource;
 uniform ivec2 uStep;   // (1, 0) or (0, 1)
 uniform float uSigma;  // texels
 uniform int uRadius;   // taps on each side
-layout(location = 0) out float outBlurred;
+layout(location = 0) out vec4 outBlurred;
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   ivec2 last = textureSize(uSource, 0) - 1;
-  float sum = 0.0, weights = 0.0;
+  vec3 sum = vec3(0.0);
+  float weights = 0.0;
   for (int k = -uRadius; k <= uRadius; ++k) {
     float w = exp(-0.5 * float(k * k) / (uSigma * uSigma));
-    sum += w * texelFetch(uSource, clamp(p + k * uStep, ivec2(0), last), 0).r;
+    sum += w * texelFetch(uSource, clamp(p + k * uStep, ivec2(0), last), 0).rgb;
     weights += w;
   }
-  outBlurred = sum / weights;
+  outBlurred = vec4(sum / weights, 1.0);
 }

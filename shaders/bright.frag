@@ -6,14 +6,14 @@
 uniform sampler2D uHdr;
 uniform float uThreshold;
 uniform int uShrink;
-layout(location = 0) out float outBright;
+layout(location = 0) out vec4 outBright;
 
 void main() {
   ivec2 base = uShrink * ivec2(gl_FragCoord.xy);
   ivec2 last = textureSize(uHdr, 0) - 1;
-  float sum = 0.0;
+  vec3 sum = vec3(0.0);
   for (int dy = 0; dy < uShrink; ++dy)
     for (int dx = 0; dx < uShrink; ++dx)
-      sum += max(texelFetch(uHdr, min(base + ivec2(dx, dy), last), 0).r - uThreshold, 0.0);
-  outBright = sum / float(uShrink * uShrink);
+      sum += max(texelFetch(uHdr, min(base + ivec2(dx, dy), last), 0).rgb - uThreshold, 0.0);
+  outBright = vec4(sum / float(uShrink * uShrink), 1.0);
 }

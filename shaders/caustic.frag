@@ -6,7 +6,10 @@ flat in vec2 gA;
 flat in vec2 gB;
 flat in vec2 gC;
 flat in float gPoint;
-layout(location = 0) out float outIrradiance;
+// The pass's colour: (1, 1, 1) for a monochrome frame, a wavelength band's
+// white-balanced RGB for a spectral one (passes add up in an RGBA target).
+uniform vec3 uWeight;
+layout(location = 0) out vec4 outIrradiance;
 
 // Mean of clamp(t, 0, 1) for t running linearly from u0 to u1, written so
 // that every term scales with |u1 - u0|: no cancellation for steep edges.
@@ -35,11 +38,11 @@ float edgeCoverage(vec2 p, vec2 q) {
 
 void main() {
   if (gPoint > 0.5) {
-    outIrradiance = gIrradiance;
+    outIrradiance = vec4(uWeight * gIrradiance, 0.0);
     return;
   }
   vec2 cell = floor(gl_FragCoord.xy);
   vec2 a = gA - cell, b = gB - cell, c = gC - cell;
   float covered = abs(edgeCoverage(a, b) + edgeCoverage(b, c) + edgeCoverage(c, a));
-  outIrradiance = gIrradiance * min(covered, 1.0);
+  outIrradiance = vec4(uWeight * (gIrradiance * min(covered, 1.0)), 0.0);
 }

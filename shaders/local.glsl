@@ -10,6 +10,10 @@
 uniform sampler2D uBase;       // R16F, log2 brightness, 1/8 of the HDR size
 uniform float uLocalStrength;  // 0 for the global operator
 
+// Relative luminance of linear sRGB (Rec. 709): what metering and the local
+// operator judge brightness by; a grey (r, r, r) gives r.
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
 float local_factor(vec2 uv) {
   return uLocalStrength > 0.0 ? exp2(-uLocalStrength * texture(uBase, uv).r) : 1.0;
 }

@@ -10,5 +10,5 @@ layout(location = 0) out float outValue;
 
 void main() {
   ivec2 p = uStride * ivec2(gl_FragCoord.xy);
-  outValue = texelFetch(uHdr, p, 0).r * local_factor((vec2(p) + 0.5) / vec2(textureSize(uHdr, 0)));
+  outValue = luminance(texelFetch(uHdr, p, 0).rgb) * local_factor((vec2(p) + 0.5) / vec2(textureSize(uHdr, 0)));
 }

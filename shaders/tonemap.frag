@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // HDR relative irradiance plus bloom -> local compression (when on) ->
-// exposure -> gamma -> 8-bit grey. A preview's HDR image is smaller than the
+// exposure -> gamma -> 8-bit RGB (grey for a monochrome frame). A preview's HDR image is smaller than the
 // output: it is upsampled here (bilinear); a full frame reads its texel
 // exactly.
 uniform sampler2D uHdr;
@@ -13,10 +13,12 @@ layout(location = 0) out vec4 outColor;
 
 void main() {
   vec2 uv = gl_FragCoord.xy / uOutputSize;
-  float hdr = textureSize(uHdr, 0) == ivec2(uOutputSize) ? texelFetch(uHdr, ivec2(gl_FragCoord.xy), 0).r
-                                                         : texture(uHdr, uv).r;
-  float bloom = uBloomStrength > 0.0 ? texture(uBloom, uv).r : 0.0;
-  float value = max(hdr + uBloomStrength * bloom, 0.0) * local_factor(uv);
-  float mapped = 1.0 - exp(-uExposure * value);
-  outColor = vec4(vec3(pow(mapped, 1.0 / uGamma)), 1.0);
+  vec3 hdr = textureSize(uHdr, 0) == ivec2(uOutputSize) ? texelFetch(uHdr, ivec2(gl_FragCoord.xy), 0).rgb
+                                                        : texture(uHdr, uv).rgb;
+  vec3 bloom = uBloomStrength > 0.0 ? texture(uBloom, uv).rgb : vec3(0.0);
+  // Per channel: a saturated colour too bright for the screen desaturates
+  // towards white, as film and eyes show it, instead of clipping its hue.
+  vec3 value = max(hdr + uBloomStrength * bloom, 0.0) * local_factor(uv);
+  vec3 mapped = 1.0 - exp(-uExposure * value);
+  outColor = vec4(pow(mapped, vec3(1.0 / uGamma)), 1.0);
 }

@@ -13,8 +13,8 @@ using namespace caustic::optics;
 
 namespace {
 
-const Material& material(const char* name) {
-  const Material* m = find_material(name);
+const Medium& material(const char* name) {
+  const Medium* m = find_material(name);
   if (!m) throw std::runtime_error(std::string("no material ") + name);
   return *m;
 }
@@ -57,7 +57,7 @@ TEST(Dispersion, PolymersMatchTheirTypicalIndices) {
 // wavelength grows (normal dispersion) wherever it was measured.
 TEST(Dispersion, EveryMaterialDispersesNormallyWhereItWasMeasured) {
   ASSERT_GE(materials().size(), 5u);
-  for (const Material& m : materials()) {
+  for (const Medium& m : materials()) {
     EXPECT_FALSE(m.source.empty()) << m.name;
     double previous = 0.0;
     for (double nm = 380.0; nm <= 780.0; nm += 5.0) {
@@ -65,7 +65,9 @@ TEST(Dispersion, EveryMaterialDispersesNormallyWhereItWasMeasured) {
       const double n = index(m.law, nm);
       EXPECT_GT(n, 1.3) << m.name << " at " << nm;
       EXPECT_LT(n, 1.7) << m.name << " at " << nm;
-      if (previous > 0.0) EXPECT_LT(n, previous) << m.name << " at " << nm;
+      if (previous > 0.0) {
+        EXPECT_LT(n, previous) << m.name << " at " << nm;
+      }
       previous = n;
     }
   }

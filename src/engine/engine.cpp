@@ -4,6 +4,8 @@
 #include "passes.hpp"
 #include "readback.hpp"
 
+#include "caustic/spectral.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <optional>
@@ -59,9 +61,12 @@ void Engine::set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh) {
   if (new_mesh) s.ray.upload(*mesh);
   if (new_size) s.ldr = gl::RenderTarget(GL_RGBA8, scene.render.width, scene.render.height);
   const int hdr_w = std::max(1, scene.render.width / s.divisor), hdr_h = std::max(1, scene.render.height / s.divisor);
-  const bool new_hdr = s.hdr.texture.width() != hdr_w || s.hdr.texture.height() != hdr_h;
-  // Linear filtering serves the preview's upsampling; full frames read texels exactly.
-  if (new_hdr) s.hdr = gl::RenderTarget(GL_R32F, hdr_w, hdr_h, GL_LINEAR);
+  // Linear filtering serves the preview's upsampling; full frames read texels
+  // exactly. A spectral frame adds its wavelengths in colour.
+  const GLenum hdr_format = spectral(scene) ? GL_RGBA32F : GL_R32F;
+  const bool new_hdr = s.hdr.texture.width() != hdr_w || s.hdr.texture.height() != hdr_h ||
+                       s.hdr.texture.format() != hdr_format;
+  if (new_hdr) s.hdr = gl::RenderTarget(hdr_format, hdr_w, hdr_h, GL_LINEAR);
   s.ray_dirty = s.ray_dirty || new_mesh || new_size || new_hdr || !same_caustic(*s.scene, scene);
   s.post_dirty = s.post_dirty || s.ray_dirty || s.scene->post != scene.post;
   s.prepare_dirty = s.prepare_dirty || s.post_dirty;
@@ -86,8 +91,16 @@ bool Engine::render() {
   if (!s.scene || !dirty()) return false;
   if (s.ray_dirty) {
     const auto start = std::chrono::steady_clock::now();
-    s.ray.draw(*s.scene, s.placement, s.hdr);
-    const TriangleCounts counts = s.ray.counts();  // waits for the pass to finish
+    const int wavelengths = s.divisor > 1 ? std::min(s.scene->render.wavelengths, kPreviewWavelengths)
+                                          : s.scene->render.wavelengths;
+    const auto passes = spectral_passes(*s.scene, wavelengths);
+    if (passes.empty()) s.ray.draw(*s.scene, s.placement, s.hdr, s.scene->object.ior, glm::vec3(1), true);
+    for (std::size_t i = 0; i < passes.size(); ++i) {
+      const auto& w = passes[i].weight;
+      s.ray.draw(*s.scene, s.placement, s.hdr, passes[i].ior, glm::vec3(w.r, w.g, w.b), i == 0);
+    }
+    s.stats.wavelengths = passes.empty() ? 1 : static_cast<int>(passes.size());
+    const TriangleCounts counts = s.ray.counts();  // the last pass's; waits for it to finish
     glFinish();
     s.stats.ray_ms = elapsed_ms(start);
     s.stats.drawn = counts.drawn;
@@ -129,6 +142,7 @@ bool Engine::render() {
 
 HdrImage Engine::read_hdr() const {
   const auto& t = impl_->hdr.texture;
+  if (t.format() != GL_R32F) return luminance(read_hdr_rgb());
   HdrImage img{t.width(), t.height(), std::vector<float>(static_cast<std::size_t>(t.width()) * t.height())};
   if (img.pixels.empty()) return img;
   std::vector<float> raw(img.pixels.size());
@@ -136,6 +150,26 @@ HdrImage Engine::read_hdr() const {
   glGetTextureImage(t.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(float)), raw.data());
   gl::check_errors("HDR read-back");
   gl::copy_rows_top_first(raw.data(), img.pixels.data(), static_cast<std::size_t>(img.width), img.height);
+  return img;
+}
+
+RgbHdrImage Engine::read_hdr_rgb() const {
+  const auto& t = impl_->hdr.texture;
+  RgbHdrImage img{t.width(), t.height(), std::vector<float>(static_cast<std::size_t>(t.width()) * t.height() * 3)};
+  if (img.pixels.empty()) return img;
+  std::vector<float> raw(img.pixels.size());
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  // A grey frame reads as R = G = B through the same call.
+  const GLenum channels = t.format() == GL_R32F ? GL_RED : GL_RGB;
+  if (channels == GL_RED) {
+    const HdrImage grey = read_hdr();
+    for (std::size_t i = 0; i < grey.pixels.size(); ++i) raw[3 * i] = raw[3 * i + 1] = raw[3 * i + 2] = grey.pixels[i];
+    img.pixels = std::move(raw);
+    return img;
+  }
+  glGetTextureImage(t.id(), 0, GL_RGB, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(float)), raw.data());
+  gl::check_errors("HDR read-back");
+  gl::copy_rows_top_first(raw.data(), img.pixels.data(), static_cast<std::size_t>(img.width) * 3, img.height);
   return img;
 }
 

@@ -8,9 +8,16 @@
 
 namespace caustic::gl {
 
-Texture::Texture(GLenum internal_format, int width, int height, GLenum filter) : width_(width), height_(height) {
+Texture::Texture(GLenum internal_format, int width, int height, GLenum filter)
+    : width_(width), height_(height), format_(internal_format) {
   glCreateTextures(GL_TEXTURE_2D, 1, &id_);
   glTextureStorage2D(id_, 1, internal_format, width, height);
+  // A one-channel image samples as grey (r, r, r, 1): the post passes,
+  // written for colour, read a monochrome frame unchanged.
+  if (internal_format == GL_R8 || internal_format == GL_R16F || internal_format == GL_R32F) {
+    const GLint grey[] = {GL_RED, GL_RED, GL_RED, GL_ONE};
+    glTextureParameteriv(id_, GL_TEXTURE_SWIZZLE_RGBA, grey);
+  }
   glTextureParameteri(id_, GL_TEXTURE_MIN_FILTER, static_cast<GLint>(filter));
   glTextureParameteri(id_, GL_TEXTURE_MAG_FILTER, static_cast<GLint>(filter));
   glTextureParameteri(id_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -22,7 +29,7 @@ Texture::~Texture() {
 }
 
 Texture::Texture(Texture&& other) noexcept
-    : id_(std::exchange(other.id_, 0)), width_(other.width_), height_(other.height_) {}
+    : id_(std::exchange(other.id_, 0)), width_(other.width_), height_(other.height_), format_(other.format_) {}
 
 Texture& Texture::operator=(Texture&& other) noexcept {
   if (this != &other) {
@@ -30,6 +37,7 @@ Texture& Texture::operator=(Texture&& other) noexcept {
     id_ = std::exchange(other.id_, 0);
     width_ = other.width_;
     height_ = other.height_;
+    format_ = other.format_;
   }
   return *this;
 }

@@ -70,10 +70,12 @@ class Texture {
   GLuint id() const { return id_; }
   int width() const { return width_; }
   int height() const { return height_; }
+  GLenum format() const { return format_; }
 
  private:
   GLuint id_ = 0;
   int width_ = 0, height_ = 0;
+  GLenum format_ = 0;
 };
 
 /// A texture with a framebuffer that renders into it.

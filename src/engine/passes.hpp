@@ -17,8 +17,12 @@ class RayPass {
  public:
   RayPass();
   void upload(const Mesh& mesh);
-  /// Clears `target` and adds every triangle's relative irradiance into it.
-  void draw(const Scene& scene, const Placement& placement, const gl::RenderTarget& target);
+  /// Adds every triangle's relative irradiance, refracted with index `ior`
+  /// and times `weight`, into `target` (cleared first when `clear`): one
+  /// wavelength of a spectral frame, or (1, 1, 1) and object.ior for a
+  /// monochrome one.
+  void draw(const Scene& scene, const Placement& placement, const gl::RenderTarget& target, double ior,
+            glm::vec3 weight, bool clear);
   TriangleCounts counts() const;
 
  private:

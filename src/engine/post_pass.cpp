@@ -18,7 +18,7 @@ PostPass::PostPass()
     : bright_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"bright.frag"}}}),
       blur_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"blur.frag"}}}),
       tonemap_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"local.glsl", "tonemap.frag"}}}),
-      base_down_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"base_down.frag"}}}),
+      base_down_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"local.glsl", "base_down.frag"}}}),
       base_bilateral_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"base_bilateral.frag"}}}),
       meter_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"local.glsl", "meter.frag"}}}) {}
 
@@ -82,9 +82,12 @@ void PostPass::run(const PostParams& post, const gl::Texture& hdr, const gl::Ren
     // stays smooth; each step down makes the blur ~8x cheaper.
     const int shrink = post.bloom_radius < 8 ? 2 : post.bloom_radius < 16 ? 4 : 8;
     const int bw = std::max(1, hdr.width() / shrink), bh = std::max(1, hdr.height() / shrink);
-    if (bloom_a_.texture.width() != bw || bloom_a_.texture.height() != bh) {
-      bloom_a_ = gl::RenderTarget(GL_R16F, bw, bh, GL_LINEAR);
-      bloom_b_ = gl::RenderTarget(GL_R16F, bw, bh, GL_LINEAR);
+    // A colour frame glows in colour; a grey one keeps one channel, a
+    // quarter of the blur's memory traffic.
+    const GLenum format = hdr.format() == GL_R32F ? GL_R16F : GL_RGBA16F;
+    if (bloom_a_.texture.width() != bw || bloom_a_.texture.height() != bh || bloom_a_.texture.format() != format) {
+      bloom_a_ = gl::RenderTarget(format, bw, bh, GL_LINEAR);
+      bloom_b_ = gl::RenderTarget(format, bw, bh, GL_LINEAR);
     }
     bloom_a_.bind();
     bright_.use();

@@ -39,7 +39,8 @@ void RayPass::upload(const Mesh& mesh) {
   gl::check_errors("mesh upload");
 }
 
-void RayPass::draw(const Scene& scene, const Placement& placement, const gl::RenderTarget& target) {
+void RayPass::draw(const Scene& scene, const Placement& placement, const gl::RenderTarget& target, double ior,
+                   glm::vec3 weight, bool clear) {
   const auto& p = program_;
   const auto& screen = scene.screen;
   const bool point = scene.light.type == LightType::point;
@@ -52,7 +53,8 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
   p.set("uRotation", glm::mat3(placement.rotation));
   p.set("uFlatNormal", glm::vec3(placement.flat_normal));
   p.set("uFlatOffset", static_cast<float>(placement.flat_offset));
-  p.set("uIor", static_cast<float>(scene.object.ior));
+  p.set("uIor", static_cast<float>(ior));
+  p.set("uWeight", weight);
   p.set("uReflective", scene.object.material == Material::reflective);
   p.set("uFlatFirst", flat_first);
   p.set("uPointLight", point);
@@ -75,8 +77,8 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counters_.id());
 
   target.bind();
-  const float clear = 0.0f;
-  glClearNamedFramebufferfv(target.framebuffer.id(), GL_COLOR, 0, &clear);
+  const float black[4] = {0, 0, 0, 0};
+  if (clear) glClearNamedFramebufferfv(target.framebuffer.id(), GL_COLOR, 0, black);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   glEnable(GL_BLEND);

@@ -10,7 +10,7 @@ namespace {
 
 // Coefficients as their sources print them (c_k in µm²; Malitson gives
 // the resonance wavelengths, squared here).
-constexpr Material kMaterials[] = {
+constexpr Medium kMaterials[] = {
     {"bk7",
      {{1.03961212, 0.231792344, 1.01046945, 0.0}, {0.00600069867, 0.0200179144, 103.560653, 0.0}},
      300.0,
@@ -51,10 +51,10 @@ double micrometres(double nm) {
 
 }  // namespace
 
-std::span<const Material> materials() { return kMaterials; }
+std::span<const Medium> materials() { return kMaterials; }
 
-const Material* find_material(std::string_view name) {
-  for (const Material& m : kMaterials)
+const Medium* find_material(std::string_view name) {
+  for (const Medium& m : kMaterials)
     if (m.name == name) return &m;
   return nullptr;
 }

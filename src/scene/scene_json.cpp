@@ -5,6 +5,7 @@
 #include "caustic/scene.hpp"
 
 #include "caustic/json_text.hpp"
+#include "glass_json.hpp"
 #include "caustic/screen_follow.hpp"
 
 #include <nlohmann/json.hpp>
@@ -36,6 +37,10 @@ constexpr std::pair<const char*, Fidelity> kFidelities[] = {{"auto", Fidelity::a
 constexpr std::pair<const char*, ExposureMode> kExposureModes[] = {{"auto", ExposureMode::automatic},
                                                                    {"manual", ExposureMode::manual}};
 constexpr std::pair<const char*, ToneMap> kToneMaps[] = {{"global", ToneMap::global}, {"local", ToneMap::local}};
+constexpr std::pair<const char*, optics::Illuminant> kSpectra[] = {{"d65", optics::Illuminant::d65},
+                                                                   {"e", optics::Illuminant::equal},
+                                                                   {"blackbody", optics::Illuminant::blackbody},
+                                                                   {"led", optics::Illuminant::led}};
 
 
 std::string join(const std::string& prefix, const std::string& key) {
@@ -160,6 +165,10 @@ ObjectParams read_object(Reader r) {
   ObjectParams o;
   o.material = r.choice("material", o.material, Names<Material>(kMaterials));
   o.ior = r.number("ior", o.ior, 1.0, 10.0);
+  if (const json* g = r.get("glass")) {
+    o.glass = glass_from_json(*g, r.key("glass"));
+    o.ior = o.glass->index(optics::kLineD);
+  }
   o.flat_face_normal = r.vec3("flat_face_normal", o.flat_face_normal, true);
   o.flat_face_offset = r.optional_number("flat_face_offset", -kMaxCoordinate, kMaxCoordinate);
   o.position = r.vec3("position", o.position);
@@ -175,6 +184,8 @@ LightParams read_light(Reader r) {
   l.direction = r.vec3("direction", l.direction, true);
   l.position = r.vec3("position", l.position);
   l.point_model = r.choice("point_model", l.point_model, Names<PointModel>(kPointModels));
+  l.spectrum.kind = r.choice("spectrum", l.spectrum.kind, Names<optics::Illuminant>(kSpectra));
+  l.spectrum.kelvin = r.number("temperature_k", l.spectrum.kelvin, 1000.0, 40000.0);
   r.reject_unknown();
   return l;
 }
@@ -224,6 +235,7 @@ RenderParams read_render(Reader r) {
   p.accuracy_target = r.number("accuracy_target", p.accuracy_target, 0.0, 1.0, true);
   p.mesh_resolution = r.integer("mesh_resolution", p.mesh_resolution, 0, 2048);
   if (p.mesh_resolution == 1) throw SceneError(r.key("mesh_resolution"), "must be 0 (the mesh as loaded) or at least 2");
+  p.wavelengths = r.integer("wavelengths", p.wavelengths, 1, optics::kMaxWavelengths);
   r.reject_unknown();
   return p;
 }
@@ -288,6 +300,7 @@ json scene_to_json(const Scene& s) {
       {"object",
        {{"material", name_of(o.material, Names<Material>(kMaterials))},
         {"ior", o.ior},
+        {"glass", o.glass ? glass_to_json(*o.glass) : json(nullptr)},
         {"flat_face_normal", vec(o.flat_face_normal)},
         {"flat_face_offset", opt(o.flat_face_offset)},
         {"position", vec(o.position)},
@@ -297,7 +310,9 @@ json scene_to_json(const Scene& s) {
        {{"type", name_of(l.type, Names<LightType>(kLightTypes))},
         {"direction", vec(l.direction)},
         {"position", vec(l.position)},
-        {"point_model", name_of(l.point_model, Names<PointModel>(kPointModels))}}},
+        {"point_model", name_of(l.point_model, Names<PointModel>(kPointModels))},
+        {"spectrum", name_of(l.spectrum.kind, Names<optics::Illuminant>(kSpectra))},
+        {"temperature_k", l.spectrum.kelvin}}},
       {"screen",
        {{"center", vec(s.screen.center)},
         {"normal", vec(s.screen.normal)},
@@ -313,7 +328,8 @@ json scene_to_json(const Scene& s) {
         {"report_plane_distance", s.render.report_plane_distance},
         {"fidelity", name_of(s.render.fidelity, Names<Fidelity>(kFidelities))},
         {"accuracy_target", s.render.accuracy_target},
-        {"mesh_resolution", s.render.mesh_resolution}}},
+        {"mesh_resolution", s.render.mesh_resolution},
+        {"wavelengths", s.render.wavelengths}}},
       {"post",
        {{"exposure_mode", name_of(s.post.exposure_mode, Names<ExposureMode>(kExposureModes))},
         {"exposure", s.post.exposure},

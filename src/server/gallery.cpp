@@ -7,6 +7,7 @@
 #include "caustic/json_text.hpp"
 #include "caustic/resample.hpp"
 #include "caustic/screen_follow.hpp"
+#include "caustic/spectral.hpp"
 #include "log.hpp"
 
 #include <fstream>
@@ -64,12 +65,13 @@ std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, cons
   const Scene placed = follow_light(entry->scene, entry->levels->place(entry->scene.object));
   entry->calibration = load_calibration(calibration_path(file), scene_fingerprint(placed, *entry->mesh));
   entry->scene = resolve_for(*entry, entry->scene);
-  // A value the scene file writes for a key that fidelity "auto" decides is
-  // overridden: say so rather than ignore it without a word.
+  // A value the scene file writes for a key that fidelity "auto" decides, or
+  // that another setting overrides: say so rather than ignore it.
   if (std::ifstream in{file}) {
     const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
     if (const auto written = parse_json_text(text))
-      for (const auto& overrides : {fidelity_overrides(*written, entry->scene), follow_overrides(*written, entry->scene)})
+      for (const auto& overrides : {fidelity_overrides(*written, entry->scene), follow_overrides(*written, entry->scene),
+                                    spectral_overrides(*written, entry->scene)})
         for (const auto& [key, detail] : overrides) log(Level::warning, "scene " + id + ": " + detail);
   }
   entry->levels->at(entry->scene.render.mesh_resolution);  // a manual scene may name a level not on offer

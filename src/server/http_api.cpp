@@ -3,6 +3,7 @@
 #include "caustic/json_text.hpp"
 #include "caustic/scene_warnings.hpp"
 #include "caustic/screen_follow.hpp"
+#include "caustic/spectral.hpp"
 #include "http_util.hpp"
 #include "log.hpp"
 #include "server_state.hpp"
@@ -108,7 +109,8 @@ void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
   ++s.metrics.parameter_updates;
   nlohmann::json overridden = nlohmann::json::array();
   const Scene now = session.params().snapshot().scene;
-  for (const auto& overrides : {fidelity_overrides(patch, now), follow_overrides(patch, now)})
+  for (const auto& overrides :
+       {fidelity_overrides(patch, now), follow_overrides(patch, now), spectral_overrides(patch, now)})
     for (const auto& [key, detail] : overrides) overridden.push_back({{"key", key}, {"detail", detail}});
   reply_json(msg, SOUP_STATUS_OK, public_params(session, std::move(overridden)));
 }

@@ -29,12 +29,14 @@ enum class PixelFormat { rgba, i420 };
 struct FrameStats {
   double ray_ms = 0;          ///< caustic pass, GPU work finished
   double post_ms = 0;         ///< bloom and tone mapping, GPU work finished
+  // Triangle counts are the last ray pass's (of a spectral frame: its reddest wavelength).
   std::uint32_t drawn = 0;    ///< triangles that reached the screen
   std::uint32_t dropped = 0;  ///< triangles with a vertex lost to TIR, a miss or grazing incidence
   std::uint32_t folded = 0;   ///< drawn triangles whose screen orientation is the minority one
   std::uint32_t collapsed = 0; ///< drawn triangles of (nearly) zero screen area: flux into one pixel
   double exposure = 1;        ///< the exposure the tone map used
   double metered = 0;         ///< "auto": the metered quantile of the lit pixels (0: none lit)
+  int wavelengths = 1;        ///< ray passes of the last frame: its wavelength samples (1: monochrome)
 };
 
 class Engine {
@@ -64,7 +66,10 @@ class Engine {
   /// towards the metered one (post.exposure_adapt_s), then settles.
   bool render();
 
+  /// The relative irradiance: of a spectral frame, its luminance.
   HdrImage read_hdr() const;
+  /// Linear sRGB, white-balanced to the light (grey for a monochrome frame).
+  RgbHdrImage read_hdr_rgb() const;
   Rgba8Image read_ldr() const;
 
   /// Streaming read-back without waiting for the GPU: queue a copy of the

@@ -25,6 +25,7 @@ namespace caustic::optics {
 /// n² − 1 = Σ b_k λ² / (λ² − c_k), λ in µm, c_k in µm². Unused terms are 0.
 struct Sellmeier {
   std::array<double, 4> b{}, c{};
+  bool operator==(const Sellmeier&) const = default;
 };
 
 /// n = a + b / λ², λ in µm: two coefficients for a material given by hand
@@ -32,6 +33,7 @@ struct Sellmeier {
 /// glass, 0.01 for flint).
 struct Cauchy {
   double a = 1.5, b = 0.0;
+  bool operator==(const Cauchy&) const = default;
 };
 
 /// The Fraunhofer lines by which catalogues state n and the Abbe number:
@@ -39,7 +41,7 @@ struct Cauchy {
 inline constexpr double kLineD = 587.5618, kLineF = 486.1327, kLineC = 656.2725;
 
 /// A material by name, its law, where the law holds, and who measured it.
-struct Material {
+struct Medium {
   std::string_view name;
   Sellmeier law;
   double min_nm, max_nm;  ///< the range of the measurements the law fits
@@ -47,9 +49,9 @@ struct Material {
 };
 
 /// Every named material, one table for all users (scene keys, docs, tests).
-std::span<const Material> materials();
+std::span<const Medium> materials();
 /// The material called `name`, if any.
-const Material* find_material(std::string_view name);
+const Medium* find_material(std::string_view name);
 
 /// The index at `nm`. Throws std::invalid_argument for a wavelength that is
 /// not positive or sits on a pole of the law (λ² = c_k).
@@ -57,7 +59,7 @@ double index(const Sellmeier& law, double nm);
 double index(const Cauchy& law, double nm);
 
 /// Whether `nm` lies in the range where `m` was measured.
-inline bool valid(const Material& m, double nm) { return nm >= m.min_nm && nm <= m.max_nm; }
+inline bool valid(const Medium& m, double nm) { return nm >= m.min_nm && nm <= m.max_nm; }
 
 /// Abbe number V_d = (n_d − 1) / (n_F − n_C): large for little dispersion
 /// (crown glass about 64, flint 30 and below).

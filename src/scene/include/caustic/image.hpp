@@ -17,6 +17,17 @@ struct HdrImage {
   float at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
 };
 
+/// Linear RGB relative irradiance (sRGB primaries), three floats per pixel
+/// in R, G, B order, row 0 at the top.
+struct RgbHdrImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> pixels;
+};
+
+/// The luminance (Rec. 709 weights) of each pixel: R = G = B = v gives v.
+HdrImage luminance(const RgbHdrImage& image);
+
 /// Tone-mapped 8-bit RGBA, row 0 at the top.
 struct Rgba8Image {
   int width = 0;

@@ -4,6 +4,9 @@
 // settings. docs/scene-format.md documents every key of the JSON form.
 #pragma once
 
+#include "caustic/colour.hpp"
+#include "caustic/dispersion.hpp"
+
 #include <glm/glm.hpp>
 #include <nlohmann/json_fwd.hpp>
 
@@ -11,6 +14,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <variant>
 
 namespace caustic {
 
@@ -34,9 +38,22 @@ enum class Fidelity { automatic, manual };
 enum class ExposureMode { automatic, manual };
 enum class ToneMap { global, local };
 
+/// A dispersive material: a catalogue glass by name (optics::materials())
+/// or a law given by its coefficients (name empty).
+struct Glass {
+  std::string name;
+  std::variant<optics::Sellmeier, optics::Cauchy> law;
+  /// The index at `nm` (a validated glass has one in [1, 10] over 380..780 nm).
+  double index(double nm) const;
+  bool operator==(const Glass&) const = default;
+};
+
 struct ObjectParams {
   Material material = Material::refractive;
+  /// The index of a glass without dispersion; with `glass` set, the glass's
+  /// index at the d line (587.6 nm), which monochrome frames use.
   double ior = 1.5;
+  std::optional<Glass> glass;  ///< none: one index for every wavelength
   glm::dvec3 flat_face_normal{0, 0, 1};     ///< outward, mesh coordinates, unit
   std::optional<double> flat_face_offset;   ///< plane dot(x, n) = offset; default: extreme vertex
   glm::dvec3 position{0, 0, 0};
@@ -51,6 +68,8 @@ struct LightParams {
   glm::dvec3 direction{0, 0, -1};  ///< propagation direction of a directional light, unit
   glm::dvec3 position{0, 0, 100};  ///< point light position
   PointModel point_model = PointModel::exact;
+  /// What the light emits; a spectral frame white-balances to it (colour.hpp).
+  optics::LightSpectrum spectrum;
 
   bool operator==(const LightParams&) const = default;
 };
@@ -80,6 +99,9 @@ struct RenderParams {
   Fidelity fidelity = Fidelity::automatic;
   double accuracy_target = 0.05;  ///< relative L1 against the reference, for "auto"
   int mesh_resolution = 0;        ///< 0: the mesh as loaded; n: resampled on an n x n grid
+  /// Wavelength samples of a spectral frame (object.glass set); previews
+  /// while the scene moves use at most kPreviewWavelengths.
+  int wavelengths = 8;
 
   bool operator==(const RenderParams&) const = default;
 };
@@ -108,6 +130,8 @@ struct PostParams {
 /// Largest coordinate a scene may hold (mm): far beyond any real set-up, small
 /// enough that squared distances stay exact in doubles.
 inline constexpr double kMaxCoordinate = 1e6;
+/// Wavelength samples of a spectral preview (the scene moving).
+inline constexpr int kPreviewWavelengths = 3;
 
 struct Scene {
   std::string name;

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// What a spectral frame traces: one pass per wavelength sample, each with
+// the glass's index there and the band's white-balanced RGB weight
+// (caustic/colour.hpp). Renderers add the passes' irradiance times their
+// weights; without dispersion every pass would take the same path, so the
+// frame is monochrome and no list is made.
+#pragma once
+
+#include "caustic/scene.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace caustic {
+
+struct SpectralPass {
+  double nm = 0;
+  double ior = 1.5;
+  optics::Rgb weight;
+};
+
+/// Whether the scene renders in colour: a refractive object of a glass.
+bool spectral(const Scene& scene);
+
+/// The passes of a frame of `count` wavelengths (render.wavelengths, or
+/// fewer for a preview); empty when the scene is not spectral.
+std::vector<SpectralPass> spectral_passes(const Scene& scene, int count);
+
+/// Keys that `written` (a scene file or a patch) sets but that the spectral
+/// settings of `scene` (the result) override or make moot, each with a
+/// sentence for its writer: object.ior beside object.glass, light
+/// temperature_k without a blackbody, a glass on a mirror.
+std::vector<std::pair<std::string, std::string>> spectral_overrides(const nlohmann::json& written, const Scene& scene);
+
+}  // namespace caustic

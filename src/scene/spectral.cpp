@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "caustic/spectral.hpp"
+
+namespace caustic {
+namespace {
+
+bool writes(const nlohmann::json& written, const char* group, const char* key) {
+  if (!written.is_object()) return false;
+  const auto g = written.find(group);
+  return g != written.end() && g->is_object() && g->contains(key) && !g->at(key).is_null();
+}
+
+}  // namespace
+
+bool spectral(const Scene& scene) { return scene.object.glass && scene.object.material == Material::refractive; }
+
+std::vector<SpectralPass> spectral_passes(const Scene& scene, int count) {
+  if (!spectral(scene)) return {};
+  std::vector<SpectralPass> passes;
+  for (const auto& sample : optics::wavelength_samples(scene.light.spectrum, count))
+    passes.push_back({sample.nm, scene.object.glass->index(sample.nm), sample.weight});
+  return passes;
+}
+
+std::vector<std::pair<std::string, std::string>> spectral_overrides(const nlohmann::json& written, const Scene& scene) {
+  std::vector<std::pair<std::string, std::string>> out;
+  if (scene.object.glass && writes(written, "object", "ior"))
+    out.emplace_back("object.ior", "object.ior is the glass's index at the d line (587.6 nm) while object.glass is "
+                                   "set, which overrides the value written; remove object.glass to use one index");
+  if (scene.object.glass && scene.object.material == Material::reflective &&
+      (writes(written, "object", "glass") || writes(written, "object", "material")))
+    out.emplace_back("object.glass", "object.glass has no effect on a mirror (object.material \"reflective\"): "
+                                     "reflection sends every wavelength the same way");
+  if (scene.light.spectrum.kind != optics::Illuminant::blackbody && writes(written, "light", "temperature_k"))
+    out.emplace_back("light.temperature_k",
+                     "light.temperature_k is used only by light.spectrum \"blackbody\"; it is ignored for this light");
+  return out;
+}
+
+}  // namespace caustic

@@ -1,0 +1,156 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Spectral frames against closed forms (docs/physics.md §9): white light
+// through a flat slab stays white; a wedge of BK7 sends each colour channel
+// where Snell's law sends its wavelengths, and near the critical angle the
+// blue is lost to total internal reflection before the red.
+#include "gl_test_support.hpp"
+
+#include "caustic/spectral.hpp"
+
+#include <cmath>
+
+using namespace caustic;
+using namespace caustic::testing;
+
+namespace {
+
+// z = tan(alpha) x: a prism of apex angle alpha under the flat face.
+HeightField wedge(double alpha, double half_width) {
+  const double t = std::tan(alpha);
+  return {[t](double x, double) { return t * x; }, [t](double, double) { return glm::dvec2(t, 0); }, half_width,
+          half_width};
+}
+
+// Deviation from straight down of light leaving the wedge's face, by Snell's
+// law: sin(theta_t) = n sin(alpha), deviated by theta_t - alpha towards -x
+// (the prism's base, where the glass is thicker).
+double wedge_deviation(double n, double alpha) { return std::asin(n * std::sin(alpha)) - alpha; }
+
+struct Channels {
+  double sum[3] = {0, 0, 0};
+  double moment_x[3] = {0, 0, 0};  // sum of value * screen x
+  double centroid(int c) const { return moment_x[c] / sum[c]; }
+};
+
+Channels channels(const RgbHdrImage& img, const ScreenParams& screen) {
+  Channels ch;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const double px = pixel_centre(screen, img.width, img.height, x, y).x;
+      for (int c = 0; c < 3; ++c) {
+        const double v = img.pixels[3 * (static_cast<std::size_t>(y) * img.width + x) + c];
+        ch.sum[c] += v;
+        ch.moment_x[c] += v * px;
+      }
+    }
+  return ch;
+}
+
+class Spectral : public GlTest {
+ protected:
+  RgbHdrImage render_rgb(const Scene& scene, std::shared_ptr<const Mesh> mesh) {
+    engine_->set_scene(scene, std::move(mesh));
+    engine_->render();
+    return engine_->read_hdr_rgb();
+  }
+  static Scene bk7(Scene s, int wavelengths) {
+    s.object.glass = Glass{"bk7", optics::find_material("bk7")->law};
+    s.object.ior = s.object.glass->index(optics::kLineD);
+    s.render.wavelengths = wavelengths;
+    return s;
+  }
+};
+
+}  // namespace
+
+TEST_F(Spectral, WhiteLightThroughAFlatSlabStaysWhite) {
+  const auto slab = shared(grid_mesh(flat_face(10.0), 32, 32));
+  for (const auto spectrum : {optics::LightSpectrum{optics::Illuminant::d65},
+                              optics::LightSpectrum{optics::Illuminant::blackbody, 2700},
+                              optics::LightSpectrum{optics::Illuminant::led}}) {
+    Scene s = bk7(straight_down_scene(3.0, 50.0, 25.6, 128), 8);
+    s.light.spectrum = spectrum;
+    const RgbHdrImage img = render_rgb(s, slab);
+    EXPECT_EQ(engine_->stats().wavelengths, 8);
+    int lit = 0;
+    double worst = 0;
+    for (std::size_t i = 0; i < img.pixels.size(); i += 3) {
+      const double r = img.pixels[i], g = img.pixels[i + 1], b = img.pixels[i + 2];
+      if (r + g + b < 1.5) continue;  // the footprint reads 1 per channel
+      ++lit;
+      worst = std::max({worst, std::abs(r / (r + g + b) - 1.0 / 3), std::abs(g / (r + g + b) - 1.0 / 3)});
+    }
+    EXPECT_GT(lit, 5000);
+    EXPECT_LT(worst, 1e-3);
+    // White-balanced weights sum to one: the luminance is the monochrome frame's.
+    EXPECT_NEAR(total_flux(luminance(img), s.screen), 400.0, 400.0 * 1e-3);
+  }
+}
+
+TEST_F(Spectral, AWedgeSendsEachChannelWhereSnellSendsItsWavelengths) {
+  const double alpha = 0.35, distance = 100.0;  // a 20 degree prism, screen 100 mm below
+  const auto prism = shared(grid_mesh(wedge(alpha, 5.0), 16, 16));
+  Scene s = bk7(straight_down_scene(5.0, distance, 40.0, 512), 8);
+  s.screen.center.x = -distance * wedge_deviation(1.52, alpha);  // centred on the spectrum
+  const RgbHdrImage img = render_rgb(s, prism);
+  const Channels ch = channels(img, s.screen);
+
+  // With Fresnel off every wavelength carries the same flux; a channel's
+  // centroid is its bands' spots averaged with the band weights.
+  const auto passes = spectral_passes(s, 8);
+  ASSERT_EQ(passes.size(), 8u);
+  double expected[3] = {0, 0, 0};
+  for (const auto& p : passes) {
+    // The index from the catalogue law at the band's wavelength, not the pass's own.
+    const double n = optics::index(optics::find_material("bk7")->law, p.nm);
+    const double x = -distance * std::tan(wedge_deviation(n, alpha));
+    expected[0] += p.weight.r * x;
+    expected[1] += p.weight.g * x;
+    expected[2] += p.weight.b * x;
+  }
+  for (int c = 0; c < 3; ++c) {
+    const double measured = std::atan(-(s.screen.center.x + ch.centroid(c)) / distance), analytic = std::atan(-expected[c] / distance);
+    EXPECT_NEAR(measured, analytic, 1e-4) << "channel " << c;
+  }
+  // Blue bends most: the spread between the red and blue centroids against
+  // the analytic one.
+  const double spread = ch.centroid(0) - ch.centroid(2), analytic_spread = expected[0] - expected[2];
+  EXPECT_GT(spread, 0.0);
+  EXPECT_NEAR(spread, analytic_spread, 0.01 * analytic_spread);
+}
+
+TEST_F(Spectral, NearTheCriticalAngleBlueIsLostBeforeRed) {
+  // BK7's critical angle is 40.6 degrees at 405 nm and 41.4 at 755 nm: at
+  // 41 degrees the short bands reflect totally, the long ones pass.
+  const double alpha = 41.0 * M_PI / 180;
+  const auto prism = shared(grid_mesh(wedge(alpha, 5.0), 16, 16));
+  Scene s = bk7(straight_down_scene(5.0, 20.0, 200.0, 256), 8);
+  s.screen.center.x = -60;
+  const RgbHdrImage img = render_rgb(s, prism);
+  for (float v : img.pixels) ASSERT_TRUE(std::isfinite(v));
+  const Channels ch = channels(img, s.screen);
+  EXPECT_GT(ch.sum[0], 0.0);
+  EXPECT_GT(ch.sum[0], 5 * std::abs(ch.sum[2])) << "what passes is red";
+}
+
+TEST_F(Spectral, APreviewTracesAtMostThreeWavelengths) {
+  const auto slab = shared(grid_mesh(flat_face(10.0), 16, 16));
+  engine_->set_preview_divisor(2);
+  render_rgb(bk7(straight_down_scene(3.0, 50.0, 25.6, 128), 16), slab);
+  EXPECT_EQ(engine_->stats().wavelengths, kPreviewWavelengths);
+  engine_->set_preview_divisor(1);
+  engine_->render();
+  EXPECT_EQ(engine_->stats().wavelengths, 16);
+}
+
+TEST_F(Spectral, WithoutAGlassTheFrameIsMonochrome) {
+  const auto slab = shared(grid_mesh(flat_face(10.0), 16, 16));
+  Scene s = straight_down_scene(3.0, 50.0, 25.6, 128);
+  s.render.wavelengths = 16;  // moot without dispersion: one pass
+  const RgbHdrImage img = render_rgb(s, slab);
+  EXPECT_EQ(engine_->stats().wavelengths, 1);
+  const std::size_t centre = 3 * (64 * 128 + 64);
+  EXPECT_NEAR(img.pixels[centre], 1.0f, 1e-5);
+  EXPECT_EQ(img.pixels[centre], img.pixels[centre + 1]);
+  EXPECT_EQ(img.pixels[centre], img.pixels[centre + 2]);
+}
