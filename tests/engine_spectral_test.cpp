@@ -14,13 +14,6 @@ using namespace caustic::testing;
 
 namespace {
 
-// z = tan(alpha) x: a prism of apex angle alpha under the flat face.
-HeightField wedge(double alpha, double half_width) {
-  const double t = std::tan(alpha);
-  return {[t](double x, double) { return t * x; }, [t](double, double) { return glm::dvec2(t, 0); }, half_width,
-          half_width};
-}
-
 // Deviation from straight down of light leaving the wedge's face, by Snell's
 // law: sin(theta_t) = n sin(alpha), deviated by theta_t - alpha towards -x
 // (the prism's base, where the glass is thicker).
@@ -89,7 +82,7 @@ TEST_F(Spectral, WhiteLightThroughAFlatSlabStaysWhite) {
 
 TEST_F(Spectral, AWedgeSendsEachChannelWhereSnellSendsItsWavelengths) {
   const double alpha = 0.35, distance = 100.0;  // a 20 degree prism, screen 100 mm below
-  const auto prism = shared(grid_mesh(wedge(alpha, 5.0), 16, 16));
+  const auto prism = shared(grid_mesh(wedge(alpha, 5.0, 5.0), 16, 16));
   Scene s = bk7(straight_down_scene(5.0, distance, 40.0, 512), 8);
   s.screen.center.x = -distance * wedge_deviation(1.52, alpha);  // centred on the spectrum
   const RgbHdrImage img = render_rgb(s, prism);
@@ -123,7 +116,7 @@ TEST_F(Spectral, NearTheCriticalAngleBlueIsLostBeforeRed) {
   // BK7's critical angle is 40.6 degrees at 405 nm and 41.4 at 755 nm: at
   // 41 degrees the short bands reflect totally, the long ones pass.
   const double alpha = 41.0 * M_PI / 180;
-  const auto prism = shared(grid_mesh(wedge(alpha, 5.0), 16, 16));
+  const auto prism = shared(grid_mesh(wedge(alpha, 5.0, 5.0), 16, 16));
   Scene s = bk7(straight_down_scene(5.0, 20.0, 200.0, 256), 8);
   s.screen.center.x = -60;
   const RgbHdrImage img = render_rgb(s, prism);

@@ -55,7 +55,7 @@ TEST_P(EngineVsReference, RelativeL1WithinTheStatedBound) {
 }
 
 INSTANTIATE_TEST_SUITE_P(BuiltInScenes, EngineVsReference,
-                         ::testing::Values(Case{"slab", 0.01}, Case{"wavy", 0.01}, Case{"cylinder", 0.03},
+                         ::testing::Values(Case{"slab", 0.01}, Case{"wavy", 0.01}, Case{"cylinder", 0.03}, Case{"prism", 0.01},
                                            Case{"lens", 0.01}, Case{"design-cat", 0.01}, Case{"design-logo", 0.025},
                                            Case{"design-text", 0.025}),
                          [](const auto& info) {
@@ -63,6 +63,32 @@ INSTANTIATE_TEST_SUITE_P(BuiltInScenes, EngineVsReference,
                            std::replace(name.begin(), name.end(), '-', '_');
                            return name;
                          });
+
+TEST_F(EngineVsReference, APrismsColoursMatchTheReferencesChannelByChannel) {
+  // The spectral frame in colour: each channel of the engine's frame against
+  // the reference's, which traces the same wavelengths through Embree.
+  Scene scene = load_scene(std::string(CAUSTIC_ASSET_DIR) + "/scenes/prism.json");
+  scene.render.width = scene.render.height = 128;
+  const auto mesh = shared(load_obj(scene.mesh_path()));
+  engine_->set_scene(scene, mesh);
+  engine_->render();
+  const RgbHdrImage engine = engine_->read_hdr_rgb();
+  ReferenceOptions options;
+  options.photons = 16'000'000;
+  const ReferenceResult reference = trace_reference(scene, *mesh, options);
+  ASSERT_EQ(reference.wavelengths, scene.render.wavelengths);
+  ASSERT_EQ(reference.rgb.pixels.size(), engine.pixels.size());
+  for (int c = 0; c < 3; ++c) {
+    HdrImage a{128, 128, {}}, b{128, 128, {}};
+    for (std::size_t i = c; i < engine.pixels.size(); i += 3) {
+      a.pixels.push_back(engine.pixels[i]);
+      b.pixels.push_back(reference.rgb.pixels[i]);
+    }
+    const double l1 = relative_l1(a, b);
+    std::printf("prism channel %d: relative L1 engine vs reference %.4f\n", c, l1);
+    EXPECT_LT(l1, 0.01) << "channel " << c;
+  }
+}
 
 TEST_F(EngineVsReference, ReportIntensityIsFarFromTheReferenceWhereEnergyIsNot) {
   // The lens half-way to its focus: the beam converges, and the report's

@@ -4,6 +4,7 @@
 #include "caustic/param_store.hpp"
 #include "caustic/scene.hpp"
 #include "caustic/scene_warnings.hpp"
+#include "scene_test_support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -15,28 +16,9 @@
 using namespace caustic;
 using nlohmann::json;
 
-namespace {
-
-json minimal() { return json{{"mesh", "m.obj"}}; }
-
-// Expects the document to be rejected with a message that names `key`.
-void expect_rejected(const json& doc, const std::string& key) {
-  try {
-    scene_from_json(doc, ".");
-    ADD_FAILURE() << "accepted: " << doc.dump();
-  } catch (const SceneError& e) {
-    EXPECT_EQ(e.key(), key) << e.what();
-    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
-  }
-}
-
-json with(const std::string& section, const std::string& key, json value) {
-  json doc = minimal();
-  doc[section][key] = std::move(value);
-  return doc;
-}
-
-}  // namespace
+using caustic::testing::expect_rejected;
+using caustic::testing::minimal;
+using caustic::testing::with;
 
 TEST(SceneJson, DefaultsAreFilledIn) {
   const Scene s = scene_from_json(minimal(), "/data");

@@ -31,6 +31,8 @@ int main(int argc, char** argv) {
       {"cylinder", cylindrical_lens(40.0, 10.0)},
       // Sum of sines, amplitude 0.05 mm: folds begin at 1/((n-1) A k^2) = 25.3 mm.
       {"wavy", sine_window(0.05, k, 0.05, k, 10.0)},
+      // A 35 degree prism bar, 2 mm across its dispersion, 16 mm long.
+      {"prism", wedge(35.0 * std::numbers::pi / 180.0, 1.0, 8.0)},
   };
   try {
     std::filesystem::create_directories(out);

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/reference.hpp"
 
+#include "caustic/spectral.hpp"
+
 #include "caustic/optics.hpp"
 #include "embree_mesh.hpp"
 
@@ -112,8 +114,10 @@ bool follow(const Scene& scene, const Geometry& geo, const Placement& p, Photon&
 
 }  // namespace
 
-ReferenceResult trace_reference(const Scene& scene, const Mesh& mesh, const ReferenceOptions& options) {
-  validate_scene(scene);
+namespace {
+
+// One wavelength (or a grey frame): the scene's object.ior throughout.
+ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const ReferenceOptions& options) {
   const Placement placement = place_object(scene.object, mesh);
   check_geometry(scene, mesh, placement);
   const auto start = std::chrono::steady_clock::now();
@@ -200,6 +204,41 @@ ReferenceResult trace_reference(const Scene& scene, const Mesh& mesh, const Refe
   result.photons_on_screen = landed;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+}  // namespace
+
+ReferenceResult trace_reference(const Scene& scene, const Mesh& mesh, const ReferenceOptions& options) {
+  validate_scene(scene);
+  const auto passes = spectral_passes(scene, scene.render.wavelengths);
+  if (passes.empty()) return trace_grey(scene, mesh, options);
+  // The photons are shared among the wavelengths: the luminance, whose
+  // weights sum to one, is as noisy as a grey frame with all of them.
+  ReferenceResult total;
+  const std::size_t n = static_cast<std::size_t>(scene.render.width) * scene.render.height;
+  total.rgb = RgbHdrImage{scene.render.width, scene.render.height, std::vector<float>(3 * n)};
+  for (std::size_t k = 0; k < passes.size(); ++k) {
+    Scene one = scene;
+    one.object.ior = passes[k].ior;
+    ReferenceOptions each = options;
+    each.photons = std::max<std::uint64_t>(1, options.photons / passes.size());
+    each.seed = options.seed + 7919 * k;  // independent noise per wavelength
+    if (options.progress)
+      each.progress = [&, k](double done) { options.progress((static_cast<double>(k) + done) / passes.size()); };
+    const ReferenceResult r = trace_grey(one, mesh, each);
+    const auto& w = passes[k].weight;
+    for (std::size_t i = 0; i < n; ++i) {
+      total.rgb.pixels[3 * i] += static_cast<float>(w.r * r.image.pixels[i]);
+      total.rgb.pixels[3 * i + 1] += static_cast<float>(w.g * r.image.pixels[i]);
+      total.rgb.pixels[3 * i + 2] += static_cast<float>(w.b * r.image.pixels[i]);
+    }
+    total.photons += r.photons;
+    total.photons_on_screen += r.photons_on_screen;
+    total.seconds += r.seconds;
+  }
+  total.image = luminance(total.rgb);
+  total.wavelengths = static_cast<int>(passes.size());
+  return total;
 }
 
 }  // namespace caustic

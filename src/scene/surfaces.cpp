@@ -69,4 +69,10 @@ HeightField flat_face(double half_width) {
   return f;
 }
 
+HeightField wedge(double apex, double half_width_x, double half_width_y) {
+  const double t = std::tan(apex);
+  return {[t](double x, double) { return t * x; }, [t](double, double) { return glm::dvec2(t, 0); }, half_width_x,
+          half_width_y};
+}
+
 }  // namespace caustic

@@ -37,4 +37,9 @@ HeightField sine_window(double amplitude_x, double k_x, double amplitude_y, doub
 /// A plane z = 0: the flat slab.
 HeightField flat_face(double half_width);
 
+/// A prism: the plane z = tan(apex) x, tilted by `apex` radians about y
+/// (thickest at -x, its base), over [-hx, hx] x [-hy, hy]. Light straight
+/// down leaves it deviated by asin(n sin(apex)) - apex towards -x.
+HeightField wedge(double apex, double half_width_x, double half_width_y);
+
 }  // namespace caustic

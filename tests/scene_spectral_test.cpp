@@ -1,0 +1,98 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// The spectral keys: object.glass by name or coefficients, light.spectrum
+// and temperature_k, render.wavelengths; bad values named, the overridden
+// ones warned about, and the passes a frame traces.
+#include "caustic/spectral.hpp"
+#include "scene_test_support.hpp"
+
+#include <gtest/gtest.h>
+
+using namespace caustic;
+using namespace caustic::testing;
+
+TEST(SceneSpectral, AGlassByNameSetsTheIndexAtTheDLine) {
+  const Scene s = scene_from_json(with("object", "glass", "bk7"), ".");
+  ASSERT_TRUE(s.object.glass);
+  EXPECT_EQ(s.object.glass->name, "bk7");
+  EXPECT_NEAR(s.object.ior, 1.5168, 1e-4);  // SCHOTT N-BK7 n_d
+  EXPECT_TRUE(spectral(s));
+  const json back = scene_to_json(s);
+  EXPECT_EQ(back["object"]["glass"], "bk7");
+  EXPECT_EQ(scene_from_json(back, "."), s);
+}
+
+TEST(SceneSpectral, CoefficientsRoundTrip) {
+  const json sellmeier = {{"sellmeier", {{"b", {1.03961212, 0.231792344, 1.01046945}},
+                                         {"c", {0.00600069867, 0.0200179144, 103.560653}}}}};
+  const Scene s = scene_from_json(with("object", "glass", sellmeier), ".");
+  EXPECT_TRUE(s.object.glass->name.empty());
+  EXPECT_NEAR(s.object.ior, 1.5168, 1e-4);  // the same N-BK7 law, written out
+  EXPECT_EQ(scene_from_json(scene_to_json(s), "."), s);
+
+  const Scene c = scene_from_json(with("object", "glass", {{"cauchy", {{"a", 1.5}, {"b", 0.0042}}}}), ".");
+  EXPECT_NEAR(c.object.glass->index(500), 1.5 + 0.0042 / 0.25, 1e-12);
+  EXPECT_EQ(scene_from_json(scene_to_json(c), "."), c);
+}
+
+TEST(SceneSpectral, BadGlassesAreNamed) {
+  expect_rejected(with("object", "glass", "unobtainium"), "object.glass");
+  expect_rejected(with("object", "glass", 1.5), "object.glass");
+  expect_rejected(with("object", "glass", json::object()), "object.glass");
+  expect_rejected(with("object", "glass", {{"sellmeier", {{"b", {1.0}}}}}), "object.glass.sellmeier");
+  expect_rejected(with("object", "glass", {{"sellmeier", {{"b", {1.0}}, {"c", {0.01, 0.02}}}}}),
+                  "object.glass.sellmeier.c");
+  expect_rejected(with("object", "glass", {{"sellmeier", {{"b", {1, 1, 1, 1, 1}}, {"c", {0, 0, 0, 0, 0}}}}}),
+                  "object.glass.sellmeier.b");
+  expect_rejected(with("object", "glass", {{"sellmeier", {{"b", {-1.0}}, {"c", {0.01}}}}}),
+                  "object.glass.sellmeier.b");
+  // A pole at 500 nm (c = 0.25 µm²) lies in the visible: no index there.
+  expect_rejected(with("object", "glass", {{"sellmeier", {{"b", {1.0}}, {"c", {0.25}}}}}), "object.glass");
+  expect_rejected(with("object", "glass", {{"cauchy", {{"a", 0.5}, {"b", 0.0}}}}), "object.glass.cauchy.a");
+  expect_rejected(with("object", "glass", {{"cauchy", {{"a", 1.5}, {"b", "x"}}}}), "object.glass.cauchy.b");
+  expect_rejected(with("object", "glass", {{"cauchy", {{"a", 1.5}, {"b", 0.0}, {"z", 1}}}}), "object.glass.cauchy.z");
+  expect_rejected(with("object", "glass", {{"cauchy", {{"a", 1.5}, {"b", 0.0}}}, {"sellmeier", 1}}),
+                  "object.glass");
+  expect_rejected(with("light", "spectrum", "sodium"), "light.spectrum");
+  expect_rejected(with("light", "temperature_k", 500), "light.temperature_k");
+  expect_rejected(with("render", "wavelengths", 0), "render.wavelengths");
+  expect_rejected(with("render", "wavelengths", 33), "render.wavelengths");
+}
+
+TEST(SceneSpectral, PassesFollowTheGlassAndTheLight) {
+  json doc = with("object", "glass", "bk7");
+  doc["render"]["wavelengths"] = 4;
+  doc["light"] = {{"spectrum", "blackbody"}, {"temperature_k", 3000}};
+  const Scene s = scene_from_json(doc, ".");
+  const auto passes = spectral_passes(s, s.render.wavelengths);
+  ASSERT_EQ(passes.size(), 4u);
+  for (std::size_t i = 1; i < passes.size(); ++i) {
+    EXPECT_GT(passes[i].nm, passes[i - 1].nm);
+    EXPECT_LT(passes[i].ior, passes[i - 1].ior) << "normal dispersion: red bends least";
+  }
+  // A mirror, or no glass: one grey pass, no list.
+  Scene mirror = s;
+  mirror.object.material = Material::reflective;
+  EXPECT_TRUE(spectral_passes(mirror, 4).empty());
+  EXPECT_TRUE(spectral_passes(scene_from_json(minimal(), "."), 4).empty());
+}
+
+TEST(SceneSpectral, KeysThatAnotherSettingOverridesAreWarnedAbout) {
+  json doc = with("object", "glass", "bk7");
+  doc["object"]["ior"] = 1.7;
+  doc["light"]["temperature_k"] = 3000;  // the default spectrum is D65
+  const Scene s = scene_from_json(doc, ".");
+  EXPECT_NEAR(s.object.ior, 1.5168, 1e-4);
+  const auto warned = spectral_overrides(doc, s);
+  ASSERT_EQ(warned.size(), 2u);
+  EXPECT_EQ(warned[0].first, "object.ior");
+  EXPECT_EQ(warned[1].first, "light.temperature_k");
+
+  doc["object"]["material"] = "reflective";
+  const auto mirror = spectral_overrides(doc, scene_from_json(doc, "."));
+  EXPECT_EQ(mirror.size(), 3u);
+  EXPECT_EQ(mirror[1].first, "object.glass");
+
+  // Written where it counts, nothing to say.
+  const json fine = {{"mesh", "m.obj"}, {"object", {{"glass", "water"}}}, {"light", {{"spectrum", "blackbody"}, {"temperature_k", 3000}}}};
+  EXPECT_TRUE(spectral_overrides(fine, scene_from_json(fine, ".")).empty());
+}
