@@ -33,7 +33,7 @@ class Cli : public ScratchDirTest {
 }  // namespace
 
 TEST_F(Cli, RendersEveryBuiltInSceneToExrAndPng) {
-  for (const std::string name : {"lens", "slab", "cylinder", "wavy"}) {
+  for (const std::string name : {"lens", "slab", "cylinder", "wavy", "prism"}) {
     const fs::path exr = dir_ / (name + ".exr"), png = dir_ / (name + ".png");
     const CommandResult r = causticd("render --scene " + scene(name) + " -o " + exr.string() + " -o " + png.string() +
                            " --width 256 --height 256");
@@ -51,6 +51,30 @@ TEST_F(Cli, RendersEveryBuiltInSceneToExrAndPng) {
     EXPECT_EQ(ldr.width, 256);
     EXPECT_EQ(ldr.height, 256);
   }
+}
+
+TEST_F(Cli, ASpectralSceneRendersToAnRgbExrAndAColouredPng) {
+  const fs::path exr = dir_ / "prism.exr", png = dir_ / "prism.png";
+  const CommandResult r = causticd("render --scene " + scene("prism") + " -o " + exr.string() + " -o " + png.string() +
+                                   " --width 128 --height 128");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("spectral: 16 wavelengths"), std::string::npos) << r.output;
+  // The fan's violet edge and red edge: a column where blue leads, one where red does.
+  for (const fs::path& file : {exr, png}) {
+    const caustic::RgbHdrImage rgb = caustic::read_rgb_image(file);
+    bool blue = false, red = false;
+    for (std::size_t i = 0; i < rgb.pixels.size(); i += 3) {
+      const float R = rgb.pixels[i], B = rgb.pixels[i + 2];
+      blue = blue || B > 2 * R + 1e-3f;
+      red = red || R > 2 * B + 1e-3f;
+    }
+    EXPECT_TRUE(blue && red) << file;
+  }
+  // A grey scene's EXR stays one channel, read as grey.
+  const fs::path slab = dir_ / "slab.exr";
+  ASSERT_EQ(causticd("render --scene " + scene("slab") + " -o " + slab.string() + " --width 64 --height 64").status, 0);
+  const caustic::RgbHdrImage grey = caustic::read_rgb_image(slab);
+  for (std::size_t i = 0; i < grey.pixels.size(); i += 3) ASSERT_EQ(grey.pixels[i], grey.pixels[i + 2]);
 }
 
 TEST_F(Cli, SlabExrHoldsTheFresnelTransmittance) {

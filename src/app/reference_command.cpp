@@ -41,7 +41,10 @@ int run_reference(const ReferenceCommandOptions& opt) {
   return run_reporting("reference", opt.scene, [&] {
     const ReferenceResult r = trace_reference(scene, mesh, options);
     std::fprintf(stderr, "\n");
-    write_exr(r.image, opt.output);
+    if (r.wavelengths > 1)
+      write_exr(r.rgb, opt.output);
+    else
+      write_exr(r.image, opt.output);
     std::printf("photons: %llu traced, %llu on the screen, in %.2f s: %.2f M photons/s\n",
                 static_cast<unsigned long long>(r.photons), static_cast<unsigned long long>(r.photons_on_screen),
                 r.seconds, r.photons / r.seconds / 1e6);

@@ -66,8 +66,11 @@ int run_render(const RenderOptions& opt) {
                 st.collapsed);
     std::printf("render time: %.2f ms caustic + %.2f ms post (median of %d frame%s)\n", median(ray_ms),
                 median(post_ms), opt.frames, opt.frames == 1 ? "" : "s");
+    if (st.wavelengths > 1) std::printf("spectral: %d wavelengths, one caustic pass each\n", st.wavelengths);
     for (const auto& out : opt.outputs) {
-      if (out.extension() == ".exr") write_exr(engine.read_hdr(), out);
+      // A spectral frame keeps its colour: R, G, B channels; a grey one, Y.
+      if (out.extension() == ".exr" && st.wavelengths > 1) write_exr(engine.read_hdr_rgb(), out);
+      else if (out.extension() == ".exr") write_exr(engine.read_hdr(), out);
       else write_png(engine.read_ldr(), out);
       std::printf("wrote %s\n", out.string().c_str());
     }

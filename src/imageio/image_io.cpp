@@ -24,6 +24,13 @@ void write_exr(const HdrImage& image, const std::filesystem::path& file) {
   write(file, spec, image.pixels.data(), OIIO::TypeDesc::FLOAT, OIIO::AutoStride);
 }
 
+void write_exr(const RgbHdrImage& image, const std::filesystem::path& file) {
+  OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"R", "G", "B"};
+  spec.attribute("compression", "zip");
+  write(file, spec, image.pixels.data(), OIIO::TypeDesc::FLOAT, OIIO::AutoStride);
+}
+
 void write_png(const Rgba8Image& image, const std::filesystem::path& file) {
   OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
   write(file, spec, image.pixels.data(), OIIO::TypeDesc::UINT8, 4);
@@ -67,6 +74,21 @@ HdrImage read_hdr_image(const std::filesystem::path& file) {
   HdrImage img{spec.width, spec.height, std::vector<float>(static_cast<std::size_t>(spec.width) * spec.height)};
   if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, img.pixels.data()))
     throw ImageIoError("cannot read " + file.string() + ": " + in->geterror());
+  return img;
+}
+
+RgbHdrImage read_rgb_image(const std::filesystem::path& file) {
+  auto in = OIIO::ImageInput::open(file.string());
+  if (!in) throw ImageIoError("cannot read " + file.string() + ": " + OIIO::geterror());
+  const auto& spec = in->spec();
+  const std::size_t n = static_cast<std::size_t>(spec.width) * spec.height;
+  RgbHdrImage img{spec.width, spec.height, std::vector<float>(3 * n)};
+  const int channels = std::min(spec.nchannels, 3);
+  std::vector<float> raw(n * channels);
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, raw.data()))
+    throw ImageIoError("cannot read " + file.string() + ": " + in->geterror());
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) img.pixels[3 * i + c] = raw[i * channels + (channels == 3 ? c : 0)];
   return img;
 }
 

@@ -18,6 +18,9 @@ class ImageIoError : public std::runtime_error {
 
 /// One float channel "Y" (relative irradiance), 32-bit float EXR.
 void write_exr(const HdrImage& image, const std::filesystem::path& file);
+/// Channels "R", "G", "B" (linear sRGB relative irradiance, a spectral
+/// frame), 32-bit float EXR.
+void write_exr(const RgbHdrImage& image, const std::filesystem::path& file);
 /// 8-bit RGB PNG (alpha dropped).
 void write_png(const Rgba8Image& image, const std::filesystem::path& file);
 /// The picture as PNG file bytes, for serving without touching the disk.
@@ -26,5 +29,8 @@ std::vector<unsigned char> encode_png(const Rgba8Image& image);
 std::vector<unsigned char> encode_exr(const HdrImage& image);
 /// Reads the first channel of any image OpenImageIO can open, as float.
 HdrImage read_hdr_image(const std::filesystem::path& file);
+/// Reads R, G, B as float; an image with fewer than three channels reads
+/// as grey (its first channel in all three).
+RgbHdrImage read_rgb_image(const std::filesystem::path& file);
 
 }  // namespace caustic
