@@ -177,9 +177,13 @@ int run_bench(const BenchOptions& opt) {
 std::function<int()> add_bench_command(CLI::App& app) {
   auto opt = std::make_shared<BenchOptions>();
   auto perf = std::make_shared<bool>(false);
+  auto spectral = std::make_shared<bool>(false);
   CLI::App* cmd = app.add_subcommand("bench", "Frame time and error against the reference over methods and sizes");
   cmd->add_option("--out", opt->out, "Folder for results.csv and the charts")->required();
   cmd->add_flag("--perf", *perf, "Frame costs instead (caustic, post, read-back, I420) over --meshes and --sizes: perf.csv");
+  cmd->add_flag("--spectral", *spectral,
+                "Grey against spectral frames (3, 8, 16 wavelengths) over --meshes and --sizes: spectral.csv")
+      ->excludes("--perf");
   cmd->add_option("--photons", opt->photons, "Photons for each reference")->check(CLI::Range(1000, 2'000'000'000));
   cmd->add_option("--frames", opt->frames, "Timed frames per configuration (median)")->check(CLI::Range(1, 100));
   cmd->add_option("--source", opt->source, "Vertices per side of the surface the meshes are resampled from")
@@ -189,10 +193,11 @@ std::function<int()> add_bench_command(CLI::App& app) {
       ->check(CLI::Range(128, 4096) & CLI::Validator([](std::string& v) {
                 return std::stoi(v) % 128 ? std::string("must be a multiple of 128") : std::string();
               }, "MULTIPLE OF 128"));
-  return [cmd, opt, perf] {
+  return [cmd, opt, perf, spectral] {
     if (!cmd->parsed()) return -1;
     try {
       if (*perf) return run_perf_bench({opt->out, opt->frames, opt->meshes, opt->sizes});
+      if (*spectral) return run_spectral_bench({opt->out, opt->frames, opt->meshes, opt->sizes});
       return run_bench(*opt);
     } catch (const std::exception& e) {
       std::cerr << "causticd bench: " << e.what() << "\n";

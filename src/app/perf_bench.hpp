@@ -25,5 +25,8 @@ struct PerfOptions {
 /// Prints one line per (mesh, size) and writes perf.csv and perf.png/.svg
 /// into `out`. Throws on GL failures.
 int run_perf_bench(const PerfOptions& options);
+/// `--spectral`: grey against spectral frames at 3, 8 and 16 wavelengths
+/// for each mesh and size; prints the ratios and writes spectral.csv.
+int run_spectral_bench(const PerfOptions& options);
 
 }  // namespace caustic::app

@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// `causticd bench --spectral`: what colour costs. The same lens frame grey
+// (one caustic pass) and spectral in BK7 at K wavelengths (K passes into a
+// colour target, colour post-processing), at each --meshes x --sizes pair;
+// the ratio to grey is the figure docs/performance.md quotes.
+#include "perf_bench.hpp"
+
+#include "caustic/engine.hpp"
+#include "caustic/gl_context.hpp"
+#include "caustic/surfaces.hpp"
+
+#include <cstdio>
+#include <fstream>
+
+namespace caustic::app {
+
+int run_spectral_bench(const PerfOptions& opt) {
+  std::filesystem::create_directories(opt.out);
+  GlContext context(egl_platform_from_environment());
+  Engine engine;
+  std::ofstream csv(opt.out / "spectral.csv");
+  csv << "mesh,pixels,wavelengths,ray_ms,post_ms,frame_ms,ratio_to_grey\n";
+  std::printf("renderer: %s; median of %d frames per row\n", context.renderer().c_str(), opt.frames);
+  for (int n : opt.meshes) {
+    const auto mesh = std::make_shared<const Mesh>(grid_mesh(plano_convex_lens(40.0, 10.0), n, n));
+    for (int size : opt.sizes) {
+      double grey_ms = 0;
+      for (int k : {1, kPreviewWavelengths, 8, 16}) {
+        Scene s;
+        s.mesh = "generated";
+        s.object.flat_face_offset = 4.0;
+        s.screen.center = {0, 0, -60};
+        s.screen.width = s.screen.height = 30;
+        s.render.width = s.render.height = size;
+        if (k > 1) {  // k = 1: the grey frame, no glass
+          s.object.glass = Glass{"bk7", optics::find_material("bk7")->law};
+          s.object.ior = s.object.glass->index(optics::kLineD);
+          s.render.wavelengths = k;
+        }
+        std::vector<double> ray, post, frame;
+        for (int f = 0; f < opt.frames + 1; ++f) {
+          engine.set_scene(s, std::make_shared<const Mesh>(*mesh));  // a new handle: a full frame
+          engine.render();
+          if (f == 0) continue;  // warm-up
+          ray.push_back(engine.stats().ray_ms);
+          post.push_back(engine.stats().post_ms);
+          frame.push_back(engine.stats().ray_ms + engine.stats().post_ms);
+        }
+        const double ms = middle_sample(frame);
+        if (k == 1) grey_ms = ms;
+        csv << n << ',' << size << ',' << k << ',' << middle_sample(ray) << ',' << middle_sample(post) << ',' << ms
+            << ',' << ms / grey_ms << '\n';
+        std::printf("mesh %4d^2, %4d^2 px, %2d wavelength%s: caustic %7.1f ms  post %6.1f ms  frame %7.1f ms  "
+                    "%.2fx grey\n",
+                    n, size, k, k == 1 ? " " : "s", middle_sample(ray), middle_sample(post), ms, ms / grey_ms);
+        std::fflush(stdout);
+      }
+    }
+  }
+  std::printf("wrote %s/spectral.csv\n", opt.out.string().c_str());
+  return 0;
+}
+
+}  // namespace caustic::app
