@@ -92,6 +92,9 @@ TEST(SceneSpectral, KeysThatAnotherSettingOverridesAreWarnedAbout) {
   EXPECT_EQ(mirror.size(), 3u);
   EXPECT_EQ(mirror[1].first, "object.glass");
 
+  // A complete scene file, as scene_to_json writes it, says nothing twice.
+  const Scene glass = scene_from_json(with("object", "glass", "bk7"), ".");
+  EXPECT_TRUE(spectral_overrides(scene_to_json(glass), glass).empty());
   // Written where it counts, nothing to say.
   const json fine = {{"mesh", "m.obj"}, {"object", {{"glass", "water"}}}, {"light", {{"spectrum", "blackbody"}, {"temperature_k", 3000}}}};
   EXPECT_TRUE(spectral_overrides(fine, scene_from_json(fine, ".")).empty());

@@ -40,7 +40,7 @@ void set_frame_observer(GstElement* causticsrc, FrameObserver observer) {
 
 void request_snapshot(GstElement* causticsrc, SnapshotDone done) {
   State* s = checked_state(causticsrc);
-  if (!s) return done(nullptr, nullptr);
+  if (!s) return done(nullptr, nullptr, nullptr);
   std::lock_guard lock(s->source.snapshots->lock);
   s->source.snapshots->pending.push_back(std::move(done));
 }

@@ -132,17 +132,19 @@ void answer_snapshots(FrameSource& source) {
   }
   if (pending.empty()) return;
   if (!source.context || !source.engine || !source.picture) {
-    for (const auto& done : pending) done(nullptr, nullptr);
+    for (const auto& done : pending) done(nullptr, nullptr, nullptr);
     return;
   }
   Rgba8Image ldr;
   HdrImage hdr;
+  RgbHdrImage colour;
   {
     const Current current(*source.context);
     ldr = source.engine->read_ldr();
     hdr = source.engine->read_hdr();
+    if (source.engine->stats().wavelengths > 1) colour = source.engine->read_hdr_rgb();
   }
-  for (const auto& done : pending) done(&ldr, &hdr);
+  for (const auto& done : pending) done(&ldr, &hdr, colour.pixels.empty() ? nullptr : &colour);
 }
 
 void release(FrameSource& source) {

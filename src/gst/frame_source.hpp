@@ -38,7 +38,7 @@ struct Progressive {
 /// may touch the GL context. `Done` gets null pointers when there is no
 /// picture to give (not streaming, stopped).
 struct SnapshotRequests {
-  using Done = std::function<void(const Rgba8Image* ldr, const HdrImage* hdr)>;
+  using Done = std::function<void(const Rgba8Image* ldr, const HdrImage* hdr, const RgbHdrImage* colour)>;
   std::mutex lock;
   std::vector<Done> pending;
 };

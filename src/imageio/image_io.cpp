@@ -67,6 +67,12 @@ std::vector<unsigned char> encode_exr(const HdrImage& image) {
   return encode("exr", spec, image.pixels.data(), OIIO::TypeDesc::FLOAT, OIIO::AutoStride);
 }
 
+std::vector<unsigned char> encode_exr(const RgbHdrImage& image) {
+  OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"R", "G", "B"};
+  return encode("exr", spec, image.pixels.data(), OIIO::TypeDesc::FLOAT, OIIO::AutoStride);
+}
+
 HdrImage read_hdr_image(const std::filesystem::path& file) {
   auto in = OIIO::ImageInput::open(file.string());
   if (!in) throw ImageIoError("cannot read " + file.string() + ": " + OIIO::geterror());

@@ -1,8 +1,21 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/spectral.hpp"
 
+#include <cmath>
+#include <optional>
+
 namespace caustic {
 namespace {
+
+// The number `written` sets for group.key, if it sets one.
+std::optional<double> written_number(const nlohmann::json& written, const char* group, const char* key) {
+  if (!written.is_object()) return std::nullopt;
+  const auto g = written.find(group);
+  if (g == written.end() || !g->is_object()) return std::nullopt;
+  const auto v = g->find(key);
+  if (v == g->end() || !v->is_number()) return std::nullopt;
+  return v->get<double>();
+}
 
 bool writes(const nlohmann::json& written, const char* group, const char* key) {
   if (!written.is_object()) return false;
@@ -24,14 +37,19 @@ std::vector<SpectralPass> spectral_passes(const Scene& scene, int count) {
 
 std::vector<std::pair<std::string, std::string>> spectral_overrides(const nlohmann::json& written, const Scene& scene) {
   std::vector<std::pair<std::string, std::string>> out;
-  if (scene.object.glass && writes(written, "object", "ior"))
+  // A value equal to the one used is no conflict: a complete scene file (as
+  // the designer and scene_to_json write them) carries the derived index
+  // and the default temperature.
+  const auto ior = written_number(written, "object", "ior");
+  if (scene.object.glass && ior && std::abs(*ior - scene.object.ior) > 1e-9)
     out.emplace_back("object.ior", "object.ior is the glass's index at the d line (587.6 nm) while object.glass is "
                                    "set, which overrides the value written; remove object.glass to use one index");
   if (scene.object.glass && scene.object.material == Material::reflective &&
       (writes(written, "object", "glass") || writes(written, "object", "material")))
     out.emplace_back("object.glass", "object.glass has no effect on a mirror (object.material \"reflective\"): "
                                      "reflection sends every wavelength the same way");
-  if (scene.light.spectrum.kind != optics::Illuminant::blackbody && writes(written, "light", "temperature_k"))
+  const auto kelvin = written_number(written, "light", "temperature_k");
+  if (scene.light.spectrum.kind != optics::Illuminant::blackbody && kelvin && *kelvin != optics::LightSpectrum{}.kelvin)
     out.emplace_back("light.temperature_k",
                      "light.temperature_k is used only by light.spectrum \"blackbody\"; it is ignored for this light");
   return out;

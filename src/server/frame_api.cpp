@@ -11,6 +11,8 @@
 #include "log.hpp"
 #include "server_state.hpp"
 
+#include <optional>
+
 namespace caustic::server {
 namespace {
 
@@ -24,13 +26,20 @@ struct FrameRequest {
   bool answered = false;
   guint timeout = 0;
   gulong finished = 0;
+  FrameRequest(ServerState* state, SoupServerMessage* msg, bool hdr)
+      : state(state), msg(SOUP_SERVER_MESSAGE(g_object_ref(msg))), hdr(hdr) {}
+  // One owner of the reference: a copy would release it twice.
+  FrameRequest(const FrameRequest&) = delete;
+  FrameRequest& operator=(const FrameRequest&) = delete;
   ~FrameRequest() {
     if (finished) g_signal_handler_disconnect(msg, finished);
     g_object_unref(msg);
   }
 };
 
-void finish(FrameRequest& r, const Rgba8Image* ldr, const HdrImage* hdr) {
+// `colour`: a spectral frame's HDR image in colour, which frame.exr then
+// carries as R, G, B; null for a grey frame (one channel, Y).
+void finish(FrameRequest& r, const Rgba8Image* ldr, const HdrImage* hdr, const RgbHdrImage* colour = nullptr) {
   if (r.answered) return;
   r.answered = true;
   if (r.timeout) g_source_remove(r.timeout);
@@ -40,7 +49,7 @@ void finish(FrameRequest& r, const Rgba8Image* ldr, const HdrImage* hdr) {
     reply_problem(r.msg, r.state->metrics, SOUP_STATUS_SERVICE_UNAVAILABLE, "the session has no picture yet; retry");
   } else {
     try {
-      const auto bytes = r.hdr ? encode_exr(*hdr) : encode_png(*ldr);
+      const auto bytes = !r.hdr ? encode_png(*ldr) : colour ? encode_exr(*colour) : encode_exr(*hdr);
       reply_bytes(r.msg, SOUP_STATUS_OK, r.hdr ? "image/x-exr" : "image/png", bytes.data(), bytes.size());
       soup_message_headers_replace(soup_server_message_get_response_headers(r.msg), "Cache-Control", "no-store");
     } catch (const std::exception& e) {
@@ -53,24 +62,32 @@ void finish(FrameRequest& r, const Rgba8Image* ldr, const HdrImage* hdr) {
 
 }  // namespace
 
-void Session::snapshot(std::function<void(const Rgba8Image*, const HdrImage*)> done) {
+void Session::snapshot(std::function<void(const Rgba8Image*, const HdrImage*, const RgbHdrImage*)> done) {
   GstElement* src = pipeline_ ? gst_bin_get_by_name(GST_BIN(pipeline_), "src") : nullptr;
-  if (!src) return done(nullptr, nullptr);
+  if (!src) return done(nullptr, nullptr, nullptr);
   auto shared_done = std::make_shared<decltype(done)>(std::move(done));
-  gst::request_snapshot(src, [weak = weak_from_this(), shared_done](const Rgba8Image* ldr, const HdrImage* hdr) {
+  gst::request_snapshot(src, [weak = weak_from_this(), shared_done](const Rgba8Image* ldr, const HdrImage* hdr,
+                                                                     const RgbHdrImage* colour) {
     // Render thread: copy, then hand over to the main loop (dropped there
     // if the session has ended; the request's timeout answers it).
-    auto pictures = ldr && hdr ? std::make_shared<std::pair<Rgba8Image, HdrImage>>(*ldr, *hdr) : nullptr;
+    struct Pictures {
+      Rgba8Image ldr;
+      HdrImage hdr;
+      std::optional<RgbHdrImage> colour;
+    };
+    auto pictures = ldr && hdr ? std::make_shared<Pictures>(Pictures{*ldr, *hdr, colour ? std::optional(*colour) : std::nullopt})
+                               : nullptr;
     if (auto me = weak.lock())
       me->on_main([shared_done, pictures](Session&) {
-        (*shared_done)(pictures ? &pictures->first : nullptr, pictures ? &pictures->second : nullptr);
+        if (!pictures) return (*shared_done)(nullptr, nullptr, nullptr);
+        (*shared_done)(&pictures->ldr, &pictures->hdr, pictures->colour ? &*pictures->colour : nullptr);
       });
   });
   gst_object_unref(src);
 }
 
 void session_frame(ServerState& s, SoupServerMessage* msg, Session& session, bool hdr) {
-  auto request = std::make_shared<FrameRequest>(FrameRequest{&s, SOUP_SERVER_MESSAGE(g_object_ref(msg)), hdr});
+  auto request = std::make_shared<FrameRequest>(&s, msg, hdr);
   // A status before returning keeps libsoup's WebSocket handler (registered
   // on /api/v1/sessions) from answering this request itself; the real one
   // replaces it.
@@ -91,7 +108,9 @@ void session_frame(ServerState& s, SoupServerMessage* msg, Session& session, boo
         return G_SOURCE_REMOVE;
       },
       keep, [](gpointer data) { delete static_cast<std::shared_ptr<FrameRequest>*>(data); });
-  session.snapshot([request](const Rgba8Image* ldr, const HdrImage* hdr) { finish(*request, ldr, hdr); });
+  session.snapshot([request](const Rgba8Image* ldr, const HdrImage* hdr, const RgbHdrImage* colour) {
+    finish(*request, ldr, hdr, colour);
+  });
 }
 
 }  // namespace caustic::server

@@ -108,7 +108,7 @@ class Session : public std::enable_shared_from_this<Session> {
   /// The picture the session last rendered and its HDR image, handed to
   /// `done` on the main loop's thread (null pointers when the session has
   /// no picture); never called if the session ends first (frame_api.cpp).
-  void snapshot(std::function<void(const Rgba8Image*, const HdrImage*)> done);
+  void snapshot(std::function<void(const Rgba8Image*, const HdrImage*, const RgbHdrImage*)> done);
 
   /// Tells the viewer the session ends (if connected) and stops the pipeline.
   void close(const std::string& reason);

@@ -27,6 +27,8 @@ void write_png(const Rgba8Image& image, const std::filesystem::path& file);
 std::vector<unsigned char> encode_png(const Rgba8Image& image);
 /// The HDR image as EXR file bytes (one float channel "Y", as write_exr).
 std::vector<unsigned char> encode_exr(const HdrImage& image);
+/// The same for a colour image (channels "R", "G", "B", as write_exr).
+std::vector<unsigned char> encode_exr(const RgbHdrImage& image);
 /// Reads the first channel of any image OpenImageIO can open, as float.
 HdrImage read_hdr_image(const std::filesystem::path& file);
 /// Reads R, G, B as float; an image with fewer than three channels reads

@@ -49,7 +49,9 @@ void set_frame_observer(GstElement* causticsrc, FrameObserver observer);
 /// on the render thread at its next turn (within a few milliseconds while
 /// streaming), with null pointers if the element stops first. A request
 /// made while the element does not stream waits for it to start or stop.
-using SnapshotDone = std::function<void(const Rgba8Image* ldr, const HdrImage* hdr)>;
+/// `colour` is the HDR image in colour for a spectral frame, null for a
+/// grey one (`hdr` is then its luminance).
+using SnapshotDone = std::function<void(const Rgba8Image* ldr, const HdrImage* hdr, const RgbHdrImage* colour)>;
 void request_snapshot(GstElement* causticsrc, SnapshotDone done);
 
 /// Sends the next frame due even if its picture is unchanged (under
