@@ -78,6 +78,9 @@ struct Pending {
     soup_server_message_set_status(msg, SOUP_STATUS_INTERNAL_SERVER_ERROR, nullptr);
     soup_server_message_pause(msg);
   }
+  // One owner of the reference: a copy would release it twice.
+  Pending(const Pending&) = delete;
+  Pending& operator=(const Pending&) = delete;
   ~Pending() {
     g_signal_handler_disconnect(msg, handler);
     if (!gone) soup_server_message_unpause(msg);
