@@ -37,9 +37,7 @@ class Rest : public ::testing::Test {
     return r.json();
   }
   std::string session_url(const json& s) const { return server_.url() + "/api/v1/sessions/" + s["id"].get<std::string>(); }
-  // A GLib critical (a reference released twice, a NULL handed to GObject)
-  // is a bug: it stops the server here, and the test fails where it happened.
-  ServerProcess server_{{}, {{"G_DEBUG", "fatal-criticals"}}};
+  ServerProcess server_;  // with fatal criticals, as every ServerProcess
 };
 
 }  // namespace caustic::testing

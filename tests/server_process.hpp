@@ -38,6 +38,9 @@ class ServerProcess {
       g_free(tmp);
       g_subprocess_launcher_setenv(launcher, "XDG_STATE_HOME", state_home_.c_str(), TRUE);
     }
+    // A GLib critical (a reference released twice, a NULL handed to GObject)
+    // is a bug: it stops the server, and the test fails where it happened.
+    g_subprocess_launcher_setenv(launcher, "G_DEBUG", "fatal-criticals", TRUE);
     for (const auto& [key, value] : environment) g_subprocess_launcher_setenv(launcher, key.c_str(), value.c_str(), TRUE);
     process_ = g_subprocess_launcher_spawnv(launcher, argv.data(), &error);
     g_object_unref(launcher);
