@@ -19,6 +19,11 @@ TEST(SceneSpectral, AGlassByNameSetsTheIndexAtTheDLine) {
   const json back = scene_to_json(s);
   EXPECT_EQ(back["object"]["glass"], "bk7");
   EXPECT_EQ(scene_from_json(back, "."), s);
+  // "none" removes it where a patch's null would restore it.
+  const Scene none = apply_merge_patch(s, json{{"object", {{"glass", "none"}}}});
+  EXPECT_FALSE(none.object.glass);
+  EXPECT_FALSE(spectral(none));
+  EXPECT_TRUE(scene_to_json(none)["object"]["glass"].is_null());
 }
 
 TEST(SceneSpectral, CoefficientsRoundTrip) {

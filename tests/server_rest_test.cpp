@@ -5,6 +5,7 @@
 #include "rest_fixture.hpp"
 #include "server_process.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -75,7 +76,12 @@ TEST_F(Rest, GalleryListsScenesWithThumbnailsAndNeverTheMesh) {
   }
   // The optics classics, and the designed objects that the build always
   // makes (the photographs need their Debian package); designed ones first.
-  for (const char* id : {"cylinder", "lens", "slab", "wavy"}) EXPECT_TRUE(ids.count(id)) << id;
+  for (const char* id : {"cylinder", "lens", "prism", "slab", "wavy"}) EXPECT_TRUE(ids.count(id)) << id;
+  // The glasses object.glass may name, for the viewer's panel.
+  const auto& glasses = listing["glasses"];
+  ASSERT_TRUE(glasses.is_array());
+  for (const char* name : {"bk7", "fused_silica", "pmma", "polycarbonate", "water"})
+    EXPECT_NE(std::find(glasses.begin(), glasses.end(), name), glasses.end()) << name;
   if (DESIGN_BUILT_IN) {
     for (const char* id : {"design-logo", "design-text"}) EXPECT_TRUE(ids.count(id)) << id;
   }

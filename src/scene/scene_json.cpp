@@ -165,7 +165,9 @@ ObjectParams read_object(Reader r) {
   ObjectParams o;
   o.material = r.choice("material", o.material, Names<Material>(kMaterials));
   o.ior = r.number("ior", o.ior, 1.0, 10.0);
-  if (const json* g = r.get("glass")) {
+  // "none" says "no glass" where a null cannot: in a patch, null restores
+  // the scene's own value (a prism's BK7), "none" removes it.
+  if (const json* g = r.get("glass"); g && *g != "none") {
     o.glass = glass_from_json(*g, r.key("glass"));
     o.ior = o.glass->index(optics::kLineD);
   }

@@ -58,7 +58,10 @@ void scenes(ServerState& s, SoupServerMessage* msg) {
   for (const bool designed : {true, false})
     for (const auto& [id, entry] : s.gallery->entries)
       if (entry->designed == designed) list.push_back(describe(*entry));
-  reply_json(msg, SOUP_STATUS_OK, {{"scenes", list}});
+  // The catalogue glasses a scene's object.glass may name (the viewer's panel offers them).
+  nlohmann::json glasses = nlohmann::json::array();
+  for (const auto& m : optics::materials()) glasses.push_back(m.name);
+  reply_json(msg, SOUP_STATUS_OK, {{"scenes", list}, {"glasses", glasses}});
 }
 
 // A visitor's design answers from what its job keeps: its scene need not be

@@ -41,13 +41,13 @@ test('the gallery lists every scene with its rendered thumbnail', async () => {
     await until(page, () => [...document.images].every((i) => i.complete && i.naturalWidth === 256), 15, 'thumbnails');
     const ids = await page.$$eval('.card', (cards) => cards.map((c) => c.dataset.scene).sort());
     const builtIn = process.env.CAUSTIC_DESIGN_BUILT_IN === '1';
-    const want = ['cylinder', 'lens', 'slab', 'wavy', ...(builtIn ? ['design-logo', 'design-text'] : [])];
+    const want = ['cylinder', 'lens', 'prism', 'slab', 'wavy', ...(builtIn ? ['design-logo', 'design-text'] : [])];
     for (const id of want) assert.ok(ids.includes(id), id);
     // Designed objects first, under their own heading; the classics below.
     const designed = await page.$$eval('#designed .card[data-scene]', (cards) => cards.map((c) => c.dataset.scene));
     const classics = await page.$$eval('#classics .card', (cards) => cards.map((c) => c.dataset.scene).sort());
     assert.ok(designed.every((id) => id.startsWith('design-')) && designed.length >= (builtIn ? 2 : 0), designed.join());
-    assert.deepEqual(classics, ['cylinder', 'lens', 'slab', 'wavy']);
+    assert.deepEqual(classics, ['cylinder', 'lens', 'prism', 'slab', 'wavy']);
     assert.equal(await page.locator('#upload input[type=file]').count(), 1);
     mkdirSync(shots, { recursive: true });
     await page.setViewportSize({ width: 1280, height: 900 });
@@ -159,6 +159,16 @@ for (const codec of ['vp8', 'h264']) {
         assert.match(await page.textContent('#warnings'), /object\.material: no light reaches the screen/);
         await page.evaluate(() => window.caustic.setParams({ object: { material: 'refractive' } }));
         await until(page, () => document.getElementById('warnings').hidden, 10, 'the warning gone');
+        // The panel's glass: the server's catalogue on offer; choosing one makes the
+        // object dispersive, "none" takes it away again (a null would restore the scene's).
+        const glass = page.locator('.lil-controller', { hasText: 'glass (dispersion)' }).locator('select');
+        const offered = await glass.locator('option').allTextContents();
+        for (const name of ['none', 'bk7', 'water']) assert.ok(offered.includes(name), offered.join());
+        await glass.selectOption('bk7');
+        await until(page, () => window.caustic.params.object.glass === 'bk7', 10, 'the glass on the server');
+        assert.ok(Math.abs(await page.evaluate(() => window.caustic.params.object.ior) - 1.5168) < 1e-3);
+        await glass.selectOption('none');
+        await until(page, () => window.caustic.params.object.glass === null, 10, 'the glass taken away');
       }
       await page.close();
     } finally {

@@ -41,6 +41,7 @@ let shared = sharedParams(query);
 
 let session = null, stream = null, channel = null, room = null, controls = null, retry = 0;
 let panel = null, panelParams = null;  // lil-gui and the object its controllers edit
+const panelColour = { glass: 'none' };  // object.glass as the panel's dropdown shows it
 
 function setConnection(name, detail = '') {
   state.connection = name;
@@ -135,8 +136,11 @@ async function connect() {
   const firstTime = !room;
   if (firstTime) {
     loading.begin('room');
-    // One scene by id: a visitor's design is not in the public list.
+    // One scene by id: a visitor's design is not in the public list. The
+    // list, fetched alongside, names the glasses the panel offers.
+    const glasses = fetch(`${home}/api/v1/scenes`).then((r) => r.json()).then((j) => j.glasses ?? []).catch(() => []);
     const { proxy } = await (await fetch(`${home}/api/v1/scenes/${encodeURIComponent(sceneId)}`)).json();
+    state.glasses = await glasses;
     room = new CausticRoom(document.getElementById('stage'), video, proxy, firstQuality);
     state.quality = room.quality;
     controls = new ControlModes(room, {
@@ -239,8 +243,13 @@ function resetScene() {
   channel.set({ object: null, light: null, screen: null, render: null, post: null });
 }
 
+// The panel's name for object.glass: a catalogue name, "none", or "custom"
+// for coefficients (shown, not offered).
+const glassName = (glass) => (glass === null || glass === undefined ? 'none' : typeof glass === 'string' ? glass : 'custom');
+
 function refreshPanel(params) {
   for (const section of ['object', 'light', 'screen', 'render', 'post']) Object.assign(panelParams[section], params[section]);
+  panelColour.glass = glassName(params.object.glass);
   panel.controllersRecursive().forEach((c) => c.updateDisplay());
 }
 
@@ -257,16 +266,28 @@ function buildGui() {
   const material = gui.addFolder('Material');
   material.add(p.object, 'material', ['refractive', 'reflective']).onChange(send('object', 'material'));
   material.add(p.object, 'ior', 1.0, 3.0, 0.01).onChange(send('object', 'ior'));
+  // A glass disperses: the frame turns to colour, one pass per wavelength.
+  // "none" (not null, which would restore the scene's own glass) removes it.
+  panelColour.glass = glassName(p.object.glass);
+  const glasses = ['none', ...(state.glasses ?? [])];
+  if (!glasses.includes(panelColour.glass)) glasses.push(panelColour.glass);
+  material.add(panelColour, 'glass', glasses).name('glass (dispersion)').onChange((glass) => {
+    if (glass !== 'custom') channel.set({ object: { glass } });
+  });
   const light = gui.addFolder('Light');
   light.add(p.light, 'type', ['directional', 'point']).onChange((type) => {
     channel.set({ light: { type, ...room.lightFromMarker(type) } });
   });
+  light.add(p.light, 'spectrum', ['d65', 'e', 'blackbody', 'led']).name('spectrum (with a glass)')
+    .onChange(send('light', 'spectrum'));
+  light.add(p.light, 'temperature_k', 1000, 40000, 100).name('blackbody (K)').onChange(send('light', 'temperature_k'));
   const quality = gui.addFolder('Quality');
   quality.add(p.render, 'fidelity', ['auto', 'manual']).onChange(send('render', 'fidelity'));
   quality.add(p.render, 'accuracy_target', 0.001, 0.2, 0.001).name('target L1 (auto)').onChange(send('render', 'accuracy_target'));
   quality.add(p.render, 'mesh_resolution', state.fidelity.levels).name('mesh level (manual)')
     .onChange((n) => channel.set({ render: { mesh_resolution: Number(n) } }));
   quality.add(p.render, 'fresnel').name('Fresnel (manual)').onChange(send('render', 'fresnel'));
+  quality.add(p.render, 'wavelengths', 1, 32, 1).name('wavelengths (glass)').onChange(send('render', 'wavelengths'));
   const post = gui.addFolder('Post-processing');
   post.add(p.post, 'exposure_mode', ['auto', 'manual']).name('exposure').onChange(send('post', 'exposure_mode'));
   // In "auto" the value is exposure compensation (1 = as metered): a log slider would suit,
