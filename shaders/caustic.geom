@@ -30,6 +30,9 @@ uniform float uReferenceDistance2;  // point light: r_ref^2, so E0 = I0 / r_ref^
 uniform vec2 uHalfSize;             // half the screen rectangle, world units
 uniform vec2 uResolution;           // pixels
 uniform bool uReportIntensity;
+// Whether this pass keeps the triangle counts: a spectral frame counts its
+// last wavelength only, sparing the others' atomics.
+uniform bool uCount;
 
 layout(std430, binding = 0) buffer TriangleCounters {
   uint drawn;
@@ -57,7 +60,7 @@ void emitPixel(vec2 p) {
 
 void main() {
   if (vin[0].valid * vin[1].valid * vin[2].valid < 0.5) {
-    atomicAdd(counters.dropped, 1u);
+    if (uCount) atomicAdd(counters.dropped, 1u);
     return;
   }
   float transmittance = (vin[0].transmittance + vin[1].transmittance + vin[2].transmittance) / 3.0;
@@ -82,19 +85,21 @@ void main() {
   bool offscreen = any(greaterThan(lo, uResolution)) || any(lessThan(hi, vec2(0.0)));
   bool huge = any(greaterThan(hi - lo, 64.0 * uResolution));  // precision, not physics
   if (!(flux > 0.0) || isinf(flux) || offscreen || huge) {
-    if (!(flux == 0.0) && !offscreen) atomicAdd(counters.dropped, 1u);
+    if (uCount && !(flux == 0.0) && !offscreen) atomicAdd(counters.dropped, 1u);
     return;
   }
-  atomicAdd(counters.drawn, 1u);
-  if (signedPixels >= 0.0) atomicAdd(counters.positive, 1u);
-  else atomicAdd(counters.negative, 1u);
+  if (uCount) {
+    atomicAdd(counters.drawn, 1u);
+    if (signedPixels >= 0.0) atomicAdd(counters.positive, 1u);
+    else atomicAdd(counters.negative, 1u);
+  }
 
   float pixelArea = worldPerPixel.x * worldPerPixel.y;
   gA = a;
   gB = b;
   gC = c;
   if (areaPixels < kCollapsed) {
-    atomicAdd(counters.collapsed, 1u);
+    if (uCount) atomicAdd(counters.collapsed, 1u);
     gPoint = 1.0;
     gIrradiance = flux / pixelArea;
     vec2 cell = floor((a + b + c) / 3.0);

@@ -97,7 +97,7 @@ bool Engine::render() {
     if (passes.empty()) s.ray.draw(*s.scene, s.placement, s.hdr, s.scene->object.ior, glm::vec3(1), true);
     for (std::size_t i = 0; i < passes.size(); ++i) {
       const auto& w = passes[i].weight;
-      s.ray.draw(*s.scene, s.placement, s.hdr, passes[i].ior, glm::vec3(w.r, w.g, w.b), i == 0);
+      s.ray.draw(*s.scene, s.placement, s.hdr, passes[i].ior, glm::vec3(w.r, w.g, w.b), i == 0, i + 1 == passes.size());
     }
     s.stats.wavelengths = passes.empty() ? 1 : static_cast<int>(passes.size());
     const TriangleCounts counts = s.ray.counts();  // the last pass's; waits for it to finish

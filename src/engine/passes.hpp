@@ -20,9 +20,9 @@ class RayPass {
   /// Adds every triangle's relative irradiance, refracted with index `ior`
   /// and times `weight`, into `target` (cleared first when `clear`): one
   /// wavelength of a spectral frame, or (1, 1, 1) and object.ior for a
-  /// monochrome one.
+  /// monochrome one. `count`: this pass's triangles are what counts() reports.
   void draw(const Scene& scene, const Placement& placement, const gl::RenderTarget& target, double ior,
-            glm::vec3 weight, bool clear);
+            glm::vec3 weight, bool clear, bool count = true);
   TriangleCounts counts() const;
 
  private:

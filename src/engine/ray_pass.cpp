@@ -40,7 +40,7 @@ void RayPass::upload(const Mesh& mesh) {
 }
 
 void RayPass::draw(const Scene& scene, const Placement& placement, const gl::RenderTarget& target, double ior,
-                   glm::vec3 weight, bool clear) {
+                   glm::vec3 weight, bool clear, bool count) {
   const auto& p = program_;
   const auto& screen = scene.screen;
   const bool point = scene.light.type == LightType::point;
@@ -55,6 +55,7 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
   p.set("uFlatOffset", static_cast<float>(placement.flat_offset));
   p.set("uIor", static_cast<float>(ior));
   p.set("uWeight", weight);
+  p.set("uCount", count);
   p.set("uReflective", scene.object.material == Material::reflective);
   p.set("uFlatFirst", flat_first);
   p.set("uPointLight", point);
@@ -73,7 +74,7 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
   p.set("uResolution", glm::vec2(target.texture.width(), target.texture.height()));
 
   const TriangleCounts zero{};
-  glNamedBufferSubData(counters_.id(), 0, sizeof zero, &zero);
+  if (count) glNamedBufferSubData(counters_.id(), 0, sizeof zero, &zero);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counters_.id());
 
   target.bind();
