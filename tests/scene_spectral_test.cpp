@@ -97,6 +97,13 @@ TEST(SceneSpectral, KeysThatAnotherSettingOverridesAreWarnedAbout) {
   EXPECT_EQ(mirror.size(), 3u);
   EXPECT_EQ(mirror[1].first, "object.glass");
 
+  // Without a glass, what shapes a spectral frame is moot.
+  const json grey = {{"mesh", "m.obj"}, {"light", {{"spectrum", "led"}}}, {"render", {{"wavelengths", 16}}}};
+  const auto moot = spectral_overrides(grey, scene_from_json(grey, "."));
+  ASSERT_EQ(moot.size(), 2u);
+  EXPECT_EQ(moot[0].first, "render.wavelengths");
+  EXPECT_EQ(moot[1].first, "light.spectrum");
+  EXPECT_TRUE(spectral_overrides(scene_to_json(scene_from_json(minimal(), ".")), scene_from_json(minimal(), ".")).empty());
   // A complete scene file, as scene_to_json writes it, says nothing twice.
   const Scene glass = scene_from_json(with("object", "glass", "bk7"), ".");
   EXPECT_TRUE(spectral_overrides(scene_to_json(glass), glass).empty());

@@ -48,6 +48,14 @@ std::vector<std::pair<std::string, std::string>> spectral_overrides(const nlohma
       (writes(written, "object", "glass") || writes(written, "object", "material")))
     out.emplace_back("object.glass", "object.glass has no effect on a mirror (object.material \"reflective\"): "
                                      "reflection sends every wavelength the same way");
+  // Without a glass the frame is grey: what shapes a spectral one is moot.
+  const auto wavelengths = written_number(written, "render", "wavelengths");
+  if (!spectral(scene) && wavelengths && *wavelengths != RenderParams{}.wavelengths)
+    out.emplace_back("render.wavelengths", "render.wavelengths counts the wavelengths of a spectral frame; without "
+                                           "object.glass the frame is traced once, in grey");
+  if (!spectral(scene) && writes(written, "light", "spectrum") && scene.light.spectrum.kind != optics::Illuminant::d65)
+    out.emplace_back("light.spectrum", "light.spectrum shapes the colours a glass fans out; without object.glass "
+                                       "the frame is grey and white-balanced to any light");
   const auto kelvin = written_number(written, "light", "temperature_k");
   if (scene.light.spectrum.kind != optics::Illuminant::blackbody && kelvin && *kelvin != optics::LightSpectrum{}.kelvin)
     out.emplace_back("light.temperature_k",

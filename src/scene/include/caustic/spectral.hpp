@@ -32,7 +32,10 @@ std::vector<SpectralPass> spectral_passes(const Scene& scene, int count);
 /// Keys that `written` (a scene file or a patch) sets but that the spectral
 /// settings of `scene` (the result) override or make moot, each with a
 /// sentence for its writer: object.ior beside object.glass, light
-/// temperature_k without a blackbody, a glass on a mirror.
+/// temperature_k without a blackbody, a glass on a mirror, and
+/// render.wavelengths or light.spectrum without a glass (a grey frame).
+/// Values equal to the defaults are not reported: a complete scene file
+/// writes every key.
 std::vector<std::pair<std::string, std::string>> spectral_overrides(const nlohmann::json& written, const Scene& scene);
 
 }  // namespace caustic
