@@ -74,12 +74,15 @@ std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, cons
                                     spectral_overrides(*written, entry->scene)})
         for (const auto& [key, detail] : overrides) log(Level::warning, "scene " + id + ": " + detail);
   }
-  entry->levels->at(entry->scene.render.mesh_resolution);  // a manual scene may name a level not on offer
+  // A manual scene may name a level not on offer: at() throws then.
+  const auto rendered = entry->levels->at(entry->scene.render.mesh_resolution);
   entry->proxy = proxy_geometry(entry->scene, *entry->mesh);
+  // The thumbnail from the mesh level a session renders: what a visitor
+  // will see, and a spectral scene's K passes stay cheap at start-up.
   Scene small = entry->scene;
   small.render.width = small.render.height = thumbnail;
   Engine& e = engine();
-  e.set_scene(small, entry->mesh);
+  e.set_scene(small, rendered);
   e.render();
   entry->thumbnail_png = encode_png(e.read_ldr());
   return entry;

@@ -17,7 +17,8 @@ export async function startServer(extra = [], { width = 320, height = 240 } = {}
     env: { ...process.env, XDG_STATE_HOME: mkdtempSync('/tmp/causticd-state-') },
   });
   const line = await new Promise((resolve, reject) => {
-    const timer = setTimeout(() => reject(new Error('server did not start')), 30000);
+    // Loading the gallery renders every thumbnail: slow on a loaded 2-core machine.
+    const timer = setTimeout(() => reject(new Error('server did not start')), 60000);
     readline.createInterface({ input: server.stdout }).once('line', (l) => { clearTimeout(timer); resolve(l); });
   });
   server.url = line.replace('listening on ', '').replace(/\/$/, '');
