@@ -54,14 +54,9 @@ int run_perf_bench(const PerfOptions& opt) {
   csv << "mesh,pixels,triangles,ray_ms,post_ms,rgba_readback_ms,i420_ms\n";
   std::printf("renderer: %s; median of %d frames per row\n", context.renderer().c_str(), opt.frames);
   for (int n : opt.meshes) {
-    const auto mesh = std::make_shared<const Mesh>(grid_mesh(plano_convex_lens(40.0, 10.0), n, n));
+    const auto mesh = bench_lens_mesh(n);
     for (int size : opt.sizes) {
-      Scene s;
-      s.mesh = "generated";
-      s.object.flat_face_offset = 4.0;
-      s.screen.center = {0, 0, -60};
-      s.screen.width = s.screen.height = 30;
-      s.render.width = s.render.height = size;
+      const Scene s = bench_lens_scene(size);
       std::vector<double> ray, post, rgba, i420;
       std::vector<std::uint8_t> buffer;
       std::uint64_t tag = 0;

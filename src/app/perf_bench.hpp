@@ -2,8 +2,12 @@
 // `causticd bench --perf`: frame costs as the mesh and the picture grow.
 #pragma once
 
+#include "caustic/mesh.hpp"
+#include "caustic/surfaces.hpp"
+
 #include <algorithm>
 #include <filesystem>
+#include <memory>
 #include <vector>
 
 namespace caustic::app {
@@ -13,6 +17,21 @@ namespace caustic::app {
 inline double middle_sample(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
+}
+
+/// The frame both benches time: the 20 mm plano-convex lens (R = 40 mm) on
+/// an n x n grid, seen on a 30 mm screen 60 mm below, `size` pixels a side.
+inline std::shared_ptr<const Mesh> bench_lens_mesh(int n) {
+  return std::make_shared<const Mesh>(grid_mesh(plano_convex_lens(40.0, 10.0), n, n));
+}
+inline Scene bench_lens_scene(int size) {
+  Scene s;
+  s.mesh = "generated";
+  s.object.flat_face_offset = 4.0;
+  s.screen.center = {0, 0, -60};
+  s.screen.width = s.screen.height = 30;
+  s.render.width = s.render.height = size;
+  return s;
 }
 
 struct PerfOptions {

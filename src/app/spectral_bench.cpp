@@ -22,16 +22,11 @@ int run_spectral_bench(const PerfOptions& opt) {
   csv << "mesh,pixels,wavelengths,ray_ms,post_ms,frame_ms,ratio_to_grey\n";
   std::printf("renderer: %s; median of %d frames per row\n", context.renderer().c_str(), opt.frames);
   for (int n : opt.meshes) {
-    const auto mesh = std::make_shared<const Mesh>(grid_mesh(plano_convex_lens(40.0, 10.0), n, n));
+    const auto mesh = bench_lens_mesh(n);
     for (int size : opt.sizes) {
       double grey_ms = 0;
       for (int k : {1, kPreviewWavelengths, 8, 16}) {
-        Scene s;
-        s.mesh = "generated";
-        s.object.flat_face_offset = 4.0;
-        s.screen.center = {0, 0, -60};
-        s.screen.width = s.screen.height = 30;
-        s.render.width = s.render.height = size;
+        Scene s = bench_lens_scene(size);
         if (k > 1) {  // k = 1: the grey frame, no glass
           s.object.glass = Glass{"bk7", optics::find_material("bk7")->law};
           s.object.ior = s.object.glass->index(optics::kLineD);
