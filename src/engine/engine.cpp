@@ -157,16 +157,14 @@ RgbHdrImage Engine::read_hdr_rgb() const {
   const auto& t = impl_->hdr.texture;
   RgbHdrImage img{t.width(), t.height(), std::vector<float>(static_cast<std::size_t>(t.width()) * t.height() * 3)};
   if (img.pixels.empty()) return img;
-  std::vector<float> raw(img.pixels.size());
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  // A grey frame reads as R = G = B through the same call.
-  const GLenum channels = t.format() == GL_R32F ? GL_RED : GL_RGB;
-  if (channels == GL_RED) {
+  if (t.format() == GL_R32F) {  // a grey frame: R = G = B
     const HdrImage grey = read_hdr();
-    for (std::size_t i = 0; i < grey.pixels.size(); ++i) raw[3 * i] = raw[3 * i + 1] = raw[3 * i + 2] = grey.pixels[i];
-    img.pixels = std::move(raw);
+    for (std::size_t i = 0; i < grey.pixels.size(); ++i)
+      img.pixels[3 * i] = img.pixels[3 * i + 1] = img.pixels[3 * i + 2] = grey.pixels[i];
     return img;
   }
+  std::vector<float> raw(img.pixels.size());
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glGetTextureImage(t.id(), 0, GL_RGB, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(float)), raw.data());
   gl::check_errors("HDR read-back");
   gl::copy_rows_top_first(raw.data(), img.pixels.data(), static_cast<std::size_t>(img.width) * 3, img.height);

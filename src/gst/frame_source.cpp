@@ -141,8 +141,13 @@ void answer_snapshots(FrameSource& source) {
   {
     const Current current(*source.context);
     ldr = source.engine->read_ldr();
-    hdr = source.engine->read_hdr();
-    if (source.engine->stats().wavelengths > 1) colour = source.engine->read_hdr_rgb();
+    // A colour frame is read back once; its luminance is the grey image.
+    if (source.engine->stats().wavelengths > 1) {
+      colour = source.engine->read_hdr_rgb();
+      hdr = luminance(colour);
+    } else {
+      hdr = source.engine->read_hdr();
+    }
   }
   for (const auto& done : pending) done(&ldr, &hdr, colour.pixels.empty() ? nullptr : &colour);
 }

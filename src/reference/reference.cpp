@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/reference.hpp"
 
-#include "caustic/spectral.hpp"
-
 #include "caustic/optics.hpp"
+#include "caustic/spectral.hpp"
 #include "embree_mesh.hpp"
 
 
@@ -111,10 +110,6 @@ bool follow(const Scene& scene, const Geometry& geo, const Placement& p, Photon&
   ph.dir = out->direction;
   return true;
 }
-
-}  // namespace
-
-namespace {
 
 // One wavelength (or a grey frame): the scene's object.ior throughout.
 ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const ReferenceOptions& options) {

@@ -7,20 +7,24 @@
 namespace caustic {
 namespace {
 
-// The number `written` sets for group.key, if it sets one.
-std::optional<double> written_number(const nlohmann::json& written, const char* group, const char* key) {
-  if (!written.is_object()) return std::nullopt;
+// The value `written` sets for group.key; null when it sets none (or null).
+const nlohmann::json* written_value(const nlohmann::json& written, const char* group, const char* key) {
+  if (!written.is_object()) return nullptr;
   const auto g = written.find(group);
-  if (g == written.end() || !g->is_object()) return std::nullopt;
+  if (g == written.end() || !g->is_object()) return nullptr;
   const auto v = g->find(key);
-  if (v == g->end() || !v->is_number()) return std::nullopt;
-  return v->get<double>();
+  return v == g->end() || v->is_null() ? nullptr : &*v;
 }
 
 bool writes(const nlohmann::json& written, const char* group, const char* key) {
-  if (!written.is_object()) return false;
-  const auto g = written.find(group);
-  return g != written.end() && g->is_object() && g->contains(key) && !g->at(key).is_null();
+  return written_value(written, group, key) != nullptr;
+}
+
+// The number `written` sets for group.key, if it sets one.
+std::optional<double> written_number(const nlohmann::json& written, const char* group, const char* key) {
+  const nlohmann::json* v = written_value(written, group, key);
+  if (!v || !v->is_number()) return std::nullopt;
+  return v->get<double>();
 }
 
 }  // namespace
