@@ -6,6 +6,7 @@ flat in vec2 gA;
 flat in vec2 gB;
 flat in vec2 gC;
 flat in float gPoint;
+flat in vec3 gTint;  // the face's colour filter over this triangle
 // The pass's colour: (1, 1, 1) for a monochrome frame, a wavelength band's
 // white-balanced RGB for a spectral one (passes add up in an RGBA target).
 uniform vec3 uWeight;
@@ -38,11 +39,11 @@ float edgeCoverage(vec2 p, vec2 q) {
 
 void main() {
   if (gPoint > 0.5) {
-    outIrradiance = vec4(uWeight * gIrradiance, 0.0);
+    outIrradiance = vec4(uWeight * gTint * gIrradiance, 0.0);
     return;
   }
   vec2 cell = floor(gl_FragCoord.xy);
   vec2 a = gA - cell, b = gB - cell, c = gC - cell;
   float covered = abs(edgeCoverage(a, b) + edgeCoverage(b, c) + edgeCoverage(c, a));
-  outIrradiance = vec4(uWeight * (gIrradiance * min(covered, 1.0)), 0.0);
+  outIrradiance = vec4(uWeight * gTint * (gIrradiance * min(covered, 1.0)), 0.0);
 }

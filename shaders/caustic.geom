@@ -15,6 +15,7 @@ in VertexData {
   vec3 footprint;
   float transmittance;
   float valid;
+  vec3 tint;
 } vin[];
 
 flat out float gIrradiance;  // E; for a collapsed triangle: flux per pixel area
@@ -22,6 +23,9 @@ flat out vec2 gA;            // corners in window pixels
 flat out vec2 gB;
 flat out vec2 gC;
 flat out float gPoint;       // 1: collapsed to a point, all flux to one pixel
+// The mean of the corners' tints: the exact mean of the tint interpolated
+// linearly over the triangle, which its uniform flux density crosses.
+flat out vec3 gTint;
 
 uniform bool uPointLight;
 uniform vec3 uLightDir;
@@ -98,6 +102,7 @@ void main() {
   gA = a;
   gB = b;
   gC = c;
+  gTint = (vin[0].tint + vin[1].tint + vin[2].tint) / 3.0;
   if (areaPixels < kCollapsed) {
     if (uCount) atomicAdd(counters.collapsed, 1u);
     gPoint = 1.0;

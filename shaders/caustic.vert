@@ -4,6 +4,7 @@
 // coordinates and what the geometry shader needs for the triangle's flux.
 layout(location = 0) in vec3 aPosition;
 layout(location = 1) in vec3 aNormal;
+layout(location = 2) in vec3 aTint;  // transmittance per channel; (1, 1, 1) for clear glass
 
 uniform mat4 uModel;
 uniform mat3 uRotation;
@@ -29,6 +30,7 @@ out VertexData {
   vec3 footprint;      // where this vertex's ray entered the object (world)
   float transmittance; // product of Fresnel transmittances along the ray
   float valid;         // 1: reached the screen; 0: TIR, missed or grazing
+  vec3 tint;
 } vout;
 
 void main() {
@@ -79,5 +81,6 @@ void main() {
   vout.footprint = footprint;
   vout.transmittance = uFresnel ? transmittance : 1.0;
   vout.valid = ok ? 1.0 : 0.0;
+  vout.tint = aTint;
   gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
 }

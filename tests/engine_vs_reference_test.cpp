@@ -90,6 +90,45 @@ TEST_F(EngineVsReference, APrismsColoursMatchTheReferencesChannelByChannel) {
   }
 }
 
+TEST_F(EngineVsReference, ATintedLensFiltersAsTheReferenceDoes) {
+  // The lens with a colour gradient across its face: the engine passes each
+  // triangle's mean tint, the reference the tint where each photon crosses.
+  Scene scene = load_scene(std::string(CAUSTIC_ASSET_DIR) + "/scenes/lens.json");
+  scene = apply_merge_patch(scene, nlohmann::json{{"focus_distance", 40}, {"render", {{"width", 128}, {"height", 128}}},
+                                    {"screen", {{"width", 16}, {"height", 16}}}});
+  Mesh tinted_lens = load_obj(scene.mesh_path());
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const auto& p : tinted_lens.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  for (const auto& p : tinted_lens.positions) {
+    const glm::vec3 t = (p - lo) / (hi - lo);  // 0..1 across the footprint
+    tinted_lens.colours.emplace_back(1.0f - 0.8f * t.x, 0.2f + 0.8f * t.y, 0.5f);
+  }
+  const auto mesh = shared(std::move(tinted_lens));
+  engine_->set_scene(scene, mesh);
+  engine_->render();
+  const RgbHdrImage engine = engine_->read_hdr_rgb();
+  ReferenceOptions options;
+  options.photons = 16'000'000;
+  const ReferenceResult reference = trace_reference(scene, *mesh, options);
+  ASSERT_EQ(reference.rgb.pixels.size(), engine.pixels.size());
+  double flux[2][3] = {};
+  for (int c = 0; c < 3; ++c) {
+    HdrImage a{128, 128, {}}, b{128, 128, {}};
+    for (std::size_t i = c; i < engine.pixels.size(); i += 3) {
+      a.pixels.push_back(engine.pixels[i]);
+      b.pixels.push_back(reference.rgb.pixels[i]);
+      flux[0][c] += engine.pixels[i];
+      flux[1][c] += reference.rgb.pixels[i];
+    }
+    const double l1 = relative_l1(a, b);
+    std::printf("tinted lens channel %d: relative L1 engine vs reference %.4f\n", c, l1);
+    EXPECT_LT(l1, 0.01) << "channel " << c;
+  }
+  // The gradient must show: red falls and green rises across the face.
+  EXPECT_LT(flux[0][0], 0.75 * flux[0][2] / 0.5);
+  EXPECT_NEAR(flux[0][0] / flux[0][1], flux[1][0] / flux[1][1], 0.01 * flux[1][0] / flux[1][1]);
+}
+
 TEST_F(EngineVsReference, ReportIntensityIsFarFromTheReferenceWhereEnergyIsNot) {
   // The lens half-way to its focus: the beam converges, and the report's
   // area ratio measures that convergence rather than the light it carries.

@@ -81,6 +81,46 @@ TEST_F(ObjFiles, RoundTripsThroughWriteObj) {
     }
 }
 
+TEST_F(ObjFiles, ReadsAndWritesVertexColoursAsTheFacesTint) {
+  const Mesh m = load_obj(write("tinted.obj",
+                                "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 0.5 0.5 0.5\n"
+                                "f 1 2 3\nf 1 3 4\n"));
+  ASSERT_TRUE(tinted(m));
+  ASSERT_EQ(m.colours.size(), m.positions.size());
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    // Each colour stays with its position (vertices may be renumbered).
+    const glm::vec3 p = m.positions[i], c = m.colours[i];
+    const glm::vec3 expected = p == glm::vec3(0, 0, 0)   ? glm::vec3(1, 0, 0)
+                               : p == glm::vec3(1, 0, 0) ? glm::vec3(0, 1, 0)
+                               : p == glm::vec3(1, 1, 0) ? glm::vec3(0, 0, 1)
+                                                         : glm::vec3(0.5f);
+    EXPECT_EQ(c, expected) << i;
+  }
+  write_obj(m, dir_ / "again.obj");
+  const Mesh again = load_obj(dir_ / "again.obj");
+  EXPECT_EQ(again.colours, m.colours);
+  EXPECT_FALSE(tinted(load_obj(write("clear.obj", kSquare))));
+  // A joint weight (v x y z w) is no colour.
+  EXPECT_FALSE(tinted(load_obj(write("w.obj", "v 0 0 0 1\nv 1 0 0 1\nv 1 1 0 1\nf 1 2 3\n"))));
+}
+
+TEST_F(ObjFiles, RejectsColoursOutOfRangeOrOnSomeVerticesOnly) {
+  expect_error("v 0 0 0 1 0 0\nv 1 0 0 1.5 0 0\nv 1 1 0 0 0 1\nf 1 2 3\n", "line 2: the colour 1.5 is outside [0, 1]");
+  expect_error("v 0 0 0 1 0 -0.1\nv 1 0 0 1 0 0\nv 1 1 0 0 0 1\nf 1 2 3\n", "-0.1 is outside");
+  expect_error("v 0 0 0 1 0 0\nv 1 0 0\nv 1 1 0 0 0 1\nf 1 2 3\n", "line 2: this vertex has no colour");
+  expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0 0 0 1\nf 1 2 3\n", "line 3: this vertex has a colour");
+  expect_error("v 0 0 0 1 0 nan\nv 1 0 0 1 0 0\nv 1 1 0 0 0 1\nf 1 2 3\n", "not a finite number");
+  // The same rules for a mesh built in memory.
+  Mesh m = load_obj(write("square.obj", kSquare));
+  m.colours.assign(3, glm::vec3(1.0f));
+  EXPECT_THROW(validate_mesh(m), SceneError);
+  m.colours.assign(4, glm::vec3(1.0f));
+  m.colours[2].g = std::nanf("");
+  EXPECT_THROW(validate_mesh(m), SceneError);
+  m.colours[2].g = 0.5f;
+  EXPECT_NO_THROW(validate_mesh(m));
+}
+
 TEST_F(ObjFiles, RejectsBadFiles) {
   expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n", "only triangles");
   expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2\n", "lines or points");

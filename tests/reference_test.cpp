@@ -138,3 +138,16 @@ TEST(Resample, LensAtAnotherResolutionIsTheSameSurface) {
   EXPECT_LT(worst_normal, 2e-3);
   EXPECT_THROW(resample_face(fine, {0, 0, 1}, 1), std::invalid_argument);
 }
+
+TEST(Resample, KeepsTheTintInterpolatedWhereEachVertexLands) {
+  // A linear colour ramp is reproduced exactly by linear interpolation.
+  Mesh fine = grid_mesh(plano_convex_lens(oracle::kRadius, 10.0), 24, 24);
+  auto ramp = [](const glm::dvec3& p) { return glm::dvec3(0.5 + p.x / 25, 0.5 - p.y / 25, 0.25); };
+  for (const auto& p : fine.positions) fine.colours.emplace_back(ramp(p));
+  const Mesh coarse = resample_face(fine, {0, 0, 1}, 9);
+  ASSERT_EQ(coarse.colours.size(), coarse.positions.size());
+  for (std::size_t i = 0; i < coarse.positions.size(); ++i)
+    EXPECT_NEAR(glm::length(glm::dvec3(coarse.colours[i]) - ramp(coarse.positions[i])), 0.0, 1e-4) << i;
+  EXPECT_NO_THROW(validate_mesh(coarse));
+  EXPECT_FALSE(tinted(resample_face(grid_mesh(plano_convex_lens(oracle::kRadius, 10.0), 24, 24), {0, 0, 1}, 9)));
+}

@@ -41,7 +41,7 @@ int run_reference(const ReferenceCommandOptions& opt) {
   return run_reporting("reference", opt.scene, [&] {
     const ReferenceResult r = trace_reference(scene, mesh, options);
     std::fprintf(stderr, "\n");
-    if (r.wavelengths > 1)
+    if (!r.rgb.pixels.empty())
       write_exr(r.rgb, opt.output);
     else
       write_exr(r.image, opt.output);

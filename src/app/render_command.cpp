@@ -68,8 +68,8 @@ int run_render(const RenderOptions& opt) {
                 median(post_ms), opt.frames, opt.frames == 1 ? "" : "s");
     if (st.wavelengths > 1) std::printf("spectral: %d wavelengths, one caustic pass each\n", st.wavelengths);
     for (const auto& out : opt.outputs) {
-      // A spectral frame keeps its colour: R, G, B channels; a grey one, Y.
-      if (out.extension() == ".exr" && st.wavelengths > 1) write_exr(engine.read_hdr_rgb(), out);
+      // A colour frame (dispersive or tinted) keeps R, G, B channels; a grey one, Y.
+      if (out.extension() == ".exr" && st.colour) write_exr(engine.read_hdr_rgb(), out);
       else if (out.extension() == ".exr") write_exr(engine.read_hdr(), out);
       else write_png(engine.read_ldr(), out);
       std::printf("wrote %s\n", out.string().c_str());

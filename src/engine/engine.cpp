@@ -62,8 +62,9 @@ void Engine::set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh) {
   if (new_size) s.ldr = gl::RenderTarget(GL_RGBA8, scene.render.width, scene.render.height);
   const int hdr_w = std::max(1, scene.render.width / s.divisor), hdr_h = std::max(1, scene.render.height / s.divisor);
   // Linear filtering serves the preview's upsampling; full frames read texels
-  // exactly. A spectral frame adds its wavelengths in colour.
-  const GLenum hdr_format = spectral(scene) ? GL_RGBA32F : GL_R32F;
+  // exactly. A spectral frame adds its wavelengths in colour; a tinted face
+  // filters its light in colour.
+  const GLenum hdr_format = spectral(scene) || tinted(*mesh) ? GL_RGBA32F : GL_R32F;
   const bool new_hdr = s.hdr.texture.width() != hdr_w || s.hdr.texture.height() != hdr_h ||
                        s.hdr.texture.format() != hdr_format;
   if (new_hdr) s.hdr = gl::RenderTarget(hdr_format, hdr_w, hdr_h, GL_LINEAR);
@@ -100,6 +101,7 @@ bool Engine::render() {
       s.ray.draw(*s.scene, s.placement, s.hdr, passes[i].ior, glm::vec3(w.r, w.g, w.b), i == 0, i + 1 == passes.size());
     }
     s.stats.wavelengths = passes.empty() ? 1 : static_cast<int>(passes.size());
+    s.stats.colour = s.hdr.texture.format() != GL_R32F;
     const TriangleCounts counts = s.ray.counts();  // the last pass's; waits for it to finish
     glFinish();
     s.stats.ray_ms = elapsed_ms(start);

@@ -18,7 +18,7 @@ class RayPass {
   RayPass();
   void upload(const Mesh& mesh);
   /// Adds every triangle's relative irradiance, refracted with index `ior`
-  /// and times `weight`, into `target` (cleared first when `clear`): one
+  /// and times `weight` and the triangle's tint, into `target` (cleared first when `clear`): one
   /// wavelength of a spectral frame, or (1, 1, 1) and object.ior for a
   /// monochrome one. `count`: this pass's triangles are what counts() reports.
   void draw(const Scene& scene, const Placement& placement, const gl::RenderTarget& target, double ior,
@@ -28,8 +28,9 @@ class RayPass {
  private:
   gl::Program program_;
   gl::VertexArray vao_;
-  gl::Buffer positions_, normals_, indices_, counters_;
+  gl::Buffer positions_, normals_, colours_, indices_, counters_;
   GLsizei index_count_ = 0;
+  bool tinted_ = false;
 };
 
 class PostPass {

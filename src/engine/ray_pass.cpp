@@ -18,6 +18,7 @@ void RayPass::upload(const Mesh& mesh) {
   // Immutable storage cannot be resized: a new mesh gets new buffers.
   positions_ = gl::Buffer();
   normals_ = gl::Buffer();
+  colours_ = gl::Buffer();
   indices_ = gl::Buffer();
   vao_ = gl::VertexArray();
   glNamedBufferStorage(positions_.id(), static_cast<GLsizeiptr>(mesh.positions.size() * sizeof(glm::vec3)),
@@ -33,6 +34,15 @@ void RayPass::upload(const Mesh& mesh) {
     glEnableVertexArrayAttrib(vao, attrib);
     glVertexArrayAttribFormat(vao, attrib, 3, GL_FLOAT, GL_FALSE, 0);
     glVertexArrayAttribBinding(vao, attrib, attrib);
+  }
+  tinted_ = tinted(mesh);
+  if (tinted_) {
+    glNamedBufferStorage(colours_.id(), static_cast<GLsizeiptr>(mesh.colours.size() * sizeof(glm::vec3)),
+                         mesh.colours.data(), 0);
+    glVertexArrayVertexBuffer(vao, 2, colours_.id(), 0, sizeof(glm::vec3));
+    glEnableVertexArrayAttrib(vao, 2);
+    glVertexArrayAttribFormat(vao, 2, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao, 2, 2);
   }
   glVertexArrayElementBuffer(vao, indices_.id());
   index_count_ = static_cast<GLsizei>(mesh.triangles.size() * 3);
@@ -87,6 +97,8 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
   glBlendFunc(GL_ONE, GL_ONE);
   program_.use();
   glBindVertexArray(vao_.id());
+  // A clear face reads the tint attribute's constant value: pass everything.
+  if (!tinted_) glVertexAttrib3f(2, 1.0f, 1.0f, 1.0f);
   glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
   glBindVertexArray(0);
   glDisable(GL_BLEND);

@@ -142,7 +142,7 @@ void answer_snapshots(FrameSource& source) {
     const Current current(*source.context);
     ldr = source.engine->read_ldr();
     // A colour frame is read back once; its luminance is the grey image.
-    if (source.engine->stats().wavelengths > 1) {
+    if (source.engine->stats().colour) {
       colour = source.engine->read_hdr_rgb();
       hdr = luminance(colour);
     } else {

@@ -55,6 +55,7 @@ class Geometry {
 
   struct Hit {
     Vec3 point, normal;  // normal interpolated from the vertices, unit, world
+    Vec3 tint{1.0};      // the face's transmittance there, interpolated (1: clear)
   };
 
   // First intersection of the ray with the caustic face, beyond `t_min`.
@@ -80,6 +81,10 @@ class Geometry {
                    w * Vec3(mesh_.normals[tri.z]);
     hit->point = origin + static_cast<double>(rh.ray.tfar) * dir;
     hit->normal = glm::normalize(placement_.rotation * n);
+    hit->tint = Vec3(1.0);
+    if (tinted(mesh_))
+      hit->tint = (1 - u - w) * Vec3(mesh_.colours[tri.x]) + u * Vec3(mesh_.colours[tri.y]) +
+                  w * Vec3(mesh_.colours[tri.z]);
     return true;
   }
 

@@ -65,6 +65,7 @@ Launch launch_rectangle(const Scene& scene, const Geometry& geo, const Mesh& mes
 struct Photon {
   Vec3 origin, dir;
   double flux;
+  Vec3 tint{1.0};  // what the face's colour let through, per channel
 };
 
 // Follows one photon through the object; returns false when it never
@@ -79,6 +80,7 @@ bool follow(const Scene& scene, const Geometry& geo, const Placement& p, Photon&
     if (!geo.intersect(ph.origin, ph.dir, 0.0, &hit)) return false;
     ph.dir = glm::normalize(reflect(ph.dir, face_against(hit.normal, ph.dir)));
     ph.origin = hit.point;
+    ph.tint = hit.tint;
     return true;
   }
   const bool flat_first = glm::dot(ph.dir, flat.normal) < 0.0 && flat.signed_distance(ph.origin) > 0.0;
@@ -94,6 +96,7 @@ bool follow(const Scene& scene, const Geometry& geo, const Placement& p, Photon&
     if (fresnel) ph.flux *= fresnel_transmittance(out->cos_i, n, 1.0);
     ph.origin = hit.point;
     ph.dir = out->direction;
+    ph.tint = hit.tint;
     return true;
   }
   if (!geo.intersect(ph.origin, ph.dir, 0.0, &hit)) return false;
@@ -108,10 +111,12 @@ bool follow(const Scene& scene, const Geometry& geo, const Placement& p, Photon&
   if (fresnel) ph.flux *= fresnel_transmittance(out->cos_i, n, 1.0);
   ph.origin = exit;
   ph.dir = out->direction;
+  ph.tint = hit.tint;
   return true;
 }
 
-// One wavelength (or a grey frame): the scene's object.ior throughout.
+// One wavelength (or a grey frame): the scene's object.ior throughout. A
+// tinted face gives an RGB result (and its luminance as the image).
 ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const ReferenceOptions& options) {
   const Placement placement = place_object(scene.object, mesh);
   check_geometry(scene, mesh, placement);
@@ -128,8 +133,9 @@ ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const Reference
   const double r_ref2 = point ? glm::dot(scene.light.position - placement.center, scene.light.position - placement.center) : 1.0;
 
   const int threads = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t channels = tinted(mesh) ? 3 : 1;
   std::vector<std::vector<double>> tiles(static_cast<std::size_t>(threads),
-                                         std::vector<double>(static_cast<std::size_t>(width) * height, 0.0));
+                                         std::vector<double>(channels * width * height, 0.0));
   std::atomic<std::uint64_t> rows_done{0}, landed{0};
   auto work = [&](int worker) {
     auto& tile = tiles[static_cast<std::size_t>(worker)];
@@ -164,7 +170,8 @@ ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const Reference
         const double u = glm::dot(hit, right) / screen.width + 0.5, v = 0.5 - glm::dot(hit, screen.up) / screen.height;
         if (u < 0 || u >= 1 || v < 0 || v >= 1) continue;
         const auto x = static_cast<std::size_t>(u * width), y = static_cast<std::size_t>(v * height);
-        tile[y * static_cast<std::size_t>(width) + x] += ph.flux;
+        const std::size_t at = channels * (y * static_cast<std::size_t>(width) + x);
+        for (std::size_t c = 0; c < channels; ++c) tile[at + c] += ph.flux * (channels == 3 ? ph.tint[c] : 1.0);
         ++mine;
       }
       ++rows_done;
@@ -189,11 +196,17 @@ ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const Reference
   if (options.progress) options.progress(1.0);
 
   ReferenceResult result;
-  result.image = HdrImage{width, height, std::vector<float>(static_cast<std::size_t>(width) * height)};
-  for (std::size_t i = 0; i < result.image.pixels.size(); ++i) {
+  std::vector<float> sums(tiles[0].size());
+  for (std::size_t i = 0; i < sums.size(); ++i) {
     double sum = 0;
     for (const auto& tile : tiles) sum += tile[i];  // fixed order: deterministic
-    result.image.pixels[i] = static_cast<float>(sum / pixel_area);
+    sums[i] = static_cast<float>(sum / pixel_area);
+  }
+  if (channels == 3) {
+    result.rgb = RgbHdrImage{width, height, std::move(sums)};
+    result.image = luminance(result.rgb);
+  } else {
+    result.image = HdrImage{width, height, std::move(sums)};
   }
   result.photons = strata * strata;
   result.photons_on_screen = landed;
@@ -206,7 +219,7 @@ ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const Reference
 ReferenceResult trace_reference(const Scene& scene, const Mesh& mesh, const ReferenceOptions& options) {
   validate_scene(scene);
   const auto passes = spectral_passes(scene, scene.render.wavelengths);
-  if (passes.empty()) return trace_grey(scene, mesh, options);
+  if (passes.empty()) return trace_grey(scene, mesh, options);  // grey, or tinted in one pass
   // The photons are shared among the wavelengths: the luminance, whose
   // weights sum to one, is as noisy as a grey frame with all of them.
   ReferenceResult total;
@@ -222,10 +235,12 @@ ReferenceResult trace_reference(const Scene& scene, const Mesh& mesh, const Refe
       each.progress = [&, k](double done) { options.progress((static_cast<double>(k) + done) / passes.size()); };
     const ReferenceResult r = trace_grey(one, mesh, each);
     const auto& w = passes[k].weight;
+    // A tinted face filters each channel of the band's weight.
+    const bool rgb = !r.rgb.pixels.empty();
     for (std::size_t i = 0; i < n; ++i) {
-      total.rgb.pixels[3 * i] += static_cast<float>(w.r * r.image.pixels[i]);
-      total.rgb.pixels[3 * i + 1] += static_cast<float>(w.g * r.image.pixels[i]);
-      total.rgb.pixels[3 * i + 2] += static_cast<float>(w.b * r.image.pixels[i]);
+      total.rgb.pixels[3 * i] += static_cast<float>(w.r * (rgb ? r.rgb.pixels[3 * i] : r.image.pixels[i]));
+      total.rgb.pixels[3 * i + 1] += static_cast<float>(w.g * (rgb ? r.rgb.pixels[3 * i + 1] : r.image.pixels[i]));
+      total.rgb.pixels[3 * i + 2] += static_cast<float>(w.b * (rgb ? r.rgb.pixels[3 * i + 2] : r.image.pixels[i]));
     }
     total.photons += r.photons;
     total.photons_on_screen += r.photons_on_screen;

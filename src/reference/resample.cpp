@@ -33,6 +33,7 @@ Mesh resample_face(const Mesh& mesh, const glm::dvec3& flat_normal, int n) {
       index[static_cast<std::size_t>(j) * n + i] = static_cast<int>(out.positions.size());
       out.positions.emplace_back(hit.point);
       out.normals.emplace_back(hit.normal);
+      if (tinted(mesh)) out.colours.emplace_back(glm::clamp(hit.tint, 0.0, 1.0));
     }
   auto at = [&](int i, int j) { return index[static_cast<std::size_t>(j) * n + i]; };
   for (int j = 0; j + 1 < n; ++j)

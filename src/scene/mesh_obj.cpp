@@ -12,6 +12,8 @@
 #include <map>
 #include <memory>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 namespace caustic {
 namespace {
@@ -24,6 +26,9 @@ bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y
 // Only the statements a caustic face needs are read at all: "mtllib" would
 // make the loader open other files (a path to /dev/zero reads forever) and
 // "vw" converts an unchecked number to int.
+// A vertex line with a colour has six numbers; the loader keeps colours
+// only when every vertex has one, so a file that mixes the two would lose
+// its tint without a word: an error names the first line that differs.
 void check_numbers(std::string text, const std::string& label) {
   static const char* const kStatements[] = {"v", "vn", "vt", "f", "o", "g", "s", "l", "usemtl"};
   // The loader ends a line at '\r' as well as '\n': read the lines it reads.
@@ -31,6 +36,7 @@ void check_numbers(std::string text, const std::string& label) {
     if (ch == '\r') ch = '\n';
   std::istringstream in(text);
   std::string line;
+  int first_coloured = -1;  // whether the first vertex line has a colour; -1 before it
   for (std::size_t number = 1; std::getline(in, line); ++number) {
     std::istringstream words(line);
     std::string tag;
@@ -46,13 +52,29 @@ void check_numbers(std::string text, const std::string& label) {
     }
     if (tag != "v" && tag != "vn" && tag != "vt") continue;
     std::string word;
-    for (int k = 0; words >> word; ++k) {
+    std::vector<std::pair<double, std::string>> numbers;  // the first six: x y z and a colour
+    std::size_t count = 0;
+    for (; words >> word; ++count) {
       char* end = nullptr;
       const double x = std::strtod(word.c_str(), &end);
       if (end != word.c_str() + word.size() || !std::isfinite(x))
         throw SceneError("mesh", "mesh file " + label + " line " + std::to_string(number) + ": \"" + word +
                                      "\" is not a finite number (NaN, Inf or malformed)");
+      if (count < 6) numbers.emplace_back(x, word);
     }
+    if (tag != "v") continue;
+    const int coloured = count >= 6 ? 1 : 0;
+    for (std::size_t k = 3; coloured && k < 6; ++k)
+      if (!(numbers[k].first >= 0 && numbers[k].first <= 1))
+        throw SceneError("mesh", "mesh file " + label + " line " + std::to_string(number) + ": the colour " +
+                                     numbers[k].second + " is outside [0, 1] (a vertex colour is the fraction of "
+                                     "light passed)");
+    if (first_coloured < 0) first_coloured = coloured;
+    if (coloured != first_coloured)
+      throw SceneError("mesh", "mesh file " + label + " line " + std::to_string(number) + ": " +
+                                   (coloured ? "this vertex has a colour but the first has none"
+                                             : "this vertex has no colour but the first has one") +
+                                   "; give every vertex a colour (v x y z r g b) or none");
   }
 }
 
@@ -84,6 +106,13 @@ void validate_mesh(const Mesh& mesh, const MeshLimits& limits) {
     throw SceneError("mesh", "has " + std::to_string(mesh.triangles.size()) + " triangles, more than the limit of " +
                                  std::to_string(limits.max_triangles));
   if (mesh.normals.size() != mesh.positions.size()) throw SceneError("mesh", "needs exactly one normal per vertex");
+  if (tinted(mesh) && mesh.colours.size() != mesh.positions.size())
+    throw SceneError("mesh", "needs exactly one colour per vertex, or none");
+  for (std::size_t i = 0; i < mesh.colours.size(); ++i) {
+    const auto& c = mesh.colours[i];
+    if (!(glm::all(glm::greaterThanEqual(c, glm::vec3(0))) && glm::all(glm::lessThanEqual(c, glm::vec3(1)))))
+      throw SceneError("mesh", "colour of vertex " + std::to_string(i + 1) + " is outside [0, 1]");
+  }
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
     const auto& p = mesh.positions[i];
     if (!finite(p)) throw SceneError("mesh", "vertex " + std::to_string(i + 1) + " is not finite (NaN or Inf)");
@@ -128,6 +157,8 @@ Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits) {
   const auto& attrib = reader.GetAttrib();
   const auto& shapes = reader.GetShapes();
   const std::size_t vertex_count = attrib.vertices.size() / 3;
+  // check_numbers made sure every vertex has a colour or none does.
+  const bool coloured = attrib.colors.size() == attrib.vertices.size() && !attrib.colors.empty();
   if (vertex_count > limits.max_vertices)
     throw SceneError("mesh", "mesh file " + label + " has more than " + std::to_string(limits.max_vertices) + " vertices");
 
@@ -157,6 +188,10 @@ Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits) {
         if (inserted) {
           const float* p = &attrib.vertices[3 * idx.vertex_index];
           mesh.positions.emplace_back(p[0], p[1], p[2]);
+          if (coloured) {
+            const float* c = &attrib.colors[3 * idx.vertex_index];
+            mesh.colours.emplace_back(c[0], c[1], c[2]);
+          }
           if (idx.normal_index >= 0) {
             const float* n = &attrib.normals[3 * idx.normal_index];
             const glm::vec3 normal(n[0], n[1], n[2]);
@@ -193,7 +228,15 @@ void write_obj(const Mesh& mesh, const std::filesystem::path& file) {
   std::unique_ptr<FILE, int (*)(FILE*)> out(std::fopen(file.string().c_str(), "w"), &std::fclose);
   if (!out) throw std::runtime_error("cannot write " + file.string());
   std::fprintf(out.get(), "# caustic face, %zu vertices, %zu triangles\n", mesh.positions.size(), mesh.triangles.size());
-  for (const auto& p : mesh.positions) std::fprintf(out.get(), "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    const auto& p = mesh.positions[i];
+    if (tinted(mesh)) {
+      const auto& c = mesh.colours[i];
+      std::fprintf(out.get(), "v %.9g %.9g %.9g %.7g %.7g %.7g\n", p.x, p.y, p.z, c.x, c.y, c.z);
+    } else {
+      std::fprintf(out.get(), "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
+    }
+  }
   for (const auto& n : mesh.normals) std::fprintf(out.get(), "vn %.7g %.7g %.7g\n", n.x, n.y, n.z);
   for (const auto& t : mesh.triangles)
     std::fprintf(out.get(), "f %u//%u %u//%u %u//%u\n", t.x + 1, t.x + 1, t.y + 1, t.y + 1, t.z + 1, t.z + 1);

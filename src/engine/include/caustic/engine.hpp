@@ -37,6 +37,7 @@ struct FrameStats {
   double exposure = 1;        ///< the exposure the tone map used
   double metered = 0;         ///< "auto": the metered quantile of the lit pixels (0: none lit)
   int wavelengths = 1;        ///< ray passes of the last frame: its wavelength samples (1: monochrome)
+  bool colour = false;        ///< the frame is RGB (dispersive glass or a tinted face): read_hdr_rgb() holds it
 };
 
 class Engine {

@@ -23,7 +23,7 @@ struct ReferenceOptions {
 
 struct ReferenceResult {
   HdrImage image;                   ///< relative irradiance, render.width x render.height (spectral: luminance)
-  RgbHdrImage rgb;                  ///< a spectral scene's colour (spectral.hpp); empty for a grey one
+  RgbHdrImage rgb;                  ///< a spectral scene's or tinted face's colour; empty for a grey one
   int wavelengths = 1;              ///< wavelengths traced
   std::uint64_t photons = 0;        ///< launched
   std::uint64_t photons_on_screen = 0;
@@ -33,7 +33,10 @@ struct ReferenceResult {
 /// Traces `options.photons` photons, stratified over the light's footprint
 /// on the object, through the object to the screen; a spectral scene
 /// shares them among its render.wavelengths, each with its own index, and
-/// adds them in colour as the engine does. Throws SceneError for a scene
+/// adds them in colour as the engine does; a tinted face (Mesh::colours)
+/// filters each photon by its colour where the photon crosses the face,
+/// interpolated there (the engine takes each triangle's mean). Throws
+/// SceneError for a scene
 /// the renderer cannot represent (as the engine does).
 ReferenceResult trace_reference(const Scene& scene, const Mesh& mesh, const ReferenceOptions& options);
 

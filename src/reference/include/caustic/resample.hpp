@@ -14,7 +14,8 @@ namespace caustic {
 
 /// Casts an n x n grid of rays along -flat_normal (mesh coordinates) over
 /// the face's footprint and keeps each hit's position and interpolated
-/// normal; grid points outside the face are left out with their triangles.
+/// normal (and colour, when tinted); grid points outside the face are left
+/// out with their triangles.
 /// Throws std::invalid_argument for n < 2 and SceneError when nothing is hit.
 Mesh resample_face(const Mesh& mesh, const glm::dvec3& flat_normal, int n);
 

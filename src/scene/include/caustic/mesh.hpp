@@ -19,7 +19,16 @@ struct Mesh {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;  ///< unit, one per position; orientation is free
   std::vector<glm::uvec3> triangles;
+  /// Optional tint (report 3.6): one linear-RGB transmittance in [0, 1] per
+  /// position, from OBJ vertex colours. Light crossing the face near a
+  /// vertex keeps that fraction of its flux per channel; a triangle passes
+  /// the mean of its corners (the exact mean of the linear interpolation).
+  /// Empty: clear glass, and a grey frame unless the glass disperses.
+  std::vector<glm::vec3> colours;
 };
+
+/// Whether the face filters light by colour, so frames of it are RGB.
+inline bool tinted(const Mesh& mesh) { return !mesh.colours.empty(); }
 
 /// Bounds that load_obj enforces, so a hostile file cannot exhaust memory.
 struct MeshLimits {
@@ -31,7 +40,9 @@ struct MeshLimits {
 
 /// Loads an OBJ holding the caustic face as triangles. Positions with
 /// different normals become separate vertices; a file with no normals (or
-/// some faces without) gets area-weighted smooth normals. Throws SceneError
+/// some faces without) gets area-weighted smooth normals. Vertex colours
+/// (`v x y z r g b`, each in [0, 1]) become Mesh::colours; every vertex
+/// has one or none does. Throws SceneError
 /// with a message that names the problem (and the line for syntax errors).
 Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits = {});
 
@@ -44,7 +55,8 @@ void validate_mesh(const Mesh& mesh, const MeshLimits& limits = {});
 std::vector<glm::vec3> smooth_normals(const std::vector<glm::vec3>& positions,
                                       const std::vector<glm::uvec3>& triangles);
 
-/// Writes a mesh as OBJ with `v`, `vn` and `f v//vn` lines.
+/// Writes a mesh as OBJ with `v` (with its colour when tinted), `vn` and
+/// `f v//vn` lines.
 void write_obj(const Mesh& mesh, const std::filesystem::path& file);
 
 /// The object's pose resolved against its mesh: everything a renderer needs
