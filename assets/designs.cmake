@@ -28,11 +28,12 @@ set(CAUSTIC_DESIGNED_SCENES "" CACHE INTERNAL "ids of the built-in designed scen
 set(designed_ids "")
 set(design_outputs "")
 
-# caustic_design(ID PICTURE NAME DESCRIPTION): designs one scene from PICTURE.
-# Lens 100 mm, screen 200 mm below (the designer's defaults, a relief of a few
-# millimetres and slopes under 20 degrees on every picture here).
+# caustic_design(ID PICTURE NAME DESCRIPTION [FLAGS...]): designs one scene
+# from PICTURE. Lens 100 mm, screen 200 mm below (the designer's defaults, a
+# relief of a few millimetres and slopes under 20 degrees on every picture
+# here); FLAGS go to `causticd design` as they are (--colour).
 function(caustic_design id picture name description)
-  set(params --size 100 --focus 200 --resolution ${CAUSTICD_DESIGN_RESOLUTION})
+  set(params --size 100 --focus 200 --resolution ${CAUSTICD_DESIGN_RESOLUTION} ${ARGN})
   # The Makefile generator does not rerun a command whose arguments changed:
   # the parameters go into a file that changes with them, and the command
   # depends on it.
@@ -61,7 +62,8 @@ endfunction()
 # Photographs (descriptions and licences: assets/README.md).
 set(photos
     "design-cat|chelsea.png|Chelsea the cat|The face of Chelsea the cat, thrown as light by a 100 mm freeform acrylic slab onto a screen 200 mm below."
-    "design-astronaut|astronaut.png|Astronaut portrait|NASA's portrait of astronaut Eileen Collins, formed by light refracted through a 100 mm freeform acrylic slab onto a screen 200 mm below.")
+    "design-astronaut|astronaut.png|Astronaut portrait|NASA's portrait of astronaut Eileen Collins, formed by light refracted through a 100 mm freeform acrylic slab onto a screen 200 mm below."
+    "design-coffee|coffee.png|A cup of coffee, in colour|An espresso on its red saucer in colour: the slab's shape throws the light, a tint on its face gives each part of the picture its colour.|--colour")
 set(photo_dir_ok FALSE)
 if(CAUSTICD_DESIGN_PHOTO_DIR AND EXISTS ${CAUSTICD_DESIGN_PHOTO_DIR}/chelsea.png)
   set(photo_dir_ok TRUE)
@@ -74,7 +76,12 @@ if(photo_dir_ok)
     list(GET fields 1 file)
     list(GET fields 2 name)
     list(GET fields 3 description)
-    caustic_design(${id} ${CAUSTICD_DESIGN_PHOTO_DIR}/${file} "${name}" "${description}")
+    set(flags "")
+    list(LENGTH fields count)
+    if(count GREATER 4)
+      list(SUBLIST fields 4 -1 flags)
+    endif()
+    caustic_design(${id} ${CAUSTICD_DESIGN_PHOTO_DIR}/${file} "${name}" "${description}" ${flags})
   endforeach()
 else()
   message(WARNING "CAUSTICD_DESIGN_PHOTO_DIR is not set to scikit-image's data folder (holding chelsea.png): "

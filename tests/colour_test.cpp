@@ -58,6 +58,22 @@ TEST(Colour, D65IsTheSrgbWhite) {
   EXPECT_NEAR(luminance(white), 1.0, 1e-3);
 }
 
+TEST(Colour, TheSrgbPrimariesAndWhiteHaveTheStandardsChromaticities) {
+  // IEC 61966-2-1: R (0.64, 0.33), G (0.30, 0.60), B (0.15, 0.06), white D65.
+  const double expected[4][2] = {{0.64, 0.33}, {0.30, 0.60}, {0.15, 0.06}, {0.3127, 0.3290}};
+  const Rgb colours[4] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
+  for (int k = 0; k < 4; ++k) {
+    const auto xy = chromaticity(xyz(colours[k]));
+    EXPECT_NEAR(xy[0], expected[k][0], 1e-3) << k;
+    EXPECT_NEAR(xy[1], expected[k][1], 1e-3) << k;
+    // And back: the two matrices are each other's inverse.
+    const Rgb back = linear_srgb(xyz(colours[k]));
+    EXPECT_NEAR(back.r, colours[k].r, 1e-3) << k;
+    EXPECT_NEAR(back.g, colours[k].g, 1e-3) << k;
+    EXPECT_NEAR(back.b, colours[k].b, 1e-3) << k;
+  }
+}
+
 TEST(Colour, WavelengthWeightsSumToWhiteForEveryLightAndCount) {
   for (const LightSpectrum light : {LightSpectrum{Illuminant::d65}, LightSpectrum{Illuminant::equal},
                                     LightSpectrum{Illuminant::blackbody, 2700}, LightSpectrum{Illuminant::led}}) {

@@ -83,6 +83,40 @@ TEST_F(DesignCli, DesignsAFaceWhoseSceneRendersAsWritten) {
   EXPECT_EQ(render.status, 0) << render.output;
 }
 
+TEST_F(DesignCli, DesignsInColourATintedFaceWhoseRenderIsInColour) {
+  // Top half blue, bottom half orange.
+  caustic::Rgba8Image img{48, 48, std::vector<std::uint8_t>(48 * 48 * 4, 255)};
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 48; ++x) {
+      const std::uint8_t blue[3] = {30, 60, 250}, orange[3] = {250, 140, 20};
+      for (int c = 0; c < 3; ++c) img.pixels[(y * 48 + x) * 4 + c] = y < 24 ? blue[c] : orange[c];
+    }
+  const fs::path target = dir_ / "target.png", face = dir_ / "face.obj", report = dir_ / "report.json",
+                 pair = dir_ / "pair.png", render = dir_ / "render.exr";
+  caustic::write_png(img, target);
+  const CommandResult r = causticd("design --colour --target " + target.string() + " -o " + face.string() +
+                                   " --resolution 32 --report " + report.string() + " --side-by-side " + pair.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("chromaticity error"), std::string::npos) << r.output;
+  EXPECT_TRUE(caustic::tinted(caustic::load_obj(face)));
+  std::ifstream in(report);
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["colour"], true);
+  EXPECT_LT(j["engine"]["colour"]["chromaticity_error"].get<double>(), 0.02) << j.dump();
+  // The scene renders RGB: the top of the screen blue, the bottom orange.
+  const CommandResult shown = causticd("render --scene " + (dir_ / "face.json").string() + " -o " + render.string() +
+                                       " --width 32 --height 32");
+  ASSERT_EQ(shown.status, 0) << shown.output;
+  const caustic::RgbHdrImage rgb = caustic::read_rgb_image(render);
+  double top[3] = {0, 0, 0}, bottom[3] = {0, 0, 0};
+  for (int y = 4; y < 28; ++y)
+    for (int x = 4; x < 28; ++x)
+      if (y < 14 || y >= 18)
+        for (int c = 0; c < 3; ++c) (y < 16 ? top : bottom)[c] += rgb.pixels[3 * (std::size_t(y) * 32 + x) + c];
+  EXPECT_GT(top[2], 2 * top[0]) << "blue above";
+  EXPECT_GT(bottom[0], 2 * bottom[2]) << "orange below";
+}
+
 TEST_F(DesignCli, RejectsBadTargetsAndFlags) {
   const fs::path target = good_target();
   const std::string t = " --target " + target.string();

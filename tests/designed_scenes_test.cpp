@@ -4,6 +4,7 @@
 // files on disk forms the target picture. The SSIM is recomputed here from
 // the written target, scene and mesh rather than taken from the designer's
 // report, so a scene or mesh that went wrong after the design would show.
+#include "caustic/design_colour.hpp"
 #include "caustic/design_target.hpp"
 #include "caustic/design_verify.hpp"
 #include "caustic/engine.hpp"
@@ -44,9 +45,10 @@ nlohmann::json read_json(const fs::path& file) {
 }
 
 // The screen's relative irradiance the design aims at (docs/design.md, step
-// 1): densities max(Y / max Y, floor) on n x n cells, scaled to mean 1.
-caustic::HdrImage target_irradiance(const fs::path& picture, int n, double floor) {
-  caustic::HdrImage cells = caustic::design::box_resample_square(caustic::design::load_target(picture), n);
+// 1): densities max(Y / max Y, floor) on n x n cells, scaled to mean 1; for
+// a colour design Y is the brightest channel (docs/design.md, "Colour").
+caustic::HdrImage target_irradiance(const caustic::HdrImage& picture, int n, double floor) {
+  caustic::HdrImage cells = caustic::design::box_resample_square(picture, n);
   const float brightest = *std::max_element(cells.pixels.begin(), cells.pixels.end());
   double sum = 0;
   for (float& v : cells.pixels) sum += v = static_cast<float>(std::max(double(v) / brightest, floor));
@@ -64,7 +66,7 @@ TEST(DesignedScenes, TheBuildMadeTheDrawnOnesAndThePhotographsWhenGiven) {
   for (const char* id : {"design-logo", "design-text"})
     EXPECT_NE(std::find(ids.begin(), ids.end(), id), ids.end()) << id;
   if (CAUSTIC_DESIGN_PHOTOS) {
-    for (const char* id : {"design-cat", "design-astronaut"})
+    for (const char* id : {"design-cat", "design-astronaut", "design-coffee"})
       EXPECT_NE(std::find(ids.begin(), ids.end(), id), ids.end()) << id;
   }
   for (const auto& id : ids) {
@@ -97,11 +99,36 @@ TEST_P(DesignedScene, LoadsAndItsEngineRenderFormsTheTarget) {
   caustic::Engine engine;
   engine.set_scene(check, mesh);
   engine.render();
-  const caustic::HdrImage render = engine.read_hdr();
+  const bool colour = report.value("colour", false);
+  const fs::path picture = kAssets / "designs" / (id + ".target.png");
+  const double floor = report["black_floor"].get<double>();
+  // A colour design's shape is judged by its brightest channel, then each
+  // channel against the picture's colour at the same scale.
+  const caustic::RgbHdrImage rgb = colour ? engine.read_hdr_rgb() : caustic::RgbHdrImage{};
+  const caustic::HdrImage render = colour ? caustic::design::brightest_channel(rgb) : engine.read_hdr();
   ASSERT_EQ(render.width, n);
+  EXPECT_EQ(engine.stats().colour, colour) << id;
 
   const caustic::HdrImage target =
-      target_irradiance(kAssets / "designs" / (id + ".target.png"), n, report["black_floor"].get<double>());
+      colour ? target_irradiance(caustic::design::brightest_channel(caustic::design::load_target_rgb(picture)), n, floor)
+             : target_irradiance(caustic::design::load_target(picture), n, floor);
+  if (colour) {
+    const caustic::RgbHdrImage cells = caustic::design::box_resample_square(caustic::design::load_target_rgb(picture), n);
+    double diff[3] = {0, 0, 0}, total[3] = {0, 0, 0};
+    for (std::size_t p = 0; p < target.pixels.size(); ++p) {
+      const float* c = &cells.pixels[3 * p];
+      const float m = std::max({c[0], c[1], c[2]});
+      for (int k = 0; k < 3; ++k) {
+        const double wanted = target.pixels[p] * (m > 0 ? c[k] / m : 1.0);
+        diff[k] += std::abs(rgb.pixels[3 * p + k] - wanted);
+        total[k] += wanted;
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      RecordProperty("relative_l1_channel_" + std::to_string(k), std::to_string(diff[k] / total[k]));
+      EXPECT_LT(diff[k] / total[k], 0.15) << id << ": relative L1 of channel " << k;
+    }
+  }
   const double ssim = caustic::tonemapped_ssim(render, target, caustic::design::target_exposure(target), 2.2);
   double diff = 0, total = 0;
   for (std::size_t p = 0; p < target.pixels.size(); ++p) {

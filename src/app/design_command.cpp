@@ -7,6 +7,7 @@
 
 #ifdef CAUSTICD_WITH_DESIGN
 #include "caustic/design.hpp"
+#include "caustic/design_colour.hpp"
 #include "caustic/design_solid.hpp"
 #include "caustic/design_verify.hpp"
 #include "caustic/gl_context.hpp"
@@ -35,7 +36,7 @@ struct DesignCommandOptions {
   std::filesystem::path target, face, scene, solid, report, side_by_side;
   std::optional<std::string> name, description;
   design::DesignOptions design;
-  bool force = false, verify = false, no_check = false, regular = false;
+  bool force = false, verify = false, no_check = false, regular = false, colour = false;
   std::uint64_t photons = 4'000'000;
 };
 
@@ -104,10 +105,32 @@ std::filesystem::path part_name(const std::filesystem::path& p) {
   return p.parent_path() / (p.stem().string() + ".part" + p.extension().string());
 }
 
-// Target | engine render [| reference render], tone-mapped alike; halved
-// (box filter) down to at most 256 pixels a side so the picture stays small
-// enough to share.
-Rgba8Image side_by_side(std::vector<HdrImage> panels, double exposure) {
+// Grey panels as colour ones (R = G = B).
+RgbHdrImage as_rgb(const HdrImage& grey) {
+  RgbHdrImage out{grey.width, grey.height, std::vector<float>(3 * grey.pixels.size())};
+  for (std::size_t i = 0; i < grey.pixels.size(); ++i)
+    out.pixels[3 * i] = out.pixels[3 * i + 1] = out.pixels[3 * i + 2] = grey.pixels[i];
+  return out;
+}
+
+// Halves (box filter) an RGB panel `factor` times over, channel by channel.
+RgbHdrImage box_down(const RgbHdrImage& image, int factor) {
+  RgbHdrImage out;
+  for (int c = 0; c < 3; ++c) {
+    HdrImage channel{image.width, image.height, std::vector<float>(image.pixels.size() / 3)};
+    for (std::size_t i = 0; i < channel.pixels.size(); ++i) channel.pixels[i] = image.pixels[3 * i + c];
+    const HdrImage small = caustic::box_down(channel, factor);
+    if (c == 0) out = RgbHdrImage{small.width, small.height, std::vector<float>(3 * small.pixels.size())};
+    for (std::size_t i = 0; i < small.pixels.size(); ++i) out.pixels[3 * i + c] = small.pixels[i];
+  }
+  return out;
+}
+
+// Target | engine render [| reference render], tone-mapped alike per
+// channel (a colour design's panels are in colour); halved (box filter)
+// down to at most 256 pixels a side so the picture stays small enough to
+// share.
+Rgba8Image side_by_side(std::vector<RgbHdrImage> panels, double exposure) {
   int factor = 1;
   while (panels[0].width / factor > 256 && panels[0].width % (2 * factor) == 0) factor *= 2;
   if (factor > 1)
@@ -118,10 +141,12 @@ Rgba8Image side_by_side(std::vector<HdrImage> panels, double exposure) {
   for (int k = 0; k < count; ++k)
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
-        const double v = std::pow(1 - std::exp(-exposure * std::max(0.0f, panels[k].at(x, y))), 1 / 2.2);
-        const auto byte = static_cast<std::uint8_t>(std::lround(255 * std::clamp(v, 0.0, 1.0)));
         std::uint8_t* px = &out.pixels[(std::size_t(y) * out.width + k * (w + gap) + x) * 4];
-        px[0] = px[1] = px[2] = byte;
+        for (int c = 0; c < 3; ++c) {
+          const float e = panels[k].pixels[3 * (std::size_t(y) * w + x) + c];
+          const double v = std::pow(1 - std::exp(-exposure * std::max(0.0f, e)), 1 / 2.2);
+          px[c] = static_cast<std::uint8_t>(std::lround(255 * std::clamp(v, 0.0, 1.0)));
+        }
       }
   return out;
 }
@@ -139,8 +164,10 @@ void print_verification(const char* who, const design::Verification& v) {
 int run_design(DesignCommandOptions o) {
   if (const int status = check_flags(o); status != ok) return status;
   design::Image target;
+  RgbHdrImage colour_target;  // --colour: the picture in RGB; the face is shaped for its brightest channel
   try {
-    target = design::load_target(o.target);
+    if (o.colour) colour_target = design::load_target_rgb(o.target);
+    target = o.colour ? design::brightest_channel(colour_target) : design::load_target(o.target);
   } catch (const design::TargetError& e) {
     return bad(std::string("--target ") + e.what());
   }
@@ -170,18 +197,24 @@ int run_design(DesignCommandOptions o) {
       throw SceneError("", std::string("--") + e.what());
     }
     if (bar) std::fprintf(stderr, "\n");
+    if (o.colour) design::tint_face(d, colour_target);
     const auto& r = d.report;
     nlohmann::json report = {
         {"target", o.target.string()}, {"resolution", d.n}, {"size_mm", o.design.size}, {"focus_mm", o.design.focus},
         {"ior", o.design.ior}, {"black_floor", o.design.black_floor}, {"design_seconds", r.seconds},
         {"transport_residual", r.transport_residual}, {"iterations", r.iterations}, {"snell_passes", r.snell_passes},
         {"tir_vertices", r.tir_vertices}, {"max_slope_deg", r.max_slope_deg}, {"relief_mm", r.relief},
-        {"min_thickness_mm", r.min_thickness}, {"resampled", o.design.resample}};
+        {"min_thickness_mm", r.min_thickness}, {"resampled", o.design.resample}, {"colour", o.colour}};
     std::optional<design::Verification> engine, reference;
+    std::optional<design::ColourVerification> colour;
     if (!o.no_check) {
       GlContext context(egl_platform_from_environment());
       engine = design::verify_with_engine(d);
       report["engine"] = verification_json(*engine);
+      if (o.colour) {
+        colour = design::verify_colour_with_engine(d, colour_target);
+        report["engine"]["colour"] = {{"relative_l1_rgb", colour->relative_l1}, {"chromaticity_error", colour->chromaticity_error}};
+      }
     }
     if (o.verify) {
       reference = design::verify_with_reference(d, o.photons);
@@ -202,9 +235,15 @@ int run_design(DesignCommandOptions o) {
     }
     if (!o.solid.empty()) design::write_solid_obj(design::solid_mesh(d.grid, r.flat_offset), part(o.solid));
     if (!o.side_by_side.empty()) {
-      std::vector<HdrImage> panels{design::target_irradiance(d), engine->render};
-      if (reference) panels.push_back(reference->render);
-      const double exposure = design::target_exposure(panels.front());
+      const double exposure = design::target_exposure(design::target_irradiance(d));
+      std::vector<RgbHdrImage> panels;
+      if (colour) {
+        panels = {colour->aim, colour->render};
+      } else {
+        panels = {as_rgb(design::target_irradiance(d)), as_rgb(engine->render)};
+      }
+      // The reference's check is of the shape (the brightest channel of a colour design).
+      if (reference) panels.push_back(as_rgb(reference->render));
       write_png(side_by_side(std::move(panels), exposure), part(o.side_by_side));
     }
     report["seconds_total"] = r.seconds + (engine ? engine->seconds : 0.0);
@@ -220,7 +259,11 @@ int run_design(DesignCommandOptions o) {
                 r.seconds, r.iterations, r.transport_residual, r.snell_passes, r.snell_passes == 1 ? "" : "es");
     std::printf("face: relief %.3f mm, max slope %.1f deg, %d TIR vertices, thinnest glass %.2f mm, flat face at z = %.3f mm\n",
                 r.relief, r.max_slope_deg, r.tir_vertices, r.min_thickness, r.flat_offset);
-    if (engine) print_verification("engine", *engine);
+    if (engine) print_verification(o.colour ? "engine (brightest channel)" : "engine", *engine);
+    if (colour)
+      std::printf("colour: relative L1 R %.2f%%, G %.2f%%, B %.2f%%; chromaticity error %.4f (luminance-weighted mean)\n",
+                  100 * colour->relative_l1[0], 100 * colour->relative_l1[1], 100 * colour->relative_l1[2],
+                  colour->chromaticity_error);
     if (reference) print_verification("reference", *reference);
     std::printf("wrote %s, %s", o.face.string().c_str(), o.scene.string().c_str());
     for (const auto* p : {&o.solid, &o.report, &o.side_by_side})
@@ -261,6 +304,8 @@ std::function<int()> add_design_command(CLI::App& app) {
   cmd->add_option("--report", opt->report, "JSON file with every figure");
   cmd->add_flag("--no-check", opt->no_check, "Skip the engine render (no OpenGL needed)");
   cmd->add_flag("--regular-grid", opt->regular, "Resample the face onto a regular lens grid (no sliver triangles)");
+  cmd->add_flag("--colour", opt->colour,
+                "Design in colour: shape the face for the brightest channel and tint its vertices (docs/design.md)");
   return [cmd, opt] { return cmd->parsed() ? run_design(*opt) : -1; };
 #else
   CLI::App* cmd = app.add_subcommand("design", "Design a freeform face (not built in)");

@@ -50,7 +50,7 @@ std::vector<Span> box_spans(int offset, int in, int n) {
 
 }  // namespace
 
-Image load_target(const std::filesystem::path& file) {
+RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   const std::string name = file.string();
   auto in = OIIO::ImageInput::open(name);
   if (!in) throw TargetError(name + ": cannot read the picture (" + OIIO::geterror() + ")");
@@ -69,8 +69,9 @@ Image load_target(const std::filesystem::path& file) {
   const bool srgb = encoded_srgb(spec);
   // Colour: the first three channels are R, G, B; grey (1 or 2 channels): the first.
   const bool colour = channels >= 3;
-  Image out{spec.width, spec.height, std::vector<float>(static_cast<std::size_t>(spec.width) * spec.height)};
-  for (std::size_t p = 0; p < out.pixels.size(); ++p) {
+  const std::size_t count = static_cast<std::size_t>(spec.width) * spec.height;
+  RgbHdrImage out{spec.width, spec.height, std::vector<float>(3 * count)};
+  for (std::size_t p = 0; p < count; ++p) {
     const float* c = &raw[p * channels];
     double rgb[3] = {c[0], colour ? c[1] : c[0], colour ? c[2] : c[0]};
     for (double& v : rgb) {
@@ -78,10 +79,12 @@ Image load_target(const std::filesystem::path& file) {
       v = std::max(v, 0.0);
       if (srgb) v = srgb_to_linear(std::min(v, 1.0));
     }
-    out.pixels[p] = static_cast<float>(0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]);
+    for (int k = 0; k < 3; ++k) out.pixels[3 * p + k] = static_cast<float>(rgb[k]);
   }
   return out;
 }
+
+Image load_target(const std::filesystem::path& file) { return luminance(load_target_rgb(file)); }
 
 Image box_resample_square(const Image& image, int n) {
   const int side = std::min(image.width, image.height);

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/design_verify.hpp"
 
+#include "caustic/design_colour.hpp"
+
 #include "caustic/engine.hpp"
 #include "caustic/image_compare.hpp"
 #include "caustic/reference.hpp"
@@ -91,7 +93,9 @@ Verification verify_with_engine(const Design& design) {
   Engine engine;
   engine.set_scene(s, std::make_shared<const Mesh>(design.face));
   engine.render();
-  Verification v = compare_with_target(design, engine.read_hdr(), target_exposure(target_irradiance(design)));
+  // A tinted face (a colour design) was shaped for its brightest channel.
+  const HdrImage shaped = tinted(design.face) ? brightest_channel(engine.read_hdr_rgb()) : engine.read_hdr();
+  Verification v = compare_with_target(design, shaped, target_exposure(target_irradiance(design)));
   v.seconds = since(start);
   return v;
 }
@@ -105,7 +109,8 @@ Verification verify_with_reference(const Design& design, std::uint64_t photons) 
   // Photon noise: compare on cells of about 128^2 pixels in all (box filter).
   int factor = 1;
   while (design.n / (2 * factor) >= 128 && design.n % (2 * factor) == 0) factor *= 2;
-  Verification v = compare_with_target(design, r.image, target_exposure(target_irradiance(design)), factor);
+  const HdrImage shaped = tinted(design.face) ? brightest_channel(r.rgb) : r.image;
+  Verification v = compare_with_target(design, shaped, target_exposure(target_irradiance(design)), factor);
   v.seconds = since(start);
   return v;
 }

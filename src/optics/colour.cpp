@@ -65,6 +65,10 @@ Rgb linear_srgb(const Xyz& c) {
           0.0557 * c.x - 0.2040 * c.y + 1.0570 * c.z};
 }
 
+Xyz xyz(const Rgb& c) {
+  return {0.4124 * c.r + 0.3576 * c.g + 0.1805 * c.b, luminance(c), 0.0193 * c.r + 0.1192 * c.g + 0.9505 * c.b};
+}
+
 double luminance(const Rgb& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
 
 double power(const LightSpectrum& light, double nm) {

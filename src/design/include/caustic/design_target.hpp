@@ -32,6 +32,10 @@ inline constexpr long long kMaxTargetPixels = 1LL << 26;
 /// TargetError for an unreadable, empty, oversized or non-finite picture.
 Image load_target(const std::filesystem::path& file);
 
+/// The same picture in linear RGB (grey files: R = G = B), for colour
+/// designs (design_colour.hpp).
+RgbHdrImage load_target_rgb(const std::filesystem::path& file);
+
 /// Centre square crop of `image`, then a box filter onto n x n cells: every
 /// cell is the exact area-weighted mean of the pixels it covers, so a picture
 /// already n x n comes back unchanged.

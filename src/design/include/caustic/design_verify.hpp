@@ -37,7 +37,9 @@ struct Verification {
 Verification compare_with_target(const Design& design, const HdrImage& render, double exposure, int factor = 1);
 
 /// Renders the design with the engine (Fresnel off, so the target's mean of
-/// 1 is what should land) and compares. Needs a current GL 4.5 context.
+/// 1 is what should land) and compares; a tinted face (a colour design)
+/// by its brightest channel, what its shape was designed for. Needs a
+/// current GL 4.5 context.
 Verification verify_with_engine(const Design& design);
 
 /// The same with the independent photon tracer (`photons` photons),

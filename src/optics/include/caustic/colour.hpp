@@ -40,6 +40,8 @@ std::array<double, 2> chromaticity(const Xyz& c);
 /// Linear sRGB of a CIE XYZ colour (IEC 61966-2-1 matrix; components may be
 /// negative or above 1 for colours outside the sRGB gamut).
 Rgb linear_srgb(const Xyz& c);
+/// CIE XYZ of linear sRGB (the inverse, IEC 61966-2-1's forward matrix).
+Xyz xyz(const Rgb& c);
 /// Relative luminance of linear sRGB (the Y row of the inverse matrix).
 double luminance(const Rgb& c);
 
