@@ -173,6 +173,52 @@ TEST_F(DesignApi, APictureBecomesAPrivateSceneWhoseCausticIsThePicture) {
     EXPECT_NE(f.path().stem(), "picture") << f.path();
 }
 
+TEST_F(DesignApi, AColourPictureDesignedInColourThrowsItsColours) {
+  // Left half red, right half green: the tinted face must throw red light
+  // on the left and green on the right (docs/design.md "Colour").
+  const int n = 128;
+  caustic::Rgba8Image image{n, n, std::vector<std::uint8_t>(std::size_t(n) * n * 4, 255)};
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const std::uint8_t red[3] = {250, 40, 20}, green[3] = {30, 240, 60};
+      for (int c = 0; c < 3; ++c) image.pixels[(std::size_t(y) * n + x) * 4 + c] = x < n / 2 ? red[c] : green[c];
+    }
+  const auto bytes = caustic::encode_png(image);
+  TempDir state;
+  ServerProcess server(small_designs(state));
+  const Response posted = upload(server, std::string(bytes.begin(), bytes.end()), "image/png", "?colour=true");
+  ASSERT_EQ(posted.status, 202u) << posted.body;
+  const std::string id = posted.json()["id"];
+  const json done = wait_design(server, id);
+  ASSERT_EQ(done.value("state", ""), "ready") << done.dump();
+  EXPECT_EQ(done["colour"], true);
+  EXPECT_EQ(caustic::testing::OpenApi().check("/api/v1/designs/{id}", "get", 200, "application/json", done), "");
+  EXPECT_LT(done["report"]["engine"]["chromaticity_error"].get<double>(), 0.02) << done.dump();
+  ASSERT_EQ(done["report"]["engine"]["relative_l1_rgb"].size(), 3u) << done.dump();
+
+  const Response thumb = http("GET", server.url() + "/api/v1/scenes/" + id + "/thumbnail.png");
+  ASSERT_EQ(thumb.status, 200u);
+  const fs::path png = state.path / "thumb.png";
+  std::ofstream(png, std::ios::binary) << thumb.body;
+  const caustic::RgbHdrImage render = caustic::read_rgb_image(png);
+  double left[3] = {0, 0, 0}, right[3] = {0, 0, 0};
+  for (int y = render.height / 4; y < 3 * render.height / 4; ++y)
+    for (int x = 0; x < render.width; ++x) {
+      const double u = (x + 0.5) / render.width;
+      if (std::abs(u - 0.5) < 0.1 || u < 0.1 || u > 0.9) continue;
+      for (int c = 0; c < 3; ++c) (u < 0.5 ? left : right)[c] += render.pixels[3 * (std::size_t(y) * render.width + x) + c];
+    }
+  EXPECT_GT(left[0], 2 * left[1]) << "the left is red";
+  EXPECT_GT(right[1], 2 * right[0]) << "the right is green";
+
+  // Restarted, the design keeps its colour.
+  server.stop();
+  ServerProcess again(small_designs(state));
+  const json restored = wait_design(again, id);
+  EXPECT_EQ(restored.value("state", ""), "ready") << restored.dump();
+  EXPECT_EQ(restored["colour"], true);
+}
+
 TEST_F(DesignApi, BadUploadsAreRefusedAndLeaveNothingBehind) {
   TempDir state;
   auto args = small_designs(state);
@@ -194,7 +240,8 @@ TEST_F(DesignApi, BadUploadsAreRefusedAndLeaveNothingBehind) {
   expect_problem(upload(server, std::string(100001, 'x'), "image/png"), 413, "100000 bytes");
   expect_problem(upload(server, square_png(), "image/png", "?name=%01"), 422, "control");
   expect_problem(upload(server, square_png(), "image/png", "?name=" + std::string(65, 'a')), 422, "name");
-  expect_problem(upload(server, square_png(), "image/png", "?colour=red"), 422, "query key");
+  expect_problem(upload(server, square_png(), "image/png", "?shape=round"), 422, "query key");
+  expect_problem(upload(server, square_png(), "image/png", "?colour=red"), 422, "colour must be");
   const Response list = http("GET", server.url() + "/api/v1/designs");
   expect_problem(list, 405);
   expect_problem(http("GET", server.url() + "/api/v1/designs/0123456789abcdef0123456789abcdef"), 404);

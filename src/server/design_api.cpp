@@ -56,6 +56,8 @@ void upload(ServerState& s, SoupServerMessage* msg) {
     return refuse(s, msg, SOUP_STATUS_UNAUTHORIZED, "uploading a picture needs this server's bearer token");
   }
   std::string name = kDefaultName;
+  bool colour = false;
+  std::string bad_colour;
   if (const char* query = g_uri_get_query(soup_server_message_get_uri(msg))) {
     GHashTable* form = soup_form_decode(query);
     GHashTableIter it;
@@ -63,12 +65,16 @@ void upload(ServerState& s, SoupServerMessage* msg) {
     g_hash_table_iter_init(&it, form);
     std::string bad_key;
     while (g_hash_table_iter_next(&it, &key, &value)) {
-      if (std::string(static_cast<const char*>(key)) == "name") name = static_cast<const char*>(value);
+      const std::string k = static_cast<const char*>(key), v = static_cast<const char*>(value);
+      if (k == "name") name = v;
+      else if (k == "colour" && (v == "true" || v == "false")) colour = v == "true";
+      else if (k == "colour") bad_colour = "colour must be \"true\" or \"false\"";
       else bad_key = "a query key";  // never echoed: it may be anything
     }
     g_hash_table_unref(form);
     if (!bad_key.empty())
-      return refuse(s, msg, SOUP_STATUS_UNPROCESSABLE_ENTITY, "the only query key taken is \"name\"");
+      return refuse(s, msg, SOUP_STATUS_UNPROCESSABLE_ENTITY, "the query keys taken are \"name\" and \"colour\"");
+    if (!bad_colour.empty()) return refuse(s, msg, SOUP_STATUS_UNPROCESSABLE_ENTITY, bad_colour, "colour");
   }
   std::string why;
   if (!valid_name(name, &why)) return refuse(s, msg, SOUP_STATUS_UNPROCESSABLE_ENTITY, why, "name");
@@ -107,7 +113,7 @@ void upload(ServerState& s, SoupServerMessage* msg) {
   }
   DesignJobs::Ticket ticket;
   try {
-    ticket = s.designs->submit(std::vector<unsigned char>(bytes, bytes + size), extension(header.format), name);
+    ticket = s.designs->submit(std::vector<unsigned char>(bytes, bytes + size), extension(header.format), name, colour);
   } catch (const DesignRefusal& e) {
     soup_message_headers_replace(response, "Retry-After", "30");
     return refuse(s, msg, e.status, e.what());

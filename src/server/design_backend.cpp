@@ -5,6 +5,7 @@
 #include "design_jobs.hpp"
 
 #include "caustic/design.hpp"
+#include "caustic/design_colour.hpp"
 #include "caustic/design_target.hpp"
 #include "caustic/design_verify.hpp"
 #include "caustic/gl_context.hpp"
@@ -26,10 +27,12 @@ std::string visitor_reason(const std::string& what, const std::string& file) {
 }
 
 std::shared_ptr<const Mesh> run(const std::filesystem::path& target, const std::filesystem::path& folder, int resolution,
-                                const std::function<void(const DesignBackend::Progress&)>& progress) {
+                                bool colour, const std::function<void(const DesignBackend::Progress&)>& progress) {
   design::Image picture;
+  RgbHdrImage colours;  // in colour: the face is shaped for the brightest channel, then tinted
   try {
-    picture = design::load_target(target);
+    if (colour) colours = design::load_target_rgb(target);
+    picture = colour ? design::brightest_channel(colours) : design::load_target(target);
   } catch (const design::TargetError& e) {
     throw DesignFailure(visitor_reason(e.what(), target.string()));
   }
@@ -44,6 +47,7 @@ std::shared_ptr<const Mesh> run(const std::filesystem::path& target, const std::
   } catch (const design::TargetError& e) {
     throw DesignFailure(e.what());
   }
+  if (colour) design::tint_face(d, colours);
   progress({0.85, "checking"});
   nlohmann::json report = {{"resolution", d.n},
                            {"design_seconds", d.report.seconds},
@@ -57,6 +61,10 @@ std::shared_ptr<const Mesh> run(const std::filesystem::path& target, const std::
     report["engine"] = {{"seconds", engine.seconds}, {"ssim", engine.ssim}, {"relative_l1", engine.relative_l1},
                         {"leak", engine.leak}, {"target_leak", engine.ideal_leak}};
     report["seconds_total"] = d.report.seconds + engine.seconds;
+    if (colour) {
+      const design::ColourVerification c = design::verify_colour_with_engine(d, colours);
+      report["engine"]["colour"] = {{"relative_l1_rgb", c.relative_l1}, {"chromaticity_error", c.chromaticity_error}};
+    }
     context.release_current();
   }
   progress({0.95, "storing"});

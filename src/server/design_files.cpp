@@ -32,6 +32,13 @@ nlohmann::json public_report(const nlohmann::json& r) {
     out["engine"] = {{"ssim", r["engine"].value("ssim", 0.0)},
                      {"relative_l1", r["engine"].value("relative_l1", 0.0)},
                      {"leak", r["engine"].value("leak", 0.0)}};
+  // A colour design: how close each channel and the hues come to the picture.
+  if (r.contains("engine") && r["engine"].is_object() && r["engine"].contains("colour") &&
+      r["engine"]["colour"].is_object()) {
+    const auto& c = r["engine"]["colour"];
+    out["engine"]["chromaticity_error"] = c.value("chromaticity_error", 0.0);
+    out["engine"]["relative_l1_rgb"] = c.value("relative_l1_rgb", nlohmann::json::array());
+  }
   return out;
 }
 

@@ -25,6 +25,7 @@ namespace fs = std::filesystem;
 struct DesignJobs::Job {
   enum class State { restoring, queued, designing, ready, failed };
   std::string id, token, name, extension;
+  bool colour = false;  ///< designed in colour (a tinted face)
   std::int64_t created = 0;
   fs::path folder;
   State state = State::queued;
@@ -73,6 +74,7 @@ DesignJobs::DesignJobs(DesignSettings settings, DesignBackend backend)
       job->name = meta->at("name").get<std::string>();
       job->extension = meta->at("extension").get<std::string>();
       job->created = meta->at("created").get<std::int64_t>();
+      job->colour = meta->value("colour", false);  // absent in designs stored before colour existed
       if (job->extension != ".png" && job->extension != ".jpg") throw std::runtime_error("meta.json: bad extension");
     } catch (const std::exception& e) {
       log(Level::warning, "design " + id + " skipped: " + e.what());
@@ -126,12 +128,13 @@ void DesignJobs::save_meta(const Job& job) const {
                                                         {"token", job.token},
                                                         {"name", job.name},
                                                         {"extension", job.extension},
+                                                        {"colour", job.colour},
                                                         {"created", job.created}}
                                              .dump(2));
 }
 
 DesignJobs::Ticket DesignJobs::submit(const std::vector<unsigned char>& picture, const std::string& extension,
-                                      const std::string& name) {
+                                      const std::string& name, bool colour) {
   std::lock_guard lock(mutex_);
   if (pending_locked() >= settings_.queue)
     throw DesignRefusal(503, "the design queue is full (" + std::to_string(settings_.queue) + "); try again later");
@@ -142,6 +145,7 @@ DesignJobs::Ticket DesignJobs::submit(const std::vector<unsigned char>& picture,
   job->id = random_hex();
   job->token = random_hex();
   job->name = name;
+  job->colour = colour;
   job->extension = extension;
   job->created = unix_now();
   job->folder = settings_.folder / job->id;
@@ -176,6 +180,7 @@ nlohmann::json DesignJobs::describe(const std::string& id) const {
   const auto state = job.state == Job::State::restoring ? Job::State::queued : job.state;
   nlohmann::json out = {{"id", job.id},
                         {"name", job.name},
+                        {"colour", job.colour},
                         {"state", state_name(static_cast<int>(state))},
                         {"progress", job.state == Job::State::ready ? 1.0 : job.progress},
                         {"created", job.created}};
@@ -308,7 +313,8 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
     std::shared_ptr<const Mesh> face;
     if (!restoring) {
       if (!backend_.run) throw DesignFailure("design is not built into this server");
-      face = backend_.run(picture, job->folder, settings_.resolution, [&](const DesignBackend::Progress& p) {
+      face = backend_.run(picture, job->folder, settings_.resolution, job->colour,
+                          [&](const DesignBackend::Progress& p) {
         std::lock_guard lock(mutex_);
         // A stop unwinds the design: the picture stays, and the next start
         // designs it again.

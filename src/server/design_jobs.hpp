@@ -42,11 +42,13 @@ struct DesignBackend {
     std::string stage;    ///< "designing", "checking"
   };
   /// Writes face.obj, scene.json and report.json into `folder` from
-  /// `target` and returns the face (so that it need not be read back);
+  /// `target` (in colour: a tinted face, docs/design.md "Colour") and
+  /// returns the face (so that it need not be read back);
   /// throws DesignFailure for a picture that cannot be designed. `progress`
   /// may throw (the server is stopping): the run then unwinds.
   std::function<std::shared_ptr<const Mesh>(const std::filesystem::path& target, const std::filesystem::path& folder,
-                                            int resolution, const std::function<void(const Progress&)>& progress)>
+                                            int resolution, bool colour,
+                                            const std::function<void(const Progress&)>& progress)>
       run;
   bool built_in = false;
 };
@@ -81,7 +83,8 @@ class DesignJobs {
   };
   /// Queues a checked picture (its bytes and the file extension that names
   /// its format). Throws DesignRefusal (503) when the queue is full.
-  Ticket submit(const std::vector<unsigned char>& picture, const std::string& extension, const std::string& name);
+  Ticket submit(const std::vector<unsigned char>& picture, const std::string& extension, const std::string& name,
+                bool colour = false);
 
   /// Public state of a design: id, name, state, progress, position in the
   /// queue, error, the picture figures of its report, its scene id. Null

@@ -70,8 +70,13 @@ test('a picture uploaded on the gallery page becomes a live streamed scene', asy
     // Any real PNG will do: the lens scene's thumbnail.
     const png = Buffer.from(await (await fetch(`${server.url}/api/v1/scenes/lens/thumbnail.png`)).arrayBuffer());
     await page.fill('#upload input[name=name]', 'Test picture');
+    await page.check('#upload input[name=colour]');
     await page.setInputFiles('#upload input[type=file]', { name: 'lens.png', mimeType: 'image/png', buffer: png });
     await page.waitForURL(/viewer\.html\?scene=[0-9a-f]{32}&codec=vp8/, { timeout: 120000 });
+    // The box asked for a colour design.
+    const id = new URL(page.url()).searchParams.get('scene');
+    const design = await (await fetch(`${server.url}/api/v1/designs/${id}`)).json();
+    assert.equal(design.colour, true);
     await until(page, () => window.caustic.connection === 'live', 30, 'a live connection');
     await until(page, framesDecoded, 30, 'decoded frames');
     mkdirSync(shots, { recursive: true });

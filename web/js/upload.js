@@ -13,6 +13,8 @@ export function uploadCard(codecOf) {
     <h2>Upload your picture</h2>
     <p>A PNG or JPEG becomes a lens whose caustic draws it; it opens here when it is ready.</p>
     <label>Name <input name="name" maxlength="64" value="My picture" required></label>
+    <label title="Tinted glass: each part of the picture's light keeps its colour">
+      <input type="checkbox" name="colour"> In colour</label>
     <input type="file" name="picture" accept="image/png,image/jpeg" required>
     <progress max="1" value="0" hidden></progress>
     <p class="upload-status" role="status"></p>`;
@@ -36,7 +38,8 @@ export function uploadCard(codecOf) {
     say('Uploading…');
     try {
       const name = card.querySelector('input[name=name]').value || 'My picture';
-      const response = await fetch(`/api/v1/designs?name=${encodeURIComponent(name)}`, {
+      const colour = card.querySelector('input[name=colour]').checked;
+      const response = await fetch(`/api/v1/designs?name=${encodeURIComponent(name)}&colour=${colour}`, {
         method: 'POST', headers: { 'Content-Type': picture.type }, body: picture,
       });
       const answer = await response.json();
