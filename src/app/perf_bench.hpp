@@ -2,10 +2,12 @@
 // `causticd bench --perf`: frame costs as the mesh and the picture grow.
 #pragma once
 
+#include "caustic/engine.hpp"
 #include "caustic/mesh.hpp"
 #include "caustic/surfaces.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <vector>
@@ -39,13 +41,19 @@ struct PerfOptions {
   int frames = 5;
   std::vector<int> meshes{64, 128, 256, 512, 1024};
   std::vector<int> sizes{256, 512, 1024, 2048};
+  std::uint64_t photons = 16'000'000;  ///< --spectral: photons of the prism's reference
 };
 
 /// Prints one line per (mesh, size) and writes perf.csv and perf.png/.svg
 /// into `out`. Throws on GL failures.
 int run_perf_bench(const PerfOptions& options);
 /// `--spectral`: grey against spectral frames at 3, 8 and 16 wavelengths
-/// for each mesh and size; prints the ratios and writes spectral.csv.
+/// for each mesh and size; prints the ratios and writes spectral.csv. Then
+/// the prism's error against the number of wavelengths:
+/// spectral_accuracy.csv and .png/.svg.
 int run_spectral_bench(const PerfOptions& options);
+
+/// The second part of --spectral (spectral_accuracy.cpp).
+void run_spectral_accuracy(const std::filesystem::path& out, int frames, std::uint64_t photons, Engine& engine);
 
 }  // namespace caustic::app

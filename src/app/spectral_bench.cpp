@@ -52,7 +52,9 @@ int run_spectral_bench(const PerfOptions& opt) {
       }
     }
   }
-  std::printf("wrote %s/spectral.csv\n", opt.out.string().c_str());
+  csv.close();
+  run_spectral_accuracy(opt.out, opt.frames, opt.photons, engine);
+  std::printf("wrote %s/spectral.csv, spectral_accuracy.csv, spectral_accuracy.png/.svg\n", opt.out.string().c_str());
   return 0;
 }
 
