@@ -41,11 +41,6 @@ Channels channels(const RgbHdrImage& img, const ScreenParams& screen) {
 
 class Spectral : public GlTest {
  protected:
-  RgbHdrImage render_rgb(const Scene& scene, std::shared_ptr<const Mesh> mesh) {
-    engine_->set_scene(scene, std::move(mesh));
-    engine_->render();
-    return engine_->read_hdr_rgb();
-  }
   static Scene bk7(Scene s, int wavelengths) {
     s.object.glass = Glass{"bk7", optics::find_material("bk7")->law};
     s.object.ior = s.object.glass->index(optics::kLineD);

@@ -61,14 +61,7 @@ Halves compare(const RgbHdrImage& img, const ScreenParams& screen, glm::dvec3 ti
   return h;
 }
 
-class Tint : public GlTest {
- protected:
-  RgbHdrImage render_rgb(const Scene& scene, std::shared_ptr<const Mesh> mesh) {
-    engine_->set_scene(scene, std::move(mesh));
-    engine_->render();
-    return engine_->read_hdr_rgb();
-  }
-};
+class Tint : public GlTest {};
 
 }  // namespace
 

@@ -31,6 +31,11 @@ class GlTest : public ::testing::Test {
     engine_->render();
     return engine_->read_hdr();
   }
+  RgbHdrImage render_rgb(const Scene& scene, std::shared_ptr<const Mesh> mesh) {
+    engine_->set_scene(scene, std::move(mesh));
+    engine_->render();
+    return engine_->read_hdr_rgb();
+  }
 
   static inline std::unique_ptr<GlContext> context_;
   std::unique_ptr<Engine> engine_;

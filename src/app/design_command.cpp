@@ -107,22 +107,15 @@ std::filesystem::path part_name(const std::filesystem::path& p) {
 
 // Grey panels as colour ones (R = G = B).
 RgbHdrImage as_rgb(const HdrImage& grey) {
-  RgbHdrImage out{grey.width, grey.height, std::vector<float>(3 * grey.pixels.size())};
-  for (std::size_t i = 0; i < grey.pixels.size(); ++i)
-    out.pixels[3 * i] = out.pixels[3 * i + 1] = out.pixels[3 * i + 2] = grey.pixels[i];
+  RgbHdrImage out;
+  for (int c = 0; c < 3; ++c) set_channel(out, c, grey);
   return out;
 }
 
 // Halves (box filter) an RGB panel `factor` times over, channel by channel.
 RgbHdrImage box_down(const RgbHdrImage& image, int factor) {
   RgbHdrImage out;
-  for (int c = 0; c < 3; ++c) {
-    HdrImage channel{image.width, image.height, std::vector<float>(image.pixels.size() / 3)};
-    for (std::size_t i = 0; i < channel.pixels.size(); ++i) channel.pixels[i] = image.pixels[3 * i + c];
-    const HdrImage small = caustic::box_down(channel, factor);
-    if (c == 0) out = RgbHdrImage{small.width, small.height, std::vector<float>(3 * small.pixels.size())};
-    for (std::size_t i = 0; i < small.pixels.size(); ++i) out.pixels[3 * i + c] = small.pixels[i];
-  }
+  for (int c = 0; c < 3; ++c) set_channel(out, c, caustic::box_down(channel(image, c), factor));
   return out;
 }
 

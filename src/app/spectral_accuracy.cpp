@@ -38,12 +38,6 @@ Scene prism_scene(int size, int wavelengths) {
   return s;
 }
 
-HdrImage channel(const RgbHdrImage& image, int c) {
-  HdrImage out{image.width, image.height, std::vector<float>(image.pixels.size() / 3)};
-  for (std::size_t i = 0; i < out.pixels.size(); ++i) out.pixels[i] = image.pixels[3 * i + c];
-  return out;
-}
-
 // Mean over R, G, B of the relative L1 at 128 x 128 (box filter), where the
 // reference's photon noise is small.
 double rgb_l1_at_128(const RgbHdrImage& image, const RgbHdrImage& reference) {

@@ -42,13 +42,8 @@ Image brightest_channel(const RgbHdrImage& target) {
 }
 
 RgbHdrImage box_resample_square(const RgbHdrImage& image, int n) {
-  RgbHdrImage out{n, n, std::vector<float>(3 * static_cast<std::size_t>(n) * n)};
-  for (int c = 0; c < 3; ++c) {
-    Image channel{image.width, image.height, std::vector<float>(image.pixels.size() / 3)};
-    for (std::size_t i = 0; i < channel.pixels.size(); ++i) channel.pixels[i] = image.pixels[3 * i + c];
-    const Image cells = box_resample_square(channel, n);
-    for (std::size_t i = 0; i < cells.pixels.size(); ++i) out.pixels[3 * i + c] = cells.pixels[i];
-  }
+  RgbHdrImage out;
+  for (int c = 0; c < 3; ++c) set_channel(out, c, box_resample_square(channel(image, c), n));
   return out;
 }
 

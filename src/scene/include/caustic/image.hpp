@@ -28,6 +28,13 @@ struct RgbHdrImage {
 /// The luminance (Rec. 709 weights) of each pixel: R = G = B = v gives v.
 HdrImage luminance(const RgbHdrImage& image);
 
+/// Channel `c` (0 R, 1 G, 2 B) as a grey image, and back: what per-channel
+/// filters and comparisons are built from.
+HdrImage channel(const RgbHdrImage& image, int c);
+/// Writes `grey` into channel `c` of `image`, which takes its size (and is
+/// allocated, black, when its size differs).
+void set_channel(RgbHdrImage& image, int c, const HdrImage& grey);
+
 /// Tone-mapped 8-bit RGBA, row 0 at the top.
 struct Rgba8Image {
   int width = 0;
