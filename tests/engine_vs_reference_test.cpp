@@ -27,6 +27,14 @@ double relative_l1(const HdrImage& a, const HdrImage& b) {
   return diff / sum;
 }
 
+// The reference every comparison here uses: 16 M photons, where its own
+// noise is well below the bounds (docs/accuracy.md).
+ReferenceResult reference_for(const Scene& scene, const Mesh& mesh) {
+  ReferenceOptions options;
+  options.photons = 16'000'000;
+  return trace_reference(scene, mesh, options);
+}
+
 struct Case {
   const char* scene;
   double bound;
@@ -46,9 +54,7 @@ TEST_P(EngineVsReference, RelativeL1WithinTheStatedBound) {
   scene.render.width = scene.render.height = 128;
   const auto mesh = shared(load_obj(scene.mesh_path()));
   const HdrImage engine = render(scene, mesh);
-  ReferenceOptions options;
-  options.photons = 16'000'000;
-  const ReferenceResult reference = trace_reference(scene, *mesh, options);
+  const ReferenceResult reference = reference_for(scene, *mesh);
   const double l1 = relative_l1(engine, reference.image);
   std::printf("%s: relative L1 engine vs reference %.4f (bound %.3f)\n", c.scene, l1, c.bound);
   EXPECT_LT(l1, c.bound);
@@ -70,12 +76,8 @@ TEST_F(EngineVsReference, APrismsColoursMatchTheReferencesChannelByChannel) {
   Scene scene = load_scene(std::string(CAUSTIC_ASSET_DIR) + "/scenes/prism.json");
   scene.render.width = scene.render.height = 128;
   const auto mesh = shared(load_obj(scene.mesh_path()));
-  engine_->set_scene(scene, mesh);
-  engine_->render();
-  const RgbHdrImage engine = engine_->read_hdr_rgb();
-  ReferenceOptions options;
-  options.photons = 16'000'000;
-  const ReferenceResult reference = trace_reference(scene, *mesh, options);
+  const RgbHdrImage engine = render_rgb(scene, mesh);
+  const ReferenceResult reference = reference_for(scene, *mesh);
   ASSERT_EQ(reference.wavelengths, scene.render.wavelengths);
   ASSERT_EQ(reference.rgb.pixels.size(), engine.pixels.size());
   for (int c = 0; c < 3; ++c) {
@@ -99,12 +101,8 @@ TEST_F(EngineVsReference, ATintedLensFiltersAsTheReferenceDoes) {
     tinted_lens.colours.emplace_back(1.0f - 0.8f * t.x, 0.2f + 0.8f * t.y, 0.5f);
   }
   const auto mesh = shared(std::move(tinted_lens));
-  engine_->set_scene(scene, mesh);
-  engine_->render();
-  const RgbHdrImage engine = engine_->read_hdr_rgb();
-  ReferenceOptions options;
-  options.photons = 16'000'000;
-  const ReferenceResult reference = trace_reference(scene, *mesh, options);
+  const RgbHdrImage engine = render_rgb(scene, mesh);
+  const ReferenceResult reference = reference_for(scene, *mesh);
   ASSERT_EQ(reference.rgb.pixels.size(), engine.pixels.size());
   double flux[2][3] = {};
   for (int c = 0; c < 3; ++c) {
@@ -127,9 +125,7 @@ TEST_F(EngineVsReference, ReportIntensityIsFarFromTheReferenceWhereEnergyIsNot) 
   scene = apply_merge_patch(scene, nlohmann::json{{"focus_distance", 40}, {"render", {{"width", 128}, {"height", 128}}},
                                     {"screen", {{"width", 16}, {"height", 16}}}});
   const auto mesh = shared(load_obj(scene.mesh_path()));
-  ReferenceOptions options;
-  options.photons = 16'000'000;
-  const HdrImage reference = trace_reference(scene, *mesh, options).image;
+  const HdrImage reference = reference_for(scene, *mesh).image;
   const double energy = relative_l1(render(scene, mesh), reference);
   scene.render.intensity = IntensityMode::report;
   const double report = relative_l1(render(scene, mesh), reference);
