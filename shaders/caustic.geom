@@ -16,6 +16,7 @@ in VertexData {
   float transmittance;
   float valid;
   vec3 tint;
+  float share;
 } vin[];
 
 flat out float gIrradiance;  // E; for a collapsed triangle: flux per pixel area
@@ -85,6 +86,7 @@ void main() {
     vec3 areaVector = 0.5 * cross(vin[1].footprint - vin[0].footprint, vin[2].footprint - vin[0].footprint);
     flux = transmittance * abs(dot(areaVector, uLightDir));
   }
+  flux *= (vin[0].share + vin[1].share + vin[2].share) / 3.0;
   vec2 lo = min(min(a, b), c), hi = max(max(a, b), c);
   bool offscreen = any(greaterThan(lo, uResolution)) || any(lessThan(hi, vec2(0.0)));
   bool huge = any(greaterThan(hi - lo, 64.0 * uResolution));  // precision, not physics

@@ -31,6 +31,7 @@ out VertexData {
   float transmittance; // product of Fresnel transmittances along the ray
   float valid;         // 1: reached the screen; 0: TIR, missed or grazing
   vec3 tint;
+  float share;         // of its triangle's flux the triangle carries (caustic_landed.vert)
 } vout;
 
 void main() {
@@ -82,5 +83,6 @@ void main() {
   vout.transmittance = uFresnel ? transmittance : 1.0;
   vout.valid = ok ? 1.0 : 0.0;
   vout.tint = aTint;
+  vout.share = 1.0;
   gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
 }

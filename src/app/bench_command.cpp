@@ -178,6 +178,7 @@ std::function<int()> add_bench_command(CLI::App& app) {
   auto opt = std::make_shared<BenchOptions>();
   auto perf = std::make_shared<bool>(false);
   auto spectral = std::make_shared<bool>(false);
+  auto multipass = std::make_shared<bool>(false);
   CLI::App* cmd = app.add_subcommand("bench", "Frame time and error against the reference over methods and sizes");
   cmd->add_option("--out", opt->out, "Folder for results.csv and the charts")->required();
   cmd->add_flag("--perf", *perf, "Frame costs instead (caustic, post, read-back, I420) over --meshes and --sizes: perf.csv");
@@ -185,6 +186,11 @@ std::function<int()> add_bench_command(CLI::App& app) {
                 "Grey against spectral frames (3, 8, 16 wavelengths) over --meshes and --sizes: spectral.csv; "
                 "the prism's error against the wavelength count (reference: --photons, default 16 M here)")
       ->excludes("--perf");
+  cmd->add_flag("--multipass", *multipass,
+                "A biconvex solid by the multipass method at light grids 64..512: multipass.csv (faces: --meshes, "
+                "default 256; sizes: --sizes, default 1024; reference: --photons, default 16 M here)")
+      ->excludes("--perf")
+      ->excludes("--spectral");
   cmd->add_option("--photons", opt->photons, "Photons for each reference")->check(CLI::Range(1000, 2'000'000'000));
   cmd->add_option("--frames", opt->frames, "Timed frames per configuration (median)")->check(CLI::Range(1, 100));
   cmd->add_option("--source", opt->source, "Vertices per side of the surface the meshes are resampled from")
@@ -194,10 +200,16 @@ std::function<int()> add_bench_command(CLI::App& app) {
       ->check(CLI::Range(128, 4096) & CLI::Validator([](std::string& v) {
                 return std::stoi(v) % 128 ? std::string("must be a multiple of 128") : std::string();
               }, "MULTIPLE OF 128"));
-  return [cmd, opt, perf, spectral] {
+  return [cmd, opt, perf, spectral, multipass] {
     if (!cmd->parsed()) return -1;
     try {
       if (*perf) return run_perf_bench({opt->out, opt->frames, opt->meshes, opt->sizes});
+      if (*multipass) {
+        const std::uint64_t photons = cmd->count("--photons") ? opt->photons : 16'000'000;
+        const auto meshes = cmd->count("--meshes") ? opt->meshes : std::vector<int>{256};
+        const auto sizes = cmd->count("--sizes") ? opt->sizes : std::vector<int>{1024};
+        return run_multipass_bench({opt->out, opt->frames, meshes, sizes, photons});
+      }
       if (*spectral) {
         // The prism's reference traces 32 bands: a third of the lens bench's photons is plenty.
         const std::uint64_t photons = cmd->count("--photons") ? opt->photons : 16'000'000;

@@ -53,6 +53,11 @@ int run_perf_bench(const PerfOptions& options);
 /// spectral_accuracy.csv and .png/.svg.
 int run_spectral_bench(const PerfOptions& options);
 
+/// `--multipass`: a biconvex solid (faces --meshes a side) at light grids
+/// of 64 to 512 rays a side per --sizes: time and error against --photons
+/// of reference; prints the rows and writes multipass.csv.
+int run_multipass_bench(const PerfOptions& options);
+
 /// The second part of --spectral (spectral_accuracy.cpp).
 void run_spectral_accuracy(const std::filesystem::path& out, int frames, std::uint64_t photons, Engine& engine);
 

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Generates the meshes of the built-in scenes (assets/scenes/*.json) from
 // their analytic surfaces. Units are millimetres; every caustic face sits
-// below a flat face with outward normal +z.
+// below a flat face with outward normal +z; a solid is closed round its
+// centre.
 #include "caustic/surfaces.hpp"
 
 #include <CLI/CLI.hpp>
@@ -41,6 +42,11 @@ int main(int argc, char** argv) {
       write_obj(grid_mesh(m.surface, resolution, resolution), file);
       std::cout << "wrote " << file.string() << "\n";
     }
+    // Biconvex, both faces R = 40 mm, 6 mm thick on the axis, 20 mm square:
+    // f = 41.03 mm, back focal length 38.97 mm from the lower apex (z = -3).
+    const auto file = out / "biconvex.obj";
+    write_obj(biconvex_lens(40.0, 40.0, 6.0, 10.0, resolution), file);
+    std::cout << "wrote " << file.string() << "\n";
   } catch (const std::exception& e) {
     std::cerr << "caustic-assetgen: " << e.what() << "\n";
     return 1;

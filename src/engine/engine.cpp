@@ -4,6 +4,7 @@
 #include "passes.hpp"
 #include "readback.hpp"
 
+#include "caustic/light_grid.hpp"
 #include "caustic/spectral.hpp"
 
 #include <algorithm>
@@ -35,6 +36,7 @@ struct Engine::Impl {
   std::optional<Scene> scene;
   std::shared_ptr<const Mesh> mesh;
   Placement placement;
+  std::unique_ptr<Solid> solid;  // object.shape "solid": its mesh in Embree, posed
   bool ray_dirty = false, post_dirty = false;
   bool prepare_dirty = false;  // the local base and the meter need the new HDR image or settings
   bool snap_exposure = true;   // a new mesh or size: no smoothing from the last scene's exposure
@@ -58,7 +60,13 @@ void Engine::set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh) {
   const bool new_mesh = mesh != s.mesh;
   const bool new_size = !s.scene || s.scene->render.width != scene.render.width ||
                         s.scene->render.height != scene.render.height;
+  const bool solid = scene.object.shape == Shape::solid;
+  if (solid && (new_mesh || !s.solid)) check_closed(*mesh);
   if (new_mesh) s.ray.upload(*mesh);
+  // The multipass tracer's Embree scene is posed in the world: rebuilt when
+  // the mesh or the pose changes.
+  if (!solid) s.solid.reset();
+  else if (new_mesh || !s.solid || s.placement.model != placement.model) s.solid = std::make_unique<Solid>(*mesh, placement);
   if (new_size) s.ldr = gl::RenderTarget(GL_RGBA8, scene.render.width, scene.render.height);
   const int hdr_w = std::max(1, scene.render.width / s.divisor), hdr_h = std::max(1, scene.render.height / s.divisor);
   // Linear filtering serves the preview's upsampling; full frames read texels
@@ -92,13 +100,25 @@ bool Engine::render() {
   if (!s.scene || !dirty()) return false;
   if (s.ray_dirty) {
     const auto start = std::chrono::steady_clock::now();
+    s.stats.trace_ms = 0;
     const int wavelengths = s.divisor > 1 ? std::min(s.scene->render.wavelengths, kPreviewWavelengths)
                                           : s.scene->render.wavelengths;
     const auto passes = spectral_passes(*s.scene, wavelengths);
-    if (passes.empty()) s.ray.draw(*s.scene, s.placement, s.hdr, s.scene->object.ior, glm::vec3(1), true);
+    // One pass: the per-vertex method, or the multipass method for a solid
+    // on a light grid that a preview thins like its picture.
+    auto pass = [&](double ior, glm::vec3 weight, bool clear, bool count) {
+      if (!s.solid) return s.ray.draw(*s.scene, s.placement, s.hdr, ior, weight, clear, count);
+      const int n = std::max(16, s.scene->render.light_grid / s.divisor);
+      const auto traced = std::chrono::steady_clock::now();
+      const LandedGrid grid = trace_light_grid(*s.scene, *s.solid, ior, n);
+      s.stats.trace_ms += elapsed_ms(traced);
+      if (count) s.stats.split = static_cast<std::uint32_t>(grid.split);
+      s.ray.draw_landed(grid, *s.scene, s.placement, s.hdr, weight, clear, count);
+    };
+    if (passes.empty()) pass(s.scene->object.ior, glm::vec3(1), true, true);
     for (std::size_t i = 0; i < passes.size(); ++i) {
       const auto& w = passes[i].weight;
-      s.ray.draw(*s.scene, s.placement, s.hdr, passes[i].ior, glm::vec3(w.r, w.g, w.b), i == 0, i + 1 == passes.size());
+      pass(passes[i].ior, glm::vec3(w.r, w.g, w.b), i == 0, i + 1 == passes.size());
     }
     s.stats.wavelengths = passes.empty() ? 1 : static_cast<int>(passes.size());
     s.stats.colour = s.hdr.texture.format() != GL_R32F;

@@ -5,6 +5,7 @@
 
 #include "caustic/engine.hpp"
 #include "caustic/exposure.hpp"
+#include "caustic/light_grid.hpp"
 #include "gl_objects.hpp"
 
 namespace caustic {
@@ -23,12 +24,22 @@ class RayPass {
   /// monochrome one. `count`: this pass's triangles are what counts() reports.
   void draw(const Scene& scene, const Placement& placement, const gl::RenderTarget& target, double ior,
             glm::vec3 weight, bool clear, bool count = true);
+  /// The same deposit for rays a solid's multipass tracer already followed
+  /// (caustic/light_grid.hpp): their tints and Fresnel weights ride along.
+  void draw_landed(const LandedGrid& grid, const Scene& scene, const Placement& placement,
+                   const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count = true);
   TriangleCounts counts() const;
 
  private:
-  gl::Program program_;
-  gl::VertexArray vao_;
+  // The splat both methods share: caustic.geom and caustic.frag's uniforms, then the draw.
+  void deposit(const gl::Program& program, GLuint vao, GLsizei indices, const Scene& scene,
+               const Placement& placement, const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count,
+               bool clear_tint);
+
+  gl::Program program_, landed_program_;
+  gl::VertexArray vao_, landed_vao_;
   gl::Buffer positions_, normals_, colours_, indices_, counters_;
+  gl::Buffer landed_vertices_, landed_indices_;
   GLsizei index_count_ = 0;
   bool tinted_ = false;
 };

@@ -4,13 +4,27 @@
 #include "caustic/vertex_rays.hpp"
 
 #include <cmath>
+#include <cstddef>
 
 namespace caustic {
+namespace {
+
+// Relative irradiance of a point light is normalised to what it delivers
+// at the object's centre (docs/physics.md ch. 1).
+double reference_distance2(const Scene& scene, const Placement& placement) {
+  const glm::dvec3 d = scene.light.position - placement.center;
+  return glm::dot(d, d);
+}
+
+}  // namespace
 
 RayPass::RayPass()
     : program_({{GL_VERTEX_SHADER, {"optics.glsl", "caustic.vert"}},
                 {GL_GEOMETRY_SHADER, {"optics.glsl", "caustic.geom"}},
-                {GL_FRAGMENT_SHADER, {"caustic.frag"}}}) {
+                {GL_FRAGMENT_SHADER, {"caustic.frag"}}}),
+      landed_program_({{GL_VERTEX_SHADER, {"caustic_landed.vert"}},
+                       {GL_GEOMETRY_SHADER, {"optics.glsl", "caustic.geom"}},
+                       {GL_FRAGMENT_SHADER, {"caustic.frag"}}}) {
   glNamedBufferStorage(counters_.id(), sizeof(TriangleCounts), nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
 }
 
@@ -53,32 +67,70 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
                    glm::vec3 weight, bool clear, bool count) {
   const auto& p = program_;
   const auto& screen = scene.screen;
-  const bool point = scene.light.type == LightType::point;
-  const bool flat_first = flat_face_first(scene, placement);
-  // Relative irradiance of a point light is normalised to what it delivers
-  // at the object's centre (docs/physics.md ch. 1).
-  const double reference_distance = glm::length(scene.light.position - placement.center);
-
   p.set("uModel", glm::mat4(placement.model));
   p.set("uRotation", glm::mat3(placement.rotation));
   p.set("uFlatNormal", glm::vec3(placement.flat_normal));
   p.set("uFlatOffset", static_cast<float>(placement.flat_offset));
   p.set("uIor", static_cast<float>(ior));
-  p.set("uWeight", weight);
-  p.set("uCount", count);
   p.set("uReflective", scene.object.material == Material::reflective);
-  p.set("uFlatFirst", flat_first);
-  p.set("uPointLight", point);
+  p.set("uFlatFirst", flat_face_first(scene, placement));
   p.set("uExactPointModel", scene.light.point_model == PointModel::exact);
-  p.set("uLightDir", glm::vec3(scene.light.direction));
-  p.set("uLightPos", glm::vec3(scene.light.position));
-  p.set("uReferenceDistance2", static_cast<float>(reference_distance * reference_distance));
   p.set("uFresnel", scene.render.fresnel);
   p.set("uScreenCenter", glm::vec3(screen.center));
   p.set("uScreenNormal", glm::vec3(screen.normal));
   p.set("uScreenRight", glm::vec3(screen_right(screen)));
   p.set("uScreenUp", glm::vec3(screen.up));
   p.set("uReportPlaneDistance", static_cast<float>(scene.render.report_plane_distance));
+  deposit(program_, vao_.id(), index_count_, scene, placement, target, weight, clear, count, !tinted_);
+}
+
+void RayPass::draw_landed(const LandedGrid& grid, const Scene& scene, const Placement& placement,
+                          const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count) {
+  if (grid.triangles.empty()) {  // no light through the solid: GL allows no empty storage
+    const TriangleCounts zero{};
+    if (count) glNamedBufferSubData(counters_.id(), 0, sizeof zero, &zero);
+    const float black[4] = {0, 0, 0, 0};
+    if (clear) glClearNamedFramebufferfv(target.framebuffer.id(), GL_COLOR, 0, black);
+    return;
+  }
+  // A new grid each frame: fresh buffers (immutable storage), one interleaved.
+  landed_vertices_ = gl::Buffer();
+  landed_indices_ = gl::Buffer();
+  landed_vao_ = gl::VertexArray();
+  glNamedBufferStorage(landed_vertices_.id(), static_cast<GLsizeiptr>(grid.vertices.size() * sizeof(LandedVertex)),
+                       grid.vertices.data(), 0);
+  glNamedBufferStorage(landed_indices_.id(), static_cast<GLsizeiptr>(grid.triangles.size() * sizeof(glm::uvec3)),
+                       grid.triangles.data(), 0);
+  const GLuint vao = landed_vao_.id();
+  glVertexArrayVertexBuffer(vao, 0, landed_vertices_.id(), 0, sizeof(LandedVertex));
+  const struct {
+    GLint size;
+    std::size_t offset;
+  } attribs[] = {{2, offsetof(LandedVertex, screen)},        {2, offsetof(LandedVertex, plane)},
+                 {3, offsetof(LandedVertex, footprint)},     {1, offsetof(LandedVertex, transmittance)},
+                 {1, offsetof(LandedVertex, valid)},         {3, offsetof(LandedVertex, tint)},
+                 {1, offsetof(LandedVertex, share)}};
+  for (GLuint a = 0; a < std::size(attribs); ++a) {
+    glEnableVertexArrayAttrib(vao, a);
+    glVertexArrayAttribFormat(vao, a, attribs[a].size, GL_FLOAT, GL_FALSE, static_cast<GLuint>(attribs[a].offset));
+    glVertexArrayAttribBinding(vao, a, 0);
+  }
+  glVertexArrayElementBuffer(vao, landed_indices_.id());
+  gl::check_errors("landed grid upload");
+  deposit(landed_program_, vao, static_cast<GLsizei>(grid.triangles.size() * 3), scene, placement, target, weight,
+          clear, count, false);
+}
+
+void RayPass::deposit(const gl::Program& p, GLuint vao, GLsizei indices, const Scene& scene,
+                      const Placement& placement, const gl::RenderTarget& target, glm::vec3 weight, bool clear,
+                      bool count, bool clear_tint) {
+  const auto& screen = scene.screen;
+  p.set("uWeight", weight);
+  p.set("uCount", count);
+  p.set("uPointLight", scene.light.type == LightType::point);
+  p.set("uLightDir", glm::vec3(scene.light.direction));
+  p.set("uLightPos", glm::vec3(scene.light.position));
+  p.set("uReferenceDistance2", static_cast<float>(reference_distance2(scene, placement)));
   p.set("uReportIntensity", scene.render.intensity == IntensityMode::report);
   p.set("uHalfSize", glm::vec2(screen.width / 2, screen.height / 2));
   p.set("uResolution", glm::vec2(target.texture.width(), target.texture.height()));
@@ -95,11 +147,11 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
   glEnable(GL_BLEND);
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
-  program_.use();
-  glBindVertexArray(vao_.id());
+  p.use();
+  glBindVertexArray(vao);
   // A clear face reads the tint attribute's constant value: pass everything.
-  if (!tinted_) glVertexAttrib3f(2, 1.0f, 1.0f, 1.0f);
-  glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
+  if (clear_tint) glVertexAttrib3f(2, 1.0f, 1.0f, 1.0f);
+  glDrawElements(GL_TRIANGLES, indices, GL_UNSIGNED_INT, nullptr);
   glBindVertexArray(0);
   glDisable(GL_BLEND);
   gl::check_errors("caustic pass");

@@ -3,7 +3,9 @@
 
 #include "caustic/optics.hpp"
 #include "caustic/spectral.hpp"
-#include "embree_mesh.hpp"
+#include "caustic/embree_mesh.hpp"
+#include "caustic/launch.hpp"
+#include "caustic/solid_path.hpp"
 
 
 #include <algorithm>
@@ -11,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <random>
 #include <thread>
 
@@ -19,47 +22,15 @@ namespace {
 
 using optics::Vec3;
 
-// The rectangle photons are launched through: perpendicular to the mean
-// light direction, just in front of the object, covering it.
-struct Launch {
-  Vec3 origin, a, b;  // corner and the two edge vectors
-  Vec3 normal;        // toward the object
-};
-
-Launch launch_rectangle(const Scene& scene, const Geometry& geo, const Mesh& mesh, const Placement& p) {
+// The slab's hull: its caustic face and the flat face above it.
+std::vector<Vec3> slab_points(const Geometry& geo, const Mesh& mesh, const Placement& p) {
   std::vector<Vec3> corners;
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
     const Vec3 w = geo.world(i);
     corners.push_back(w);
     corners.push_back(onto_flat_face(p, w));  // the flat face above
   }
-  const bool point = scene.light.type == LightType::point;
-  const Vec3 axis = point ? glm::normalize(p.center - scene.light.position) : scene.light.direction;
-  const auto [e1, e2] = optics::basis_around(axis);
-  // Directional: project along the light. Point: project centrally onto a
-  // plane just in front of the nearest corner.
-  double depth = std::numeric_limits<double>::infinity();
-  for (const auto& c : corners) depth = std::min(depth, glm::dot(c - (point ? scene.light.position : p.center), axis));
-  if (point && !(depth > 0))
-    throw SceneError("light.position",
-                     "the reference tracer needs the whole object in front of a point light (less than 90 degrees "
-                     "from the direction to the object's centre)");
-  const Vec3 base = point ? scene.light.position : p.center;
-  const double plane = point ? 0.999 * depth : depth - 1e-3 * (1 + std::abs(depth));
-  double lo1 = 1e300, hi1 = -1e300, lo2 = 1e300, hi2 = -1e300;
-  for (const auto& c : corners) {
-    Vec3 q = c - base;
-    if (point) q *= plane / glm::dot(q, axis);
-    lo1 = std::min(lo1, glm::dot(q, e1)), hi1 = std::max(hi1, glm::dot(q, e1));
-    lo2 = std::min(lo2, glm::dot(q, e2)), hi2 = std::max(hi2, glm::dot(q, e2));
-  }
-  const double pad1 = 1e-3 * (hi1 - lo1), pad2 = 1e-3 * (hi2 - lo2);
-  Launch l;
-  l.normal = axis;
-  l.origin = base + plane * axis + (lo1 - pad1) * e1 + (lo2 - pad2) * e2;
-  l.a = (hi1 - lo1 + 2 * pad1) * e1;
-  l.b = (hi2 - lo2 + 2 * pad2) * e2;
-  return l;
+  return corners;
 }
 
 struct Photon {
@@ -120,9 +91,15 @@ bool follow(const Scene& scene, const Geometry& geo, const Placement& p, Photon&
 ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const ReferenceOptions& options) {
   const Placement placement = place_object(scene.object, mesh);
   check_geometry(scene, mesh, placement);
+  const bool solid = scene.object.shape == Shape::solid;
+  if (solid) check_closed(mesh);
   const auto start = std::chrono::steady_clock::now();
-  const Geometry geo(mesh, placement);
-  const Launch launch = launch_rectangle(scene, geo, mesh, placement);
+  // A solid photon meets its faces in any order, splitting at each by
+  // Fresnel's odds (caustic/solid_path.hpp); a slab's meets two in turn.
+  const std::optional<Solid> body = solid ? std::optional<Solid>(std::in_place, mesh, placement) : std::nullopt;
+  const std::optional<Geometry> face = solid ? std::nullopt : std::optional<Geometry>(std::in_place, mesh, placement);
+  const Launch launch = solid ? launch_rectangle(scene, body->centre(), body->points())
+                              : launch_rectangle(scene, placement.center, slab_points(*face, mesh, placement));
   const auto strata = static_cast<std::uint64_t>(std::ceil(std::sqrt(static_cast<double>(std::max<std::uint64_t>(options.photons, 1)))));
   const int width = scene.render.width, height = scene.render.height;
   const auto& screen = scene.screen;
@@ -161,7 +138,16 @@ ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const Reference
           ph.origin = target;
           ph.flux = cell_area;
         }
-        if (!follow(scene, geo, placement, ph)) continue;
+        if (solid) {
+          const SolidPath path =
+              follow_solid(*body, ph.origin, ph.dir, scene.object.ior, scene.render.fresnel, FresnelSplit::sample, &rng);
+          if (!path.valid) continue;
+          ph.origin = path.origin;
+          ph.dir = path.dir;
+          ph.tint = path.tint;
+        } else if (!follow(scene, *face, placement, ph)) {
+          continue;
+        }
         const double denom = glm::dot(ph.dir, screen.normal);
         if (!(std::abs(denom) > 1e-9)) continue;
         const double along = glm::dot(screen.center - ph.origin, screen.normal) / denom;

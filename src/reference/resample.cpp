@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/resample.hpp"
 
-#include "embree_mesh.hpp"
+#include "caustic/embree_mesh.hpp"
 
 #include <limits>
 
@@ -46,8 +46,9 @@ Mesh resample_face(const Mesh& mesh, const glm::dvec3& flat_normal, int n) {
   return out;
 }
 
-std::vector<int> coarser_resolutions(const Mesh& source) {
+std::vector<int> coarser_resolutions(const Mesh& source, Shape shape) {
   std::vector<int> out;
+  if (shape == Shape::solid) return out;
   for (int n = 8; static_cast<std::size_t>(n) * n < source.positions.size() && n <= 1024; n *= 2) out.push_back(n);
   return out;
 }

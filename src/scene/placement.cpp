@@ -49,7 +49,9 @@ Placement place_object(const ObjectParams& object, const MeshBounds& bounds) {
   const glm::dvec3 n = object.flat_face_normal;
   const auto [e1, e2] = basis_around(n);
   const glm::dvec3 lo = bounds.lo, hi = bounds.hi;
-  const double offset_mesh = object.flat_face_offset.value_or(hi.z);
+  // A solid has no flat face: the plane through its extreme vertex only
+  // frames the footprint and the public box.
+  const double offset_mesh = object.shape == Shape::solid ? hi.z : object.flat_face_offset.value_or(hi.z);
   const glm::dvec3 mid = 0.5 * (lo + hi);
   const glm::dvec3 centre_mesh = mid.x * e1 + mid.y * e2 + mid.z * n;
 
@@ -103,8 +105,8 @@ void check_geometry(const Scene& scene, const Mesh& mesh, const Placement& place
     const glm::dvec3 w = glm::dvec3(placement.model * glm::dvec4(p, 1.0));
     // The solid spans from each caustic-face vertex to the flat face above it.
     const glm::dvec3 on_flat = onto_flat_face(placement, w);
-    const bool solid = scene.object.material == Material::refractive;
-    for (const glm::dvec3& q : {w, solid ? on_flat : w}) {
+    const bool to_flat = scene.object.material == Material::refractive && scene.object.shape == Shape::slab;
+    for (const glm::dvec3& q : {w, to_flat ? on_flat : w}) {
       const double s = glm::dot(q - scene.screen.center, scene.screen.normal);
       screen_min = std::min(screen_min, s);
       screen_max = std::max(screen_max, s);

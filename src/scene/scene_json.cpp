@@ -27,6 +27,7 @@ template <typename Enum>
 using Names = std::span<const std::pair<const char*, Enum>>;
 constexpr std::pair<const char*, Material> kMaterials[] = {{"refractive", Material::refractive},
                                                            {"reflective", Material::reflective}};
+constexpr std::pair<const char*, Shape> kShapes[] = {{"slab", Shape::slab}, {"solid", Shape::solid}};
 constexpr std::pair<const char*, LightType> kLightTypes[] = {{"directional", LightType::directional},
                                                              {"point", LightType::point}};
 constexpr std::pair<const char*, PointModel> kPointModels[] = {{"approximate", PointModel::approximate},
@@ -164,6 +165,9 @@ class Reader {
 ObjectParams read_object(Reader r) {
   ObjectParams o;
   o.material = r.choice("material", o.material, Names<Material>(kMaterials));
+  o.shape = r.choice("shape", o.shape, Names<Shape>(kShapes));
+  if (o.shape == Shape::solid && o.material == Material::reflective)
+    throw SceneError(r.key("shape"), "a solid is glass: it needs object.material \"refractive\"");
   o.ior = r.number("ior", o.ior, 1.0, 10.0);
   // "none" says "no glass" where a null cannot: in a patch, null restores
   // the scene's own value (a prism's BK7), "none" removes it.
@@ -238,6 +242,7 @@ RenderParams read_render(Reader r) {
   p.mesh_resolution = r.integer("mesh_resolution", p.mesh_resolution, 0, 2048);
   if (p.mesh_resolution == 1) throw SceneError(r.key("mesh_resolution"), "must be 0 (the mesh as loaded) or at least 2");
   p.wavelengths = r.integer("wavelengths", p.wavelengths, 1, optics::kMaxWavelengths);
+  p.light_grid = r.integer("light_grid", p.light_grid, 16, 2048);
   r.reject_unknown();
   return p;
 }
@@ -301,6 +306,7 @@ json scene_to_json(const Scene& s) {
       {"focus_distance", opt(s.focus_distance)},
       {"object",
        {{"material", name_of(o.material, Names<Material>(kMaterials))},
+        {"shape", name_of(o.shape, Names<Shape>(kShapes))},
         {"ior", o.ior},
         {"glass", o.glass ? glass_to_json(*o.glass) : json(nullptr)},
         {"flat_face_normal", vec(o.flat_face_normal)},
@@ -331,7 +337,8 @@ json scene_to_json(const Scene& s) {
         {"fidelity", name_of(s.render.fidelity, Names<Fidelity>(kFidelities))},
         {"accuracy_target", s.render.accuracy_target},
         {"mesh_resolution", s.render.mesh_resolution},
-        {"wavelengths", s.render.wavelengths}}},
+        {"wavelengths", s.render.wavelengths},
+        {"light_grid", s.render.light_grid}}},
       {"post",
        {{"exposure_mode", name_of(s.post.exposure_mode, Names<ExposureMode>(kExposureModes))},
         {"exposure", s.post.exposure},

@@ -27,6 +27,7 @@ nlohmann::json proxy_geometry(const Scene& scene, const Mesh& mesh) {
           {"center", v(slab_center)},
           {"thickness", p.max_depth},
           {"flat_face_normal", v(p.flat_normal)},
+          {"shape", scene_to_json(scene)["object"]["shape"]},  // the names' one table
           {"position", v(scene.object.position)},
           {"rotation_deg", v(scene.object.rotation_deg)}};
 }
@@ -60,7 +61,7 @@ std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, cons
   entry->scene = load_scene(file);
   entry->mesh = mesh ? std::move(mesh) : std::make_shared<const Mesh>(load_obj(entry->scene.mesh_path()));
   entry->levels = std::make_shared<const MeshLevels>(
-      build_mesh_levels(entry->mesh, entry->scene.object.flat_face_normal, coarser_resolutions(*entry->mesh)));
+      build_mesh_levels(entry->mesh, entry->scene.object.flat_face_normal, coarser_resolutions(*entry->mesh, entry->scene.object.shape)));
   // Calibrated as rendered: with the screen where following puts it.
   const Scene placed = follow_light(entry->scene, entry->levels->place(entry->scene.object));
   entry->calibration = load_calibration(calibration_path(file), scene_fingerprint(placed, *entry->mesh));
@@ -71,7 +72,8 @@ std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, cons
     const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
     if (const auto written = parse_json_text(text))
       for (const auto& overrides : {fidelity_overrides(*written, entry->scene), follow_overrides(*written, entry->scene),
-                                    spectral_overrides(*written, entry->scene)})
+                                    spectral_overrides(*written, entry->scene),
+                                    shape_overrides(*written, entry->scene)})
         for (const auto& [key, detail] : overrides) log(Level::warning, "scene " + id + ": " + detail);
   }
   // A manual scene may name a level not on offer: at() throws then.

@@ -17,12 +17,12 @@ namespace {
 
 // Keys a session's viewer may not patch: the mesh, its flat face and the
 // gallery text belong to the scene (moving the flat face and watching which
-// offsets are refused would map the hidden surface), the size to the
-// negotiated stream.
+// offsets are refused would map the hidden surface; the shape says what the
+// mesh is), the size to the negotiated stream.
 const char* const kFixedKeys[][2] = {{"mesh", nullptr},           {"name", nullptr},
                                      {"description", nullptr},    {"render", "width"},
                                      {"render", "height"},        {"object", "flat_face_normal"},
-                                     {"object", "flat_face_offset"}};
+                                     {"object", "flat_face_offset"}, {"object", "shape"}};
 
 struct Route {
   std::string session;  // id, when the path names one
@@ -113,7 +113,8 @@ void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
   nlohmann::json overridden = nlohmann::json::array();
   const Scene now = session.params().snapshot().scene;
   for (const auto& overrides :
-       {fidelity_overrides(patch, now), follow_overrides(patch, now), spectral_overrides(patch, now)})
+       {fidelity_overrides(patch, now), follow_overrides(patch, now), spectral_overrides(patch, now),
+        shape_overrides(patch, now)})
     for (const auto& [key, detail] : overrides) overridden.push_back({{"key", key}, {"detail", detail}});
   reply_json(msg, SOUP_STATUS_OK, public_params(session, std::move(overridden)));
 }

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The caustic engine: renders a scene's relative irradiance on the screen
-// rectangle with one ray per caustic-face vertex (docs/physics.md), then
-// bloom and tone mapping. Needs a current OpenGL 4.5 core context (GlContext
+// rectangle with one ray per caustic-face vertex (docs/physics.md), or for a
+// solid one ray per light-grid point traced through all its faces on the
+// CPU (§12), then bloom and tone mapping. Needs a current OpenGL 4.5 core context (GlContext
 // or one that a host such as GStreamer provides) on the calling thread, and
 // must be used and destroyed on that thread.
 #pragma once
@@ -28,12 +29,14 @@ enum class PixelFormat { rgba, i420 };
 /// What the last render did.
 struct FrameStats {
   double ray_ms = 0;          ///< caustic pass, GPU work finished
+  double trace_ms = 0;        ///< of ray_ms, a solid's light grid traced on the CPU (0 for a slab)
   double post_ms = 0;         ///< bloom and tone mapping, GPU work finished
   // Triangle counts are the last ray pass's (of a spectral frame: its reddest wavelength).
   std::uint32_t drawn = 0;    ///< triangles that reached the screen
   std::uint32_t dropped = 0;  ///< triangles with a vertex lost to TIR, a miss or grazing incidence
   std::uint32_t folded = 0;   ///< drawn triangles whose screen orientation is the minority one
   std::uint32_t collapsed = 0; ///< drawn triangles of (nearly) zero screen area: flux into one pixel
+  std::uint32_t split = 0;    ///< a solid's light-grid triangles whose corners took different paths
   double exposure = 1;        ///< the exposure the tone map used
   double metered = 0;         ///< "auto": the metered quantile of the lit pixels (0: none lit)
   int wavelengths = 1;        ///< ray passes of the last frame: its wavelength samples (1: monochrome)

@@ -20,8 +20,9 @@ namespace caustic {
 Mesh resample_face(const Mesh& mesh, const glm::dvec3& flat_normal, int n);
 
 /// Grid sizes worth offering below a mesh: powers of two from 32 while the
-/// grid has fewer vertices than the mesh itself.
-std::vector<int> coarser_resolutions(const Mesh& source);
+/// grid has fewer vertices than the mesh itself; none for a solid, which is
+/// no height field (its multipass tracer thins the light's grid instead).
+std::vector<int> coarser_resolutions(const Mesh& source, Shape shape);
 
 /// Resamples `source` (mesh coordinates, flat face normal `flat_normal`) at
 /// each resolution. Throws SceneError when the face cannot be resampled.

@@ -50,6 +50,13 @@ Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits = {});
 /// normals, indices in range, at least one triangle). Throws SceneError.
 void validate_mesh(const Mesh& mesh, const MeshLimits& limits = {});
 
+/// For a solid (object.shape "solid"): checks that `mesh` bounds a volume:
+/// every edge (by position) is shared by exactly two triangles that run
+/// along it in opposite directions, and the enclosed volume is positive
+/// (wound outward). Throws SceneError("mesh", ...)
+/// counting the offending edges, never naming where they are.
+void check_closed(const Mesh& mesh);
+
 /// Area-weighted vertex normals from the faces (winding gives the sign).
 /// Vertices on no non-degenerate face get the mean face normal.
 std::vector<glm::vec3> smooth_normals(const std::vector<glm::vec3>& positions,

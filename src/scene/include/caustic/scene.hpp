@@ -31,6 +31,10 @@ class SceneError : public std::runtime_error {
 };
 
 enum class Material { refractive, reflective };
+/// What the mesh is: the caustic face of a slab whose other face is the flat
+/// plane (the per-vertex method), or a closed glass body whose every face
+/// refracts (the multipass tracer: double-sided lenses, stacked pieces).
+enum class Shape { slab, solid };
 enum class LightType { directional, point };
 enum class PointModel { approximate, exact };
 enum class IntensityMode { energy, report };
@@ -50,6 +54,9 @@ struct Glass {
 
 struct ObjectParams {
   Material material = Material::refractive;
+  /// "solid": the mesh is closed and wound outward; the flat face then only
+  /// orients the footprint (fit_size, the public box) and is not glass.
+  Shape shape = Shape::slab;
   /// The index of a glass without dispersion; with `glass` set, the glass's
   /// index at the d line (587.6 nm), which monochrome frames use.
   double ior = 1.5;
@@ -102,6 +109,9 @@ struct RenderParams {
   /// Wavelength samples of a spectral frame (object.glass set); previews
   /// while the scene moves use at most kPreviewWavelengths.
   int wavelengths = 8;
+  /// Rays per side of the light's grid that the multipass tracer follows
+  /// through a solid (object.shape "solid"); previews use a coarser grid.
+  int light_grid = 256;
 
   bool operator==(const RenderParams&) const = default;
 };

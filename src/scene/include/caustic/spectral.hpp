@@ -38,4 +38,10 @@ std::vector<SpectralPass> spectral_passes(const Scene& scene, int count);
 /// writes every key.
 std::vector<std::pair<std::string, std::string>> spectral_overrides(const nlohmann::json& written, const Scene& scene);
 
+/// The same for the object's shape (kept beside the spectral ones, whose
+/// readers of `written` it shares): object.flat_face_offset on a solid,
+/// which has no flat face, and render.light_grid on a slab, whose rays start
+/// at its vertices.
+std::vector<std::pair<std::string, std::string>> shape_overrides(const nlohmann::json& written, const Scene& scene);
+
 }  // namespace caustic

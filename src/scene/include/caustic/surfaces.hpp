@@ -42,4 +42,19 @@ HeightField flat_face(double half_width);
 /// down leaves it deviated by asin(n sin(apex)) - apex towards -x.
 HeightField wedge(double apex, double half_width_x, double half_width_y);
 
+/// A closed glass body (object.shape "solid"): the volume between `lower`
+/// and `upper` (lower(x, y) < upper(x, y) over the common footprint, which
+/// is `upper`'s), sampled on n x n vertices per face, closed by four flat
+/// side walls. Every face keeps its own vertices and exact normals, so the
+/// creases at the rim stay sharp; triangles are wound outward. Throws
+/// std::invalid_argument for n < 2 or a footprint where the body is empty.
+Mesh closed_body(const HeightField& upper, const HeightField& lower, int n);
+
+/// A biconvex lens: spherical faces of radii r1 (upper) and r2 (lower),
+/// `centre_thickness` apart on the axis, over a square footprint of
+/// half-width `half_width`; apex of the upper face at z = centre_thickness / 2.
+/// Thick-lens optics: 1/f = (n-1) (1/r1 + 1/r2 - (n-1) d / (n r1 r2)), and the
+/// back focal length from the lower apex is f (1 - (n-1) d / (n r1)).
+Mesh biconvex_lens(double r1, double r2, double centre_thickness, double half_width, int n);
+
 }  // namespace caustic

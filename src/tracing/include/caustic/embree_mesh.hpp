@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
-// The caustic face in Embree 3: one device and one committed scene,
-// intersected with interpolated vertex normals.
+// A mesh in Embree 3 (a slab's caustic face, or a closed solid): one device
+// and one committed scene, intersected with interpolated vertex normals.
+// The photon reference and the multipass tracer both intersect through it.
 #pragma once
 
 #include "caustic/mesh.hpp"
@@ -15,7 +16,7 @@ namespace caustic {
 
 using optics::Vec3;
 
-// Owns an Embree device and a committed scene of the caustic face (world space).
+// Owns an Embree device and a committed scene of the mesh (world space).
 class Geometry {
  public:
   Geometry(const Mesh& mesh, const Placement& placement) : mesh_(mesh), placement_(placement) {
@@ -56,9 +57,11 @@ class Geometry {
   struct Hit {
     Vec3 point, normal;  // normal interpolated from the vertices, unit, world
     Vec3 tint{1.0};      // the face's transmittance there, interpolated (1: clear)
+    Vec3 facet{0.0};     // the triangle's own normal by its winding, unit, world
+    unsigned triangle = 0;
   };
 
-  // First intersection of the ray with the caustic face, beyond `t_min`.
+  // First intersection of the ray with the mesh, beyond `t_min`.
   bool intersect(const Vec3& origin, const Vec3& dir, double t_min, Hit* hit) const {
     RTCRayHit rh{};
     rh.ray.org_x = static_cast<float>(origin.x);
@@ -82,6 +85,11 @@ class Geometry {
     hit->point = origin + static_cast<double>(rh.ray.tfar) * dir;
     hit->normal = glm::normalize(placement_.rotation * n);
     hit->tint = Vec3(1.0);
+    hit->triangle = rh.hit.primID;
+    // From the mesh, not Embree's Ng: the winding decides outward here.
+    const Vec3 p0(mesh_.positions[tri.x]), p1(mesh_.positions[tri.y]), p2(mesh_.positions[tri.z]);
+    const Vec3 facet = placement_.rotation * glm::cross(p1 - p0, p2 - p0);
+    hit->facet = glm::length(facet) > 0 ? glm::normalize(facet) : hit->normal;
     if (tinted(mesh_))
       hit->tint = (1 - u - w) * Vec3(mesh_.colours[tri.x]) + u * Vec3(mesh_.colours[tri.y]) +
                   w * Vec3(mesh_.colours[tri.z]);
