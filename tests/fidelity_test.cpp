@@ -105,6 +105,44 @@ TEST(FidelityChoice, ResolveWritesAutoAndLeavesManualAlone) {
   EXPECT_EQ(resolve_fidelity(s, choice), s);
 }
 
+TEST(FidelityChoice, ASolidTakesTheCoarsestLightGridThatMeetsTheTarget) {
+  // A solid is offered as loaded only; its calibration varies the light grid.
+  const MeshLevels levels = fake_levels({}, 133120);
+  Calibration c;
+  c.fingerprint = "f";
+  for (const auto& [grid, l1] : {std::pair{64, 0.06}, std::pair{128, 0.02}, std::pair{256, 0.004}}) {
+    CalibrationEntry e = entry(0, 133120, PointModel::exact, true, l1);
+    e.config.light_grid = grid;
+    c.entries.push_back(e);
+  }
+  EXPECT_EQ(choose_fidelity(c, 0.05, levels).config.light_grid, 128);
+  EXPECT_EQ(choose_fidelity(c, 0.01, levels).config.light_grid, 256);
+  const Calibration back = calibration_from_json(nlohmann::json::parse(calibration_to_json(c).dump()));
+  EXPECT_EQ(back.entries[1].config, c.entries[1].config);
+
+  Scene solid;
+  solid.object.shape = Shape::solid;
+  const Scene chosen = resolve_fidelity(solid, choose_fidelity(c, 0.05, levels));
+  EXPECT_EQ(chosen.render.light_grid, 128);
+  // Uncalibrated, or a slab: the scene's own grid stays.
+  EXPECT_EQ(resolve_fidelity(solid, choose_fidelity(std::nullopt, 0.05, levels)).render.light_grid, 256);
+  EXPECT_EQ(resolve_fidelity(Scene{}, choose_fidelity(c, 0.05, levels)).render.light_grid, 256);
+  // Written while auto decides it: overridden, and said so; on a slab it is moot instead.
+  const nlohmann::json written = {{"render", {{"light_grid", 512}}}};
+  ASSERT_EQ(fidelity_overrides(written, solid).size(), 1u);
+  EXPECT_EQ(fidelity_overrides(written, solid)[0].first, "render.light_grid");
+  EXPECT_TRUE(fidelity_overrides(written, Scene{}).empty());
+  // A light grid outside the scene format's range is refused by name.
+  nlohmann::json bad = calibration_to_json(c);
+  bad["entries"][0]["light_grid"] = 4;
+  try {
+    calibration_from_json(bad);
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), "entries[0].light_grid");
+  }
+}
+
 TEST(Calibration, RoundTripsAndNamesWhatIsWrongInAFile) {
   const Calibration c = hand_made();
   const Calibration back = calibration_from_json(nlohmann::json::parse(calibration_to_json(c).dump()));

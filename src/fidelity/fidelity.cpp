@@ -20,8 +20,8 @@ std::uint64_t fnv1a(const std::string& text, std::uint64_t h = 14695981039346656
   return h;
 }
 
-std::tuple<std::size_t, int, int> cost(const CalibrationEntry& e) {
-  return {e.vertices, e.config.point_model == PointModel::exact, e.config.fresnel};
+std::tuple<std::size_t, int, int, int> cost(const CalibrationEntry& e) {
+  return {e.vertices, e.config.light_grid, e.config.point_model == PointModel::exact, e.config.fresnel};
 }
 
 template <typename T>
@@ -42,7 +42,7 @@ std::string scene_fingerprint(const Scene& scene, const Mesh& mesh) {
   json j = scene_to_json(scene);
   for (const char* k : {"name", "description", "mesh", "post", "focus_distance"}) j.erase(k);
   j["light"].erase("point_model");
-  for (const char* k : {"width", "height", "fresnel", "fidelity", "accuracy_target", "mesh_resolution"})
+  for (const char* k : {"width", "height", "fresnel", "fidelity", "accuracy_target", "mesh_resolution", "light_grid"})
     j["render"].erase(k);
   std::uint64_t h = fnv1a(j.dump());
   // The mesh by its vertex and triangle counts and a sum over its positions.
@@ -70,6 +70,7 @@ json calibration_to_json(const Calibration& c) {
   for (std::size_t i = 0; i < c.entries.size(); ++i) {
     if (c.entries[i].streamed_l1) entries[i]["streamed_l1"] = *c.entries[i].streamed_l1;
     if (c.entries[i].streamed_ssim) entries[i]["streamed_ssim"] = *c.entries[i].streamed_ssim;
+    if (c.entries[i].config.light_grid) entries[i]["light_grid"] = c.entries[i].config.light_grid;
   }
   return {{"format", kFormat},       {"fingerprint", c.fingerprint}, {"reference_photons", c.reference_photons},
           {"width", c.width},        {"height", c.height},           {"compare_factor", c.compare_factor},
@@ -102,6 +103,11 @@ Calibration calibration_from_json(const json& j) {
       throw SceneError(where + "point_model", "must be \"exact\" or \"approximate\"");
     e.config.point_model = model == "exact" ? PointModel::exact : PointModel::approximate;
     e.config.fresnel = field<bool>(entries[i], "fresnel", where);
+    if (entries[i].contains("light_grid")) {  // a solid's
+      e.config.light_grid = field<int>(entries[i], "light_grid", where);
+      if (e.config.light_grid < 16 || e.config.light_grid > 2048)
+        throw SceneError(where + "light_grid", "must be in [16, 2048]");
+    }
     e.vertices = field<std::size_t>(entries[i], "vertices", where);
     e.relative_l1 = field<double>(entries[i], "relative_l1", where);
     e.relative_rmse = field<double>(entries[i], "relative_rmse", where);
@@ -170,6 +176,7 @@ std::vector<std::pair<std::string, std::string>> fidelity_overrides(const nlohma
     const auto value = part->find(key);
     if (value == part->end() || value->is_null()) continue;
     const std::string name = std::string(section) + "." + key;
+    if (name == "render.light_grid" && scene.object.shape != Shape::solid) continue;  // moot: shape_overrides says so
     out.emplace_back(name, name + " is chosen by render.fidelity \"auto\", which overrides the value written; set "
                                   "render.fidelity to \"manual\" to use it");
   }
@@ -181,6 +188,8 @@ Scene resolve_fidelity(Scene scene, const FidelityChoice& choice) {
   scene.render.mesh_resolution = choice.config.mesh_resolution;
   scene.light.point_model = choice.config.point_model;
   scene.render.fresnel = choice.config.fresnel;
+  if (choice.config.light_grid > 0 && scene.object.shape == Shape::solid)
+    scene.render.light_grid = choice.config.light_grid;
   return scene;
 }
 
@@ -193,6 +202,7 @@ json describe_fidelity(const Scene& scene, const Mesh& source, const MeshLevels&
          {"vertices", levels.vertices(scene.render.mesh_resolution)},
          {"point_model", point_model_name(scene.light.point_model)},
          {"fresnel", scene.render.fresnel},
+         {"light_grid", scene.object.shape == Shape::solid ? json(scene.render.light_grid) : json()},
          {"levels", levels.resolutions()},
          {"calibrated", calibration.has_value()},
          {"expected_relative_l1", nullptr},
@@ -200,7 +210,8 @@ json describe_fidelity(const Scene& scene, const Mesh& source, const MeshLevels&
          {"expected_streamed_ssim", nullptr},
          {"meets_target", nullptr}};
   if (!calibration) return j;
-  const FidelityConfig now{scene.render.mesh_resolution, scene.light.point_model, scene.render.fresnel};
+  const FidelityConfig now{scene.render.mesh_resolution, scene.light.point_model, scene.render.fresnel,
+                          scene.object.shape == Shape::solid ? scene.render.light_grid : 0};
   for (const auto& e : calibration->entries)
     if (e.config == now) {
       j["expected_relative_l1"] = e.relative_l1;

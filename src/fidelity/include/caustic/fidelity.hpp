@@ -4,8 +4,10 @@
 // cheapest configuration that meets the scene's accuracy target.
 //
 // Cost order, cheapest first: fewer mesh vertices (the caustic pass is
-// linear in triangles), then the approximate point-light entry (the exact
-// one solves for the entry point per vertex), then Fresnel off. Measured
+// linear in triangles), then for a solid fewer light-grid rays (the
+// multipass method is linear in them), then the approximate point-light
+// entry (the exact one solves for the entry point per vertex), then
+// Fresnel off. Measured
 // times are kept in the calibration for people; the order does not depend
 // on them, so the same calibration gives the same choice on every machine.
 #pragma once
@@ -27,6 +29,7 @@ struct FidelityConfig {
   int mesh_resolution = 0;  ///< as render.mesh_resolution
   PointModel point_model = PointModel::exact;
   bool fresnel = true;
+  int light_grid = 0;       ///< a solid's render.light_grid; 0 for a slab (and: keep the scene's)
   bool operator==(const FidelityConfig&) const = default;
 };
 
@@ -89,15 +92,20 @@ FidelityChoice choose_fidelity(const std::optional<Calibration>& calibration, do
 
 /// The keys "auto" decides (section, key): a value written for one of them
 /// is overridden while render.fidelity is "auto", and its writer is told so.
+/// render.light_grid only for a solid: a slab has no light grid.
 inline constexpr const char* kFidelityAutoKeys[][2] = {
-    {"render", "mesh_resolution"}, {"light", "point_model"}, {"render", "fresnel"}};
+    {"render", "mesh_resolution"}, {"light", "point_model"}, {"render", "fresnel"}, {"render", "light_grid"}};
+
+/// The light grids a solid's calibration tries, up to the scene's own.
+inline constexpr int kCalibratedLightGrids[] = {64, 128, 256};
 
 /// For each of kFidelityAutoKeys that `written` (a scene document or a
 /// patch) sets while `scene` renders with fidelity "auto": (key, message).
 std::vector<std::pair<std::string, std::string>> fidelity_overrides(const nlohmann::json& written, const Scene& scene);
 
-/// `scene` with the choice written into mesh_resolution, point_model and
-/// fresnel when its fidelity is "auto"; unchanged when "manual".
+/// `scene` with the choice written into mesh_resolution, point_model,
+/// fresnel and (a solid's, when chosen) light_grid when its fidelity is
+/// "auto"; unchanged when "manual".
 Scene resolve_fidelity(Scene scene, const FidelityChoice& choice);
 
 /// The fidelity block of GET .../params: mode, target, what is rendered and
