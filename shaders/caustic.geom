@@ -5,9 +5,12 @@
 // pixel receives E times the exact fraction of the pixel the triangle covers
 // (computed in caustic.frag), so a pixel holds the mean irradiance over its
 // area and every triangle deposits exactly its flux, however small it is.
-// The geometry emitted is the triangle's pixel-aligned bounding box.
+// The geometry emitted is the triangle's pixel-aligned bounding box, in the
+// atlas tile of the surface its corners landed on (caustic/receivers.hpp).
+// Corners that landed on different surfaces (or some on none) cannot span a
+// triangle: each that landed takes a third of the flux to its own pixel.
 layout(triangles) in;
-layout(triangle_strip, max_vertices = 4) out;
+layout(triangle_strip, max_vertices = 12) out;
 
 in VertexData {
   vec2 screen;
@@ -17,6 +20,7 @@ in VertexData {
   float valid;
   vec3 tint;
   float share;
+  float surface;
 } vin[];
 
 flat out float gIrradiance;  // E; for a collapsed triangle: flux per pixel area
@@ -32,8 +36,13 @@ uniform bool uPointLight;
 uniform vec3 uLightDir;
 uniform vec3 uLightPos;
 uniform float uReferenceDistance2;  // point light: r_ref^2, so E0 = I0 / r_ref^2
-uniform vec2 uHalfSize;             // half the screen rectangle, world units
-uniform vec2 uResolution;           // pixels
+uniform vec2 uResolution;           // pixels of the whole target
+// Per surface: half its rectangle (world units) and its atlas tile (pixels,
+// origin at the bottom left as GL counts them).
+const int kSurfaces = 8;
+uniform vec2 uSurfaceHalf[kSurfaces];
+uniform vec2 uTileOrigin[kSurfaces];
+uniform vec2 uTileSize[kSurfaces];
 uniform bool uReportIntensity;
 // Whether this pass keeps the triangle counts: a spectral frame counts its
 // last wavelength only, sparing the others' atomics.
@@ -56,11 +65,30 @@ float signedArea(vec2 a, vec2 b, vec2 c) {
   return 0.5 * (e1.x * e2.y - e1.y * e2.x);
 }
 
-vec2 toPixels(vec2 screen) { return (screen / uHalfSize * 0.5 + 0.5) * uResolution; }
+vec2 toPixels(vec2 local, int surface) {
+  return uTileOrigin[surface] + (local / uSurfaceHalf[surface] * 0.5 + 0.5) * uTileSize[surface];
+}
+
+vec2 worldPerPixel(int surface) { return 2.0 * uSurfaceHalf[surface] / uTileSize[surface]; }
 
 void emitPixel(vec2 p) {
   gl_Position = vec4(p / uResolution * 2.0 - 1.0, 0.0, 1.0);
   EmitVertex();
+}
+
+// All the triangle's flux (its share of it) as a point in one pixel.
+void emitPoint(vec2 at, float flux, vec3 tint, int surface) {
+  vec2 wpp = worldPerPixel(surface);
+  gPoint = 1.0;
+  gIrradiance = flux / (wpp.x * wpp.y);
+  gTint = tint;
+  gA = gB = gC = at;
+  vec2 cell = floor(at);
+  emitPixel(cell + 0.25);  // a quad inside one pixel covers its centre only
+  emitPixel(cell + vec2(0.75, 0.25));
+  emitPixel(cell + vec2(0.25, 0.75));
+  emitPixel(cell + 0.75);
+  EndPrimitive();
 }
 
 void main() {
@@ -69,11 +97,14 @@ void main() {
     return;
   }
   float transmittance = (vin[0].transmittance + vin[1].transmittance + vin[2].transmittance) / 3.0;
-  vec2 a = toPixels(vin[0].screen), b = toPixels(vin[1].screen), c = toPixels(vin[2].screen);
+  int surface = int(vin[0].surface);
+  bool together = surface >= 0 && vin[1].surface == vin[0].surface && vin[2].surface == vin[0].surface;
+  int at = max(surface, 0);
+  vec2 a = toPixels(vin[0].screen, at), b = toPixels(vin[1].screen, at), c = toPixels(vin[2].screen, at);
   float signedPixels = signedArea(a, b, c);
   float areaPixels = abs(signedPixels);
-  vec2 worldPerPixel = 2.0 * uHalfSize / uResolution;
-  float screenArea = areaPixels * worldPerPixel.x * worldPerPixel.y;
+  vec2 wpp = worldPerPixel(at);
+  float screenArea = areaPixels * wpp.x * wpp.y;
 
   float flux;
   if (uReportIntensity) {
@@ -87,6 +118,19 @@ void main() {
     flux = transmittance * abs(dot(areaVector, uLightDir));
   }
   flux *= (vin[0].share + vin[1].share + vin[2].share) / 3.0;
+  if (!together) {  // parted among the surfaces
+    if (!(flux > 0.0) || isinf(flux)) return;
+    for (int k = 0; k < 3; ++k) {
+      int own = int(vin[k].surface);
+      if (own < 0) continue;
+      // A corner on its rectangle's far edge belongs to the tile's last pixel,
+      // not the neighbouring tile's first.
+      vec2 p = min(toPixels(vin[k].screen, own), uTileOrigin[own] + uTileSize[own] - 0.5);
+      if (uCount) atomicAdd(counters.collapsed, 1u);
+      emitPoint(p, flux / 3.0, vin[k].tint, own);
+    }
+    return;
+  }
   vec2 lo = min(min(a, b), c), hi = max(max(a, b), c);
   bool offscreen = any(greaterThan(lo, uResolution)) || any(lessThan(hi, vec2(0.0)));
   bool huge = any(greaterThan(hi - lo, 64.0 * uResolution));  // precision, not physics
@@ -100,7 +144,7 @@ void main() {
     else atomicAdd(counters.negative, 1u);
   }
 
-  float pixelArea = worldPerPixel.x * worldPerPixel.y;
+  float pixelArea = wpp.x * wpp.y;
   gA = a;
   gB = b;
   gC = c;

@@ -23,15 +23,25 @@ uniform vec3 uScreenNormal;
 uniform vec3 uScreenRight;
 uniform vec3 uScreenUp;
 uniform float uReportPlaneDistance;
+// The surfaces that catch the light (caustic/receivers.hpp): the screen
+// first. Alone it is its whole plane; with receivers each is its rectangle.
+const int kSurfaces = 8;
+uniform int uSurfaceCount;
+uniform vec3 uSurfaceCenter[kSurfaces];
+uniform vec3 uSurfaceNormal[kSurfaces];
+uniform vec3 uSurfaceRight[kSurfaces];
+uniform vec3 uSurfaceUp[kSurfaces];
+uniform vec2 uSurfaceHalf[kSurfaces];
 
 out VertexData {
-  vec2 screen;         // hit on the screen, (right, up) from its centre, world units
+  vec2 screen;         // hit on its surface, (right, up) from the surface's centre, world units
   vec2 plane;          // hit on the virtual plane behind the screen ("report" mode)
   vec3 footprint;      // where this vertex's ray entered the object (world)
   float transmittance; // product of Fresnel transmittances along the ray
   float valid;         // 1: reached the screen; 0: TIR, missed or grazing
   vec3 tint;
   float share;         // of its triangle's flux the triangle carries (caustic_landed.vert)
+  float surface;       // which surface the ray landed on; -1: none
 } vout;
 
 void main() {
@@ -70,14 +80,30 @@ void main() {
     transmittance *= tFace;
   }
 
+  // The first surface ahead of the ray.
+  int landed = -1;
+  float nearest = 1e30;
+  vec2 local = vec2(0.0);
+  for (int i = 0; i < uSurfaceCount; ++i) {
+    float d = dot(dir, uSurfaceNormal[i]);
+    float t = dot(uSurfaceCenter[i] - origin, uSurfaceNormal[i]) / d;
+    if (!(abs(d) > 1e-6 && t > 0.0 && t < nearest) || isinf(t) || isnan(t)) continue;
+    vec3 p = origin + t * dir - uSurfaceCenter[i];
+    vec2 at = vec2(dot(p, uSurfaceRight[i]), dot(p, uSurfaceUp[i]));
+    if (uSurfaceCount > 1 && any(greaterThan(abs(at), uSurfaceHalf[i]))) continue;
+    landed = i;
+    nearest = t;
+    local = at;
+  }
+  // Alone, a screen the ray misses drops its triangles; among receivers the
+  // corners that landed keep their shares (caustic.geom).
+  ok = ok && (landed >= 0 || uSurfaceCount > 1);
   float denom = dot(dir, uScreenNormal);
-  float s = dot(uScreenCenter - origin, uScreenNormal) / denom;
-  ok = ok && abs(denom) > 1e-6 && s > 0.0 && !isinf(s) && !isnan(s);
-  vec3 hit = origin + s * dir;
   vec3 planeCenter = uScreenCenter - uReportPlaneDistance * uScreenNormal;
   vec3 planeHit = origin + (dot(planeCenter - origin, uScreenNormal) / denom) * dir;
 
-  vout.screen = vec2(dot(hit - uScreenCenter, uScreenRight), dot(hit - uScreenCenter, uScreenUp));
+  vout.screen = local;
+  vout.surface = float(landed);
   vout.plane = vec2(dot(planeHit - planeCenter, uScreenRight), dot(planeHit - planeCenter, uScreenUp));
   vout.footprint = footprint;
   vout.transmittance = uFresnel ? transmittance : 1.0;

@@ -9,6 +9,7 @@ layout(location = 3) in float aTransmittance;
 layout(location = 4) in float aValid;
 layout(location = 5) in vec3 aTint;
 layout(location = 6) in float aShare;
+layout(location = 7) in float aSurface;
 
 out VertexData {
   vec2 screen;
@@ -18,6 +19,7 @@ out VertexData {
   float valid;
   vec3 tint;
   float share;
+  float surface;
 } vout;
 
 void main() {
@@ -28,5 +30,6 @@ void main() {
   vout.valid = aValid;
   vout.tint = aTint;
   vout.share = aShare;
+  vout.surface = aSurface;
   gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
 }

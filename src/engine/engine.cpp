@@ -20,7 +20,8 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
 
 // Everything but post-processing decides the caustic pass.
 bool same_caustic(const Scene& a, const Scene& b) {
-  return a.object == b.object && a.light == b.light && a.screen == b.screen && a.render == b.render;
+  return a.object == b.object && a.light == b.light && a.screen == b.screen && a.receivers == b.receivers &&
+         a.render == b.render;
 }
 
 }  // namespace

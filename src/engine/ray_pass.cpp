@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "passes.hpp"
 
+#include "caustic/receivers.hpp"
 #include "caustic/vertex_rays.hpp"
 
 #include <cmath>
 #include <cstddef>
+#include <string>
 
 namespace caustic {
 namespace {
@@ -15,6 +17,9 @@ double reference_distance2(const Scene& scene, const Placement& placement) {
   const glm::dvec3 d = scene.light.position - placement.center;
   return glm::dot(d, d);
 }
+
+// uName[i] of a uniform array.
+std::string element(const char* name, std::size_t i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
 
 }  // namespace
 
@@ -81,6 +86,14 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
   p.set("uScreenRight", glm::vec3(screen_right(screen)));
   p.set("uScreenUp", glm::vec3(screen.up));
   p.set("uReportPlaneDistance", static_cast<float>(scene.render.report_plane_distance));
+  const auto surfaces = receiving_surfaces(scene);
+  p.set("uSurfaceCount", static_cast<int>(surfaces.size()));
+  for (std::size_t i = 0; i < surfaces.size(); ++i) {
+    p.set(element("uSurfaceCenter", i).c_str(), glm::vec3(surfaces[i].center));
+    p.set(element("uSurfaceNormal", i).c_str(), glm::vec3(surfaces[i].normal));
+    p.set(element("uSurfaceRight", i).c_str(), glm::vec3(screen_right(surfaces[i])));
+    p.set(element("uSurfaceUp", i).c_str(), glm::vec3(surfaces[i].up));
+  }
   deposit(program_, vao_.id(), index_count_, scene, placement, target, weight, clear, count, !tinted_);
 }
 
@@ -109,7 +122,7 @@ void RayPass::draw_landed(const LandedGrid& grid, const Scene& scene, const Plac
   } attribs[] = {{2, offsetof(LandedVertex, screen)},        {2, offsetof(LandedVertex, plane)},
                  {3, offsetof(LandedVertex, footprint)},     {1, offsetof(LandedVertex, transmittance)},
                  {1, offsetof(LandedVertex, valid)},         {3, offsetof(LandedVertex, tint)},
-                 {1, offsetof(LandedVertex, share)}};
+                 {1, offsetof(LandedVertex, share)},         {1, offsetof(LandedVertex, surface)}};
   for (GLuint a = 0; a < std::size(attribs); ++a) {
     glEnableVertexArrayAttrib(vao, a);
     glVertexArrayAttribFormat(vao, a, attribs[a].size, GL_FLOAT, GL_FALSE, static_cast<GLuint>(attribs[a].offset));
@@ -132,8 +145,16 @@ void RayPass::deposit(const gl::Program& p, GLuint vao, GLsizei indices, const S
   p.set("uLightPos", glm::vec3(scene.light.position));
   p.set("uReferenceDistance2", static_cast<float>(reference_distance2(scene, placement)));
   p.set("uReportIntensity", scene.render.intensity == IntensityMode::report);
-  p.set("uHalfSize", glm::vec2(screen.width / 2, screen.height / 2));
-  p.set("uResolution", glm::vec2(target.texture.width(), target.texture.height()));
+  const int width = target.texture.width(), height = target.texture.height();
+  p.set("uResolution", glm::vec2(width, height));
+  const auto surfaces = receiving_surfaces(scene);
+  const auto tiles = atlas_layout(width, height, surfaces.size());
+  for (std::size_t i = 0; i < surfaces.size(); ++i) {
+    // Both stages read the half sizes (the vertex stage bounds the rectangles).
+    p.set(element("uSurfaceHalf", i).c_str(), glm::vec2(surfaces[i].width / 2, surfaces[i].height / 2));
+    p.set(element("uTileOrigin", i).c_str(), glm::vec2(tiles[i].x, height - tiles[i].y - tiles[i].height));
+    p.set(element("uTileSize", i).c_str(), glm::vec2(tiles[i].width, tiles[i].height));
+  }
 
   const TriangleCounts zero{};
   if (count) glNamedBufferSubData(counters_.id(), 0, sizeof zero, &zero);

@@ -5,6 +5,7 @@
 #include "caustic/spectral.hpp"
 #include "caustic/embree_mesh.hpp"
 #include "caustic/launch.hpp"
+#include "caustic/receivers.hpp"
 #include "caustic/solid_path.hpp"
 
 
@@ -22,13 +23,24 @@ namespace {
 
 using optics::Vec3;
 
-// The slab's hull: its caustic face and the flat face above it.
-std::vector<Vec3> slab_points(const Geometry& geo, const Mesh& mesh, const Placement& p) {
+// The slab's hull as the light sees it: its caustic face, the flat face
+// above it, and where the ray that reaches each vertex entered the flat face
+// (up the refracted direction, which slants under oblique light: without it
+// the launch would miss the slab's leading edge).
+std::vector<Vec3> slab_points(const Scene& scene, const Geometry& geo, const Mesh& mesh, const Placement& p) {
   std::vector<Vec3> corners;
+  const bool refractive = scene.object.material == Material::refractive;
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
     const Vec3 w = geo.world(i);
     corners.push_back(w);
     corners.push_back(onto_flat_face(p, w));  // the flat face above
+    const Vec3 incoming = scene.light.type == LightType::point ? glm::normalize(w - scene.light.position)
+                                                               : scene.light.direction;
+    if (!refractive || glm::dot(incoming, p.flat_normal) >= 0) continue;
+    const auto in = optics::refract(incoming, p.flat_normal, 1.0 / scene.object.ior);
+    if (!in) continue;
+    const double up = glm::dot(in->direction, p.flat_normal);
+    if (up < -1e-9) corners.push_back(w + ((p.flat_offset - glm::dot(w, p.flat_normal)) / up) * in->direction);
   }
   return corners;
 }
@@ -99,12 +111,14 @@ ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const Reference
   const std::optional<Solid> body = solid ? std::optional<Solid>(std::in_place, mesh, placement) : std::nullopt;
   const std::optional<Geometry> face = solid ? std::nullopt : std::optional<Geometry>(std::in_place, mesh, placement);
   const Launch launch = solid ? launch_rectangle(scene, body->centre(), body->points())
-                              : launch_rectangle(scene, placement.center, slab_points(*face, mesh, placement));
+                              : launch_rectangle(scene, placement.center, slab_points(scene, *face, mesh, placement));
   const auto strata = static_cast<std::uint64_t>(std::ceil(std::sqrt(static_cast<double>(std::max<std::uint64_t>(options.photons, 1)))));
   const int width = scene.render.width, height = scene.render.height;
-  const auto& screen = scene.screen;
-  const Vec3 right = glm::normalize(glm::cross(screen.up, screen.normal));
-  const double pixel_area = (screen.width / width) * (screen.height / height);
+  const auto surfaces = receiving_surfaces(scene);
+  const auto atlas = atlas_layout(width, height, surfaces.size());
+  std::vector<double> pixel_area;
+  for (std::size_t i = 0; i < surfaces.size(); ++i)
+    pixel_area.push_back((surfaces[i].width / atlas[i].width) * (surfaces[i].height / atlas[i].height));
   const double cell_area = glm::length(glm::cross(launch.a, launch.b)) / static_cast<double>(strata * strata);
   const bool point = scene.light.type == LightType::point;
   const double r_ref2 = point ? glm::dot(scene.light.position - placement.center, scene.light.position - placement.center) : 1.0;
@@ -148,14 +162,16 @@ ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const Reference
         } else if (!follow(scene, *face, placement, ph)) {
           continue;
         }
-        const double denom = glm::dot(ph.dir, screen.normal);
-        if (!(std::abs(denom) > 1e-9)) continue;
-        const double along = glm::dot(screen.center - ph.origin, screen.normal) / denom;
-        if (!(along > 0)) continue;
-        const Vec3 hit = ph.origin + along * ph.dir - screen.center;
-        const double u = glm::dot(hit, right) / screen.width + 0.5, v = 0.5 - glm::dot(hit, screen.up) / screen.height;
+        const ReceiverHit hit = first_receiver(scene, ph.origin, ph.dir);
+        if (hit.index < 0) continue;
+        const auto& surface = surfaces[static_cast<std::size_t>(hit.index)];
+        const AtlasTile& region = atlas[static_cast<std::size_t>(hit.index)];
+        const double u = hit.local.x / surface.width + 0.5, v = 0.5 - hit.local.y / surface.height;
         if (u < 0 || u >= 1 || v < 0 || v >= 1) continue;
-        const auto x = static_cast<std::size_t>(u * width), y = static_cast<std::size_t>(v * height);
+        const auto x = static_cast<std::size_t>(region.x + static_cast<int>(u * region.width));
+        const auto y = static_cast<std::size_t>(region.y + static_cast<int>(v * region.height));
+        // Irradiance: flux over the world area of a pixel of this surface's tile.
+        ph.flux /= pixel_area[static_cast<std::size_t>(hit.index)];
         const std::size_t at = channels * (y * static_cast<std::size_t>(width) + x);
         for (std::size_t c = 0; c < channels; ++c) tile[at + c] += ph.flux * (channels == 3 ? ph.tint[c] : 1.0);
         ++mine;
@@ -186,7 +202,7 @@ ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const Reference
   for (std::size_t i = 0; i < sums.size(); ++i) {
     double sum = 0;
     for (const auto& tile : tiles) sum += tile[i];  // fixed order: deterministic
-    sums[i] = static_cast<float>(sum / pixel_area);
+    sums[i] = static_cast<float>(sum);
   }
   if (channels == 3) {
     result.rgb = RgbHdrImage{width, height, std::move(sums)};

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 namespace caustic {
 
@@ -95,6 +96,23 @@ void check_point_light(const Scene& scene, const Placement& placement) {
   }
 }
 
+// Light leaves the object before it meets a receiver: no receiver's plane
+// may pass through the object's bounding box (the public one, so the answer
+// says nothing of the hidden face).
+void check_receivers(const Scene& scene, const Placement& placement) {
+  for (std::size_t i = 0; i < scene.receivers.size(); ++i) {
+    const auto& r = scene.receivers[i];
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const glm::dvec3& q : placement.box) {
+      lo = std::min(lo, glm::dot(q - r.center, r.normal));
+      hi = std::max(hi, glm::dot(q - r.center, r.normal));
+    }
+    if (lo < 0 && hi > 0)
+      throw SceneError("receivers[" + std::to_string(i) + "].center",
+                       "the receiver's plane crosses the object's bounding box");
+  }
+}
+
 }  // namespace
 
 void check_geometry(const Scene& scene, const Mesh& mesh, const Placement& placement) {
@@ -119,6 +137,7 @@ void check_geometry(const Scene& scene, const Mesh& mesh, const Placement& place
                      "the flat face cuts through the mesh (a vertex lies on its outer side); raise the offset");
   if (screen_min < 0 && screen_max > 0)
     throw SceneError("screen.center", "the screen plane crosses the object");
+  check_receivers(scene, placement);
   check_point_light(scene, placement);
 }
 
@@ -131,6 +150,7 @@ void check_geometry_public(const Scene& scene, const Placement& placement) {
   }
   if (screen_min < 0 && screen_max > 0)
     throw SceneError("screen.center", "the screen plane crosses the object's bounding box");
+  check_receivers(scene, placement);
   check_point_light(scene, placement);
 }
 

@@ -290,14 +290,33 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir) {
   s.object = read_object(r.child("object"));
   s.light = read_light(r.child("light"));
   s.screen = read_screen(r.child("screen"), s.focus_distance, s.object, s.light);
+  if (const json* list = r.get("receivers")) {
+    if (!list->is_array() || list->size() > kMaxReceivers)
+      throw SceneError("receivers", "must be an array of at most " + std::to_string(kMaxReceivers) + " rectangles");
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      const std::string where = "receivers[" + std::to_string(i) + "]";
+      s.receivers.push_back(read_screen(Reader((*list)[i], where), std::nullopt, s.object, s.light));
+      if (s.receivers.back().follow_light) throw SceneError(where + ".follow_light", "only the screen follows the light");
+    }
+  }
   s.render = read_render(r.child("render"));
+  if (!s.receivers.empty() && s.render.intensity == IntensityMode::report)
+    throw SceneError("render.intensity", "\"report\" measures against a plane behind the screen alone; with "
+                                         "receivers use \"energy\"");
   s.post = read_post(r.child("post"));
   r.reject_unknown();
   return s;
 }
 
+static json screen_to_json(const ScreenParams& screen) {
+  return {{"center", vec(screen.center)}, {"normal", vec(screen.normal)},  {"up", vec(screen.up)},
+          {"width", screen.width},        {"height", screen.height},       {"follow_light", screen.follow_light}};
+}
+
 json scene_to_json(const Scene& s) {
   const auto& o = s.object;
+  json receivers = json::array();
+  for (const auto& r : s.receivers) receivers.push_back(screen_to_json(r));
   const auto& l = s.light;
   return json{
       {"name", s.name},
@@ -321,13 +340,8 @@ json scene_to_json(const Scene& s) {
         {"point_model", name_of(l.point_model, Names<PointModel>(kPointModels))},
         {"spectrum", name_of(l.spectrum.kind, Names<optics::Illuminant>(kSpectra))},
         {"temperature_k", l.spectrum.kelvin}}},
-      {"screen",
-       {{"center", vec(s.screen.center)},
-        {"normal", vec(s.screen.normal)},
-        {"up", vec(s.screen.up)},
-        {"width", s.screen.width},
-        {"height", s.screen.height},
-        {"follow_light", s.screen.follow_light}}},
+      {"screen", screen_to_json(s.screen)},
+      {"receivers", receivers},
       {"render",
        {{"width", s.render.width},
         {"height", s.render.height},
@@ -362,6 +376,13 @@ void validate_scene(const Scene& scene) {
   if (!unit(scene.screen.normal)) throw SceneError("screen.normal", "must be a unit vector");
   if (!unit(scene.screen.up) || std::abs(glm::dot(scene.screen.up, scene.screen.normal)) > 1e-9)
     throw SceneError("screen.up", "must be a unit vector perpendicular to screen.normal");
+  for (std::size_t i = 0; i < scene.receivers.size(); ++i) {
+    const auto& r = scene.receivers[i];
+    const std::string where = "receivers[" + std::to_string(i) + "]";
+    if (!unit(r.normal)) throw SceneError(where + ".normal", "must be a unit vector");
+    if (!unit(r.up) || std::abs(glm::dot(r.up, r.normal)) > 1e-9)
+      throw SceneError(where + ".up", "must be a unit vector perpendicular to its normal");
+  }
 }
 
 Scene load_scene(const std::filesystem::path& file) {

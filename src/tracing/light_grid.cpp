@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/light_grid.hpp"
 
+#include "caustic/receivers.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <thread>
@@ -17,16 +19,19 @@ LandedVertex land(const Scene& scene, const Solid& solid, const glm::dvec3& star
   LandedVertex v;
   v.footprint = glm::vec3(start);
   *signature = path.signature;
+  if (!path.valid) return v;
+  const ReceiverHit hit = first_receiver(scene, path.origin, path.dir);
+  // Alone, a screen the ray misses loses it; among receivers it goes as
+  // the share of its parted triangle that no surface caught.
+  if (hit.index < 0 && scene.receivers.empty()) return v;
   const auto& screen = scene.screen;
   const double denom = glm::dot(path.dir, screen.normal);
-  const double s = glm::dot(screen.center - path.origin, screen.normal) / denom;
-  if (!path.valid || !(std::abs(denom) > 1e-9) || !(s > 0) || !std::isfinite(s)) return v;
   const glm::dvec3 right = glm::normalize(glm::cross(screen.up, screen.normal));
-  const glm::dvec3 hit = path.origin + s * path.dir - screen.center;
   const glm::dvec3 plane_centre = screen.center - scene.render.report_plane_distance * screen.normal;
   const glm::dvec3 on_plane =
       path.origin + (glm::dot(plane_centre - path.origin, screen.normal) / denom) * path.dir - plane_centre;
-  v.screen = glm::vec2(glm::dot(hit, right), glm::dot(hit, screen.up));
+  v.screen = glm::vec2(hit.local);
+  v.surface = static_cast<float>(hit.index);
   v.plane = glm::vec2(glm::dot(on_plane, right), glm::dot(on_plane, screen.up));
   v.transmittance = static_cast<float>(path.transmittance);
   v.tint = glm::vec3(path.tint);
@@ -77,7 +82,10 @@ LandedGrid trace_light_grid(const Scene& scene, const Solid& solid, double ior, 
         const glm::uvec3 t = c.t;
         const float valid = grid.vertices[t.x].valid + grid.vertices[t.y].valid + grid.vertices[t.z].valid;
         if (valid == 0) continue;  // beside the solid, or lost
-        if (valid == 3 && signature[t.x] == signature[t.y] && signature[t.x] == signature[t.z])
+        const auto& a = grid.vertices[t.x];
+        const bool one_surface = a.surface >= 0 && grid.vertices[t.y].surface == a.surface &&
+                                 grid.vertices[t.z].surface == a.surface;
+        if (valid == 3 && one_surface && signature[t.x] == signature[t.y] && signature[t.x] == signature[t.z])
           grid.triangles.push_back(t);
         else
           parted.push_back(c);

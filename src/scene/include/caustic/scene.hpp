@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <string>
 #include <variant>
+#include <vector>
 
 namespace caustic {
 
@@ -142,6 +143,9 @@ struct PostParams {
 inline constexpr double kMaxCoordinate = 1e6;
 /// Wavelength samples of a spectral preview (the scene moving).
 inline constexpr int kPreviewWavelengths = 3;
+/// Receivers besides the screen (caustic/receivers.hpp): eight surfaces in
+/// all, the atlas's tiles.
+inline constexpr std::size_t kMaxReceivers = 7;
 
 struct Scene {
   std::string name;
@@ -152,6 +156,11 @@ struct Scene {
   ObjectParams object;
   LightParams light;
   ScreenParams screen;
+  /// More rectangles that catch the light (a floor, walls, a table): each
+  /// ray lands on the first one it meets, the screen included, and each
+  /// gets its own tile of the picture (caustic/receivers.hpp). Their
+  /// follow_light is false.
+  std::vector<ScreenParams> receivers;
   RenderParams render;
   PostParams post;
 

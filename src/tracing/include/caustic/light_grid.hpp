@@ -22,13 +22,14 @@ namespace caustic {
 /// One grid ray as the engine's deposit reads it (the layout of
 /// shaders/caustic_landed.vert's attributes).
 struct LandedVertex {
-  glm::vec2 screen{0.0f};    ///< hit on the screen, (right, up) from its centre, world units
+  glm::vec2 screen{0.0f};    ///< hit on its surface, (right, up) from the surface's centre, world units
   glm::vec2 plane{0.0f};     ///< hit on the "report" mode's plane behind the screen
   glm::vec3 footprint{0.0f}; ///< the ray's start on the launch rectangle (world)
   float transmittance = 1;   ///< Fresnel weights along the path (1 with Fresnel off)
   float valid = 0;           ///< 1: left the solid toward the screen plane
   glm::vec3 tint{1.0f};
   float share = 1;           ///< of its triangle's flux this vertex's triangle carries
+  float surface = -1;        ///< the surface it landed on (caustic/receivers.hpp); -1: none
 };
 
 struct LandedGrid {

@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// The surfaces that catch the light: the screen and scene.receivers (a
+// floor, walls, a table), each a rectangle. A ray lands on the first one it
+// meets, so one surface shades another. The picture is their atlas: each
+// surface's irradiance in its own tile, streamed as one video, which the
+// viewer cuts up again onto the surfaces in its room.
+//
+// Alone, the screen keeps its old meaning, the whole plane: light that
+// lands beside the rectangle is simply outside the picture. With receivers
+// every surface is its rectangle, so light that misses one goes on to the
+// next.
+#pragma once
+
+#include "caustic/scene.hpp"
+
+#include <glm/glm.hpp>
+
+#include <vector>
+
+namespace caustic {
+
+/// A tile in pixels, rows counted from the top of the picture.
+struct AtlasTile {
+  int x = 0, y = 0, width = 0, height = 0;
+  bool operator==(const AtlasTile&) const = default;
+};
+
+/// Tiles of a width x height picture for `count` surfaces in the order
+/// screen, receivers[0], receivers[1], ...: the whole picture for one;
+/// otherwise a grid of ceil(sqrt(count)) columns filled row by row from
+/// the top left, every tile the same size (pixels left over at the right
+/// and bottom edges stay black).
+std::vector<AtlasTile> atlas_layout(int width, int height, std::size_t count);
+
+/// The screen, then the receivers.
+std::vector<ScreenParams> receiving_surfaces(const Scene& scene);
+
+struct ReceiverHit {
+  int index = -1;             ///< into receiving_surfaces; -1: none
+  glm::dvec2 local{0.0};      ///< (right, up) from the surface's centre, world units
+  double distance = 0;        ///< along the ray
+};
+
+/// The first surface the ray from `origin` along `dir` meets ahead of it.
+ReceiverHit first_receiver(const Scene& scene, const glm::dvec3& origin, const glm::dvec3& dir);
+
+}  // namespace caustic
