@@ -95,7 +95,7 @@ bool frame_screen(Scene& s, const Mesh& mesh, FluxSummary* expected) {
 
 /// Every scene the build ships (the designed ones only when it made them),
 /// for tests over all of them, and their names as gtest allows them.
-inline const std::vector<std::string> kShippedScenes{"slab",       "wavy",       "cylinder",         "lens",  "prism", "biconvex",
+inline const std::vector<std::string> kShippedScenes{"slab",       "wavy",       "cylinder",         "lens",  "prism", "biconvex", "room",
                                                      "design-cat", "design-astronaut", "design-logo", "design-text"};
 inline std::string scene_test_name(const ::testing::TestParamInfo<std::string>& info) {
   std::string name = info.param;

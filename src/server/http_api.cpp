@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The REST API of docs/api.md (openapi.yaml).
+#include "caustic/receivers.hpp"
 #include "caustic/json_text.hpp"
 #include "caustic/scene_warnings.hpp"
 #include "caustic/screen_follow.hpp"
@@ -222,8 +223,13 @@ nlohmann::json public_params(Session& session, nlohmann::json extra) {
   nlohmann::json warnings = std::move(extra);
   for (const auto& w : light_warnings(snap.scene, session.entry().levels->place(snap.scene.object)))
     warnings.push_back({{"key", w.key}, {"detail", w.detail}});
+  // Where each surface (the screen, then the receivers) lies in the picture.
+  nlohmann::json atlas = nlohmann::json::array();
+  for (const auto& t : atlas_layout(snap.scene.render.width, snap.scene.render.height, 1 + snap.scene.receivers.size()))
+    atlas.push_back({{"x", t.x}, {"y", t.y}, {"width", t.width}, {"height", t.height}});
   return {{"version", snap.version},
           {"params", params},
+          {"atlas", atlas},
           {"fidelity", fidelity_of(session.entry(), snap.scene)},
           {"warnings", warnings}};
 }

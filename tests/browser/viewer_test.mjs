@@ -41,13 +41,14 @@ test('the gallery lists every scene with its rendered thumbnail', async () => {
     await until(page, () => [...document.images].every((i) => i.complete && i.naturalWidth === 256), 15, 'thumbnails');
     const ids = await page.$$eval('.card', (cards) => cards.map((c) => c.dataset.scene).sort());
     const builtIn = process.env.CAUSTIC_DESIGN_BUILT_IN === '1';
-    const want = ['cylinder', 'lens', 'prism', 'slab', 'wavy', ...(builtIn ? ['design-logo', 'design-text'] : [])];
+    const want = ['biconvex', 'cylinder', 'lens', 'prism', 'room', 'slab', 'wavy',
+                  ...(builtIn ? ['design-logo', 'design-text'] : [])];
     for (const id of want) assert.ok(ids.includes(id), id);
     // Designed objects first, under their own heading; the classics below.
     const designed = await page.$$eval('#designed .card[data-scene]', (cards) => cards.map((c) => c.dataset.scene));
     const classics = await page.$$eval('#classics .card', (cards) => cards.map((c) => c.dataset.scene).sort());
     assert.ok(designed.every((id) => id.startsWith('design-')) && designed.length >= (builtIn ? 2 : 0), designed.join());
-    assert.deepEqual(classics, ['cylinder', 'lens', 'prism', 'slab', 'wavy']);
+    assert.deepEqual(classics, ['biconvex', 'cylinder', 'lens', 'prism', 'room', 'slab', 'wavy']);
     assert.equal(await page.locator('#upload input[type=file]').count(), 1);
     mkdirSync(shots, { recursive: true });
     await page.setViewportSize({ width: 1280, height: 900 });
@@ -201,6 +202,32 @@ async function dragGizmo(page, key, what, dx, dy) {
               30, `the dragged ${what} on screen`, version);
   return [x, y];
 }
+
+test('a scene with receivers lays each tile of the picture onto its own surface', async () => {
+  const server = await startServer();
+  try {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}/viewer.html?scene=room&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'live', 30, 'a live connection');
+    await until(page, () => window.caustic.shownVersion >= 1, 30, 'the first frame on screen');
+    // The wall (the screen) shows the left half of the picture, the floor the right.
+    const atlas = await page.evaluate(() => window.caustic.atlas);
+    assert.equal(atlas.length, 2);
+    const surfaces = await page.evaluate(() => window.caustic.surfaces());
+    assert.equal(surfaces.length, 2);
+    assert.deepEqual(surfaces.map((s) => s.repeat), [[0.5, 1], [0.5, 1]]);
+    assert.deepEqual(surfaces.map((s) => s.offset), [[0, 0], [0.5, 0]]);
+    // Each hangs on its own surface: the wall at x = 18, the floor 30 below.
+    assert.ok(Math.abs(surfaces[0].centre[0] - 18) < 0.1, surfaces[0].centre.join());
+    assert.ok(Math.abs(surfaces[1].centre[2] + 30) < 0.1, surfaces[1].centre.join());
+    await page.waitForTimeout(500);
+    mkdirSync(shots, { recursive: true });
+    await page.screenshot({ path: `${shots}/viewer-room.png` });
+    await page.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
 
 test('dragging the gizmos with the pointer moves the light and moves and turns the object on the server', async () => {
   const server = await startServer();

@@ -10,6 +10,27 @@ import { furnish, glassMaterial, pixelRatio, Quality, setRoomQuality } from './r
 
 const vec = (a) => new THREE.Vector3(a[0], a[1], a[2]);
 
+// A lightmap just in front of the rectangle `s` (scene-format keys) and its
+// board behind, `margin` times as large.
+function placeRectangle(lightmap, board, s, margin) {
+  const normal = vec(s.normal).normalize();
+  const up = vec(s.up).normalize();
+  const right = new THREE.Vector3().crossVectors(up, normal).normalize();
+  const basis = new THREE.Matrix4().makeBasis(right, up, normal);
+  lightmap.position.copy(vec(s.center)).addScaledVector(normal, 0.05);
+  lightmap.quaternion.setFromRotationMatrix(basis);
+  lightmap.scale.set(s.width, s.height, 1);
+  board.position.copy(vec(s.center)).addScaledVector(normal, -1);
+  board.quaternion.copy(lightmap.quaternion);
+  board.scale.set(s.width * margin, s.height * margin, 2);
+}
+
+// Shows one tile (pixels, rows from the top) of a width x height picture.
+function showTile(map, tile, width, height) {
+  map.repeat.set(tile.width / width, tile.height / height);
+  map.offset.set(tile.x / width, 1 - (tile.y + tile.height) / height);
+}
+
 export class CausticRoom {
   constructor(container, video, proxy, quality = Quality.high) {
     this.renderer = new THREE.WebGLRenderer({ antialias: quality === Quality.high, preserveDrawingBuffer: true });
@@ -40,6 +61,8 @@ export class CausticRoom {
     this.lightmap.renderOrder = 1;
     this.lightmap.material.map.colorSpace = THREE.SRGBColorSpace;
     this.world.add(this.screenBox, this.lightmap);
+    this.video = video;
+    this.receivers = [];  // { box, lightmap } of each receiver besides the screen
 
     this.proxy = new THREE.Mesh(new THREE.BoxGeometry(proxy.outline[0], proxy.outline[1], proxy.thickness),
                                 glassMaterial(quality, 1.5, proxy.thickness));
@@ -75,10 +98,11 @@ export class CausticRoom {
     this.camera.updateProjectionMatrix();
   }
 
-  // Places screen, lightmap, light and the requested object pose from the
-  // session's parameters (scene format keys).
-  apply(params) {
-    this.placeScreen(params.screen);
+  // Places screen, receivers, lightmaps, light and the requested object
+  // pose from the session's parameters (scene format keys) and the atlas
+  // the server renders them into.
+  apply(params, atlas) {
+    this.placeSurfaces(params, atlas);
     const s = params.screen;
     // A directional light has no position: its marker hangs this far from
     // the object, close enough to be framed with it and grabbed.
@@ -100,17 +124,45 @@ export class CausticRoom {
   // The screen rectangle the server renders (it may follow the light):
   // the lightmap lies just in front of it, covering exactly that rectangle.
   placeScreen(s) {
-    if (!s) return;
-    const normal = vec(s.normal).normalize();
-    const up = vec(s.up).normalize();
-    const right = new THREE.Vector3().crossVectors(up, normal).normalize();
-    const basis = new THREE.Matrix4().makeBasis(right, up, normal);
-    this.lightmap.position.copy(vec(s.center)).addScaledVector(normal, 0.05);
-    this.lightmap.quaternion.setFromRotationMatrix(basis);
-    this.lightmap.scale.set(s.width, s.height, 1);
-    this.screenBox.position.copy(vec(s.center)).addScaledVector(normal, -1);
-    this.screenBox.quaternion.copy(this.lightmap.quaternion);
-    this.screenBox.scale.set(s.width * 1.15, s.height * 1.15, 2);
+    if (s) placeRectangle(this.lightmap, this.screenBox, s, 1.15);
+  }
+
+  // The picture is an atlas when the scene has receivers (a floor, walls):
+  // each surface's irradiance in its own tile, in the order screen,
+  // receivers. Every surface gets a board and a lightmap showing its tile.
+  placeSurfaces(params, atlas) {
+    this.placeScreen(params.screen);
+    const receivers = params.receivers || [];
+    const { width, height } = params.render;
+    const tiles = atlas && atlas.length === receivers.length + 1 ? atlas : [{ x: 0, y: 0, width, height }];
+    showTile(this.lightmap.material.map, tiles[0], width, height);
+    while (this.receivers.length > receivers.length) {
+      const gone = this.receivers.pop();
+      this.world.remove(gone.box, gone.lightmap);
+      gone.lightmap.material.map.dispose();
+    }
+    while (this.receivers.length < receivers.length) {
+      const box = new THREE.Mesh(this.screenBox.geometry, this.screenBox.material);
+      box.receiveShadow = true;
+      const map = new THREE.VideoTexture(this.video);
+      map.colorSpace = THREE.SRGBColorSpace;
+      const lightmap = new THREE.Mesh(this.lightmap.geometry, new THREE.MeshBasicMaterial({
+        map, blending: THREE.AdditiveBlending, depthWrite: false, toneMapped: false }));
+      lightmap.renderOrder = 1;
+      this.world.add(box, lightmap);
+      this.receivers.push({ box, lightmap });
+    }
+    receivers.forEach((r, i) => {
+      placeRectangle(this.receivers[i].lightmap, this.receivers[i].box, r, 1.0);
+      showTile(this.receivers[i].lightmap.material.map, tiles[i + 1] || tiles[0], width, height);
+    });
+  }
+
+  // Each surface's lightmap: where it hangs and which part of the picture it shows.
+  surfaceTiles() {
+    return [this.lightmap, ...this.receivers.map((r) => r.lightmap)].map((m) => ({
+      centre: m.position.toArray(), offset: m.material.map.offset.toArray(), repeat: m.material.map.repeat.toArray(),
+    }));
   }
 
   // The first view: from the object's side of the screen, 10 degrees off its

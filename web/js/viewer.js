@@ -72,12 +72,13 @@ function onApplied(body, sentAt) {
     state.origin = body.params;  // what "changed" is measured against in a shared link
   }
   state.params = body.params;
+  state.atlas = body.atlas;
   state.fidelity = body.fidelity;
   showWarnings(body.warnings);
   if (state.resetting) {
     state.resetting = false;
     refreshPanel(body.params);
-    room.apply(body.params);
+    room.apply(body.params, body.atlas);
   }
   rememberAddress();
   state.version = body.version;
@@ -89,12 +90,12 @@ function onApplied(body, sentAt) {
   // What the frame of this version shows: the object's pose and the screen
   // rectangle (which may follow the light), drawn when that frame is shown.
   state.poses.set(body.version, { position: body.params.object.position, rotation_deg: body.params.object.rotation_deg,
-                                  screen: body.params.screen });
+                                  screen: body.params.screen, surfaces: body.params, atlas: body.atlas });
   if (state.poses.size > 256) state.poses.delete(state.poses.keys().next().value);
   // The frame may have beaten the answer to the page.
   if (room && state.shownVersion >= body.version) {
     if (state.sync) room.showPose(state.poses.get(body.version));
-    room.placeScreen(body.params.screen);
+    room.placeSurfaces(body.params, body.atlas);
   }
 }
 
@@ -114,7 +115,7 @@ function onFrameVersion(version, now, level) {
   }
   const pose = state.poses.get(version);
   if (state.sync) room.showPose(pose);
-  room?.placeScreen(pose?.screen);
+  if (pose) room?.placeSurfaces(pose.surfaces, pose.atlas);
 }
 
 async function connect() {
@@ -155,7 +156,7 @@ async function connect() {
   channel = new ParamChannel(session, { onApplied, onError: refused });
   if (state.params) channel.set(patchable(state.params));  // a reconnect keeps what the viewer changed
   else onApplied(session.params, performance.now());
-  room.apply(state.params);
+  room.apply(state.params, state.atlas);
   if (firstTime) {
     controls.orbit.target.copy(room.target);
     controls.orbit.update();
