@@ -139,3 +139,14 @@ TEST_F(EngineReceivers, ASolidLightsThemToo) {
   EXPECT_NEAR((left + right) / 100.0, 1.0, 1e-3);  // the 10 x 10 mm aperture, Fresnel off
   EXPECT_NEAR(left / right, 1.0, 1e-3);
 }
+
+TEST_F(EngineReceivers, OneEdgeOnToTheLightCatchesNothingAndBreaksNothing) {
+  Scene s = base_scene(128);
+  // A wall beside the slab, its plane along the light: every ray runs parallel to it.
+  s.receivers = {rectangle({12, 0, -20}, {-1, 0, 0}, {0, 0, 1}, 30, 20),
+                 rectangle({0, 0, -40}, {0, 0, 1}, {0, 1, 0}, 30, 30)};
+  const HdrImage img = render(s, slab());
+  EXPECT_TRUE(all_finite(img));
+  EXPECT_EQ(tile_flux(img, s, 1), 0.0);
+  EXPECT_NEAR(tile_flux(img, s, 2), 400.0, 0.04);
+}

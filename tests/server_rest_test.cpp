@@ -114,7 +114,18 @@ TEST_F(Rest, SessionLifecycle) {
   ASSERT_EQ(patched.status, 200u) << patched.body;
   EXPECT_EQ(patched.json()["version"], 2);
   EXPECT_DOUBLE_EQ(patched.json()["params"]["object"]["ior"].get<double>(), 1.7);
+  EXPECT_EQ(patched.json()["atlas"].size(), 1u);  // the screen, the whole picture
   EXPECT_EQ(http("GET", server_.url() + "/api/v1/health").json()["sessions"], 1);
+  // A floor under the screen: the picture becomes two tiles, side by side.
+  const Response floor = http("PATCH", session_url(s) + "/params",
+                              R"({"receivers": [{"center": [0, 0, -120], "width": 60, "height": 60}]})",
+                              "application/merge-patch+json", bearer(s));
+  ASSERT_EQ(floor.status, 200u) << floor.body;
+  const json atlas = floor.json()["atlas"];
+  const json width = floor.json()["params"]["render"]["width"];
+  ASSERT_EQ(atlas.size(), 2u);
+  EXPECT_EQ(atlas[1]["x"], width.get<int>() / 2);
+  EXPECT_EQ(atlas[1]["width"], width.get<int>() / 2);
 
   expect_problem(http("DELETE", session_url(s), "", "", {{"Authorization", "Bearer nope"}}), 401);
   EXPECT_EQ(http("DELETE", session_url(s), "", "", bearer(s)).status, 204u);
@@ -164,6 +175,8 @@ TEST_F(Rest, PatchErrorsLeaveTheParametersUnchanged) {
       {R"({"render": {"width": 64}})", patch_type, bearer(s), 422, "render.width"},
       {R"({"object": {"shape": "solid"}})", patch_type, bearer(s), 422, "object.shape"},
       {R"({"render": {"light_grid": 4}})", patch_type, bearer(s), 422, "render.light_grid"},
+      {R"({"receivers": [{"width": 0}]})", patch_type, bearer(s), 422, "receivers[0].width"},
+      {R"({"receivers": [{"center": [0, 0, 2]}]})", patch_type, bearer(s), 422, "receivers[0].center"},
       {R"({"render": {"fidelity": "best"}})", patch_type, bearer(s), 422, "render.fidelity"},
       {R"({"render": {"accuracy_target": 0}})", patch_type, bearer(s), 422, "render.accuracy_target"},
       {R"({"render": {"fidelity": "manual", "mesh_resolution": 999}})", patch_type, bearer(s), 422,
