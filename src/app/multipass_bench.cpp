@@ -14,6 +14,8 @@
 #include "caustic/surfaces.hpp"
 
 #include <cstdio>
+#include <cstdlib>
+#include <iostream>
 #include <fstream>
 
 namespace caustic::app {
@@ -67,7 +69,20 @@ int run_multipass_bench(const PerfOptions& opt) {
       }
     }
   }
-  std::printf("wrote %s/multipass.csv\n", opt.out.string().c_str());
+  csv.close();
+  std::ofstream plot(opt.out / "multipass.gp");
+  plot << "set datafile separator ','\nset grid\nset logscale xy\nset key off\n"
+          "set xlabel 'caustic pass (ms): CPU trace + splat'\nset ylabel 'relative L1 against the reference'\n"
+          "do for [f in 'png svg'] {\n"
+          "  if (f eq 'png') { set terminal pngcairo size 800,500 } else { set terminal svg size 800,500 }\n"
+          "  set output 'multipass.'.f\n"
+          "  plot 'multipass.csv' using 4:6 every ::1 with linespoints pointsize 1.2, "
+          "'' using 4:6:(sprintf('%d^2 rays, %d^2 px', $3, $2)) every ::1 with labels offset 2,0.8\n}\n";
+  plot.close();
+  const std::string command = "cd '" + opt.out.string() + "' && gnuplot multipass.gp 2>gnuplot.log";
+  if (std::system(command.c_str()) != 0)
+    std::cerr << "causticd bench: gnuplot failed (see gnuplot.log); multipass.csv is complete\n";
+  std::printf("wrote %s/multipass.csv, multipass.png/.svg\n", opt.out.string().c_str());
   return 0;
 }
 
