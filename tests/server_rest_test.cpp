@@ -176,7 +176,7 @@ TEST_F(Rest, PatchErrorsLeaveTheParametersUnchanged) {
       {R"({"object": {"shape": "solid"}})", patch_type, bearer(s), 422, "object.shape"},
       {R"({"render": {"light_grid": 4}})", patch_type, bearer(s), 422, "render.light_grid"},
       {R"({"receivers": [{"width": 0}]})", patch_type, bearer(s), 422, "receivers[0].width"},
-      {R"({"receivers": [{"center": [0, 0, 2]}]})", patch_type, bearer(s), 422, "receivers[0].center"},
+      {R"({"receivers": [{"center": [0, 0, 1]}]})", patch_type, bearer(s), 422, "receivers[0].center"},  // through the slab
       {R"({"render": {"fidelity": "best"}})", patch_type, bearer(s), 422, "render.fidelity"},
       {R"({"render": {"accuracy_target": 0}})", patch_type, bearer(s), 422, "render.accuracy_target"},
       {R"({"render": {"fidelity": "manual", "mesh_resolution": 999}})", patch_type, bearer(s), 422,
