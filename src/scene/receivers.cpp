@@ -28,9 +28,9 @@ ReceiverHit first_receiver(const Scene& scene, const glm::dvec3& origin, const g
   ReceiverHit best;
   best.distance = std::numeric_limits<double>::infinity();
   const bool bounded = !scene.receivers.empty();
-  const auto surfaces = receiving_surfaces(scene);
-  for (std::size_t i = 0; i < surfaces.size(); ++i) {
-    const auto& r = surfaces[i];
+  // Called for every ray and photon: the surfaces are read in place, not gathered.
+  for (std::size_t i = 0; i <= scene.receivers.size(); ++i) {
+    const ScreenParams& r = i == 0 ? scene.screen : scene.receivers[i - 1];
     const double denom = glm::dot(dir, r.normal);
     if (!(std::abs(denom) > 1e-9)) continue;
     const double s = glm::dot(r.center - origin, r.normal) / denom;
