@@ -165,23 +165,36 @@ export class CausticRoom {
     }));
   }
 
-  // The first view: from the object's side of the screen, 10 degrees off its
-  // normal, close enough that the screen (where the caustic is) fills as
-  // much of the view as it can while the object and the light's marker
-  // stay in it. Fitting is exact for a perspective camera: a point at
+  // The first view: from the object's side of the screen (of all the
+  // surfaces, with receivers), 10 degrees off its normal, close enough that
+  // the screen (where the caustic is) fills as much of the view as it can
+  // while the object and the light's marker stay in it. Fitting is exact for a perspective camera: a point at
   // (x, y) across and z towards the camera from the target is inside when
   // the distance is at least z + |x| / tan(half width angle), likewise y.
   frame(params) {
     this.world.updateMatrixWorld(true);
     const toScene = (p) => p.clone().applyMatrix4(this.world.matrixWorld);
-    const s = params.screen;
-    const normal = toScene(vec(s.normal)).sub(toScene(new THREE.Vector3())).normalize();
-    const centre = toScene(vec(s.center));
+    // Every surface that shows light: the screen, and receivers (a floor,
+    // a wall), seen from the side their areas face on the whole.
+    const surfaces = [params.screen, ...(params.receivers || [])];
+    const normal = new THREE.Vector3(), centre = new THREE.Vector3();
+    let area = 0;
+    for (const s of surfaces) {
+      normal.addScaledVector(toScene(vec(s.normal)).sub(toScene(new THREE.Vector3())), s.width * s.height);
+      centre.addScaledVector(toScene(vec(s.center)), s.width * s.height);
+      area += s.width * s.height;
+    }
+    // Surfaces that face each other cancel: then the screen's side.
+    if (normal.length() < 1e-6 * area) normal.copy(toScene(vec(params.screen.normal)).sub(toScene(new THREE.Vector3())));
+    normal.normalize();
+    centre.divideScalar(area);
     const points = [];
-    const corners = new THREE.Box3().setFromObject(this.screenBox);
-    for (let i = 0; i < 8; ++i)
-      points.push(new THREE.Vector3(i & 1 ? corners.max.x : corners.min.x, i & 2 ? corners.max.y : corners.min.y,
-                                    i & 4 ? corners.max.z : corners.min.z));
+    for (const board of [this.screenBox, ...this.receivers.map((r) => r.box)]) {
+      const corners = new THREE.Box3().setFromObject(board);
+      for (let i = 0; i < 8; ++i)
+        points.push(new THREE.Vector3(i & 1 ? corners.max.x : corners.min.x, i & 2 ? corners.max.y : corners.min.y,
+                                      i & 4 ? corners.max.z : corners.min.z));
+    }
     this.proxy.updateMatrixWorld(true);
     const slab = new THREE.Box3().setFromObject(this.proxy);
     points.push(slab.min, slab.max, this.lightMarker.getWorldPosition(new THREE.Vector3()));
