@@ -8,7 +8,6 @@
 
 namespace caustic {
 
-glm::dvec3 screen_right(const ScreenParams& screen) { return glm::normalize(glm::cross(screen.up, screen.normal)); }
 
 bool flat_face_first(const Scene& scene, const Placement& placement) {
   if (scene.light.type == LightType::point)

@@ -18,6 +18,8 @@ std::vector<AtlasTile> atlas_layout(int width, int height, std::size_t count) {
   return tiles;
 }
 
+glm::dvec3 screen_right(const ScreenParams& screen) { return glm::normalize(glm::cross(screen.up, screen.normal)); }
+
 std::vector<ScreenParams> receiving_surfaces(const Scene& scene) {
   std::vector<ScreenParams> all{scene.screen};
   all.insert(all.end(), scene.receivers.begin(), scene.receivers.end());
@@ -36,7 +38,7 @@ ReceiverHit first_receiver(const Scene& scene, const glm::dvec3& origin, const g
     const double s = glm::dot(r.center - origin, r.normal) / denom;
     if (!(s > 0) || !(s < best.distance)) continue;
     const glm::dvec3 p = origin + s * dir - r.center;
-    const glm::dvec3 right = glm::normalize(glm::cross(r.up, r.normal));
+    const glm::dvec3 right = screen_right(r);
     const glm::dvec2 local(glm::dot(p, right), glm::dot(p, r.up));
     if (bounded && (std::abs(local.x) > 0.5 * r.width || std::abs(local.y) > 0.5 * r.height)) continue;
     best = {static_cast<int>(i), local, s};

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/scene_warnings.hpp"
 
+#include "caustic/receivers.hpp"
+
 #include <glm/glm.hpp>
 
 #include <algorithm>
@@ -30,7 +32,7 @@ Traced trace_proxy(const Scene& scene, const Placement& p) {
     return glm::length(x - flat[0]) < glm::length(y - flat[0]);
   });
   const glm::dvec3 a = flat[0], b = flat[1], d = flat[2];
-  const glm::dvec3 right = glm::normalize(glm::cross(scene.screen.up, scene.screen.normal));
+  const glm::dvec3 right = screen_right(scene.screen);
   Traced t;
   for (int i = 0; i < kGrid; ++i)
     for (int j = 0; j < kGrid; ++j) {

@@ -26,7 +26,7 @@ LandedVertex land(const Scene& scene, const Solid& solid, const glm::dvec3& star
   if (hit.index < 0 && scene.receivers.empty()) return v;
   const auto& screen = scene.screen;
   const double denom = glm::dot(path.dir, screen.normal);
-  const glm::dvec3 right = glm::normalize(glm::cross(screen.up, screen.normal));
+  const glm::dvec3 right = screen_right(screen);
   const glm::dvec3 plane_centre = screen.center - scene.render.report_plane_distance * screen.normal;
   const glm::dvec3 on_plane =
       path.origin + (glm::dot(plane_centre - path.origin, screen.normal) / denom) * path.dir - plane_centre;

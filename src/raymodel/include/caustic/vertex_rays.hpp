@@ -7,6 +7,7 @@
 #pragma once
 
 #include "caustic/mesh.hpp"
+#include "caustic/receivers.hpp"  // screen_right
 
 namespace caustic {
 
@@ -18,9 +19,6 @@ struct VertexRay {
   double transmittance = 1.0; ///< Fresnel product along the ray (1 when Fresnel is off)
 };
 
-/// Orthonormal screen axes: right = up x normal, so a viewer facing the
-/// screen (looking along -normal) sees +right to the right.
-glm::dvec3 screen_right(const ScreenParams& screen);
 
 /// Whether light meets the flat face before the caustic face.
 bool flat_face_first(const Scene& scene, const Placement& placement);

@@ -32,6 +32,10 @@ struct AtlasTile {
 /// and bottom edges stay black).
 std::vector<AtlasTile> atlas_layout(int width, int height, std::size_t count);
 
+/// Orthonormal axes of a screen or receiver: right = up x normal, so a
+/// viewer facing it (looking along -normal) sees +right to the right.
+glm::dvec3 screen_right(const ScreenParams& screen);
+
 /// The screen, then the receivers.
 std::vector<ScreenParams> receiving_surfaces(const Scene& scene);
 
