@@ -1,0 +1,176 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "caustic/wave_solver.hpp"
+
+#include "caustic/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace caustic::water {
+namespace {
+
+// Rain is this many drops a second at most: a step then meets a few, not a
+// loop without end.
+constexpr double kMaxRainRate = 200.0;
+
+std::string text(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+void require(bool ok, const char* key, const std::string& what) {
+  if (!ok) throw SceneError(key, what);
+}
+
+// splitmix64: a small generator whose sequence is fixed by its seed on every
+// platform (the standard distributions are not), so runs repeat bit for bit.
+std::uint64_t next_random(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+// Uniform in [0, 1).
+double uniform(std::uint64_t& state) { return static_cast<double>(next_random(state) >> 11) * 0x1.0p-53; }
+
+// Seconds to the next event of a Poisson process of `rate` a second.
+double wait(std::uint64_t& state, double rate) { return -std::log1p(-uniform(state)) / rate; }
+
+}  // namespace
+
+double spacing(const WaveParams& p) { return p.size / (p.grid - 1); }
+
+double max_time_step(const WaveParams& p) { return kMaxCourant * spacing(p) / p.wave_speed; }
+
+void validate(const WaveParams& p) {
+  require(p.grid >= 16 && p.grid <= 512, "water.grid", "must be 16 to 512 vertices a side");
+  require(std::isfinite(p.size) && p.size >= 0.05 && p.size <= 100, "water.size", "must be 0.05 to 100 m");
+  require(std::isfinite(p.wave_speed) && p.wave_speed > 0 && p.wave_speed <= 100, "water.wave_speed",
+          "must be above 0 and at most 100 m/s");
+  require(std::isfinite(p.damping) && p.damping >= 0 && p.damping <= 100, "water.damping",
+          "must be 0 to 100 per second");
+  require(std::isfinite(p.time_step) && p.time_step > 0, "water.time_step", "must be a positive number of seconds");
+  require(p.time_step <= max_time_step(p), "water.time_step",
+          "must be at most " + text(max_time_step(p)) + " s for this grid and wave speed (Courant number " +
+              text(kMaxCourant) + "); the scheme is unstable beyond it");
+  require(std::isfinite(p.rain_rate) && p.rain_rate >= 0 && p.rain_rate <= kMaxRainRate, "water.rain_rate",
+          "must be 0 to " + text(kMaxRainRate) + " drops per second");
+  require(std::isfinite(p.rain_strength) && std::abs(p.rain_strength) <= 0.05 * p.size, "water.rain_strength",
+          "must be at most 5% of the pool's size in magnitude");
+  require(std::isfinite(p.drop_radius) && p.drop_radius >= spacing(p) && p.drop_radius <= p.size / 4,
+          "water.drop_radius", "must be from one grid spacing to a quarter of the pool");
+}
+
+WaveSolver::WaveSolver(const WaveParams& params) : params_(params), rng_(params.seed) {
+  validate(params_);
+  const double courant = params_.wave_speed * params_.time_step / spacing(params_);
+  courant2_ = courant * courant;
+  a_ = 0.5 * params_.damping * params_.time_step;
+  const auto cells = static_cast<std::size_t>(params_.grid) * static_cast<std::size_t>(params_.grid);
+  before_.assign(cells, 0.0);
+  now_.assign(cells, 0.0);
+  next_.assign(cells, 0.0);
+  if (params_.rain_rate > 0) next_rain_ = wait(rng_, params_.rain_rate);
+}
+
+double WaveSolver::weight(int i, int j) const {
+  const int last = params_.grid - 1;
+  return (i == 0 || i == last ? 0.5 : 1.0) * (j == 0 || j == last ? 0.5 : 1.0);
+}
+
+void WaveSolver::drop(double x, double y, double strength, double radius) {
+  const double half = params_.size / 2, dx = spacing(params_);
+  require(std::isfinite(x) && std::abs(x) <= half, "x", "must lie in the pool, within " + text(half) + " m of its centre");
+  require(std::isfinite(y) && std::abs(y) <= half, "y", "must lie in the pool, within " + text(half) + " m of its centre");
+  require(std::isfinite(strength) && std::abs(strength) <= 0.05 * params_.size, "strength",
+          "must be at most 5% of the pool's size in magnitude");
+  require(std::isfinite(radius) && radius >= dx && radius <= params_.size / 4, "radius",
+          "must be from one grid spacing to a quarter of the pool");
+  const int n = params_.grid;
+  std::vector<double> dent(now_.size(), 0.0);
+  // The shape falls below 1e-5 of its depth beyond 6 sigma.
+  const int reach = static_cast<int>(std::ceil(6 * radius / dx));
+  const int ci = static_cast<int>(std::lround((x + half) / dx)), cj = static_cast<int>(std::lround((y + half) / dx));
+  double sum = 0, weights = 0;
+  for (int j = std::max(0, cj - reach); j <= std::min(n - 1, cj + reach); ++j)
+    for (int i = std::max(0, ci - reach); i <= std::min(n - 1, ci + reach); ++i) {
+      const double px = -half + i * dx - x, py = -half + j * dx - y;
+      const double q = (px * px + py * py) / (2 * radius * radius);
+      const double h = -strength * (1 - q) * std::exp(-q);
+      dent[static_cast<std::size_t>(j) * n + i] = h;
+      sum += weight(i, j) * h;
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) weights += weight(i, j);
+  // Walls cut the rim: take the remainder off everywhere, keeping the volume.
+  const double mean = sum / weights;
+  for (std::size_t k = 0; k < dent.size(); ++k) {
+    now_[k] += dent[k] - mean;
+    before_[k] += dent[k] - mean;  // at rest: the drop adds no velocity
+  }
+}
+
+void WaveSolver::rain() {
+  if (params_.rain_rate <= 0) return;
+  const double half = params_.size / 2;
+  while (next_rain_ <= time()) {
+    const double x = (2 * uniform(rng_) - 1) * half, y = (2 * uniform(rng_) - 1) * half;
+    drop(x, y, params_.rain_strength, params_.drop_radius);
+    ++raindrops_;
+    next_rain_ += wait(rng_, params_.rain_rate);
+  }
+}
+
+void WaveSolver::step() {
+  rain();
+  const int n = params_.grid;
+  const double keep = 1 - a_, scale = 1 / (1 + a_);
+  for (int j = 0; j < n; ++j) {
+    // A wall's ghost row mirrors the row inside it.
+    const std::size_t row = static_cast<std::size_t>(j) * n;
+    const std::size_t down = static_cast<std::size_t>(j == 0 ? 1 : j - 1) * n;
+    const std::size_t up = static_cast<std::size_t>(j == n - 1 ? n - 2 : j + 1) * n;
+    for (int i = 0; i < n; ++i) {
+      const int left = i == 0 ? 1 : i - 1, right = i == n - 1 ? n - 2 : i + 1;
+      const double h = now_[row + i];
+      const double laplacian = now_[row + left] + now_[row + right] + now_[down + i] + now_[up + i] - 4 * h;
+      next_[row + i] = (2 * h - keep * before_[row + i] + courant2_ * laplacian) * scale;
+    }
+  }
+  std::swap(before_, now_);
+  std::swap(now_, next_);
+  ++steps_;
+}
+
+double WaveSolver::energy() const {
+  const int n = params_.grid;
+  const double dx = spacing(params_), dt = params_.time_step;
+  const double c2 = params_.wave_speed * params_.wave_speed;
+  double kinetic = 0, potential = 0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j) * n + i;
+      const double v = (now_[k] - before_[k]) / dt;
+      kinetic += weight(i, j) * v * v;
+      // Edges to the right and up; an edge along a wall weighs a half.
+      if (i + 1 < n) potential += (j == 0 || j == n - 1 ? 0.5 : 1.0) * (now_[k + 1] - now_[k]) * (before_[k + 1] - before_[k]);
+      if (j + 1 < n) potential += (i == 0 || i == n - 1 ? 0.5 : 1.0) * (now_[k + n] - now_[k]) * (before_[k + n] - before_[k]);
+    }
+  return 0.5 * dx * dx * kinetic + 0.5 * c2 * potential;
+}
+
+double WaveSolver::volume() const {
+  const int n = params_.grid;
+  const double dx = spacing(params_);
+  double sum = 0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) sum += weight(i, j) * now_[static_cast<std::size_t>(j) * n + i];
+  return sum * dx * dx;
+}
+
+}  // namespace caustic::water

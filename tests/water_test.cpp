@@ -1,0 +1,235 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// The wave solver against the wave equation's own laws (docs/physics.md §14):
+// a ring's speed, the scheme's conserved energy, the damping's decay rate,
+// the stability bound, the kept volume, and repeatable runs.
+#include "caustic/scene.hpp"
+#include "caustic/wave_solver.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <numeric>
+#include <vector>
+
+namespace caustic::water {
+namespace {
+
+// The azimuthal mean of the heights in rings of half a grid spacing about
+// the centre: the profile of a centred drop.
+std::vector<double> radial_profile(const WaveSolver& s, double bin) {
+  const auto& p = s.params();
+  const int n = p.grid;
+  const double dx = spacing(p), half = p.size / 2;
+  std::vector<double> sum(static_cast<std::size_t>(half / bin) + 1, 0.0), count(sum.size(), 0.0);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double r = std::hypot(-half + i * dx, -half + j * dx);
+      const auto b = static_cast<std::size_t>(r / bin);
+      if (b >= sum.size()) continue;
+      sum[b] += s.heights()[static_cast<std::size_t>(j) * n + i];
+      count[b] += 1;
+    }
+  for (std::size_t b = 0; b < sum.size(); ++b) sum[b] = count[b] > 0 ? sum[b] / count[b] : 0.0;
+  return sum;
+}
+
+// Radius of the deepest trough beyond `from`, refined by a parabola through
+// its bin and the two beside it. A drop's dent travels out as this trough.
+double trough_radius(const std::vector<double>& profile, double bin, double from) {
+  std::size_t best = static_cast<std::size_t>(from / bin);
+  for (std::size_t b = best; b + 1 < profile.size(); ++b)
+    if (profile[b] < profile[best]) best = b;
+  const double l = profile[best - 1], m = profile[best], r = profile[best + 1];
+  const double offset = 0.5 * (l - r) / (l - 2 * m + r);
+  return (static_cast<double>(best) + 0.5 + offset) * bin;
+}
+
+WaveParams ring_pool() {
+  WaveParams p;
+  p.grid = 257;
+  p.size = 4.0;
+  p.wave_speed = 0.5;
+  p.damping = 0.0;
+  p.time_step = 0.5 * spacing(p) / p.wave_speed;  // Courant number 0.5
+  return p;
+}
+
+TEST(WaveSolver, ADropsRingSpreadsAtTheWaveSpeed) {
+  const WaveParams p = ring_pool();
+  WaveSolver s(p);
+  s.drop(0, 0, 1e-3, 3 * spacing(p));
+  const double bin = spacing(p) / 2;
+  std::vector<double> t, r;
+  // Until 3 s the ring stays clear of the walls (2 m away).
+  for (double at : {1.2, 2.1, 3.0}) {
+    while (s.time() < at - 1e-9) s.step();
+    t.push_back(s.time());
+    r.push_back(trough_radius(radial_profile(s, bin), bin, 0.5 * p.wave_speed * s.time()));
+  }
+  const double speed = (r[2] - r[0]) / (t[2] - t[0]);
+  std::printf("ring trough at %.4f, %.4f, %.4f m: %.4f m/s against c = %.4f\n", r[0], r[1], r[2], speed, p.wave_speed);
+  EXPECT_NEAR(speed, p.wave_speed, 0.02 * p.wave_speed);
+  // Steady: the two halves agree too.
+  EXPECT_NEAR((r[1] - r[0]) / (t[1] - t[0]), (r[2] - r[1]) / (t[2] - t[1]), 0.02 * p.wave_speed);
+}
+
+// Drops scattered off centre, some near the walls.
+void scatter_drops(WaveSolver& s) {
+  const double r = 3 * spacing(s.params()), half = s.params().size / 2;
+  s.drop(0.1 * half, -0.2 * half, 2e-3, r);
+  s.drop(-0.6 * half, 0.5 * half, -1e-3, r);
+  s.drop(0.95 * half, 0.9 * half, 1.5e-3, 2 * r);
+}
+
+TEST(WaveSolver, WithoutDampingTheSchemeKeepsItsEnergy) {
+  WaveParams p;
+  p.damping = 0;
+  p.time_step = max_time_step(p);  // the largest step allowed
+  WaveSolver s(p);
+  scatter_drops(s);
+  s.step();
+  const double start = s.energy();
+  ASSERT_GT(start, 0);
+  double worst = 0;
+  for (int i = 0; i < 4000; ++i) {
+    s.step();
+    worst = std::max(worst, std::abs(s.energy() / start - 1));
+  }
+  std::printf("energy drift over 4000 steps at Courant %.2f: %.2e\n", kMaxCourant, worst);
+  EXPECT_LT(worst, 1e-9);
+}
+
+TEST(WaveSolver, EnergyDecaysAtTheSetDamping) {
+  WaveParams p;
+  p.damping = 0.5;
+  p.time_step = max_time_step(p);
+  WaveSolver s(p);
+  scatter_drops(s);
+  // Least squares slope of ln E against t over 6 s: the oscillation between
+  // kinetic and potential energy averages out over many periods.
+  double st = 0, sl = 0, stt = 0, stl = 0, count = 0;
+  while (s.time() < 6.0) {
+    s.step();
+    const double t = s.time(), l = std::log(s.energy());
+    st += t;
+    sl += l;
+    stt += t * t;
+    stl += t * l;
+    count += 1;
+  }
+  const double slope = (count * stl - st * sl) / (count * stt - st * st);
+  std::printf("ln E falls at %.4f per second against gamma = %.4f\n", -slope, p.damping);
+  EXPECT_NEAR(-slope, p.damping, 0.02 * p.damping);
+}
+
+TEST(WaveSolver, AtTheLargestAllowedStepNothingGrows) {
+  // The highest (checkerboard) modes go unstable first: drops one grid
+  // spacing wide carry them. Run long.
+  WaveParams p;
+  p.grid = 64;
+  p.damping = 0;
+  p.drop_radius = spacing(p);
+  p.time_step = max_time_step(p);
+  WaveSolver s(p);
+  for (int i = 0; i < 5; ++i) s.drop(-0.8 + 0.37 * i, 0.6 - 0.29 * i, 2e-3, spacing(p));
+  for (int i = 0; i < 2; ++i) s.step();
+  const double start = s.energy();
+  double highest = 0;
+  for (int i = 0; i < 20000; ++i) {
+    s.step();
+    for (double h : s.heights()) highest = std::max(highest, std::abs(h));
+  }
+  EXPECT_NEAR(s.energy(), start, 1e-8 * start);
+  EXPECT_LT(highest, 0.05);  // the drops were 2 mm deep; nothing ran away
+}
+
+TEST(WaveSolver, AStepAboveTheBoundIsRefusedNamingTheKey) {
+  WaveParams p;
+  p.time_step = max_time_step(p) * 1.001;
+  try {
+    WaveSolver s(p);
+    FAIL() << "a step beyond the stability bound was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), "water.time_step");
+    EXPECT_NE(std::string(e.what()).find("unstable"), std::string::npos) << e.what();
+  }
+  p.time_step = max_time_step(p);
+  EXPECT_NO_THROW(validate(p));
+}
+
+TEST(WaveSolver, BadParametersAndDropsAreRefusedAndChangeNothing) {
+  const auto key_of = [](auto&& f) -> std::string {
+    try {
+      f();
+    } catch (const SceneError& e) {
+      return e.key();
+    }
+    return "";
+  };
+  const auto with = [](auto change) {
+    WaveParams p;
+    change(p);
+    return p;
+  };
+  EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.grid = 8; })); }), "water.grid");
+  EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.grid = 4096; })); }), "water.grid");
+  EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.size = NAN; })); }), "water.size");
+  EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.wave_speed = 0; })); }), "water.wave_speed");
+  EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.damping = -1; })); }), "water.damping");
+  EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.time_step = -0.01; })); }), "water.time_step");
+  EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.rain_rate = 1e9; })); }), "water.rain_rate");
+  EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.rain_strength = INFINITY; })); }), "water.rain_strength");
+  EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.drop_radius = 1e-6; })); }), "water.drop_radius");
+
+  WaveSolver s(WaveParams{});
+  scatter_drops(s);
+  s.step();
+  const auto heights = s.heights();
+  EXPECT_EQ(key_of([&] { s.drop(5.0, 0, 1e-3, 0.05); }), "x");
+  EXPECT_EQ(key_of([&] { s.drop(0, NAN, 1e-3, 0.05); }), "y");
+  EXPECT_EQ(key_of([&] { s.drop(0, 0, 1.0, 0.05); }), "strength");
+  EXPECT_EQ(key_of([&] { s.drop(0, 0, 1e-3, 0.0); }), "radius");
+  EXPECT_EQ(key_of([&] { s.drop(0, 0, 1e-3, 10.0); }), "radius");
+  EXPECT_EQ(s.heights(), heights);
+}
+
+TEST(WaveSolver, RainFallsAtItsRateAndKeepsTheVolume) {
+  WaveParams p;
+  p.rain_rate = 40;
+  WaveSolver s(p);
+  double worst = 0;
+  while (s.time() < 10.0) {
+    s.step();
+    worst = std::max(worst, std::abs(s.volume()));
+  }
+  // 400 expected; a Poisson count lies within 4 sigma (80) but for 6e-5 of seeds.
+  EXPECT_NEAR(static_cast<double>(s.raindrops()), p.rain_rate * s.time(), 4 * std::sqrt(p.rain_rate * s.time()));
+  // Each drop is a 2 mm dent about 3 cm wide, some 1e-5 m^3 displaced each
+  // way; the pool keeps its water to rounding.
+  EXPECT_LT(worst, 1e-12);
+  double energy = s.energy();
+  EXPECT_GT(energy, 0);
+}
+
+TEST(WaveSolver, RunsRepeatBitForBit) {
+  WaveParams p;
+  p.rain_rate = 30;
+  p.seed = 42;
+  WaveSolver a(p), b(p);
+  for (int i = 0; i < 600; ++i) {
+    a.step();
+    b.step();
+  }
+  EXPECT_EQ(a.raindrops(), b.raindrops());
+  EXPECT_EQ(a.heights(), b.heights());  // every double equal
+  p.seed = 43;
+  WaveSolver c(p);
+  for (int i = 0; i < 600; ++i) c.step();
+  EXPECT_NE(a.heights(), c.heights());
+}
+
+}  // namespace
+}  // namespace caustic::water
