@@ -13,6 +13,7 @@ uniform float uFlatOffset;  // flat face: dot(x, uFlatNormal) = uFlatOffset
 uniform float uIor;
 uniform bool uReflective;
 uniform bool uFlatFirst;    // the flat face faces the light
+uniform bool uImmersed;     // a surface (object.shape): the screen lies in the medium, no second face
 uniform bool uPointLight;
 uniform bool uExactPointModel;
 uniform vec3 uLightDir;     // directional: propagation direction
@@ -68,6 +69,9 @@ void main() {
     else footprint = v + inside * ((uFlatOffset - dot(v, uFlatNormal)) / dot(inside, uFlatNormal));
     transmittance *= tFace;
     ok = refractFresnel(inside, faceAgainst(n, inside), uIor, 1.0, dir, tFace);
+    transmittance *= tFace;
+  } else if (uImmersed) {
+    ok = refractFresnel(incident, faceAgainst(n, incident), 1.0, uIor, dir, tFace);
     transmittance *= tFace;
   } else {
     vec3 inside;

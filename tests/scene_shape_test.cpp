@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The solid's keys: object.shape and render.light_grid parsed, bounded and
 // written back; a mirror cannot be a solid; a key the shape makes moot is
-// warned about; a closed body is what closed_body builds.
+// warned about; a closed body is what closed_body builds; a water surface
+// (object.shape "surface") is glass-like and has no flat face.
 #include "caustic/spectral.hpp"
 #include "caustic/surfaces.hpp"
 #include "scene_test_support.hpp"
@@ -64,4 +65,25 @@ TEST(SceneShape, ClosedBodyIsClosedAndWoundOutward) {
   // Two faces of 17 x 17 and four walls of 2 x 17 vertices.
   EXPECT_EQ(body.positions.size(), 2u * 17 * 17 + 4u * 2 * 17);
   EXPECT_THROW(closed_body(flat_face(1), flat_face(1), 5), std::invalid_argument);
+}
+
+TEST(SceneShape, ASurfaceRoundTripsIsRefractiveAndHasNoFlatFace) {
+  json water = with("object", "shape", "surface");
+  water["object"]["flat_face_offset"] = 2.0;
+  const Scene s = scene_from_json(water, ".");
+  EXPECT_EQ(s.object.shape, Shape::surface);
+  EXPECT_EQ(scene_to_json(s)["object"]["shape"], "surface");
+  const auto warned = shape_overrides(water, s);
+  ASSERT_EQ(warned.size(), 1u);
+  EXPECT_EQ(warned[0].first, "object.flat_face_offset");
+  json mirror = with("object", "shape", "surface");
+  mirror["object"]["material"] = "reflective";
+  expect_rejected(mirror, "object.shape");
+  // Placed, the offset is ignored: the plane through the extreme vertex
+  // only frames the box.
+  ObjectParams o;
+  o.shape = Shape::surface;
+  o.flat_face_offset = -5.0;  // would cut through the waves
+  const Placement p = place_object(o, grid_mesh(sine_window(0.5, 1.0, 0.0, 1.0, 10.0), 33, 33));
+  EXPECT_NEAR(p.flat_offset, 0.5, 1e-3);
 }

@@ -79,6 +79,7 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
   p.set("uIor", static_cast<float>(ior));
   p.set("uReflective", scene.object.material == Material::reflective);
   p.set("uFlatFirst", flat_face_first(scene, placement));
+  p.set("uImmersed", scene.object.shape == Shape::surface);
   p.set("uExactPointModel", scene.light.point_model == PointModel::exact);
   p.set("uFresnel", scene.render.fresnel);
   p.set("uScreenCenter", glm::vec3(screen.center));
@@ -137,7 +138,6 @@ void RayPass::draw_landed(const LandedGrid& grid, const Scene& scene, const Plac
 void RayPass::deposit(const gl::Program& p, GLuint vao, GLsizei indices, const Scene& scene,
                       const Placement& placement, const gl::RenderTarget& target, glm::vec3 weight, bool clear,
                       bool count, bool clear_tint) {
-  const auto& screen = scene.screen;
   p.set("uWeight", weight);
   p.set("uCount", count);
   p.set("uPointLight", scene.light.type == LightType::point);

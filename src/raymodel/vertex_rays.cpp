@@ -10,6 +10,7 @@ namespace caustic {
 
 
 bool flat_face_first(const Scene& scene, const Placement& placement) {
+  if (scene.object.shape == Shape::surface) return false;  // the light meets the surface, whichever side
   if (scene.light.type == LightType::point)
     return glm::dot(scene.light.position, placement.flat_normal) > placement.flat_offset;
   return glm::dot(scene.light.direction, placement.flat_normal) < 0.0;
@@ -45,6 +46,11 @@ VertexRay trace_vertex(const Scene& scene, const Placement& placement, const glm
     if (!out) return ray;
     t *= fresnel_transmittance(out->cos_i, ior, 1.0);
     dir = out->direction;
+  } else if (scene.object.shape == Shape::surface) {  // into the medium, which the screen lies in
+    const auto in = refract(incident, face_against(n, incident), 1.0 / ior);
+    if (!in) return ray;
+    t *= fresnel_transmittance(in->cos_i, 1.0, ior);
+    dir = in->direction;
   } else {
     const auto in = refract(incident, face_against(n, incident), 1.0 / ior);
     if (!in) return ray;

@@ -33,6 +33,7 @@ std::vector<Vec3> slab_points(const Scene& scene, const Geometry& geo, const Mes
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
     const Vec3 w = geo.world(i);
     corners.push_back(w);
+    if (scene.object.shape == Shape::surface) continue;  // the light meets the surface alone
     corners.push_back(onto_flat_face(p, w));  // the flat face above
     const Vec3 incoming = scene.light.type == LightType::point ? glm::normalize(w - scene.light.position)
                                                                : scene.light.direction;
@@ -63,6 +64,16 @@ bool follow(const Scene& scene, const Geometry& geo, const Placement& p, Photon&
     if (!geo.intersect(ph.origin, ph.dir, 0.0, &hit)) return false;
     ph.dir = glm::normalize(reflect(ph.dir, face_against(hit.normal, ph.dir)));
     ph.origin = hit.point;
+    ph.tint = hit.tint;
+    return true;
+  }
+  if (scene.object.shape == Shape::surface) {  // into the medium the screen lies in
+    if (!geo.intersect(ph.origin, ph.dir, 0.0, &hit)) return false;
+    const auto in = refract(ph.dir, face_against(hit.normal, ph.dir), 1.0 / n);
+    if (!in) return false;
+    if (fresnel) ph.flux *= fresnel_transmittance(in->cos_i, 1.0, n);
+    ph.origin = hit.point;
+    ph.dir = in->direction;
     ph.tint = hit.tint;
     return true;
   }

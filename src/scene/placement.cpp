@@ -50,9 +50,9 @@ Placement place_object(const ObjectParams& object, const MeshBounds& bounds) {
   const glm::dvec3 n = object.flat_face_normal;
   const auto [e1, e2] = basis_around(n);
   const glm::dvec3 lo = bounds.lo, hi = bounds.hi;
-  // A solid has no flat face: the plane through its extreme vertex only
-  // frames the footprint and the public box.
-  const double offset_mesh = object.shape == Shape::solid ? hi.z : object.flat_face_offset.value_or(hi.z);
+  // A solid or a surface has no flat face: the plane through its extreme
+  // vertex only frames the footprint and the public box.
+  const double offset_mesh = object.shape != Shape::slab ? hi.z : object.flat_face_offset.value_or(hi.z);
   const glm::dvec3 mid = 0.5 * (lo + hi);
   const glm::dvec3 centre_mesh = mid.x * e1 + mid.y * e2 + mid.z * n;
 

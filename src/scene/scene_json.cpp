@@ -27,7 +27,8 @@ template <typename Enum>
 using Names = std::span<const std::pair<const char*, Enum>>;
 constexpr std::pair<const char*, Material> kMaterials[] = {{"refractive", Material::refractive},
                                                            {"reflective", Material::reflective}};
-constexpr std::pair<const char*, Shape> kShapes[] = {{"slab", Shape::slab}, {"solid", Shape::solid}};
+constexpr std::pair<const char*, Shape> kShapes[] = {
+    {"slab", Shape::slab}, {"solid", Shape::solid}, {"surface", Shape::surface}};
 constexpr std::pair<const char*, LightType> kLightTypes[] = {{"directional", LightType::directional},
                                                              {"point", LightType::point}};
 constexpr std::pair<const char*, PointModel> kPointModels[] = {{"approximate", PointModel::approximate},
@@ -168,6 +169,8 @@ ObjectParams read_object(Reader r) {
   o.shape = r.choice("shape", o.shape, Names<Shape>(kShapes));
   if (o.shape == Shape::solid && o.material == Material::reflective)
     throw SceneError(r.key("shape"), "a solid is glass: it needs object.material \"refractive\"");
+  if (o.shape == Shape::surface && o.material == Material::reflective)
+    throw SceneError(r.key("shape"), "a surface bounds a medium that light enters: it needs object.material \"refractive\"");
   o.ior = r.number("ior", o.ior, 1.0, 10.0);
   // "none" says "no glass" where a null cannot: in a patch, null restores
   // the scene's own value (a prism's BK7), "none" removes it.

@@ -70,9 +70,9 @@ std::vector<std::pair<std::string, std::string>> spectral_overrides(const nlohma
 std::vector<std::pair<std::string, std::string>> shape_overrides(const nlohmann::json& written, const Scene& scene) {
   std::vector<std::pair<std::string, std::string>> out;
   const bool solid = scene.object.shape == Shape::solid;
-  if (solid && writes(written, "object", "flat_face_offset"))
+  if (scene.object.shape != Shape::slab && writes(written, "object", "flat_face_offset"))
     out.emplace_back("object.flat_face_offset", "object.flat_face_offset places the flat face of a slab; a solid "
-                                                "(object.shape \"solid\") has none, so the value is ignored");
+                                                "or a surface (object.shape) has none, so the value is ignored");
   const auto grid = written_number(written, "render", "light_grid");
   if (!solid && grid && *grid != RenderParams{}.light_grid)
     out.emplace_back("render.light_grid", "render.light_grid sizes the light's grid for a solid (object.shape "

@@ -33,9 +33,12 @@ class SceneError : public std::runtime_error {
 
 enum class Material { refractive, reflective };
 /// What the mesh is: the caustic face of a slab whose other face is the flat
-/// plane (the per-vertex method), or a closed glass body whose every face
-/// refracts (the multipass tracer: double-sided lenses, stacked pieces).
-enum class Shape { slab, solid };
+/// plane (the per-vertex method), a closed glass body whose every face
+/// refracts (the multipass tracer: double-sided lenses, stacked pieces), or
+/// the surface of a medium that fills the space beyond it, screen included
+/// (water over a pool's floor: one refraction, per vertex, and the light
+/// lands without leaving the medium).
+enum class Shape { slab, solid, surface };
 enum class LightType { directional, point };
 enum class PointModel { approximate, exact };
 enum class IntensityMode { energy, report };

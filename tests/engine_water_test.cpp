@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Light through a water surface onto the pool's floor (object.shape
+// "surface", docs/physics.md §14): still water against Fresnel, a small
+// sinusoidal wave against its paraxial map and its fold depth, and the
+// flux that lands against the flux that entered.
+#include "gl_test_support.hpp"
+
+#include "caustic/optics.hpp"
+#include "caustic/vertex_rays.hpp"
+
+#include <cmath>
+#include <numbers>
+
+using namespace caustic;
+using namespace caustic::testing;
+
+namespace {
+
+constexpr double kWater = 1.333;
+constexpr double kHalf = 10.0;  // the water's footprint, mm
+
+// A pool: the surface (mesh z = -h, turned over so that world z = h) at
+// z = 0, the floor `depth` below it, 256 px across `floor_size` mm, the sun
+// `theta` from the vertical travelling towards +x.
+Scene pool(double depth, double theta, double floor_size) {
+  Scene s = straight_down_scene(0.0, depth, floor_size, 256);
+  s.object.flat_face_offset.reset();
+  s.object.shape = Shape::surface;
+  s.object.ior = kWater;
+  s.object.rotation_deg = {180, 0, 0};
+  s.light.direction = {std::sin(theta), 0, -std::cos(theta)};
+  s.render.fresnel = true;
+  return s;
+}
+
+// The mean and the worst relative departure from it of the floor's pixels
+// whose centres lie `margin` inside the square of half-width `half` about `at`.
+std::pair<double, double> patch(const HdrImage& img, const ScreenParams& floor, glm::dvec2 at, double half,
+                                double margin) {
+  double sum = 0;
+  std::vector<float> values;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const glm::dvec2 p = pixel_centre(floor, img.width, img.height, x, y) - at;
+      if (std::abs(p.x) <= half - margin && std::abs(p.y) <= half - margin) {
+        values.push_back(img.at(x, y));
+        sum += img.at(x, y);
+      }
+    }
+  const double mean = sum / static_cast<double>(values.size());
+  double worst = 0;
+  for (float v : values) worst = std::max(worst, std::abs(v - mean) / mean);
+  return {mean, worst};
+}
+
+}  // namespace
+
+class Water : public GlTest {};
+
+TEST_F(Water, StillWaterLightsTheFloorEvenlyWithFresnelsTransmittance) {
+  const auto still = shared(grid_mesh(flat_face(kHalf), 64, 64));
+  for (double degrees : {0.0, 30.0, 60.0}) {
+    const double theta = degrees * std::numbers::pi / 180, depth = 10.0;
+    const Scene s = pool(depth, theta, 40.0);
+    const HdrImage img = render(s, still);
+    // The lit patch is the surface's square, shifted along the refracted ray.
+    const double sin_t = std::sin(theta) / kWater;
+    const glm::dvec2 centre(depth * sin_t / std::sqrt(1 - sin_t * sin_t), 0.0);
+    const auto [mean, spread] = patch(img, s.screen, centre, kHalf, 2 * 40.0 / 256);
+    // Relative to the sun's irradiance on a horizontal plane, E0 cos(theta).
+    const double transmittance = optics::fresnel_transmittance(std::cos(theta), 1.0, kWater);
+    std::printf("sun %2.0f deg: floor %.5f of horizontal, T = %.5f\n", degrees, mean / std::cos(theta),
+                transmittance);
+    EXPECT_NEAR(mean / std::cos(theta), transmittance, 0.005 * transmittance) << degrees << " degrees";
+    EXPECT_LT(spread, 1e-3) << degrees << " degrees";
+    EXPECT_EQ(engine_->stats().dropped, 0u);
+  }
+}
+
+// h(x) = A cos(kx) refracts the sun straight down to x_f = x + d (1 - 1/n)
+// h'(x) on a floor d below (small slopes), so the floor reads
+// E = T / (1 + d (1 - 1/n) h''(x)) = T / (1 - m cos kx), m = d (1 - 1/n) A k^2,
+// whose first order is T (1 + m cos k x_f); the sheets fold where m = 1.
+class SineWave : public Water {
+ protected:
+  static constexpr double kAmplitude = 0.02, kWavelength = 5.0;
+  static double k() { return 2 * std::numbers::pi / kWavelength; }
+  static double fold_depth() { return 1.0 / ((1 - 1 / kWater) * kAmplitude * k() * k()); }
+  std::shared_ptr<const Mesh> wave = shared(grid_mesh(sine_window(kAmplitude, k(), 0.0, 1.0, kHalf), 257, 257));
+
+  // The floor's mean over rows |y| < 5 mm, per column.
+  std::vector<double> profile(const HdrImage& img, const ScreenParams& floor) {
+    std::vector<double> out(static_cast<std::size_t>(img.width), 0.0);
+    for (int x = 0; x < img.width; ++x) {
+      int n = 0;
+      for (int y = 0; y < img.height; ++y)
+        if (std::abs(pixel_centre(floor, img.width, img.height, x, y).y) < 5.0) {
+          out[static_cast<std::size_t>(x)] += img.at(x, y);
+          ++n;
+        }
+      out[static_cast<std::size_t>(x)] /= n;
+    }
+    return out;
+  }
+};
+
+TEST_F(SineWave, TheFloorFollowsThePredictedModulation) {
+  const double transmittance = optics::fresnel_transmittance(1.0, 1.0, kWater);
+  for (double m : {0.05, 0.5}) {
+    const double depth = m * fold_depth();
+    const Scene s = pool(depth, 0.0, 25.6);
+    const HdrImage img = render(s, wave);
+    const auto floor = profile(img, s.screen);
+    const double c = (1 - 1 / kWater) * depth;
+    double worst = 0, projection = 0, norm = 0;
+    for (int x = 0; x < img.width; ++x) {
+      const double xf = pixel_centre(s.screen, img.width, img.height, x, 0).x;
+      if (std::abs(xf) > 7.5) continue;  // two wavelengths inside the water's edge
+      // The paraxial map's source point: solve xf = x - c A k sin(kx) by Newton.
+      double src = xf;
+      for (int i = 0; i < 20; ++i)
+        src -= (src - c * kAmplitude * k() * std::sin(k() * src) - xf) /
+               (1 - c * kAmplitude * k() * k() * std::cos(k() * src));
+      const double predicted = transmittance / (1 - m * std::cos(k() * src));
+      worst = std::max(worst, std::abs(floor[static_cast<std::size_t>(x)] - predicted) / predicted);
+      projection += (floor[static_cast<std::size_t>(x)] / transmittance - 1) * std::cos(k() * xf);
+      norm += std::cos(k() * xf) * std::cos(k() * xf);
+    }
+    std::printf("m = %.2f (depth %.1f mm): worst %.4f against the paraxial map; first-order amplitude %.4f\n", m,
+                depth, worst, projection / norm);
+    EXPECT_LT(worst, 0.01) << "m = " << m;
+    // The first order: a cosine of amplitude m, to O(m^2).
+    if (m < 0.1) EXPECT_NEAR(projection / norm, m, 0.02 * m);
+    EXPECT_EQ(engine_->stats().folded, 0u) << "m = " << m;
+  }
+}
+
+TEST_F(SineWave, SheetsFoldAtThePredictedDepth) {
+  for (double m : {0.95, 1.05}) {
+    const Scene s = pool(m * fold_depth(), 0.0, 25.6);
+    render(s, wave);
+    const auto folded = engine_->stats().folded;
+    std::printf("depth %.3f of the fold depth %.1f mm: %u folded triangles\n", m, fold_depth(), folded);
+    if (m < 1) EXPECT_EQ(folded, 0u);
+    else EXPECT_GT(folded, 1000u);  // along every crest
+  }
+}
+
+TEST_F(Water, WhateverTheWavesTheFloorGetsTheFluxThatEntered) {
+  // Two crossing waves, deep enough to fold; the sun 40 degrees off.
+  const auto waves = shared(grid_mesh(sine_window(0.05, 1.3, 0.04, 0.9, kHalf), 129, 129));
+  for (bool fresnel : {false, true}) {
+    Scene s = pool(60.0, 0.7, 100.0);
+    s.render.fresnel = fresnel;
+    const HdrImage img = render(s, waves);
+    const Placement placement = place_object(s.object, *waves);
+    const double landed = total_flux(img, s.screen);
+    // Without Fresnel every ray lands, carrying its triangle's cross-section
+    // of the beam: the footprint's 400 mm^2 times cos(theta). With Fresnel
+    // the CPU twin of the vertex rays sums each triangle's transmittance.
+    const double entered = fresnel ? summarize_flux(s, *waves, placement).flux : 4 * kHalf * kHalf * std::cos(0.7);
+    std::printf("Fresnel %s: landed %.6f of %.6f mm^2, %u folded\n", fresnel ? "on " : "off", landed, entered,
+                engine_->stats().folded);
+    EXPECT_NEAR(landed, entered, 1e-4 * entered);
+    EXPECT_GT(engine_->stats().folded, 0u);
+    EXPECT_EQ(engine_->stats().dropped, 0u);
+  }
+}
