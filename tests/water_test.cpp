@@ -4,6 +4,7 @@
 // the stability bound, the kept volume, and repeatable runs.
 #include "caustic/scene.hpp"
 #include "caustic/wave_solver.hpp"
+#include "caustic/water_mesh.hpp"
 
 #include <gtest/gtest.h>
 
@@ -182,7 +183,10 @@ TEST(WaveSolver, BadParametersAndDropsAreRefusedAndChangeNothing) {
   EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.time_step = -0.01; })); }), "water.time_step");
   EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.rain_rate = 1e9; })); }), "water.rain_rate");
   EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.rain_strength = INFINITY; })); }), "water.rain_strength");
-  EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.drop_radius = 1e-6; })); }), "water.drop_radius");
+  EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.drop_radius = 1e-6, p.rain_rate = 1; })); }),
+            "water.drop_radius");
+  EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.drop_radius = 1.0; })); }), "water.drop_radius");
+  EXPECT_EQ(key_of([&] { validate(with([](WaveParams& p) { p.drop_radius = 1e-6; })); }), "");  // no rain: moot
 
   WaveSolver s(WaveParams{});
   scatter_drops(s);
@@ -229,6 +233,36 @@ TEST(WaveSolver, RunsRepeatBitForBit) {
   WaveSolver c(p);
   for (int i = 0; i < 600; ++i) c.step();
   EXPECT_NE(a.heights(), c.heights());
+}
+
+}  // namespace
+}  // namespace caustic::water
+
+namespace caustic::water {
+namespace {
+
+TEST(WaterMesh, StillWaterIsFlatAndEveryVertexFollowsItsHeight) {
+  WaveParams p;
+  p.grid = 33;
+  WaveSolver s(p);
+  Mesh still = water_mesh(s);
+  ASSERT_EQ(still.positions.size(), 33u * 33u);
+  EXPECT_EQ(still.triangles.size(), 2u * 32u * 32u);
+  for (const auto& n : still.normals) EXPECT_EQ(n, glm::vec3(0, 0, 1));
+  EXPECT_NO_THROW(validate_mesh(still));
+  s.drop(0.3, -0.2, 2e-3, 0.1);
+  for (int i = 0; i < 10; ++i) s.step();
+  const Mesh wavy = water_mesh(s);
+  EXPECT_NO_THROW(validate_mesh(wavy));
+  for (std::size_t k = 0; k < wavy.positions.size(); ++k)
+    EXPECT_FLOAT_EQ(wavy.positions[k].z, static_cast<float>(s.heights()[k]));
+  // Triangles face up, the way the normals point.
+  for (const auto& t : wavy.triangles) {
+    const glm::vec3 a = wavy.positions[t.x], b = wavy.positions[t.y], c = wavy.positions[t.z];
+    EXPECT_GT(glm::cross(b - a, c - a).z, 0.0f);
+  }
+  // At a wall the slope across it is zero, as the solver's walls hold it.
+  for (int j = 0; j < p.grid; ++j) EXPECT_EQ(wavy.normals[static_cast<std::size_t>(j) * p.grid].x, 0.0f);
 }
 
 }  // namespace

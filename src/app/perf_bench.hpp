@@ -58,6 +58,13 @@ int run_spectral_bench(const PerfOptions& options);
 /// of reference; prints the rows and writes multipass.csv.
 int run_multipass_bench(const PerfOptions& options);
 
+/// `--water`: a rainy pool's frames (simulation, surface mesh, caustic on
+/// the floor, post, I420 read-back) for each water grid and --sizes over
+/// `seconds` of water; prints medians, the 95th percentile and the frames
+/// over the 33.3 ms budget, and writes water.csv and each row's last frame
+/// (water-GRID-SIZE.png).
+int run_water_bench(const PerfOptions& options, const std::vector<int>& grids, double seconds);
+
 /// The second part of --spectral (spectral_accuracy.cpp).
 void run_spectral_accuracy(const std::filesystem::path& out, int frames, std::uint64_t photons, Engine& engine);
 

@@ -62,8 +62,12 @@ void validate(const WaveParams& p) {
           "must be 0 to " + text(kMaxRainRate) + " drops per second");
   require(std::isfinite(p.rain_strength) && std::abs(p.rain_strength) <= 0.05 * p.size, "water.rain_strength",
           "must be at most 5% of the pool's size in magnitude");
-  require(std::isfinite(p.drop_radius) && p.drop_radius >= spacing(p) && p.drop_radius <= p.size / 4,
-          "water.drop_radius", "must be from one grid spacing to a quarter of the pool");
+  // Only rain uses it: a grid too coarse for the default drop matters only when it rains.
+  require(std::isfinite(p.drop_radius) && p.drop_radius <= p.size / 4 &&
+              (p.rain_rate == 0 || p.drop_radius >= spacing(p)),
+          "water.drop_radius",
+          "must be at most a quarter of the pool and, when it rains, at least one grid spacing (" +
+              text(spacing(p)) + " m)");
 }
 
 WaveSolver::WaveSolver(const WaveParams& params) : params_(params), rng_(params.seed) {

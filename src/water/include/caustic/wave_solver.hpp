@@ -24,7 +24,7 @@ struct WaveParams {
   double time_step = 1.0 / 60;   ///< seconds, fixed; at most max_time_step()
   double rain_rate = 0.0;        ///< drops per second over the whole pool (a Poisson process)
   double rain_strength = 0.002;  ///< depth of a rain drop's dent, metres
-  double drop_radius = 0.03;     ///< the dent's radius (its Gaussian's sigma), metres
+  double drop_radius = 0.03;     ///< a rain drop's radius (its Gaussian's sigma), metres
   std::uint64_t seed = 1;        ///< where and when rain falls
 };
 

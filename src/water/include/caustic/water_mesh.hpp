@@ -1,0 +1,18 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// The water's surface as the engine draws it: a caustic face of shape
+// "surface" (caustic/scene.hpp), one vertex per grid point.
+#pragma once
+
+#include "caustic/mesh.hpp"
+#include "caustic/wave_solver.hpp"
+
+namespace caustic::water {
+
+/// Vertices at (x, y, h) with the pool centred on the origin and the still
+/// level at z = 0, normals (-dh/dx, -dh/dy, 1) normalised from central
+/// differences (at a wall the mirrored row makes the slope across it zero,
+/// as the solver's walls do), two triangles per grid cell wound
+/// counter-clockwise seen from +z.
+Mesh water_mesh(const WaveSolver& solver);
+
+}  // namespace caustic::water
