@@ -70,18 +70,18 @@ void main() {
     transmittance *= tFace;
     ok = refractFresnel(inside, faceAgainst(n, inside), uIor, 1.0, dir, tFace);
     transmittance *= tFace;
-  } else if (uImmersed) {
-    ok = refractFresnel(incident, faceAgainst(n, incident), 1.0, uIor, dir, tFace);
-    transmittance *= tFace;
   } else {
     vec3 inside;
     ok = refractFresnel(incident, faceAgainst(n, incident), 1.0, uIor, inside, tFace);
     transmittance *= tFace;
-    float toward = dot(inside, uFlatNormal);
-    ok = ok && toward > 1e-6;
-    origin = v + inside * ((uFlatOffset - dot(v, uFlatNormal)) / max(toward, 1e-6));
-    ok = ok && refractFresnel(inside, faceAgainst(uFlatNormal, inside), uIor, 1.0, dir, tFace);
-    transmittance *= tFace;
+    dir = inside;
+    if (!uImmersed) {  // a slab's light leaves by the flat face; a surface's stays in
+      float toward = dot(inside, uFlatNormal);
+      ok = ok && toward > 1e-6;
+      origin = v + inside * ((uFlatOffset - dot(v, uFlatNormal)) / max(toward, 1e-6));
+      ok = ok && refractFresnel(inside, faceAgainst(uFlatNormal, inside), uIor, 1.0, dir, tFace);
+      transmittance *= tFace;
+    }
   }
 
   // The first surface ahead of the ray.

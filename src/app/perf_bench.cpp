@@ -19,10 +19,6 @@
 namespace caustic::app {
 namespace {
 
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
 void write_perf_chart(const std::filesystem::path& out, const std::vector<int>& sizes, const std::vector<int>& meshes) {
   const int mesh = meshes[meshes.size() / 2];  // the per-pixel stages, at a middle mesh
   std::ofstream plot(out / "perf.gp");

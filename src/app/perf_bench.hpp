@@ -7,6 +7,7 @@
 #include "caustic/surfaces.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -19,6 +20,11 @@ namespace caustic::app {
 inline double middle_sample(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
+}
+
+/// Milliseconds since `t0`, as the benches time each stage of a frame.
+inline double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 /// The frame both benches time: the 20 mm plano-convex lens (R = 40 mm) on

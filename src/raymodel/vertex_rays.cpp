@@ -46,22 +46,20 @@ VertexRay trace_vertex(const Scene& scene, const Placement& placement, const glm
     if (!out) return ray;
     t *= fresnel_transmittance(out->cos_i, ior, 1.0);
     dir = out->direction;
-  } else if (scene.object.shape == Shape::surface) {  // into the medium, which the screen lies in
-    const auto in = refract(incident, face_against(n, incident), 1.0 / ior);
-    if (!in) return ray;
-    t *= fresnel_transmittance(in->cos_i, 1.0, ior);
-    dir = in->direction;
   } else {
     const auto in = refract(incident, face_against(n, incident), 1.0 / ior);
     if (!in) return ray;
     t *= fresnel_transmittance(in->cos_i, 1.0, ior);
-    const double toward = glm::dot(in->direction, flat.normal);
-    if (!(toward > 1e-6)) return ray;
-    origin = v + in->direction * (-flat.signed_distance(v) / toward);
-    const auto out = refract(in->direction, face_against(flat.normal, in->direction), ior);
-    if (!out) return ray;
-    t *= fresnel_transmittance(out->cos_i, ior, 1.0);
-    dir = out->direction;
+    dir = in->direction;
+    if (scene.object.shape != Shape::surface) {  // a slab's light leaves by the flat face; a surface's stays in
+      const double toward = glm::dot(in->direction, flat.normal);
+      if (!(toward > 1e-6)) return ray;
+      origin = v + in->direction * (-flat.signed_distance(v) / toward);
+      const auto out = refract(in->direction, face_against(flat.normal, in->direction), ior);
+      if (!out) return ray;
+      t *= fresnel_transmittance(out->cos_i, ior, 1.0);
+      dir = out->direction;
+    }
   }
 
   const auto& screen = scene.screen;

@@ -67,17 +67,9 @@ bool follow(const Scene& scene, const Geometry& geo, const Placement& p, Photon&
     ph.tint = hit.tint;
     return true;
   }
-  if (scene.object.shape == Shape::surface) {  // into the medium the screen lies in
-    if (!geo.intersect(ph.origin, ph.dir, 0.0, &hit)) return false;
-    const auto in = refract(ph.dir, face_against(hit.normal, ph.dir), 1.0 / n);
-    if (!in) return false;
-    if (fresnel) ph.flux *= fresnel_transmittance(in->cos_i, 1.0, n);
-    ph.origin = hit.point;
-    ph.dir = in->direction;
-    ph.tint = hit.tint;
-    return true;
-  }
-  const bool flat_first = glm::dot(ph.dir, flat.normal) < 0.0 && flat.signed_distance(ph.origin) > 0.0;
+  // A surface has no flat face: the light meets the surface first, whichever side.
+  const bool surface = scene.object.shape == Shape::surface;
+  const bool flat_first = !surface && glm::dot(ph.dir, flat.normal) < 0.0 && flat.signed_distance(ph.origin) > 0.0;
   if (flat_first) {
     const double t = -flat.signed_distance(ph.origin) / glm::dot(ph.dir, flat.normal);
     const Vec3 entry = ph.origin + t * ph.dir;
@@ -97,6 +89,12 @@ bool follow(const Scene& scene, const Geometry& geo, const Placement& p, Photon&
   const auto in = refract(ph.dir, face_against(hit.normal, ph.dir), 1.0 / n);
   if (!in) return false;
   if (fresnel) ph.flux *= fresnel_transmittance(in->cos_i, 1.0, n);
+  ph.tint = hit.tint;
+  if (surface) {  // into the medium the screen lies in
+    ph.origin = hit.point;
+    ph.dir = in->direction;
+    return true;
+  }
   const double toward = glm::dot(in->direction, flat.normal);
   if (!(toward > 1e-9)) return false;
   const Vec3 exit = hit.point + (-flat.signed_distance(hit.point) / toward) * in->direction;
@@ -105,7 +103,6 @@ bool follow(const Scene& scene, const Geometry& geo, const Placement& p, Photon&
   if (fresnel) ph.flux *= fresnel_transmittance(out->cos_i, n, 1.0);
   ph.origin = exit;
   ph.dir = out->direction;
-  ph.tint = hit.tint;
   return true;
 }
 

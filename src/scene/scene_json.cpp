@@ -167,10 +167,9 @@ ObjectParams read_object(Reader r) {
   ObjectParams o;
   o.material = r.choice("material", o.material, Names<Material>(kMaterials));
   o.shape = r.choice("shape", o.shape, Names<Shape>(kShapes));
-  if (o.shape == Shape::solid && o.material == Material::reflective)
-    throw SceneError(r.key("shape"), "a solid is glass: it needs object.material \"refractive\"");
-  if (o.shape == Shape::surface && o.material == Material::reflective)
-    throw SceneError(r.key("shape"), "a surface bounds a medium that light enters: it needs object.material \"refractive\"");
+  if (o.shape != Shape::slab && o.material == Material::reflective)
+    throw SceneError(r.key("shape"), std::string(o.shape == Shape::solid ? "a solid is glass" : "light enters a surface") +
+                                         ": it needs object.material \"refractive\"");
   o.ior = r.number("ior", o.ior, 1.0, 10.0);
   // "none" says "no glass" where a null cannot: in a patch, null restores
   // the scene's own value (a prism's BK7), "none" removes it.
