@@ -183,6 +183,21 @@ TEST_F(Cli, PerfBenchWritesFrameCosts) {
   EXPECT_GT(fs::file_size(dir_ / "perf.png"), 1000u);
 }
 
+TEST_F(Cli, WaterBenchWritesFrameCostsAndTheLastFrames) {
+  const CommandResult r =
+      causticd("bench --water --out " + dir_.string() + " --grids 32 48 --sizes 128 --seconds 0.2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto rows = csv_lines(dir_ / "water.csv");
+  ASSERT_EQ(rows.size(), 3u);  // the header and two grids at one size
+  EXPECT_EQ(rows[0],
+            "grid,pixels,steps_per_frame,sim_ms,mesh_ms,caustic_ms,post_ms,i420_ms,frame_ms,frame_p95_ms,over_budget,frames");
+  EXPECT_EQ(rows[1].rfind("32,128,", 0), 0u) << rows[1];
+  EXPECT_GT(fs::file_size(dir_ / "water-48-128.png"), 100u);
+  expect_rejected("bench --water --out " + dir_.string() + " --grids 8", "--grids");
+  expect_rejected("bench --water --out " + dir_.string() + " --seconds 0", "--seconds");
+  expect_rejected("bench --water --perf --out " + dir_.string(), "--water");
+}
+
 TEST_F(Cli, CalibrateWritesWhatRenderThenUses) {
   // A copy of the lens scene in the test folder, so the calibration lands beside it.
   nlohmann::json j = nlohmann::json::parse(std::ifstream(scene("lens")));
