@@ -19,9 +19,8 @@ Mesh water_mesh(const WaveSolver& solver) {
     for (int i = 0; i < n; ++i) {
       mesh.positions.emplace_back(-half + i * dx, -half + j * dx, at(i, j));
       // A wall's ghost mirrors the row inside: the difference across it is zero.
-      const int left = i == 0 ? 1 : i - 1, right = i == n - 1 ? n - 2 : i + 1;
-      const int down = j == 0 ? 1 : j - 1, up = j == n - 1 ? n - 2 : j + 1;
-      const double hx = (at(right, j) - at(left, j)) / (2 * dx), hy = (at(i, up) - at(i, down)) / (2 * dx);
+      const double hx = (at(mirrored(i + 1, n), j) - at(mirrored(i - 1, n), j)) / (2 * dx);
+      const double hy = (at(i, mirrored(j + 1, n)) - at(i, mirrored(j - 1, n))) / (2 * dx);
       mesh.normals.emplace_back(glm::normalize(glm::dvec3(-hx, -hy, 1.0)));
     }
   mesh.triangles.reserve(2 * static_cast<std::size_t>(n - 1) * static_cast<std::size_t>(n - 1));

@@ -96,26 +96,27 @@ void WaveSolver::drop(double x, double y, double strength, double radius) {
   require(std::isfinite(radius) && radius >= dx && radius <= params_.size / 4, "radius",
           "must be from one grid spacing to a quarter of the pool");
   const int n = params_.grid;
-  std::vector<double> dent(now_.size(), 0.0);
-  // The shape falls below 1e-5 of its depth beyond 6 sigma.
+  // The shape falls below 1e-5 of its depth beyond 6 sigma. Added to both
+  // steps: at rest, the drop adds no velocity.
   const int reach = static_cast<int>(std::ceil(6 * radius / dx));
   const int ci = static_cast<int>(std::lround((x + half) / dx)), cj = static_cast<int>(std::lround((y + half) / dx));
-  double sum = 0, weights = 0;
+  double sum = 0;
   for (int j = std::max(0, cj - reach); j <= std::min(n - 1, cj + reach); ++j)
     for (int i = std::max(0, ci - reach); i <= std::min(n - 1, ci + reach); ++i) {
       const double px = -half + i * dx - x, py = -half + j * dx - y;
       const double q = (px * px + py * py) / (2 * radius * radius);
       const double h = -strength * (1 - q) * std::exp(-q);
-      dent[static_cast<std::size_t>(j) * n + i] = h;
+      const std::size_t k = static_cast<std::size_t>(j) * n + i;
+      now_[k] += h;
+      before_[k] += h;
       sum += weight(i, j) * h;
     }
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) weights += weight(i, j);
   // Walls cut the rim: take the remainder off everywhere, keeping the volume.
-  const double mean = sum / weights;
-  for (std::size_t k = 0; k < dent.size(); ++k) {
-    now_[k] += dent[k] - mean;
-    before_[k] += dent[k] - mean;  // at rest: the drop adds no velocity
+  // The trapezoidal weights add up to (n - 1)^2.
+  const double mean = sum / (static_cast<double>(n - 1) * (n - 1));
+  for (std::size_t k = 0; k < now_.size(); ++k) {
+    now_[k] -= mean;
+    before_[k] -= mean;
   }
 }
 
@@ -137,10 +138,10 @@ void WaveSolver::step() {
   for (int j = 0; j < n; ++j) {
     // A wall's ghost row mirrors the row inside it.
     const std::size_t row = static_cast<std::size_t>(j) * n;
-    const std::size_t down = static_cast<std::size_t>(j == 0 ? 1 : j - 1) * n;
-    const std::size_t up = static_cast<std::size_t>(j == n - 1 ? n - 2 : j + 1) * n;
+    const std::size_t down = static_cast<std::size_t>(mirrored(j - 1, n)) * n;
+    const std::size_t up = static_cast<std::size_t>(mirrored(j + 1, n)) * n;
     for (int i = 0; i < n; ++i) {
-      const int left = i == 0 ? 1 : i - 1, right = i == n - 1 ? n - 2 : i + 1;
+      const int left = mirrored(i - 1, n), right = mirrored(i + 1, n);
       const double h = now_[row + i];
       const double laplacian = now_[row + left] + now_[row + right] + now_[down + i] + now_[up + i] - 4 * h;
       next_[row + i] = (2 * h - keep * before_[row + i] + courant2_ * laplacian) * scale;

@@ -33,6 +33,11 @@ struct WaveParams {
 /// root grows linearly), so the bound keeps 1% inside it.
 inline constexpr double kMaxCourant = 0.7;
 
+/// The row or column index `i` of a grid of `n` with the walls' ghosts
+/// mirrored inside (-1 reads 1, n reads n - 2): the one rule behind the
+/// solver's reflecting walls and the surface's slopes at them.
+inline int mirrored(int i, int n) { return i < 0 ? -i : i >= n ? 2 * (n - 1) - i : i; }
+
 /// The grid spacing, metres.
 double spacing(const WaveParams& params);
 /// The largest time step validate() accepts: kMaxCourant dx / c.
