@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "commands.hpp"
 
+#include "caustic/pool.hpp"
 #include "caustic/resample.hpp"
 #include "caustic/screen_follow.hpp"
 
@@ -18,7 +19,7 @@ bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
   try {
     *scene = load_scene(file);
     for (const auto& a : assignments) *scene = apply_merge_patch(*scene, patch_from_assignment(a));
-    *mesh = load_obj(scene->mesh_path());
+    *mesh = water::load_scene_mesh(*scene);
     return true;
   } catch (const SceneError& e) {
     std::cerr << "causticd " << command << ": " << file.string() << ": " << e.what() << "\n";

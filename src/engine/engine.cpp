@@ -51,7 +51,7 @@ struct Engine::Impl {
 Engine::Engine() : impl_(std::make_unique<Impl>()) {}
 Engine::~Engine() = default;
 
-void Engine::set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh) {
+void Engine::set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh, bool moved) {
   if (!mesh) throw EngineError("set_scene needs a mesh");
   validate_scene(scene);
   Placement placement = place_object(scene.object, *mesh);
@@ -80,7 +80,7 @@ void Engine::set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh) {
   s.ray_dirty = s.ray_dirty || new_mesh || new_size || new_hdr || !same_caustic(*s.scene, scene);
   s.post_dirty = s.post_dirty || s.ray_dirty || s.scene->post != scene.post;
   s.prepare_dirty = s.prepare_dirty || s.post_dirty;
-  s.snap_exposure = s.snap_exposure || new_mesh || new_size;
+  s.snap_exposure = s.snap_exposure || (new_mesh && !moved) || new_size;
   s.scene = scene;
   s.mesh = std::move(mesh);
   s.placement = placement;

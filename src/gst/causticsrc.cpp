@@ -133,7 +133,18 @@ static gboolean gst_caustic_src_set_caps(GstBaseSrc* src, GstCaps* caps) {
     s.source.format = caustic::PixelFormat::rgba;
   }
   gst_base_src_set_blocksize(src, static_cast<guint>(GST_VIDEO_INFO_SIZE(&s.info)));
+  s.source.frame_interval = std::chrono::nanoseconds(
+      gst_util_uint64_scale(GST_SECOND, GST_VIDEO_INFO_FPS_D(&s.info), GST_VIDEO_INFO_FPS_N(&s.info)));
   return TRUE;
+}
+
+// Water given with the source moves on where it was; otherwise the scene's
+// starts from its warmed-up surface. Under s.lock.
+static void start_water(State& s) {
+  const caustic::Scene scene = s.params->snapshot().scene;
+  if (!scene.water) s.pool.reset();
+  else if (!s.pool) s.pool = std::make_shared<caustic::water::Pool>(*scene.water);
+  s.source.pool = s.pool;
 }
 
 static gboolean gst_caustic_src_start(GstBaseSrc* src) {
@@ -141,7 +152,10 @@ static gboolean gst_caustic_src_start(GstBaseSrc* src) {
   std::lock_guard lock(s.lock);
   s.frame_index = 0;
   s.first_due = 0;
-  if (s.params && s.meshes) return TRUE;
+  if (s.params && s.meshes) {
+    start_water(s);
+    return TRUE;
+  }
   if (s.scene_path.empty()) {
     GST_ELEMENT_ERROR(src, RESOURCE, NOT_FOUND, ("No scene"), ("set the scene property or call set_source"));
     return FALSE;
@@ -149,11 +163,12 @@ static gboolean gst_caustic_src_start(GstBaseSrc* src) {
   try {
     const caustic::Scene scene = caustic::load_scene(s.scene_path);
     auto meshes = std::make_shared<caustic::MeshLevels>();
-    meshes->source = std::make_shared<const caustic::Mesh>(caustic::load_obj(scene.mesh_path()));
+    meshes->source = std::make_shared<const caustic::Mesh>(caustic::water::load_scene_mesh(scene));
     // Only the mesh as loaded here: a scene naming a coarser level is refused.
     s.params = std::make_shared<caustic::ParamStore>(
         scene, [meshes](const caustic::Scene& candidate) { caustic::check_geometry(candidate, *meshes); });
     s.meshes = std::move(meshes);
+    start_water(s);
   } catch (const std::exception& e) {
     GST_ELEMENT_ERROR(src, RESOURCE, READ, ("Cannot load scene %s", s.scene_path.c_str()), ("%s", e.what()));
     return FALSE;

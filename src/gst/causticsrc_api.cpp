@@ -14,11 +14,13 @@ State* checked_state(GstElement* element) {
 
 }  // namespace
 
-void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const MeshLevels> meshes) {
+void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const MeshLevels> meshes,
+                std::shared_ptr<water::Pool> pool) {
   if (State* s = checked_state(causticsrc)) {
     std::lock_guard lock(s->lock);
     s->params = std::move(params);
     s->meshes = std::move(meshes);
+    s->pool = std::move(pool);
   }
 }
 
@@ -47,6 +49,13 @@ void request_snapshot(GstElement* causticsrc, SnapshotDone done) {
 
 void send_next_frame(GstElement* causticsrc) {
   if (State* s = checked_state(causticsrc)) s->send_next = true;
+}
+
+std::shared_ptr<water::Pool> water_pool(GstElement* causticsrc) {
+  State* s = checked_state(causticsrc);
+  if (!s) return nullptr;
+  std::lock_guard lock(s->lock);
+  return s->pool;
 }
 
 std::shared_ptr<ParamStore> param_store(GstElement* causticsrc) {

@@ -25,6 +25,7 @@ struct State {
   GstClockTime still_interval = 0;  // re-send an unchanged picture this often; 0: every frame
   std::shared_ptr<caustic::ParamStore> params;
   std::shared_ptr<const caustic::MeshLevels> meshes;
+  std::shared_ptr<caustic::water::Pool> pool;  // the stream's water: source.pool, for other threads
   std::function<void()> on_overrun;  // set before streaming
   // Streaming thread only (the worker owns `source` while it runs):
   caustic::gst::FrameSource source;

@@ -17,12 +17,13 @@ gboolean meta_init(GstMeta* meta, gpointer, GstBuffer*) {
   auto* m = reinterpret_cast<CausticFrameMeta*>(meta);
   m->version = 0;
   m->level = 0;
+  m->water_step = 0;
   return TRUE;
 }
 
 gboolean meta_transform(GstBuffer* dest, GstMeta* meta, GstBuffer*, GQuark, gpointer) {
   const auto* m = reinterpret_cast<CausticFrameMeta*>(meta);
-  return caustic_buffer_set_frame_meta(dest, m->version, m->level) != nullptr;
+  return caustic_buffer_set_frame_meta(dest, m->version, m->level, m->water_step) != nullptr;
 }
 
 }  // namespace
@@ -37,13 +38,15 @@ const GstMetaInfo* caustic_frame_meta_get_info() {
   return info;
 }
 
-CausticFrameMeta* caustic_buffer_set_frame_meta(GstBuffer* buffer, std::uint64_t version, std::uint32_t level) {
+CausticFrameMeta* caustic_buffer_set_frame_meta(GstBuffer* buffer, std::uint64_t version, std::uint32_t level,
+                                                std::uint64_t water_step) {
   auto* m = caustic_buffer_get_frame_meta(buffer);
   if (!m)
     m = reinterpret_cast<CausticFrameMeta*>(gst_buffer_add_meta(buffer, caustic_frame_meta_get_info(), nullptr));
   if (m) {
     m->version = version;
     m->level = level;
+    m->water_step = water_step;
   }
   return m;
 }

@@ -11,8 +11,8 @@ namespace caustic::gst {
 
 namespace {
 
-// Read-back tags carry the level beside the version.
-std::uint64_t tag_of(std::uint64_t version, std::uint32_t level) { return version << 4 | level; }
+// Read-backs on the way, remembered: more than the engine keeps.
+constexpr std::size_t kInFlightKept = 8;
 
 // The preview's mesh: the configured level when the scene's is finer.
 std::shared_ptr<const Mesh> preview_mesh(const MeshLevels& meshes, const Scene& scene, int level) {
@@ -51,6 +51,21 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     source.seen = snap.version;
     source.seen_scene = std::move(snap.scene);
   }
+  // Water moves with the clock, a frame interval at a time; a drop falls
+  // at the next advance even while the water is paused.
+  if (source.pool && source.seen_scene.water) {
+    if (source.water_clock == std::chrono::steady_clock::time_point{}) source.water_clock = now;
+    if (now - source.water_clock >= source.frame_interval || !source.picture) {
+      try {
+        source.water_dirty =
+            source.pool->advance(*source.seen_scene.water, std::chrono::duration<double>(now - source.water_clock).count()) ||
+            source.water_dirty;
+      } catch (const SceneError& e) {
+        GST_CAT_WARNING(caustic_src_debug, "water not advanced: %s", e.what());
+      }
+      source.water_clock = now;
+    }
+  }
   // The first picture is a full one; after that, recent changes mean motion.
   const bool moving = source.progressive.enabled && source.picture && !source.isolated &&
                       now - source.changed_at < source.progressive.settle;
@@ -58,7 +73,7 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
   // Automatic exposure easing towards a new metering redraws the tone map
   // each frame until it settles (the version stays the same).
   const bool settling = source.engine && source.engine->dirty();
-  const bool changed = source.seen != source.rendered || want != source.rendered_level || settling;
+  const bool changed = source.seen != source.rendered || want != source.rendered_level || settling || source.water_dirty;
   if (!changed && !source.readback_pending && source.picture) return gst_buffer_ref(source.picture);
   if (!source.context) {
     source.context = std::make_unique<GlContext>(egl_platform_from_environment());
@@ -77,13 +92,22 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     source.rendered_level = want;
     try {
       source.engine->set_preview_divisor(want == preview ? source.progressive.divisor : 1);
-      source.engine->set_scene(scene, want == preview ? preview_mesh(meshes, scene, source.progressive.mesh)
-                                                      : meshes.at(scene.render.mesh_resolution));
+      // Water's surface is its own: a preview draws it at the smaller size only.
+      const bool water = source.pool && scene.water;
+      source.engine->set_scene(scene,
+                               water             ? source.pool->mesh()
+                               : want == preview ? preview_mesh(meshes, scene, source.progressive.mesh)
+                                                 : meshes.at(scene.render.mesh_resolution),
+                               water);
+      source.water_dirty = false;
       const std::uint64_t before = source.engine->ray_passes();
       source.engine->render();
       source.renders += source.engine->ray_passes() - before;
       if (source.observer) source.observer(source.engine->stats(), version);
-      source.engine->start_readback(tag_of(version, want), source.format);
+      const std::uint64_t tag = ++source.readbacks;
+      source.in_flight.push_back({tag, version, water ? source.pool->step() : 0, want});
+      if (source.in_flight.size() > kInFlightKept) source.in_flight.pop_front();
+      source.engine->start_readback(tag, source.format);
       source.readback_pending = true;
     } catch (const SceneError& e) {
       // Keep showing the last good picture; the store's own checks make this rare.
@@ -113,10 +137,14 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
       gst_buffer_unref(buffer);
       return gst_buffer_ref(source.picture);
     }
-    const std::uint64_t version = tag >> 4;
-    const auto level = static_cast<std::uint32_t>(tag & 0xf);
+    FrameSource::InFlight shown{tag, source.rendered, 0, source.rendered_level};
+    while (!source.in_flight.empty() && source.in_flight.front().tag <= tag) {
+      if (source.in_flight.front().tag == tag) shown = source.in_flight.front();
+      source.in_flight.pop_front();
+    }
+    const std::uint64_t version = shown.version;
     source.readback_pending = false;
-    caustic_buffer_set_frame_meta(buffer, version, level);
+    caustic_buffer_set_frame_meta(buffer, version, shown.level, shown.water_step);
     if (source.picture) gst_buffer_unref(source.picture);
     source.picture = buffer;
     source.picture_version = version;
@@ -165,6 +193,9 @@ void release(FrameSource& source) {
   source.picture_version = 0;
   source.rendered_level = full_quality;
   source.readback_pending = false;
+  source.in_flight.clear();
+  source.water_clock = {};
+  source.water_dirty = false;
 }
 
 }  // namespace caustic::gst

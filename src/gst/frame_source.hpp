@@ -7,11 +7,13 @@
 #include "caustic/gl_context.hpp"
 #include "caustic/mesh_levels.hpp"
 #include "caustic/param_store.hpp"
+#include "caustic/pool.hpp"
 
 #include <gst/gst.h>
 
 #include <atomic>
 #include <chrono>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -59,6 +61,19 @@ struct FrameSource {
   std::chrono::steady_clock::time_point changed_at;  // when the caustic last changed (not post-processing)
   bool isolated = true;          // that change came after a still spell: no preview for it
   bool readback_pending = false;
+  /// What each read-back on its way shows, by its tag (a render count).
+  struct InFlight {
+    std::uint64_t tag, version, water_step;
+    std::uint32_t level;
+  };
+  std::deque<InFlight> in_flight;
+  std::uint64_t readbacks = 0;
+  /// A scene with water: its surface, advanced by the time between frames
+  /// and drawn anew each time it moves. Set before streaming.
+  std::shared_ptr<water::Pool> pool;
+  std::chrono::nanoseconds frame_interval{std::chrono::nanoseconds(1'000'000'000) / 30};  // as negotiated
+  std::chrono::steady_clock::time_point water_clock{};  // when the water last advanced
+  bool water_dirty = false;                             // moved since last drawn
   std::atomic<std::uint64_t> renders{0};  // caustic passes so far (read from any thread)
   std::atomic<std::uint64_t> picture_version{0};  // version of the newest finished picture, any thread
   std::function<void(const FrameStats&, std::uint64_t)> observer;  // after each render

@@ -6,6 +6,8 @@
 
 #include "caustic/json_text.hpp"
 #include "glass_json.hpp"
+#include "json_reader.hpp"
+#include "water_json.hpp"
 #include "caustic/screen_follow.hpp"
 
 #include <nlohmann/json.hpp>
@@ -20,11 +22,12 @@
 namespace caustic {
 namespace {
 
+using detail::join;
+using detail::Names;
+using detail::Reader;
 using nlohmann::json;
 
 // One table per set of names: parsing and writing both read it.
-template <typename Enum>
-using Names = std::span<const std::pair<const char*, Enum>>;
 constexpr std::pair<const char*, Material> kMaterials[] = {{"refractive", Material::refractive},
                                                            {"reflective", Material::reflective}};
 constexpr std::pair<const char*, Shape> kShapes[] = {
@@ -44,124 +47,6 @@ constexpr std::pair<const char*, optics::Illuminant> kSpectra[] = {{"d65", optic
                                                                    {"blackbody", optics::Illuminant::blackbody},
                                                                    {"led", optics::Illuminant::led}};
 
-
-std::string join(const std::string& prefix, const std::string& key) {
-  return prefix.empty() ? key : prefix + "." + key;
-}
-
-// Walks one JSON object, handing out typed values and remembering which keys
-// were read so that anything left over is reported as unknown.
-class Reader {
- public:
-  Reader(const json& j, std::string path) : j_(j), path_(std::move(path)) {
-    if (!j_.is_object()) throw SceneError(path_, "must be a JSON object");
-  }
-
-  bool has(const std::string& key) const { return j_.contains(key) && !j_.at(key).is_null(); }
-
-  const json* get(const std::string& key) {
-    seen_.insert(key);
-    auto it = j_.find(key);
-    return it == j_.end() || it->is_null() ? nullptr : &*it;
-  }
-
-  std::string key(const std::string& k) const { return join(path_, k); }
-
-  double number(const std::string& k, double fallback, double lo, double hi, bool open_lo = false) {
-    const json* v = get(k);
-    if (!v) return fallback;
-    if (!v->is_number()) throw SceneError(key(k), "must be a number");
-    const double x = v->get<double>();
-    if (!std::isfinite(x) || x < lo || x > hi || (open_lo && x == lo)) {
-      std::ostringstream msg;
-      msg << "must be a finite number in " << (open_lo ? "(" : "[") << lo << ", " << hi << "], got " << x;
-      throw SceneError(key(k), msg.str());
-    }
-    return x;
-  }
-
-  std::optional<double> optional_number(const std::string& k, double lo, double hi, bool open_lo = false) {
-    if (!has(k)) {
-      get(k);
-      return std::nullopt;
-    }
-    return number(k, 0.0, lo, hi, open_lo);
-  }
-
-  int integer(const std::string& k, int fallback, int lo, int hi) {
-    const json* v = get(k);
-    if (!v) return fallback;
-    if (!v->is_number_integer()) throw SceneError(key(k), "must be an integer");
-    const auto x = v->get<long long>();
-    if (x < lo || x > hi)
-      throw SceneError(key(k), "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
-                                   std::to_string(x));
-    return static_cast<int>(x);
-  }
-
-  bool boolean(const std::string& k, bool fallback) {
-    const json* v = get(k);
-    if (!v) return fallback;
-    if (!v->is_boolean()) throw SceneError(key(k), "must be true or false");
-    return v->get<bool>();
-  }
-
-  std::string string(const std::string& k, const std::string& fallback, std::size_t max_len = 4096) {
-    const json* v = get(k);
-    if (!v) return fallback;
-    if (!v->is_string()) throw SceneError(key(k), "must be a string");
-    auto s = v->get<std::string>();
-    if (s.size() > max_len) throw SceneError(key(k), "is longer than " + std::to_string(max_len) + " characters");
-    return s;
-  }
-
-  template <typename Enum>
-  Enum choice(const std::string& k, Enum fallback, Names<Enum> options) {
-    const json* v = get(k);
-    if (!v) return fallback;
-    std::string allowed;
-    for (const auto& [name, value] : options) {
-      if (v->is_string() && v->get<std::string>() == name) return value;
-      allowed += (allowed.empty() ? "\"" : ", \"") + std::string(name) + "\"";
-    }
-    throw SceneError(key(k), "must be one of " + allowed);
-  }
-
-  glm::dvec3 vec3(const std::string& k, glm::dvec3 fallback, bool unit = false) {
-    const json* v = get(k);
-    if (!v) return fallback;
-    if (!v->is_array() || v->size() != 3) throw SceneError(key(k), "must be an array of 3 numbers");
-    glm::dvec3 out;
-    for (int i = 0; i < 3; ++i) {
-      const json& e = (*v)[i];
-      if (!e.is_number() || !std::isfinite(e.get<double>()) || std::abs(e.get<double>()) > kMaxCoordinate)
-        throw SceneError(key(k), "must hold 3 finite numbers of magnitude at most 1e6");
-      out[i] = e.get<double>();
-    }
-    if (unit) {
-      const double len = glm::length(out);
-      if (!(len > 1e-9)) throw SceneError(key(k), "must not be the zero vector");
-      out /= len;
-    }
-    return out;
-  }
-
-  Reader child(const std::string& k) {
-    static const json empty = json::object();
-    const json* v = get(k);
-    return Reader(v ? *v : empty, key(k));
-  }
-
-  void reject_unknown() const {
-    for (const auto& [k, _] : j_.items())
-      if (!seen_.count(k)) throw SceneError(key(printable_name(k)), "unknown key");
-  }
-
- private:
-  const json& j_;
-  std::string path_;
-  std::set<std::string> seen_;
-};
 
 ObjectParams read_object(Reader r) {
   ObjectParams o;
@@ -285,11 +170,21 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir) {
   s.base_dir = base_dir;
   s.name = r.string("name", "", 200);
   s.description = r.string("description", "", 2000);
-  if (!r.has("mesh")) throw SceneError("mesh", "is required (path of the caustic face OBJ)");
+  // Water makes its own surface: a mesh it names is ignored (with a warning, scene_warnings.hpp).
+  if (r.get("water")) s.water = detail::read_water(r.child("water"));
+  if (!r.has("mesh") && !s.water) throw SceneError("mesh", "is required (path of the caustic face OBJ)");
   s.mesh = r.string("mesh", "");
-  if (s.mesh.empty()) throw SceneError("mesh", "must not be empty");
+  if (s.mesh.empty() && !s.water) throw SceneError("mesh", "must not be empty");
   s.focus_distance = r.optional_number("focus_distance", 0.0, kMaxCoordinate, true);
   s.object = read_object(r.child("object"));
+  if (s.water) {
+    const json* object = r.get("object");
+    if (object && object->contains("shape") && s.object.shape != Shape::surface)
+      throw SceneError("object.shape", "water is a surface: \"surface\" or left out");
+    s.object.shape = Shape::surface;
+    // Fitting centres the mesh's box, which the waves move: the pool would bob.
+    if (s.object.fit_size) throw SceneError("object.fit_size", "water's size is water.size: leave fit_size out");
+  }
   s.light = read_light(r.child("light"));
   s.screen = read_screen(r.child("screen"), s.focus_distance, s.object, s.light);
   if (const json* list = r.get("receivers")) {
@@ -355,6 +250,7 @@ json scene_to_json(const Scene& s) {
         {"mesh_resolution", s.render.mesh_resolution},
         {"wavelengths", s.render.wavelengths},
         {"light_grid", s.render.light_grid}}},
+      {"water", s.water ? detail::water_to_json(*s.water) : json(nullptr)},
       {"post",
        {{"exposure_mode", name_of(s.post.exposure_mode, Names<ExposureMode>(kExposureModes))},
         {"exposure", s.post.exposure},

@@ -73,6 +73,9 @@ std::vector<std::pair<std::string, std::string>> shape_overrides(const nlohmann:
   if (scene.object.shape != Shape::slab && writes(written, "object", "flat_face_offset"))
     out.emplace_back("object.flat_face_offset", "object.flat_face_offset places the flat face of a slab; a solid "
                                                 "or a surface (object.shape) has none, so the value is ignored");
+  if (scene.water && written.is_object() && written.contains("mesh") && !written["mesh"].is_null())
+    out.emplace_back("mesh", "mesh names a face to load; with a water section the solver makes the surface, so the "
+                             "file is not read");
   const auto grid = written_number(written, "render", "light_grid");
   if (!solid && grid && *grid != RenderParams{}.light_grid)
     out.emplace_back("render.light_grid", "render.light_grid sizes the light's grid for a solid (object.shape "

@@ -41,7 +41,7 @@ void install_frame_probes(GstElement* pipeline, Metrics* metrics, FrameTold tell
   struct EncodeClock {
     std::mutex lock;
     std::map<GstClockTime, gint64> entered;           // running time -> monotonic time
-    std::map<GstClockTime, std::pair<std::uint64_t, std::uint32_t>> versions;  // running time -> version, level
+    std::map<GstClockTime, FrameFacts> versions;  // running time -> what the frame shows
     Metrics* metrics;
   };
   auto clock = std::make_shared<EncodeClock>();
@@ -99,7 +99,7 @@ void install_frame_probes(GstElement* pipeline, Metrics* metrics, FrameTold tell
         GstBuffer* buffer = GST_PAD_PROBE_INFO_BUFFER(info);
         if (auto* meta = caustic_buffer_get_frame_meta(buffer)) {
           std::lock_guard lock(c.lock);
-          remember(c.versions, running_time(pad, buffer), std::pair{meta->version, meta->level});
+          remember(c.versions, running_time(pad, buffer), FrameFacts{meta->version, meta->level, meta->water_step});
         }
         return GST_PAD_PROBE_OK;
       },
@@ -120,14 +120,14 @@ void install_frame_probes(GstElement* pipeline, Metrics* metrics, FrameTold tell
         if (t->any && timestamp == t->last_timestamp) return GST_PAD_PROBE_OK;
         t->any = true;
         t->last_timestamp = timestamp;
-        std::pair<std::uint64_t, std::uint32_t> frame;
+        FrameFacts frame;
         {
           std::lock_guard lock(t->clock->lock);
           auto it = t->clock->versions.find(running_time(pad, buffer));
           if (it == t->clock->versions.end()) return GST_PAD_PROBE_OK;
           frame = it->second;
         }
-        t->tell(timestamp, frame.first, frame.second);
+        t->tell(timestamp, frame);
         return GST_PAD_PROBE_OK;
       },
       new FrameTeller{clock, std::move(tell)}, [](gpointer d) { delete static_cast<FrameTeller*>(d); });

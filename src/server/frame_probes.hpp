@@ -12,9 +12,15 @@
 
 namespace caustic::server {
 
-/// Called on a streaming thread once per new RTP timestamp, with the
-/// parameter version and fidelity level (0 full, 1 preview) of its frame.
-using FrameTold = std::function<void(guint32 rtp_timestamp, std::uint64_t version, std::uint32_t level)>;
+/// What a frame shows (its CausticFrameMeta).
+struct FrameFacts {
+  std::uint64_t version = 0;     ///< parameter version
+  std::uint32_t level = 0;       ///< fidelity level: 0 full, 1 preview
+  std::uint64_t water_step = 0;  ///< the water's solver step (0: no water)
+};
+
+/// Called on a streaming thread once per new RTP timestamp, with what its frame shows.
+using FrameTold = std::function<void(guint32 rtp_timestamp, const FrameFacts& frame)>;
 
 /// Needs elements named "encoder" and "pay" in `pipeline`.
 void install_frame_probes(GstElement* pipeline, Metrics* metrics, FrameTold tell);

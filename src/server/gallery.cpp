@@ -5,6 +5,7 @@
 #include "caustic/gl_context.hpp"
 #include "caustic/image_io.hpp"
 #include "caustic/json_text.hpp"
+#include "caustic/pool.hpp"
 #include "caustic/resample.hpp"
 #include "caustic/screen_follow.hpp"
 #include "caustic/spectral.hpp"
@@ -59,7 +60,7 @@ std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, cons
   auto entry = std::make_shared<GalleryEntry>();
   entry->id = id;
   entry->scene = load_scene(file);
-  entry->mesh = mesh ? std::move(mesh) : std::make_shared<const Mesh>(load_obj(entry->scene.mesh_path()));
+  entry->mesh = mesh ? std::move(mesh) : std::make_shared<const Mesh>(water::load_scene_mesh(entry->scene));
   entry->levels = std::make_shared<const MeshLevels>(
       build_mesh_levels(entry->mesh, entry->scene.object.flat_face_normal, coarser_resolutions(*entry->mesh, entry->scene.object.shape)));
   // Calibrated as rendered: with the screen where following puts it.

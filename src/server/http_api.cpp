@@ -19,11 +19,13 @@ namespace {
 // Keys a session's viewer may not patch: the mesh, its flat face and the
 // gallery text belong to the scene (moving the flat face and watching which
 // offsets are refused would map the hidden surface; the shape says what the
-// mesh is), the size to the negotiated stream.
+// mesh is), the size to the negotiated stream, the water's grid and size to
+// the surface its solver moves (and turning water on or off changes both).
 const char* const kFixedKeys[][2] = {{"mesh", nullptr},           {"name", nullptr},
                                      {"description", nullptr},    {"render", "width"},
                                      {"render", "height"},        {"object", "flat_face_normal"},
-                                     {"object", "flat_face_offset"}, {"object", "shape"}};
+                                     {"object", "flat_face_offset"}, {"object", "shape"},
+                                     {"water", "grid"},           {"water", "size"}};
 
 struct Route {
   std::string session;  // id, when the path names one
@@ -144,6 +146,7 @@ void session_route(ServerState& s, SoupServerMessage* msg, const Route& route) {
   if (session.broadcast()) session.alive_now();
   if (route.rest == "/viewers")
     return method == "POST" ? broadcast_viewers(s, msg, session) : not_allowed(s, msg, "POST");
+  if (route.rest == "/drops") return method == "POST" ? post_drop(s, msg, session) : not_allowed(s, msg, "POST");
   if (route.rest != "/params") {
     if (method != "GET" && method != "HEAD") return not_allowed(s, msg, "GET, HEAD");
     return session_frame(s, msg, session, route.rest == "/frame.exr");
@@ -168,7 +171,7 @@ bool within_rate(ServerState& s, SoupServerMessage* msg) {
 void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path) {
   const std::string method = method_of(msg);
   static const std::regex session_path(
-      "^/api/v1/sessions/([0-9a-f]{32})(/params|/frame\\.png|/frame\\.exr|/viewers)?$");
+      "^/api/v1/sessions/([0-9a-f]{32})(/params|/frame\\.png|/frame\\.exr|/viewers|/drops)?$");
   static const std::regex scene_path("^/api/v1/scenes/([a-z0-9_-]{1,64})$");
   static const std::regex thumbnail_path("^/api/v1/scenes/([a-z0-9_-]{1,64})/thumbnail\\.png$");
   static const std::regex signal_path("^/api/v1/sessions/([0-9a-f]{32})/signal$");

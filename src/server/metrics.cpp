@@ -42,6 +42,7 @@ std::string Metrics::render(std::size_t sessions, std::size_t connections) const
           render_overruns);
   counter("causticd_frames_sent_total", "Encoded frames handed to the RTP payloader.", frames_sent);
   counter("causticd_parameter_updates_total", "Accepted parameter patches.", parameter_updates);
+  counter("causticd_water_drops_total", "Drops accepted into sessions' water.", water_drops);
   counter("causticd_http_errors_total", "HTTP answers with a 4xx or 5xx status.", http_errors);
   counter("causticd_pipeline_errors_total", "Errors posted by session pipelines.", pipeline_errors);
   counter("causticd_connections_accepted_total", "Client connections admitted.", connections_accepted);

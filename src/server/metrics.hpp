@@ -32,6 +32,7 @@ struct Metrics {
   std::atomic<std::uint64_t> render_overruns{0};  ///< frames re-sent because a render outlasted its interval
   std::atomic<std::uint64_t> frames_sent{0};      ///< encoded frames handed to the payloader
   std::atomic<std::uint64_t> parameter_updates{0};
+  std::atomic<std::uint64_t> water_drops{0};
   std::atomic<std::uint64_t> http_errors{0};      ///< 4xx and 5xx answers
   std::atomic<std::uint64_t> pipeline_errors{0};
   std::atomic<std::uint64_t> connections_accepted{0};

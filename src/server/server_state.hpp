@@ -55,6 +55,8 @@ struct ServerState {
 bool route_designs(ServerState& s, SoupServerMessage* msg, const std::string& path);
 /// GET /api/v1/sessions/{id}/frame.png or .exr (`hdr`), answered later (frame_api.cpp).
 void session_frame(ServerState& s, SoupServerMessage* msg, Session& session, bool hdr);
+/// POST /api/v1/sessions/{id}/drops (water_api.cpp).
+void post_drop(ServerState& s, SoupServerMessage* msg, Session& session);
 /// Parses a JSON object body of one of `types`, answering 415/413/400
 /// itself on failure (session_create.cpp).
 bool read_json_body(ServerState& s, SoupServerMessage* msg, std::initializer_list<const char*> types,

@@ -63,6 +63,8 @@ Session::Session(std::string id, std::shared_ptr<const GalleryEntry> scene, Sess
       initial,
       [entry](const Scene& candidate) { check_geometry_public(candidate, *entry->levels); },
       [entry](Scene candidate) { return resolve_for(*entry, std::move(candidate)); });
+  // The water outlives a pipeline: a reloaded page finds it where it was.
+  if (initial.water) pool_ = std::make_shared<water::Pool>(*initial.water);
 }
 
 std::shared_ptr<Session> Session::start(const std::string& id, std::shared_ptr<const GalleryEntry> scene,
@@ -132,7 +134,7 @@ void Session::build() {
     throw std::runtime_error("cannot build the " + options_.codec + " pipeline: " + message);
   }
   GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline_), "src");
-  gst::set_source(src, params_, scene_->levels);
+  gst::set_source(src, params_, scene_->levels, pool_);
   g_object_set(src, "progressive", c.settle_ms > 0, "settle-ms", static_cast<guint>(c.settle_ms), "still-interval-ms",
                static_cast<guint>(c.still_interval_ms), nullptr);
   Metrics* metrics = options_.metrics;
@@ -145,8 +147,8 @@ void Session::build() {
 
   Ref self_ref = weak_from_this();
   pass_key_unit_requests(pipeline_);
-  install_frame_probes(pipeline_, metrics, [self_ref](guint32 rtp_timestamp, std::uint64_t version, std::uint32_t level) {
-    if (auto s = self_ref.lock()) s->tell_frame(rtp_timestamp, version, level);
+  install_frame_probes(pipeline_, metrics, [self_ref](guint32 rtp_timestamp, const FrameFacts& frame) {
+    if (auto s = self_ref.lock()) s->tell_frame(rtp_timestamp, frame);
   });
 
   if (options_.broadcast) {
@@ -192,20 +194,24 @@ std::optional<std::chrono::steady_clock::time_point> Session::render_heartbeat()
   return beat;
 }
 
-void Session::tell_frame(guint32 rtp_timestamp, std::uint64_t version, std::uint32_t level) {
+void Session::tell_frame(guint32 rtp_timestamp, const FrameFacts& frame) {
+  nlohmann::json told{{"rtp_timestamp", rtp_timestamp}, {"version", frame.version}, {"level", frame.level}};
+  // The surface this frame's caustic came from, for the viewer to draw.
+  if (pool_)
+    if (const auto proxy = pool_->proxy(frame.water_step); !proxy.heights.empty()) told["water"] = water_message(proxy);
   if (frames_out_) {
-    frames_out_->send(nlohmann::json{{"rtp_timestamp", rtp_timestamp}, {"version", version}, {"level", level}}.dump());
+    frames_out_->send(told.dump());
     // Viewers draw the room from what places it (screen, light, the
     // object's pose), in a message of its own under one datagram: with a
     // new version's first frame, and each second for viewers who join later.
     const auto now = std::chrono::steady_clock::now();
-    if (version != params_told_ || now - params_told_at_ >= std::chrono::seconds(1)) {
+    if (frame.version != params_told_ || now - params_told_at_ >= std::chrono::seconds(1)) {
       const ParamStore::Snapshot snap = params_->snapshot();
       const nlohmann::json scene = scene_to_json(snap.scene);
       nlohmann::json room = {{"light", scene.at("light")}, {"screen", scene.at("screen")}, {"object", nlohmann::json::object()}};
       for (const char* key : {"position", "rotation_deg", "ior"}) room["object"][key] = scene.at("object").at(key);
       frames_out_->send(nlohmann::json{{"params", room}, {"version", snap.version}}.dump());
-      params_told_ = version;
+      params_told_ = frame.version;
       params_told_at_ = now;
     }
     return;
@@ -215,9 +221,7 @@ void Session::tell_frame(guint32 rtp_timestamp, std::uint64_t version, std::uint
   GstWebRTCDataChannelState state;
   g_object_get(channel_, "ready-state", &state, nullptr);
   if (state != GST_WEBRTC_DATA_CHANNEL_STATE_OPEN) return;
-  const std::string text =
-      nlohmann::json{{"rtp_timestamp", rtp_timestamp}, {"version", version}, {"level", level}}.dump();
-  gst_webrtc_data_channel_send_string(channel_, text.c_str());
+  gst_webrtc_data_channel_send_string(channel_, told.dump().c_str());
 }
 
 void Session::alive_now() {

@@ -7,7 +7,9 @@
 
 #include "caustic/image.hpp"
 #include "caustic/param_store.hpp"
+#include "caustic/pool.hpp"
 #include "caustic/server/config.hpp"
+#include "frame_probes.hpp"
 #include "gallery.hpp"
 #include "log.hpp"
 #include "metrics.hpp"
@@ -102,8 +104,11 @@ class Session : public std::enable_shared_from_this<Session> {
   std::optional<std::chrono::steady_clock::time_point> render_heartbeat() const;
 
   /// Sends {"rtp_timestamp", "version", "level"} on the "frames" data
-  /// channel (any thread; dropped while the channel is not open).
-  void tell_frame(guint32 rtp_timestamp, std::uint64_t version, std::uint32_t level);
+  /// channel, with "water" (water_message()) for a scene with water (any
+  /// thread; dropped while the channel is not open).
+  void tell_frame(guint32 rtp_timestamp, const FrameFacts& frame);
+  /// The session's water (null for a scene without): drops go here.
+  water::Pool* water() const { return pool_.get(); }
 
   /// The picture the session last rendered and its HDR image, handed to
   /// `done` on the main loop's thread (null pointers when the session has
@@ -130,6 +135,7 @@ class Session : public std::enable_shared_from_this<Session> {
   std::shared_ptr<const GalleryEntry> scene_;
   SessionOptions options_;
   std::shared_ptr<ParamStore> params_;
+  std::shared_ptr<water::Pool> pool_;
   GstElement* pipeline_ = nullptr;
   GstElement* webrtc_ = nullptr;
   GMainContext* context_ = nullptr;
@@ -148,6 +154,10 @@ class Session : public std::enable_shared_from_this<Session> {
   std::uint64_t params_told_ = 0;
   std::chrono::steady_clock::time_point params_told_at_;
 };
+
+/// A frame's water surface as the viewer reads it: {"step", "drops", "n",
+/// "unit", "heights"}, the heights little-endian int16 in base64.
+nlohmann::json water_message(const water::Proxy& proxy);
 
 /// 128 random bits as 32 hex digits (from the system's CSPRNG).
 std::string random_hex();

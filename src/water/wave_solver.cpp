@@ -11,10 +11,6 @@
 namespace caustic::water {
 namespace {
 
-// Rain is this many drops a second at most: a step then meets a few, not a
-// loop without end.
-constexpr double kMaxRainRate = 200.0;
-
 std::string text(double v) {
   std::ostringstream s;
   s.precision(6);
@@ -43,38 +39,9 @@ double wait(std::uint64_t& state, double rate) { return -std::log1p(-uniform(sta
 
 }  // namespace
 
-double spacing(const WaveParams& p) { return p.size / (p.grid - 1); }
-
-double max_time_step(const WaveParams& p) { return kMaxCourant * spacing(p) / p.wave_speed; }
-
-void validate(const WaveParams& p) {
-  require(p.grid >= 16 && p.grid <= 512, "water.grid", "must be 16 to 512 vertices a side");
-  require(std::isfinite(p.size) && p.size >= 0.05 && p.size <= 100, "water.size", "must be 0.05 to 100 m");
-  require(std::isfinite(p.wave_speed) && p.wave_speed > 0 && p.wave_speed <= 100, "water.wave_speed",
-          "must be above 0 and at most 100 m/s");
-  require(std::isfinite(p.damping) && p.damping >= 0 && p.damping <= 100, "water.damping",
-          "must be 0 to 100 per second");
-  require(std::isfinite(p.time_step) && p.time_step > 0, "water.time_step", "must be a positive number of seconds");
-  require(p.time_step <= max_time_step(p), "water.time_step",
-          "must be at most " + text(max_time_step(p)) + " s for this grid and wave speed (Courant number " +
-              text(kMaxCourant) + "); the scheme is unstable beyond it");
-  require(std::isfinite(p.rain_rate) && p.rain_rate >= 0 && p.rain_rate <= kMaxRainRate, "water.rain_rate",
-          "must be 0 to " + text(kMaxRainRate) + " drops per second");
-  require(std::isfinite(p.rain_strength) && std::abs(p.rain_strength) <= 0.05 * p.size, "water.rain_strength",
-          "must be at most 5% of the pool's size in magnitude");
-  // Only rain uses it: a grid too coarse for the default drop matters only when it rains.
-  require(std::isfinite(p.drop_radius) && p.drop_radius <= p.size / 4 &&
-              (p.rain_rate == 0 || p.drop_radius >= spacing(p)),
-          "water.drop_radius",
-          "must be at most a quarter of the pool and, when it rains, at least one grid spacing (" +
-              text(spacing(p)) + " m)");
-}
-
 WaveSolver::WaveSolver(const WaveParams& params) : params_(params), rng_(params.seed) {
   validate(params_);
-  const double courant = params_.wave_speed * params_.time_step / spacing(params_);
-  courant2_ = courant * courant;
-  a_ = 0.5 * params_.damping * params_.time_step;
+  derive();
   const auto cells = static_cast<std::size_t>(params_.grid) * static_cast<std::size_t>(params_.grid);
   before_.assign(cells, 0.0);
   now_.assign(cells, 0.0);
@@ -82,19 +49,48 @@ WaveSolver::WaveSolver(const WaveParams& params) : params_(params), rng_(params.
   if (params_.rain_rate > 0) next_rain_ = wait(rng_, params_.rain_rate);
 }
 
+void WaveSolver::derive() {
+  dt_ = step_seconds(params_);
+  const double courant = params_.wave_speed * dt_ / spacing(params_);
+  courant2_ = courant * courant;
+  a_ = 0.5 * params_.damping * dt_;
+}
+
+void WaveSolver::retune(const WaveParams& params) {
+  validate(params);
+  require(params.grid == params_.grid, "water.grid", "cannot change while the water moves");
+  require(params.size == params_.size, "water.size", "cannot change while the water moves");
+  const double before = dt_;
+  const bool new_rain = params.rain_rate != params_.rain_rate || params.seed != params_.seed;
+  params_ = params;
+  derive();
+  // The previous step sits one new step back along the same velocity.
+  if (dt_ != before)
+    for (std::size_t k = 0; k < now_.size(); ++k) before_[k] = now_[k] - (now_[k] - before_[k]) * (dt_ / before);
+  if (new_rain) {
+    rng_ = params_.seed ^ steps_;
+    next_rain_ = params_.rain_rate > 0 ? time_ + wait(rng_, params_.rain_rate) : 0;
+  }
+}
+
 double WaveSolver::weight(int i, int j) const {
   const int last = params_.grid - 1;
   return (i == 0 || i == last ? 0.5 : 1.0) * (j == 0 || j == last ? 0.5 : 1.0);
 }
 
-void WaveSolver::drop(double x, double y, double strength, double radius) {
-  const double half = params_.size / 2, dx = spacing(params_);
+void check_drop(const WaveParams& p, double x, double y, double strength, double radius) {
+  const double half = p.size / 2;
   require(std::isfinite(x) && std::abs(x) <= half, "x", "must lie in the pool, within " + text(half) + " m of its centre");
   require(std::isfinite(y) && std::abs(y) <= half, "y", "must lie in the pool, within " + text(half) + " m of its centre");
-  require(std::isfinite(strength) && std::abs(strength) <= 0.05 * params_.size, "strength",
+  require(std::isfinite(strength) && std::abs(strength) <= 0.05 * p.size, "strength",
           "must be at most 5% of the pool's size in magnitude");
-  require(std::isfinite(radius) && radius >= dx && radius <= params_.size / 4, "radius",
-          "must be from one grid spacing to a quarter of the pool");
+  require(std::isfinite(radius) && radius >= spacing(p) && radius <= p.size / 4, "radius",
+          "must be from one grid spacing (" + text(spacing(p)) + " m) to a quarter of the pool");
+}
+
+void WaveSolver::drop(double x, double y, double strength, double radius) {
+  check_drop(params_, x, y, strength, radius);
+  const double half = params_.size / 2, dx = spacing(params_);
   const int n = params_.grid;
   // The shape falls below 1e-5 of its depth beyond 6 sigma. Added to both
   // steps: at rest, the drop adds no velocity.
@@ -150,11 +146,12 @@ void WaveSolver::step() {
   std::swap(before_, now_);
   std::swap(now_, next_);
   ++steps_;
+  time_ += dt_;
 }
 
 double WaveSolver::energy() const {
   const int n = params_.grid;
-  const double dx = spacing(params_), dt = params_.time_step;
+  const double dx = spacing(params_), dt = dt_;
   const double c2 = params_.wave_speed * params_.wave_speed;
   double kinetic = 0, potential = 0;
   for (int j = 0; j < n; ++j)

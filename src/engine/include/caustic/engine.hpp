@@ -52,8 +52,10 @@ class Engine {
 
   /// Sets what to render. Checks the geometry (check_geometry) and throws
   /// SceneError without changing anything when the model cannot represent it.
-  /// Marks the frame dirty only when something changed.
-  void set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh);
+  /// Marks the frame dirty only when something changed. `moved`: the mesh
+  /// is the last one's next state (water's next step), so automatic
+  /// exposure eases on instead of starting afresh as for a new object.
+  void set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh, bool moved = false);
 
   /// A cheaper frame for interaction: the caustic drawn at 1/divisor of the
   /// output size per side, no bloom, bilinearly upsampled by the tone map

@@ -6,6 +6,7 @@
 
 #include "caustic/colour.hpp"
 #include "caustic/dispersion.hpp"
+#include "caustic/water_params.hpp"
 
 #include <glm/glm.hpp>
 #include <nlohmann/json_fwd.hpp>
@@ -166,6 +167,10 @@ struct Scene {
   std::vector<ScreenParams> receivers;
   RenderParams render;
   PostParams post;
+  /// A pool whose surface is the caustic face (object.shape "surface"):
+  /// made by the wave solver instead of read from `mesh`, and moving while
+  /// a stream shows it.
+  std::optional<water::WaveParams> water;
 
   std::filesystem::path mesh_path() const { return base_dir / mesh; }
   bool operator==(const Scene&) const = default;

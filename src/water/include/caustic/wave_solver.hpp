@@ -11,41 +11,17 @@
 // derives the stability bound and the oracles tests/water_test.cpp holds it to.
 #pragma once
 
+#include "caustic/water_params.hpp"
+
 #include <cstdint>
 #include <vector>
 
 namespace caustic::water {
 
-struct WaveParams {
-  int grid = 128;                ///< vertices per side, [16, 512]
-  double size = 2.0;             ///< the pool's side, metres
-  double wave_speed = 0.4;       ///< c, metres per second
-  double damping = 0.3;          ///< gamma, 1/s: a wave's energy falls as exp(-gamma t)
-  double time_step = 1.0 / 60;   ///< seconds, fixed; at most max_time_step()
-  double rain_rate = 0.0;        ///< drops per second over the whole pool (a Poisson process)
-  double rain_strength = 0.002;  ///< depth of a rain drop's dent, metres
-  double drop_radius = 0.03;     ///< a rain drop's radius (its Gaussian's sigma), metres
-  std::uint64_t seed = 1;        ///< where and when rain falls
-};
-
-/// The Courant number the fixed step may reach. The scheme is stable for
-/// C <= 1/sqrt(2) (von Neumann; at equality the checkerboard mode's double
-/// root grows linearly), so the bound keeps 1% inside it.
-inline constexpr double kMaxCourant = 0.7;
-
-/// The row or column index `i` of a grid of `n` with the walls' ghosts
-/// mirrored inside (-1 reads 1, n reads n - 2): the one rule behind the
-/// solver's reflecting walls and the surface's slopes at them.
-inline int mirrored(int i, int n) { return i < 0 ? -i : i >= n ? 2 * (n - 1) - i : i; }
-
-/// The grid spacing, metres.
-double spacing(const WaveParams& params);
-/// The largest time step validate() accepts: kMaxCourant dx / c.
-double max_time_step(const WaveParams& params);
-/// Throws caustic::SceneError naming the key ("water.grid", "water.time_step",
-/// ...) of the first value out of range; a time step above max_time_step()
-/// is refused with the bound in the message.
-void validate(const WaveParams& params);
+/// Throws SceneError ("x", "y", "strength", "radius") for a drop outside
+/// the pool, not finite, or with a radius under one grid spacing or over a
+/// quarter pool; what WaveSolver::drop() checks first.
+void check_drop(const WaveParams& params, double x, double y, double strength, double radius);
 
 class WaveSolver {
  public:
@@ -54,18 +30,26 @@ class WaveSolver {
 
   /// A drop at (x, y) metres: a dent `strength` metres deep at its centre
   /// with a raised rim (the Laplacian of a Gaussian of sigma `radius`),
-  /// less its mean so the water's volume is unchanged. Throws SceneError
-  /// ("x", "y", "strength", "radius") for values outside the pool, not
-  /// finite, or a radius under one grid spacing or over a quarter pool.
+  /// less its mean so the water's volume is unchanged. Throws as
+  /// check_drop() does.
   void drop(double x, double y, double strength, double radius);
   /// One time step, rain included.
   void step();
+  /// Takes new values for what may change while the water moves (wave
+  /// speed, damping, time step, rain, seed, pause); the heights stay, and a
+  /// new time step keeps the surface's velocity. Throws SceneError as
+  /// validate() does, or naming "water.grid" or "water.size" when those
+  /// differ, and then changes nothing.
+  void retune(const WaveParams& params);
 
   const WaveParams& params() const { return params_; }
   /// Heights of the newest step, grid x grid, metres.
   const std::vector<double>& heights() const { return now_; }
   std::uint64_t steps() const { return steps_; }
-  double time() const { return static_cast<double>(steps_) * params_.time_step; }
+  /// The step taken (step_seconds()), seconds.
+  double time_step() const { return dt_; }
+  /// Seconds simulated.
+  double time() const { return time_; }
   std::uint64_t raindrops() const { return raindrops_; }
   /// The scheme's discrete energy between the last two steps (per unit
   /// density and gravity-free: kinetic + c^2 times the product of the two
@@ -80,7 +64,9 @@ class WaveSolver {
   void rain();
 
   WaveParams params_;
-  double courant2_, a_;
+  void derive();  // dt_, courant2_, a_ from params_
+
+  double dt_ = 0, courant2_ = 0, a_ = 0, time_ = 0;
   std::vector<double> before_, now_, next_;
   std::uint64_t steps_ = 0, raindrops_ = 0;
   std::uint64_t rng_;

@@ -6,6 +6,7 @@
 #include "caustic/engine.hpp"
 #include "caustic/mesh_levels.hpp"
 #include "caustic/param_store.hpp"
+#include "caustic/pool.hpp"
 
 #include <gst/gst.h>
 
@@ -30,7 +31,10 @@ bool register_element(GstPlugin* plugin);
 /// its `scene` property; each frame draws the level its scene's
 /// render.mesh_resolution names. Call before the element leaves the NULL
 /// state; the ParamStore stays shared, so patches show in later frames.
-void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const MeshLevels> meshes);
+/// A scene with water moves `pool` (made from the scene when null); one
+/// element at a time may stream a pool.
+void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const MeshLevels> meshes,
+                std::shared_ptr<water::Pool> pool = nullptr);
 
 /// When the element's render thread last came round its loop (every few
 /// milliseconds, and after each render): a watchdog's proof that rendering
@@ -58,6 +62,11 @@ void request_snapshot(GstElement* causticsrc, SnapshotDone done);
 /// still-interval-ms): what an encoder that was asked for a key frame, and
 /// that keeps the request to itself, needs to make one now. Any thread.
 void send_next_frame(GstElement* causticsrc);
+
+/// The water a causticsrc streams: the one set_source() gave, or from when
+/// it starts streaming a scene with water the one it made (null for other
+/// scenes); drops posted to it fall in the next frame. Any thread.
+std::shared_ptr<water::Pool> water_pool(GstElement* causticsrc);
 
 /// The parameters a causticsrc renders (null before a source was set or loaded).
 std::shared_ptr<ParamStore> param_store(GstElement* causticsrc);

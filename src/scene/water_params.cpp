@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "caustic/water_params.hpp"
+
+#include "caustic/scene.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace caustic::water {
+namespace {
+
+// Rain is this many drops a second at most: a step then meets a few, not a
+// loop without end.
+constexpr double kMaxRainRate = 200.0;
+// Warming up is simulated before the first frame, on the thread that loads
+// the scene: a minute of the finest grid is a few seconds of work.
+constexpr double kMaxWarmup = 60.0;
+
+std::string text(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+void require(bool ok, const char* key, const std::string& what) {
+  if (!ok) throw SceneError(key, what);
+}
+
+}  // namespace
+
+double spacing(const WaveParams& p) { return p.size / (p.grid - 1); }
+
+double max_time_step(const WaveParams& p) { return kMaxCourant * spacing(p) / p.wave_speed; }
+
+double step_seconds(const WaveParams& p) {
+  if (p.time_step > 0) return p.time_step;
+  return 1.0 / (60.0 * std::ceil(1.0 / (60.0 * max_time_step(p))));
+}
+
+void validate(const WaveParams& p) {
+  require(p.grid >= 16 && p.grid <= 512, "water.grid", "must be 16 to 512 vertices a side");
+  require(std::isfinite(p.size) && p.size >= 0.05 && p.size <= 100, "water.size", "must be 0.05 to 100 m");
+  require(std::isfinite(p.wave_speed) && p.wave_speed > 0 && p.wave_speed <= 100, "water.wave_speed",
+          "must be above 0 and at most 100 m/s");
+  require(std::isfinite(p.damping) && p.damping >= 0 && p.damping <= 100, "water.damping",
+          "must be 0 to 100 per second");
+  require(std::isfinite(p.time_step) && p.time_step >= 0, "water.time_step",
+          "must be a positive number of seconds, or 0 to let the bound choose");
+  require(p.time_step <= max_time_step(p), "water.time_step",
+          "must be at most " + text(max_time_step(p)) + " s for this grid and wave speed (Courant number " +
+              text(kMaxCourant) + "); the scheme is unstable beyond it");
+  // Steps so short that a frame would need more than a thousand of them.
+  require(step_seconds(p) >= 1e-5, "water.time_step",
+          "the stability bound asks for steps under 10 us: make the grid coarser or the waves slower");
+  require(std::isfinite(p.rain_rate) && p.rain_rate >= 0 && p.rain_rate <= kMaxRainRate, "water.rain_rate",
+          "must be 0 to " + text(kMaxRainRate) + " drops per second");
+  require(std::isfinite(p.rain_strength) && std::abs(p.rain_strength) <= 0.05 * p.size, "water.rain_strength",
+          "must be at most 5% of the pool's size in magnitude");
+  // Only rain uses it: a grid too coarse for the default drop matters only when it rains.
+  require(std::isfinite(p.drop_radius) && p.drop_radius <= p.size / 4 &&
+              (p.rain_rate == 0 || p.drop_radius >= spacing(p)),
+          "water.drop_radius",
+          "must be at most a quarter of the pool and, when it rains, at least one grid spacing (" +
+              text(spacing(p)) + " m)");
+  require(std::isfinite(p.warmup_s) && p.warmup_s >= 0 && p.warmup_s <= kMaxWarmup, "water.warmup_s",
+          "must be 0 to " + text(kMaxWarmup) + " seconds");
+}
+
+}  // namespace caustic::water

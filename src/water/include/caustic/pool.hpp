@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// A scene's water as a stream shows it. The render thread advances the
+// solver with the stream's clock, in whole fixed steps (the remainder waits
+// for the next frame), and draws the surface it leaves; drops come from any
+// thread and fall at the next advance; viewers get a coarse copy of the
+// heights of each frame they are shown, to draw the surface in step with
+// the caustic. One lock guards the queue and the copies; the solver itself
+// is the render thread's alone.
+#pragma once
+
+#include "caustic/mesh.hpp"
+#include "caustic/scene.hpp"
+#include "caustic/wave_solver.hpp"
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+namespace caustic::water {
+
+struct Drop {
+  double x = 0, y = 0;  ///< metres from the pool's centre
+  double strength = 0;  ///< the dent's depth, metres
+  double radius = 0;    ///< its Gaussian's sigma, metres
+};
+
+/// The surface a viewer draws: `n` x `n` heights sampled evenly across the
+/// pool, walls included, in units of `unit` metres, row-major with y the
+/// slow index; `step` is the solver step they show, `drops` how many posted
+/// drops had fallen by then.
+struct Proxy {
+  int n = 0;
+  double unit = 1e-5;
+  std::uint64_t step = 0, drops = 0;
+  std::vector<std::int16_t> heights;
+};
+
+/// The mesh a scene renders: its OBJ file, or for a scene with water the
+/// surface after water.warmup_s of rain from still water (the same seed,
+/// the same surface). Throws SceneError.
+Mesh load_scene_mesh(const Scene& scene);
+
+class Pool {
+ public:
+  /// Drops waiting for the next frame at most; more are refused.
+  static constexpr std::size_t kMaxQueued = 64;
+  /// The most water time one advance simulates: a stalled renderer slows
+  /// the water down rather than owing it an ever longer catch-up.
+  static constexpr double kMaxAdvance = 0.25;
+  /// Frames whose proxies are kept for the viewers' messages.
+  static constexpr std::size_t kProxiesKept = 16;
+  static constexpr int kProxySide = 32;
+
+  /// Still water warmed up for params.warmup_s. Throws SceneError.
+  explicit Pool(const WaveParams& params);
+
+  /// Any thread: checks the drop (SceneError naming "x", "y", "strength" or
+  /// "radius") and queues it. Returns its number (1 for the first posted):
+  /// it shows in the frames whose Proxy::drops reaches it. None when
+  /// kMaxQueued already wait.
+  std::optional<std::uint64_t> post(const Drop& drop);
+
+  /// Render thread: takes `params` (WaveSolver::retune), lets the queued
+  /// drops fall, and simulates `seconds` more (at most kMaxAdvance) unless
+  /// params.paused. True when the surface changed.
+  bool advance(const WaveParams& params, double seconds);
+
+  /// Render thread: the surface now, as the engine draws it.
+  std::shared_ptr<const Mesh> mesh();
+  /// Render thread: the solver step the surface shows.
+  std::uint64_t step() const { return solver_.steps(); }
+  /// Posted drops fallen so far, rain excluded (render thread).
+  std::uint64_t drops() const { return drops_; }
+  const WaveSolver& solver() const { return solver_; }
+
+  /// Any thread: the coarse surface of solver step `step`, if a mesh() of
+  /// it was taken recently (empty heights otherwise).
+  Proxy proxy(std::uint64_t step) const;
+
+ private:
+  WaveSolver solver_;
+  double owed_ = 0;  // seconds simulated short of a whole step
+  std::uint64_t drops_ = 0;
+  std::shared_ptr<const Mesh> mesh_;
+  mutable std::mutex lock_;
+  std::vector<Drop> queued_;
+  std::uint64_t posted_ = 0;
+  std::deque<Proxy> proxies_;
+};
+
+}  // namespace caustic::water

@@ -1,0 +1,98 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "caustic/pool.hpp"
+
+#include "caustic/water_mesh.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace caustic::water {
+namespace {
+
+void warm_up(WaveSolver& solver) {
+  const double seconds = solver.params().warmup_s;
+  while (solver.time() + 0.5 * solver.time_step() < seconds) solver.step();
+}
+
+Proxy sample(const WaveSolver& solver) {
+  const auto& p = solver.params();
+  const int n = p.grid, side = Pool::kProxySide;
+  const auto& h = solver.heights();
+  Proxy out;
+  out.n = side;
+  out.step = solver.steps();
+  out.heights.reserve(static_cast<std::size_t>(side) * side);
+  const double per = static_cast<double>(n - 1) / (side - 1);  // grid cells per proxy cell
+  for (int j = 0; j < side; ++j)
+    for (int i = 0; i < side; ++i) {
+      const double u = i * per, v = j * per;
+      const int i0 = std::min(static_cast<int>(u), n - 2), j0 = std::min(static_cast<int>(v), n - 2);
+      const double fu = u - i0, fv = v - j0;
+      const auto at = [&](int a, int b) { return h[static_cast<std::size_t>(b) * n + a]; };
+      const double value = (1 - fv) * ((1 - fu) * at(i0, j0) + fu * at(i0 + 1, j0)) +
+                           fv * ((1 - fu) * at(i0, j0 + 1) + fu * at(i0 + 1, j0 + 1));
+      out.heights.push_back(static_cast<std::int16_t>(std::clamp(std::lround(value / out.unit), -32767L, 32767L)));
+    }
+  return out;
+}
+
+}  // namespace
+
+Mesh load_scene_mesh(const Scene& scene) {
+  if (!scene.water) return load_obj(scene.mesh_path());
+  WaveSolver solver(*scene.water);
+  warm_up(solver);
+  return water_mesh(solver);
+}
+
+Pool::Pool(const WaveParams& params) : solver_(params) { warm_up(solver_); }
+
+std::optional<std::uint64_t> Pool::post(const Drop& drop) {
+  check_drop(solver_.params(), drop.x, drop.y, drop.strength, drop.radius);
+  std::lock_guard hold(lock_);
+  if (queued_.size() >= kMaxQueued) return std::nullopt;
+  queued_.push_back(drop);
+  return ++posted_;
+}
+
+bool Pool::advance(const WaveParams& params, double seconds) {
+  if (params != solver_.params()) solver_.retune(params);
+  std::vector<Drop> falling;
+  {
+    std::lock_guard hold(lock_);
+    falling.swap(queued_);
+  }
+  for (const Drop& d : falling) solver_.drop(d.x, d.y, d.strength, d.radius);
+  drops_ += falling.size();
+  bool moved = !falling.empty();
+  if (!params.paused && std::isfinite(seconds) && seconds > 0) {
+    owed_ += std::min(seconds, kMaxAdvance);
+    const auto steps = static_cast<std::uint64_t>(std::floor(owed_ / solver_.time_step()));
+    for (std::uint64_t i = 0; i < steps; ++i) solver_.step();
+    owed_ -= static_cast<double>(steps) * solver_.time_step();
+    moved = moved || steps > 0;
+  }
+  if (moved) mesh_.reset();
+  return moved;
+}
+
+std::shared_ptr<const Mesh> Pool::mesh() {
+  if (!mesh_) {
+    mesh_ = std::make_shared<const Mesh>(water_mesh(solver_));
+    Proxy coarse = sample(solver_);
+    coarse.drops = drops_;
+    std::lock_guard hold(lock_);
+    proxies_.push_back(std::move(coarse));
+    while (proxies_.size() > kProxiesKept) proxies_.pop_front();
+  }
+  return mesh_;
+}
+
+Proxy Pool::proxy(std::uint64_t step) const {
+  std::lock_guard hold(lock_);
+  for (const Proxy& p : proxies_)
+    if (p.step == step) return p;
+  return {};
+}
+
+}  // namespace caustic::water
