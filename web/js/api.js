@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
-// The REST API: sessions and coalesced parameter patches.
+// The REST API: sessions, coalesced parameter patches and drops in a pool's water.
 
 export class ServerFull extends Error {}
 // A refusal that asking again will not change (an unknown scene, a bad codec).
@@ -31,6 +31,19 @@ export function deleteSession(session) {
     keepalive: true,
     headers: { Authorization: `Bearer ${session.token}` },
   }).catch(() => {});
+}
+
+// Drops a stone in the session's water ({ x, y } in metres, optional
+// strength and radius): { ok, status, body }, the body the server's answer
+// or its problem (409: no water, 422: a bad value, 429: too many waiting).
+export async function postDrop(session, drop) {
+  const response = await fetch(`${sessionUrl(session)}/drops`, {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json', Authorization: `Bearer ${session.token}` },
+    body: JSON.stringify(drop),
+  });
+  const body = await response.json().catch(() => ({}));
+  return { ok: response.ok, status: response.status, body };
 }
 
 function merge(target, patch) {

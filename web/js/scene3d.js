@@ -201,7 +201,9 @@ export class CausticRoom {
     // Looking down at the screen from its front, turned a little sideways.
     const side = Math.abs(normal.y) < 0.9 ? new THREE.Vector3(0, 1, 0) : new THREE.Vector3(1, 0, 0);
     const across = new THREE.Vector3().crossVectors(normal, side).normalize();
-    const tilt = THREE.MathUtils.degToRad(10), turn = THREE.MathUtils.degToRad(30);
+    // A pool's floor is seen through its water, obliquely enough that the
+    // surface reads as one.
+    const tilt = THREE.MathUtils.degToRad(params.water ? 40 : 10), turn = THREE.MathUtils.degToRad(30);
     const toward = normal.clone().multiplyScalar(Math.cos(tilt))
       .addScaledVector(across.applyAxisAngle(normal, turn), Math.sin(tilt)).normalize();
     // Aimed between the screen and the middle of everything, nearer the screen.
@@ -226,6 +228,10 @@ export class CausticRoom {
     }
     this.camera.position.copy(target).addScaledVector(toward, distance);
     this.camera.lookAt(target);
+    // A room metres across (a pool) needs a nearer near plane than one of
+    // hundreds of millimetres: zooming in would cut into it.
+    this.camera.near = Math.min(1, distance / 200);
+    this.camera.updateProjectionMatrix();
     this.target = target;
     furnish(this, new THREE.Box3().setFromPoints(points));
   }

@@ -9,7 +9,7 @@
 // screen that follows the light places its own centre. Sharing them would
 // only bring back a warning that they are overridden.
 const AUTO_KEYS = { render: ['mesh_resolution', 'fresnel'], light: ['point_model'] };
-const SECTIONS = ['object', 'light', 'screen', 'render', 'post'];
+const SECTIONS = ['object', 'light', 'screen', 'render', 'post', 'water'];  // water: only a pool's
 
 const round = (v) => (typeof v === 'number' ? Number(v.toPrecision(5)) : Array.isArray(v) ? v.map(round) : v);
 

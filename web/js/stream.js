@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The WebRTC side: signalling over the session's WebSocket, the video, and
 // the "frames" data channel that says which parameter version each RTP
-// timestamp shows.
+// timestamp shows (and, for a scene with water, the surface it shows).
 
 const PING_INTERVAL_MS = 5000;
 
@@ -33,8 +33,8 @@ export class Stream {
     };
     this.pc.ondatachannel = ({ channel }) => {
       channel.onmessage = ({ data }) => {
-        const { rtp_timestamp: rtp, version, level } = JSON.parse(data);
-        this.versions.set(rtp, { version, level });
+        const { rtp_timestamp: rtp, version, level, water } = JSON.parse(data);
+        this.versions.set(rtp, { version, level, water });
         if (this.versions.size > 512) this.versions.delete(this.versions.keys().next().value);
       };
     };
@@ -75,13 +75,13 @@ export class Stream {
     }
   }
 
-  // Reports the version of every frame the page composites.
+  // Reports the version (and the water) of every frame the page composites.
   watchFrames() {
     if (!('requestVideoFrameCallback' in this.video)) return;
     const onFrame = (now, meta) => {
       if (this.closed) return;
       const frame = this.versions.get(meta.rtpTimestamp);
-      if (frame !== undefined) this.onFrameVersion(frame.version, now, frame.level);
+      if (frame !== undefined) this.onFrameVersion(frame.version, now, frame.level, frame.water);
       this.video.requestVideoFrameCallback(onFrame);
     };
     this.video.requestVideoFrameCallback(onFrame);

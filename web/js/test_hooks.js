@@ -51,6 +51,17 @@ export function installTestHooks(state, parts) {
     controls.orbit.update();
     controls.orbit.dispatchEvent({ type: 'end' });
   };
+  // A scene with water: the heights drawn (metres, the frame message's
+  // order), where the water's point (x, y) is on the page, and a click
+  // there (the click's own path: raycast, then the drop's POST), which
+  // resolves to the server's answer { status, body }, or null when the
+  // click missed the water. What was drawn last is window.caustic.water.
+  state.waterHeights = () => parts().water?.surface.drawnHeights() ?? null;
+  state.waterPagePoint = (x, y) => parts().water.surface.pagePoint(x, y);
+  state.clickWater = (x, y) => {
+    const { water } = parts();
+    return water.click(...water.surface.pagePoint(x, y));
+  };
   // The session's id and codec, never its token.
   Object.defineProperty(state, 'session', {
     get: () => {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The viewer: starts a session for ?scene=ID&codec=vp8|h264, shows the
-// streamed caustic on the lightmap plane, and turns the controls into
-// coalesced parameter patches.
+// streamed caustic on the lightmap plane (and a pool's water, water.js), and
+// turns the controls into coalesced parameter patches.
 import GUI from 'lil-gui';
 import { createSession, deleteSession, ParamChannel, Refused, ServerFull } from './api.js';
 import { ControlModes } from './controls.js';
@@ -11,6 +11,7 @@ import { CausticRoom } from './scene3d.js';
 import { changedParams, sharedParams, sharedView, writeAddress } from './share.js';
 import { Stream } from './stream.js';
 import { installTestHooks } from './test_hooks.js';
+import { PoolWater } from './water.js';
 
 const query = new URLSearchParams(location.search);
 const sceneId = query.get('scene') ?? 'wavy';
@@ -40,7 +41,7 @@ const frameRate = new FrameRate();
 let shared = sharedParams(query);
 
 let session = null, stream = null, channel = null, room = null, controls = null, retry = 0;
-let panel = null, panelParams = null;  // lil-gui and the object its controllers edit
+let panel = null, panelParams = null, water = null;  // lil-gui and the object its controllers edit; the pool's water
 const panelColour = { glass: 'none' };  // object.glass as the panel's dropdown shows it
 
 function setConnection(name, detail = '') {
@@ -57,9 +58,11 @@ function patchable(params) {
 }
 
 // The server's word on settings that show little or nothing, or that
-// fidelity "auto" overrides: shown until an answer carries none.
-function showWarnings(warnings = []) {
-  if (state.linkRefused) warnings = [state.linkRefused, ...warnings];
+// fidelity "auto" overrides: shown until an answer carries none. The page's
+// own (a link's refused settings, a refused drop) come first.
+function showWarnings(server = state.serverWarnings ?? []) {
+  state.serverWarnings = server;
+  const warnings = [state.linkRefused, state.dropRefused, ...server].filter(Boolean);
   state.warnings = warnings;
   warningsPanel.hidden = warnings.length === 0;
   warningsPanel.textContent = warnings.map((w) => `${w.key}: ${w.detail}`).join('\n');
@@ -74,7 +77,7 @@ function onApplied(body, sentAt) {
   state.params = body.params;
   state.atlas = body.atlas;
   state.fidelity = body.fidelity;
-  showWarnings(body.warnings);
+  showWarnings(body.warnings ?? []);
   if (state.resetting) {
     state.resetting = false;
     refreshPanel(body.params);
@@ -99,8 +102,9 @@ function onApplied(body, sentAt) {
   }
 }
 
-function onFrameVersion(version, now, level) {
+function onFrameVersion(version, now, level, surface) {
   state.framesShown += 1;
+  if (surface) water?.show(surface);  // the water this frame's caustic came from
   if (loading.timer) loading.done();
   state.shownLevel = level;  // 0: full quality, 1: a preview drawn while the scene moves
   if (version === state.shownVersion) return;
@@ -152,6 +156,10 @@ async function connect() {
         state.mode = mode;
       },
     });
+    const onRefused = (problem) => { state.dropRefused = problem; showWarnings(); };
+    if (session.params.params.water)
+      water = new PoolWater(room, controls, session.params.params.water, { session: () => session, onRefused });
+    state.water = water?.record;
   }
   channel = new ParamChannel(session, { onApplied, onError: refused });
   if (state.params) channel.set(patchable(state.params));  // a reconnect keeps what the viewer changed
@@ -213,7 +221,7 @@ function refused(problem) {
   if (!shared) return console.warn('patch refused:', problem.detail);
   shared = null;
   state.linkRefused = { key: problem.key ?? 'link', detail: `the link's settings were refused: ${problem.detail}` };
-  showWarnings(state.warnings);
+  showWarnings();
   rememberAddress();
 }
 
@@ -241,7 +249,7 @@ document.getElementById('share').addEventListener('click', async () => {
 // them on the server (docs/api.md); its answer then refreshes the panel.
 function resetScene() {
   state.resetting = true;
-  channel.set({ object: null, light: null, screen: null, render: null, post: null });
+  channel.set({ object: null, light: null, screen: null, render: null, post: null, ...(water && { water: null }) });
 }
 
 // The panel's name for object.glass: a catalogue name, "none", or "custom"
@@ -249,7 +257,8 @@ function resetScene() {
 const glassName = (glass) => (glass === null || glass === undefined ? 'none' : typeof glass === 'string' ? glass : 'custom');
 
 function refreshPanel(params) {
-  for (const section of ['object', 'light', 'screen', 'render', 'post']) Object.assign(panelParams[section], params[section]);
+  for (const section of ['object', 'light', 'screen', 'render', 'post', 'water'])
+    if (params[section]) Object.assign(panelParams[section], params[section]);
   panelColour.glass = glassName(params.object.glass);
   panel.controllersRecursive().forEach((c) => c.updateDisplay());
 }
@@ -300,6 +309,7 @@ function buildGui() {
   post.add(p.post, 'bloom_strength', 0, 2, 0.01).onChange(send('post', 'bloom_strength'));
   post.add(p.post, 'bloom_threshold', 0, 10, 0.1).onChange(send('post', 'bloom_threshold'));
   post.add(p.post, 'bloom_radius', 0, 32, 0.5).onChange(send('post', 'bloom_radius'));
+  if (water && p.water) water.addFolder(gui, p.water, (key) => send('water', key));
   const view = gui.addFolder('Stream');
   view.add(state, 'codec', ['vp8', 'h264']).onChange(() => {
     // The address keeps the choice: a reload or a shared link streams the same codec.
@@ -363,7 +373,7 @@ window.addEventListener('keydown', (e) => {
   if (e.key === 'f' || e.key === 'F') toggleFullscreen();
 });
 
-installTestHooks(state, () => ({ room, controls, channel, stream, session, resetScene }));
+installTestHooks(state, () => ({ room, controls, channel, stream, session, resetScene, water }));
 
 window.addEventListener('pagehide', () => { if (session) deleteSession(session); });
 

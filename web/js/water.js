@@ -1,0 +1,195 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// The pool's water in the viewer (scenes with a `water` section): the server
+// simulates the surface, and every frame's message on the "frames" channel
+// carries a coarse copy of the surface that frame's caustic came from. The
+// page draws that copy over the floor when the frame is shown, so the
+// ripples and the caustic under them agree; a click on the water drops a
+// stone there (POST .../drops); the panel pauses the water and sets its rain.
+import * as THREE from 'three';
+
+import { postDrop } from './api.js';
+
+// A click is a press and release this close together (CSS pixels): more is
+// a drag, which orbits the camera.
+const CLICK_SLOP_PX = 6;
+// How long a refused drop's reason stays on the page.
+const REFUSAL_SHOWN_MS = 6000;
+
+/// Heights in metres from a frame's water message: n*n little-endian int16
+/// times `unit`, row-major with y the slow index (docs/api.md).
+export function decodeHeights({ n, unit, heights }) {
+  const text = atob(heights);
+  const out = new Float32Array(n * n);
+  for (let k = 0; k < out.length && 2 * k + 1 < text.length; ++k) {
+    const u = text.charCodeAt(2 * k) | (text.charCodeAt(2 * k + 1) << 8);
+    out[k] = (u >= 0x8000 ? u - 0x10000 : u) * unit;
+  }
+  return out;
+}
+
+/// The drawn surface: a grid of the message's n x n posts over the pool,
+/// `size` metres square, centred on the object's origin (the water's own
+/// coordinates: x, y across, z up), in place of the object's slab.
+export class WaterSurface {
+  constructor(room, size) {
+    this.room = room;
+    this.size = size;
+    // Translucent and glossy: the floor's caustic shows through, tinted,
+    // and the room's environment glints off the ripples. The environment
+    // is set on the water alone, so the low room quality (none on the
+    // furniture) still shows the ripples.
+    this.material = new THREE.MeshStandardMaterial({
+      color: 0x3d94b8, roughness: 0.06, metalness: 0, transparent: true, opacity: 0.38,
+      envMapIntensity: 1.6, side: THREE.DoubleSide, depthWrite: false });
+    this.mesh = new THREE.Mesh(this.grid(2), this.material);
+    this.mesh.renderOrder = 3;
+    // The pool's rim: where the water ends (a click beyond it drops nothing).
+    const rim = new THREE.EdgesGeometry(new THREE.PlaneGeometry(size, size));
+    this.rim = new THREE.LineSegments(rim, new THREE.LineBasicMaterial({ color: 0x9fc8dc, transparent: true, opacity: 0.7 }));
+    room.proxy.visible = false;
+    room.drawnPose.add(this.mesh, this.rim);
+    this.n = 2;
+  }
+
+  // A flat n x n grid. PlaneGeometry lists its rows from +y down, the
+  // message from -y up: show() maps one onto the other.
+  grid(n) {
+    return new THREE.PlaneGeometry(this.size, this.size, n - 1, n - 1);
+  }
+
+  /// Draws the heights of one message (metres, decodeHeights).
+  show(n, heights) {
+    if (!this.material.envMap && this.room.environment) {
+      this.material.envMap = this.room.environment;
+      this.material.needsUpdate = true;
+    }
+    if (n !== this.n) {
+      this.mesh.geometry.dispose();
+      this.mesh.geometry = this.grid(n);
+      this.n = n;
+    }
+    const position = this.mesh.geometry.attributes.position;
+    for (let row = 0; row < n; ++row)
+      for (let i = 0; i < n; ++i) position.setZ(row * n + i, heights[(n - 1 - row) * n + i]);
+    position.needsUpdate = true;
+    this.mesh.geometry.computeVertexNormals();
+    this.mesh.geometry.computeBoundingSphere();  // for the click's raycast
+    this.mesh.geometry.computeBoundingBox();
+  }
+
+  /// The heights as drawn (metres, the message's order).
+  drawnHeights() {
+    const position = this.mesh.geometry.attributes.position;
+    const n = this.n, out = [];
+    for (let j = 0; j < n; ++j)
+      for (let i = 0; i < n; ++i) out.push(position.getZ((n - 1 - j) * n + i));
+    return out;
+  }
+
+  /// Where a page point (CSS pixels) meets the water, in the water's own
+  /// coordinates [x, y], or null when it misses.
+  hit(clientX, clientY) {
+    const canvas = this.room.renderer.domElement.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((clientX - canvas.left) / canvas.width) * 2 - 1,
+                                  1 - ((clientY - canvas.top) / canvas.height) * 2);
+    const ray = new THREE.Raycaster();
+    ray.setFromCamera(ndc, this.room.camera);
+    const [first] = ray.intersectObject(this.mesh, false);
+    if (!first) return null;
+    const p = this.mesh.worldToLocal(first.point.clone());
+    // The grid's edge is the pool's wall: a hit may round a hair beyond it.
+    const half = this.size / 2;
+    return [THREE.MathUtils.clamp(p.x, -half, half), THREE.MathUtils.clamp(p.y, -half, half)];
+  }
+
+  /// Where the water's point (x, y) (at its drawn height, or z) is on the page, in CSS pixels.
+  pagePoint(x, y, z = 0) {
+    const p = this.mesh.localToWorld(new THREE.Vector3(x, y, z)).project(this.room.camera);
+    const r = this.room.renderer.domElement.getBoundingClientRect();
+    return [r.left + ((p.x + 1) / 2) * r.width, r.top + ((1 - p.y) / 2) * r.height];
+  }
+}
+
+/// The water of a viewer: the surface, clicks that drop stones, and what the
+/// page knows of it (`record`, read by the tests as window.caustic.water).
+/// `session()` is the current session (it changes on reconnect),
+/// `onRefused(problem or null)` shows or clears a refused drop's reason.
+export class PoolWater {
+  constructor(room, controls, water, { session, onRefused }) {
+    this.surface = new WaterSurface(room, water.size);
+    this.session = session;
+    this.onRefused = onRefused;
+    this.record = { step: null, drops: null, n: null, updates: 0, posted: 0, accepted: [], refused: null };
+    // A press on a gizmo's handle drags the light or the object, wherever it ends.
+    const gizmo = controls.gizmo;
+    this.listen(room.renderer.domElement, () => gizmo.dragging || (gizmo.object !== undefined && gizmo.axis !== null));
+  }
+
+  /// A frame's message, when that frame is shown.
+  show(message) {
+    this.surface.show(message.n, decodeHeights(message));
+    Object.assign(this.record, { step: message.step, drops: message.drops, n: message.n });
+    this.record.updates += 1;
+  }
+
+  // A press and release of the primary pointer with no drag between is a
+  // click; a second finger (a pinch) or a press on a gizmo is not.
+  listen(canvas, busy) {
+    let down = null;
+    canvas.addEventListener('pointerdown', (e) => {
+      down = e.isPrimary && e.button === 0 && !busy() ? { x: e.clientX, y: e.clientY, id: e.pointerId } : null;
+    });
+    canvas.addEventListener('pointerup', (e) => {
+      if (!down || e.pointerId !== down.id) return;
+      const moved = Math.hypot(e.clientX - down.x, e.clientY - down.y);
+      down = null;
+      if (moved <= CLICK_SLOP_PX) this.click(e.clientX, e.clientY);
+    });
+    canvas.addEventListener('pointercancel', () => { down = null; });
+  }
+
+  /// A click at a page point: a drop where it meets the water. Resolves to
+  /// the server's answer ({ status, body }), or null when it missed.
+  click(clientX, clientY) {
+    const point = this.surface.hit(clientX, clientY);
+    return point ? this.drop(point[0], point[1]) : Promise.resolve(null);
+  }
+
+  async drop(x, y) {
+    const session = this.session();
+    if (!session) return null;
+    this.record.posted += 1;
+    let answer;
+    try {
+      answer = await postDrop(session, { x, y });
+    } catch (error) {
+      answer = { ok: false, status: 0, body: { detail: error.message } };
+    }
+    if (answer.ok) {
+      this.record.accepted.push(answer.body.drop);
+      if (this.record.accepted.length > 64) this.record.accepted.shift();
+      if (this.record.refused) this.refuse(null);
+    } else {
+      this.refuse({ key: answer.body.key ?? 'drop', detail: answer.body.detail ?? `the server answered ${answer.status}` });
+    }
+    return { status: answer.status, body: answer.body };
+  }
+
+  // Shows a refusal for a while (each refusal restarts the wait), or clears it.
+  refuse(problem) {
+    this.record.refused = problem;
+    clearTimeout(this.refusalTimer);
+    this.onRefused(problem);
+    if (problem) this.refusalTimer = setTimeout(() => this.refuse(null), REFUSAL_SHOWN_MS);
+  }
+
+  /// The panel's "Water" folder: pause and the rain, through the viewer's
+  /// coalesced patches (`send(key)` makes a controller's onChange).
+  addFolder(gui, water, send) {
+    const folder = gui.addFolder('Water');
+    folder.add(water, 'paused').name('paused').onChange(send('paused'));
+    folder.add(water, 'rain_strength', 0, 0.02, 0.0005).name('wave strength (m)').onChange(send('rain_strength'));
+    folder.add(water, 'rain_rate', 0, 50, 0.5).name('rain (drops/s)').onChange(send('rain_rate'));
+    return folder;
+  }
+}
