@@ -20,9 +20,13 @@ function placeRectangle(lightmap, board, s, margin) {
   lightmap.position.copy(vec(s.center)).addScaledVector(normal, 0.05);
   lightmap.quaternion.setFromRotationMatrix(basis);
   lightmap.scale.set(s.width, s.height, 1);
-  board.position.copy(vec(s.center)).addScaledVector(normal, -1);
   board.quaternion.copy(lightmap.quaternion);
-  board.scale.set(s.width * margin, s.height * margin, 2);
+  // A board 2 units thick under the classic scenes' screens (6 to 24
+  // across); a third of the width under a smaller one, such as a pool's
+  // floor 2 m across, so that it stays a board.
+  const thickness = Math.min(2, Math.min(s.width, s.height) / 3);
+  board.position.copy(vec(s.center)).addScaledVector(normal, -thickness / 2);
+  board.scale.set(s.width * margin, s.height * margin, thickness);
 }
 
 // Shows one tile (pixels, rows from the top) of a width x height picture.

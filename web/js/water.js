@@ -14,6 +14,10 @@ import { postDrop } from './api.js';
 const CLICK_SLOP_PX = 6;
 // How long a refused drop's reason stays on the page.
 const REFUSAL_SHOWN_MS = 6000;
+// Ripples millimetres high on a pool metres across are flat to the eye: the
+// surface is drawn at its true heights, but shaded as if its slopes were
+// this many times steeper, so that its glints show the ripples.
+const SHADING_RELIEF = 6;
 
 /// Heights in metres from a frame's water message: n*n little-endian int16
 /// times `unit`, row-major with y the slow index (docs/api.md).
@@ -27,6 +31,39 @@ export function decodeHeights({ n, unit, heights }) {
   return out;
 }
 
+// Water as the eye takes it, cheap enough for software GL: see-through and
+// tinted when looked into, a mirror of the sky towards grazing (Schlick's
+// Fresnel, a little stronger than water's 2 % so that it shows from above),
+// and the sun's glints off the ripples' flanks.
+const vertexShader = `
+varying vec3 vWorld;
+varying vec3 vNormal;
+void main() {
+  vec4 world = modelMatrix * vec4(position, 1.0);
+  vWorld = world.xyz;
+  vNormal = normalize(mat3(modelMatrix) * normal);
+  gl_Position = projectionMatrix * viewMatrix * world;
+}`;
+const fragmentShader = `
+uniform vec3 tint;
+uniform vec3 zenith;
+uniform vec3 horizon;
+uniform vec3 sunDirection;  // towards the sun (the room's light)
+varying vec3 vWorld;
+varying vec3 vNormal;
+void main() {
+  vec3 n = normalize(vNormal);
+  vec3 v = normalize(cameraPosition - vWorld);
+  if (dot(n, v) < 0.0) n = -n;  // seen from under the water
+  float fresnel = 0.06 + 0.94 * pow(1.0 - clamp(dot(n, v), 0.0, 1.0), 5.0);
+  vec3 r = reflect(-v, n);
+  vec3 sky = mix(horizon, zenith, clamp(r.y, 0.0, 1.0));
+  float glint = 3.0 * pow(max(dot(r, sunDirection), 0.0), 300.0);
+  gl_FragColor = vec4(mix(tint, sky, fresnel) + glint, clamp(0.22 + 0.78 * fresnel + glint, 0.0, 1.0));
+  #include <tonemapping_fragment>
+  #include <colorspace_fragment>
+}`;
+
 /// The drawn surface: a grid of the message's n x n posts over the pool,
 /// `size` metres square, centred on the object's origin (the water's own
 /// coordinates: x, y across, z up), in place of the object's slab.
@@ -34,15 +71,18 @@ export class WaterSurface {
   constructor(room, size) {
     this.room = room;
     this.size = size;
-    // Translucent and glossy: the floor's caustic shows through, tinted,
-    // and the room's environment glints off the ripples. The environment
-    // is set on the water alone, so the low room quality (none on the
-    // furniture) still shows the ripples.
-    this.material = new THREE.MeshStandardMaterial({
-      color: 0x3d94b8, roughness: 0.06, metalness: 0, transparent: true, opacity: 0.38,
-      envMapIntensity: 1.6, side: THREE.DoubleSide, depthWrite: false });
+    // Drawn after the floor, which shows through it.
+    this.material = new THREE.ShaderMaterial({
+      vertexShader, fragmentShader, transparent: true, depthWrite: false, side: THREE.DoubleSide,
+      uniforms: { tint: { value: new THREE.Color(0x1f6f8c) }, zenith: { value: new THREE.Color(0xcfe4f2) },
+                  horizon: { value: new THREE.Color(0x8aa4b4) }, sunDirection: { value: new THREE.Vector3(0, 1, 0) } } });
     this.mesh = new THREE.Mesh(this.grid(2), this.material);
     this.mesh.renderOrder = 3;
+    // The sun's direction as the room last placed its light.
+    this.mesh.onBeforeRender = () => {
+      const sun = room.sun.getWorldPosition(new THREE.Vector3()).sub(room.sun.target.getWorldPosition(new THREE.Vector3()));
+      this.material.uniforms.sunDirection.value.copy(sun.normalize());
+    };
     // The pool's rim: where the water ends (a click beyond it drops nothing).
     const rim = new THREE.EdgesGeometry(new THREE.PlaneGeometry(size, size));
     this.rim = new THREE.LineSegments(rim, new THREE.LineBasicMaterial({ color: 0x9fc8dc, transparent: true, opacity: 0.7 }));
@@ -59,20 +99,24 @@ export class WaterSurface {
 
   /// Draws the heights of one message (metres, decodeHeights).
   show(n, heights) {
-    if (!this.material.envMap && this.room.environment) {
-      this.material.envMap = this.room.environment;
-      this.material.needsUpdate = true;
-    }
     if (n !== this.n) {
       this.mesh.geometry.dispose();
       this.mesh.geometry = this.grid(n);
       this.n = n;
     }
-    const position = this.mesh.geometry.attributes.position;
-    for (let row = 0; row < n; ++row)
-      for (let i = 0; i < n; ++i) position.setZ(row * n + i, heights[(n - 1 - row) * n + i]);
-    position.needsUpdate = true;
-    this.mesh.geometry.computeVertexNormals();
+    const { position, normal } = this.mesh.geometry.attributes;
+    const h = (i, j) => heights[THREE.MathUtils.clamp(j, 0, n - 1) * n + THREE.MathUtils.clamp(i, 0, n - 1)];
+    const slope = SHADING_RELIEF * (n - 1) / (2 * this.size);  // central differences, one-sided at the walls
+    const v = new THREE.Vector3();
+    for (let row = 0; row < n; ++row) {
+      const j = n - 1 - row;
+      for (let i = 0; i < n; ++i) {
+        position.setZ(row * n + i, h(i, j));
+        v.set(-slope * (h(i + 1, j) - h(i - 1, j)), -slope * (h(i, j + 1) - h(i, j - 1)), 1).normalize();
+        normal.setXYZ(row * n + i, v.x, v.y, v.z);
+      }
+    }
+    position.needsUpdate = normal.needsUpdate = true;
     this.mesh.geometry.computeBoundingSphere();  // for the click's raycast
     this.mesh.geometry.computeBoundingBox();
   }
