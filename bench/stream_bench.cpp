@@ -2,9 +2,13 @@
 // Measures one streaming session end to end on this machine: sustained
 // decoded frame rate and the server's CPU use, then the time from a PATCH to
 // the first frame that carries the new version (as the viewer learns it on
-// the "frames" data channel). Prints a table; asserts nothing.
+// the "frames" data channel). Of a scene with water, also the renders that
+// overran their frame interval in the steady state and the frames from a
+// drop's acceptance to the first frame that shows it. Prints a table;
+// asserts nothing.
 //
 //   caustic-stream-bench --codec vp8 --width 1024 --height 1024 --seconds 20 --patches 100
+//   caustic-stream-bench --scene pool --seconds 60 --drops 20 --patches 1
 #include "proc_stats.hpp"
 #include "server_process.hpp"
 #include "webrtc_peer.hpp"
@@ -46,6 +50,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000));
   app.add_option("--drag-seconds", drag_seconds, "Then patch the light at 30 Hz without waiting, this long")
       ->check(CLI::Range(0.0, 600.0));
+  int drops = 0;
+  app.add_option("--drops", drops, "After the steady state: drops posted 0.5 s apart (a scene with water)")
+      ->check(CLI::Range(0, 1000));
   CLI11_PARSE(app, argc, argv);
   gst_init(nullptr, nullptr);
 
@@ -79,9 +86,43 @@ int main(int argc, char** argv) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return std::pair{(peer.decoded() - frames0) / wall, 100.0 * (cpu_seconds(pid) - cpu0) / wall};
   };
+  auto counter = [&](const std::string& name) {
+    const std::string text = http("GET", server.url() + "/metrics").body;
+    const auto at = text.find("\n" + name + " ");
+    return at == std::string::npos ? 0.0 : std::stod(text.substr(at + name.size() + 2));
+  };
   std::printf("steady state: measuring %.0f s ...\n", seconds);
+  const double overruns0 = counter("causticd_render_overruns_total"), sent0 = counter("causticd_frames_sent_total");
+  const double rendered0 = counter("causticd_frames_rendered_total");
   const auto [steady_fps, steady_cpu] = measure(seconds, [] {});
   std::printf("steady state: %.1f fps decoded, server CPU %.0f%% of one core\n", steady_fps, steady_cpu);
+  std::printf("steady state: %.0f frames sent, %.0f caustics rendered, %.0f frames sent while a render overran\n",
+              counter("causticd_frames_sent_total") - sent0, counter("causticd_frames_rendered_total") - rendered0,
+              counter("causticd_render_overruns_total") - overruns0);
+  if (drops > 0) {
+    // A visitor's click: from the 202 to the first frame message whose surface holds the drop.
+    const std::string url = server.url() + "/api/v1/sessions/" + s["id"].get<std::string>() + "/drops";
+    const auto auth = std::vector<std::pair<std::string, std::string>>{{"Authorization", "Bearer " + s["token"].get<std::string>()}};
+    std::vector<double> frames, ms;
+    for (int i = 0; i < drops; ++i) {
+      const auto r = http("POST", url, json{{"x", 0.8 * std::sin(i)}, {"y", 0.8 * std::cos(3 * i)}}.dump(), "application/json", auth);
+      const auto t0 = std::chrono::steady_clock::now();
+      const int before = peer.frame_messages();
+      if (r.status != 202) {
+        std::fprintf(stderr, "drop refused: %u %s\n", r.status, r.body.c_str());
+        return 1;
+      }
+      if (peer.wait_for_drops(r.json()["drop"], 10.0)) {
+        frames.push_back(peer.frame_messages() - before);
+        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      }
+      peer.wait_for_frames(1000000, 0.5);
+    }
+    std::printf("drop accepted -> first frame showing it: median %.0f frames (%.0f ms), p95 %.0f frames (%.0f ms), "
+                "%zu of %d seen\n",
+                percentile(frames, 0.5), percentile(ms, 0.5), percentile(frames, 0.95), percentile(ms, 0.95),
+                frames.size(), drops);
+  }
 
   // Latency: PATCH -> first frame message with the new version.
   const auto auth =

@@ -81,6 +81,41 @@ TEST_P(WebRtc, ViewerReceivesTheStreamAndSeesAPatch) {
 
 INSTANTIATE_TEST_SUITE_P(Codecs, WebRtc, ::testing::Values("vp8", "h264"));
 
+// The pool's frames tell the viewer the surface they came from, and a drop
+// posted to the session shows in a later frame.
+TEST(WebRtcWater, FramesCarryTheSurfaceAndShowAPostedDrop) {
+  gst_init(nullptr, nullptr);
+  ServerProcess server({"--width", "256", "--height", "256", "--framerate", "30"});
+  const json s = http("POST", server.url() + "/api/v1/sessions", json{{"scene", "pool"}}.dump()).json();
+  ASSERT_TRUE(s.contains("signal_url")) << s.dump();
+  std::string ws = server.url() + s["signal_url"].get<std::string>();
+  ws.replace(0, 4, "ws");
+  WebRtcPeer peer("vp8", ws);
+  ASSERT_TRUE(peer.wait_for_frames(5, 60.0)) << peer.error();
+  const json water = peer.last_water();
+  ASSERT_TRUE(water.is_object()) << "no water in the frame messages";
+  ASSERT_EQ(water["n"], 32);
+  EXPECT_EQ(water["unit"], 1e-5);
+  EXPECT_GT(water["step"].get<std::uint64_t>(), 0u);  // warmed up: rain has fallen
+  gsize bytes = 0;
+  guchar* heights = g_base64_decode(water["heights"].get<std::string>().c_str(), &bytes);
+  EXPECT_EQ(bytes, 2u * 32 * 32);
+  int nonzero = 0;
+  for (gsize i = 0; i + 1 < bytes; i += 2) nonzero += (heights[i] | heights[i + 1]) != 0;
+  g_free(heights);
+  EXPECT_GT(nonzero, 100) << "a still surface after rain";
+  // The stream moves on by itself.
+  const std::uint64_t step = water["step"];
+  peer.wait_for_frames(10, 30.0);
+  EXPECT_GT(peer.last_water()["step"].get<std::uint64_t>(), step);
+  const auto posted = http("POST", server.url() + "/api/v1/sessions/" + s["id"].get<std::string>() + "/drops",
+                           R"({"x": 0.2, "y": -0.3, "strength": 0.02})", "application/json", bearer(s));
+  ASSERT_EQ(posted.status, 202u) << posted.body;
+  const int before = peer.frame_messages();
+  EXPECT_TRUE(peer.wait_for_drops(posted.json()["drop"], 30.0));
+  std::printf("the drop showed in the %d-th frame message after it was accepted\n", peer.frame_messages() - before);
+}
+
 TEST(Signalling, WrongTokenIsRefused) {
   gst_init(nullptr, nullptr);
   ServerProcess server;

@@ -36,6 +36,7 @@ WebRtcPeer::WebRtcPeer(const std::string& codec, const std::string& ws_url)
                                         if (v > me->version_) me->version_ = v;
                                         if (m.value("level", 0) != 0) ++me->previews_;
                                         else if (v > me->full_version_) me->full_version_ = v;
+                                        me->on_water(m);
                                       }),
                                       self);
                    }),
@@ -185,13 +186,31 @@ bool WebRtcPeer::wait_for_frames(int frames, double seconds) {
 }
 
 bool WebRtcPeer::wait_for_version(std::uint64_t version, double seconds, bool full_quality) {
-  const auto& seen = full_quality ? full_version_ : version_;
+  return wait_until(full_quality ? full_version_ : version_, version, seconds);
+}
+
+bool WebRtcPeer::wait_for_drops(std::uint64_t drops, double seconds) { return wait_until(water_drops_, drops, seconds); }
+
+bool WebRtcPeer::wait_until(const std::atomic<std::uint64_t>& seen, std::uint64_t value, double seconds) {
   const gint64 deadline = g_get_monotonic_time() + static_cast<gint64>(seconds * 1e6);
-  while (seen < version && g_get_monotonic_time() < deadline) {
+  while (seen < value && g_get_monotonic_time() < deadline) {
     g_main_context_iteration(context_, FALSE);
     g_usleep(500);
   }
-  return seen >= version;
+  return seen >= value;
+}
+
+void WebRtcPeer::on_water(const nlohmann::json& m) {
+  const auto it = m.find("water");
+  if (it == m.end() || !it->is_object()) return;
+  std::lock_guard lock(lock_);
+  water_ = *it;
+  if (it->value("drops", 0ull) > water_drops_) water_drops_ = it->value("drops", 0ull);
+}
+
+nlohmann::json WebRtcPeer::last_water() {
+  std::lock_guard lock(lock_);
+  return water_;
 }
 
 std::vector<guint8> WebRtcPeer::last_picture() {

@@ -42,6 +42,13 @@ class WebRtcPeer {
   /// whether it did.
   bool wait_for_version(std::uint64_t version, double seconds, bool full_quality = false);
 
+  /// Of a scene with water: the newest frame message's "water" (null
+  /// before one), and how many posted drops the frames have shown.
+  nlohmann::json last_water();
+  std::uint64_t water_drops() const { return water_drops_.load(); }
+  /// Iterates the main loop until a frame shows `drops` posted drops or
+  /// `seconds` passed; returns whether one did.
+  bool wait_for_drops(std::uint64_t drops, double seconds);
   /// Closes the signalling socket (the server then ends the session).
   void hang_up();
 
@@ -61,6 +68,10 @@ class WebRtcPeer {
   std::atomic<std::uint64_t> version_{0};
   std::atomic<std::uint64_t> full_version_{0};
   std::atomic<int> previews_{0};
+  std::atomic<std::uint64_t> water_drops_{0};
+  nlohmann::json water_;  // under lock_
+  void on_water(const nlohmann::json& m);
+  bool wait_until(const std::atomic<std::uint64_t>& seen, std::uint64_t value, double seconds);
   std::atomic<int> frame_messages_{0};
   std::mutex lock_;
   std::vector<guint8> picture_;

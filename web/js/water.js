@@ -17,7 +17,7 @@ const REFUSAL_SHOWN_MS = 6000;
 // Ripples millimetres high on a pool metres across are flat to the eye: the
 // surface is drawn at its true heights, but shaded as if its slopes were
 // this many times steeper, so that its glints show the ripples.
-const SHADING_RELIEF = 6;
+const SHADING_RELIEF = 25;
 
 /// Heights in metres from a frame's water message: n*n little-endian int16
 /// times `unit`, row-major with y the slow index (docs/api.md).
@@ -55,10 +55,10 @@ void main() {
   vec3 n = normalize(vNormal);
   vec3 v = normalize(cameraPosition - vWorld);
   if (dot(n, v) < 0.0) n = -n;  // seen from under the water
-  float fresnel = 0.06 + 0.94 * pow(1.0 - clamp(dot(n, v), 0.0, 1.0), 5.0);
+  float fresnel = 0.1 + 0.9 * pow(1.0 - clamp(dot(n, v), 0.0, 1.0), 5.0);
   vec3 r = reflect(-v, n);
-  vec3 sky = mix(horizon, zenith, clamp(r.y, 0.0, 1.0));
-  float glint = 3.0 * pow(max(dot(r, sunDirection), 0.0), 300.0);
+  vec3 sky = mix(horizon, zenith, smoothstep(0.3, 1.0, r.y));
+  float glint = 1.5 * pow(max(dot(r, sunDirection), 0.0), 120.0);
   gl_FragColor = vec4(mix(tint, sky, fresnel) + glint, clamp(0.22 + 0.78 * fresnel + glint, 0.0, 1.0));
   #include <tonemapping_fragment>
   #include <colorspace_fragment>
@@ -74,8 +74,8 @@ export class WaterSurface {
     // Drawn after the floor, which shows through it.
     this.material = new THREE.ShaderMaterial({
       vertexShader, fragmentShader, transparent: true, depthWrite: false, side: THREE.DoubleSide,
-      uniforms: { tint: { value: new THREE.Color(0x1f6f8c) }, zenith: { value: new THREE.Color(0xcfe4f2) },
-                  horizon: { value: new THREE.Color(0x8aa4b4) }, sunDirection: { value: new THREE.Vector3(0, 1, 0) } } });
+      uniforms: { tint: { value: new THREE.Color(0x1f6f8c) }, zenith: { value: new THREE.Color(0xf0f8ff) },
+                  horizon: { value: new THREE.Color(0x2c4452) }, sunDirection: { value: new THREE.Vector3(0, 1, 0) } } });
     this.mesh = new THREE.Mesh(this.grid(2), this.material);
     this.mesh.renderOrder = 3;
     // The sun's direction as the room last placed its light.
