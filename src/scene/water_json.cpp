@@ -13,6 +13,9 @@ water::WaveParams read_water(Reader r) {
   w.rain_rate = r.number("rain_rate", w.rain_rate, 0, 200);
   w.rain_strength = r.number("rain_strength", w.rain_strength, -5, 5);
   w.drop_radius = r.number("drop_radius", w.drop_radius, 0, 25, true);
+  w.wind_height = r.number("wind_height", w.wind_height, 0, 2);
+  w.wind_direction_deg = r.number("wind_direction_deg", w.wind_direction_deg, -360, 360);
+  w.wind_wavelength = r.number("wind_wavelength", w.wind_wavelength, 0, 100, true);
   // Seeds are whole numbers a double holds exactly, so that JSON round-trips them.
   w.seed = static_cast<std::uint64_t>(r.number("seed", static_cast<double>(w.seed), 0, 0x1.0p53));
   if (const json* seed = r.get("seed"); seed && !seed->is_number_integer())
@@ -33,6 +36,9 @@ nlohmann::json water_to_json(const water::WaveParams& w) {
           {"rain_rate", w.rain_rate},
           {"rain_strength", w.rain_strength},
           {"drop_radius", w.drop_radius},
+          {"wind_height", w.wind_height},
+          {"wind_direction_deg", w.wind_direction_deg},
+          {"wind_wavelength", w.wind_wavelength},
           {"seed", w.seed},
           {"warmup_s", w.warmup_s},
           {"paused", w.paused}};

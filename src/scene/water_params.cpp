@@ -64,6 +64,19 @@ void validate(const WaveParams& p) {
           "water.drop_radius",
           "must be at most a quarter of the pool and, when it rains, at least one grid spacing (" +
               text(spacing(p)) + " m)");
+  require(std::isfinite(p.wind_height) && p.wind_height >= 0 && p.wind_height <= 0.02 * p.size, "water.wind_height",
+          "must be 0 to 2% of the pool's size");
+  require(p.wind_height == 0 || p.damping > 0, "water.wind_height",
+          "wind drives the water at the damping's rate: give water.damping a value above 0");
+  require(std::isfinite(p.wind_direction_deg) && std::abs(p.wind_direction_deg) <= 360, "water.wind_direction_deg",
+          "must be -360 to 360 degrees");
+  // An octave shorter than the peak must still span four grid spacings
+  // (a grid too coarse for the default matters only when the wind blows).
+  require(std::isfinite(p.wind_wavelength) && p.wind_wavelength > 0 && p.wind_wavelength <= p.size &&
+              (p.wind_height == 0 || p.wind_wavelength >= 8 * spacing(p)),
+          "water.wind_wavelength",
+          "must be at most the pool's size and, when the wind blows, at least eight grid spacings (" +
+              text(8 * spacing(p)) + " m)");
   require(std::isfinite(p.warmup_s) && p.warmup_s >= 0 && p.warmup_s <= kMaxWarmup, "water.warmup_s",
           "must be 0 to " + text(kMaxWarmup) + " seconds");
 }

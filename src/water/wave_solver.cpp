@@ -42,6 +42,7 @@ double wait(std::uint64_t& state, double rate) { return -std::log1p(-uniform(sta
 WaveSolver::WaveSolver(const WaveParams& params) : params_(params), rng_(params.seed) {
   validate(params_);
   derive();
+  set_waves(wind_waves(params_, dt_));
   const auto cells = static_cast<std::size_t>(params_.grid) * static_cast<std::size_t>(params_.grid);
   before_.assign(cells, 0.0);
   now_.assign(cells, 0.0);
@@ -62,11 +63,16 @@ void WaveSolver::retune(const WaveParams& params) {
   require(params.size == params_.size, "water.size", "cannot change while the water moves");
   const double before = dt_;
   const bool new_rain = params.rain_rate != params_.rain_rate || params.seed != params_.seed;
+  const bool new_wind = params.wind_height != params_.wind_height || params.wind_direction_deg != params_.wind_direction_deg ||
+                        params.wind_wavelength != params_.wind_wavelength || params.seed != params_.seed ||
+                        params.wave_speed != params_.wave_speed || params.time_step != params_.time_step ||
+                        params.damping != params_.damping;
   params_ = params;
   derive();
   // The previous step sits one new step back along the same velocity.
   if (dt_ != before)
     for (std::size_t k = 0; k < now_.size(); ++k) before_[k] = now_[k] - (now_[k] - before_[k]) * (dt_ / before);
+  if (new_wind) set_waves(wind_waves(params_, dt_));
   if (new_rain) {
     rng_ = params_.seed ^ steps_;
     next_rain_ = params_.rain_rate > 0 ? time_ + wait(rng_, params_.rain_rate) : 0;
@@ -127,8 +133,24 @@ void WaveSolver::rain() {
   }
 }
 
+void WaveSolver::set_waves(std::vector<Wave> waves) {
+  if (waves.empty()) forcing_.reset();
+  else forcing_.emplace(params_, dt_, std::move(waves));
+}
+
 void WaveSolver::step() {
   rain();
+  if (forcing_) {
+    forcing_->evaluate(time_, force_);
+    // Waves the walls do not fit would pump water in or out: the wind keeps
+    // the volume, as a drop does, less its (trapezoidal) mean.
+    const int n = params_.grid;
+    double sum = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) sum += weight(i, j) * force_[static_cast<std::size_t>(j) * n + i];
+    const double mean = sum / (static_cast<double>(n - 1) * (n - 1));
+    for (double& f : force_) f -= mean;
+  }
   const int n = params_.grid;
   const double keep = 1 - a_, scale = 1 / (1 + a_);
   for (int j = 0; j < n; ++j) {
@@ -140,7 +162,8 @@ void WaveSolver::step() {
       const int left = mirrored(i - 1, n), right = mirrored(i + 1, n);
       const double h = now_[row + i];
       const double laplacian = now_[row + left] + now_[row + right] + now_[down + i] + now_[up + i] - 4 * h;
-      next_[row + i] = (2 * h - keep * before_[row + i] + courant2_ * laplacian) * scale;
+      const double drive = forcing_ ? force_[row + i] : 0.0;
+      next_[row + i] = (2 * h - keep * before_[row + i] + courant2_ * laplacian + drive) * scale;
     }
   }
   std::swap(before_, now_);

@@ -232,9 +232,10 @@ export class CausticRoom {
     }
     this.camera.position.copy(target).addScaledVector(toward, distance);
     this.camera.lookAt(target);
-    // A room metres across (a pool) needs a nearer near plane than one of
-    // hundreds of millimetres: zooming in would cut into it.
-    this.camera.near = Math.min(1, distance / 200);
+    // A pool 2 m across is framed from a few metres: a near plane 1 away
+    // would cut into it as the camera zooms in. The classic scenes, framed
+    // from 80 or more, keep 1.
+    this.camera.near = Math.min(1, distance / 50);
     this.camera.updateProjectionMatrix();
     this.target = target;
     furnish(this, new THREE.Box3().setFromPoints(points));

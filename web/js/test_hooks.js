@@ -52,16 +52,18 @@ export function installTestHooks(state, parts) {
     controls.orbit.dispatchEvent({ type: 'end' });
   };
   // A scene with water: the heights drawn (metres, the frame message's
-  // order), where the water's point (x, y) is on the page, and a click
-  // there (the click's own path: raycast, then the drop's POST), which
-  // resolves to the server's answer { status, body }, or null when the
-  // click missed the water. What was drawn last is window.caustic.water.
+  // order), where the water's point (x, y) is on the page, a click there
+  // (the click's own path: raycast, then the drop's POST), and the POST
+  // alone at any (x, y), as a click that met the water there would send it.
+  // Both resolve to the server's answer { status, body }; a click that
+  // missed the water, to null. What was drawn last is window.caustic.water.
   state.waterHeights = () => parts().water?.surface.drawnHeights() ?? null;
   state.waterPagePoint = (x, y) => parts().water.surface.pagePoint(x, y);
   state.clickWater = (x, y) => {
     const { water } = parts();
     return water.click(...water.surface.pagePoint(x, y));
   };
+  state.dropAt = (x, y) => parts().water.drop(x, y);
   // The session's id and codec, never its token.
   Object.defineProperty(state, 'session', {
     get: () => {

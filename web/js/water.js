@@ -146,7 +146,7 @@ export class WaterSurface {
     return [THREE.MathUtils.clamp(p.x, -half, half), THREE.MathUtils.clamp(p.y, -half, half)];
   }
 
-  /// Where the water's point (x, y) (at its drawn height, or z) is on the page, in CSS pixels.
+  /// Where the water's point (x, y) at height z (0: the still surface) is on the page, in CSS pixels.
   pagePoint(x, y, z = 0) {
     const p = this.mesh.localToWorld(new THREE.Vector3(x, y, z)).project(this.room.camera);
     const r = this.room.renderer.domElement.getBoundingClientRect();
@@ -163,7 +163,9 @@ export class PoolWater {
     this.surface = new WaterSurface(room, water.size);
     this.session = session;
     this.onRefused = onRefused;
-    this.record = { step: null, drops: null, n: null, updates: 0, posted: 0, accepted: [], refused: null };
+    // lastDrop: the last accepted drop, with the surfaces drawn (updates)
+    // and the time when the server accepted it and when a frame showed it.
+    this.record = { step: null, drops: null, n: null, updates: 0, posted: 0, lastDrop: null, refused: null };
     // A press on a gizmo's handle drags the light or the object, wherever it ends.
     const gizmo = controls.gizmo;
     this.listen(room.renderer.domElement, () => gizmo.dragging || (gizmo.object !== undefined && gizmo.axis !== null));
@@ -174,6 +176,9 @@ export class PoolWater {
     this.surface.show(message.n, decodeHeights(message));
     Object.assign(this.record, { step: message.step, drops: message.drops, n: message.n });
     this.record.updates += 1;
+    const last = this.record.lastDrop;
+    if (last && last.shownAt === null && message.drops >= last.drop)
+      Object.assign(last, { shownAt: this.record.updates, shownMs: performance.now() });
   }
 
   // A press and release of the primary pointer with no drag between is a
@@ -210,11 +215,14 @@ export class PoolWater {
       answer = { ok: false, status: 0, body: { detail: error.message } };
     }
     if (answer.ok) {
-      this.record.accepted.push(answer.body.drop);
-      if (this.record.accepted.length > 64) this.record.accepted.shift();
+      // The frame with the drop may have been shown before this answer came.
+      const { updates, drops } = this.record, now = performance.now(), shown = drops >= answer.body.drop;
+      this.record.lastDrop = { drop: answer.body.drop, acceptedAt: updates, acceptedMs: now,
+                               shownAt: shown ? updates : null, shownMs: shown ? now : null };
       if (this.record.refused) this.refuse(null);
     } else {
-      this.refuse({ key: answer.body.key ?? 'drop', detail: answer.body.detail ?? `the server answered ${answer.status}` });
+      // The server's detail names the key at fault.
+      this.refuse({ key: 'drop', detail: answer.body.detail ?? `the server answered ${answer.status}` });
     }
     return { status: answer.status, body: answer.body };
   }

@@ -19,7 +19,10 @@ struct WaveParams {
   double rain_rate = 0.0;        ///< drops per second over the whole pool (a Poisson process)
   double rain_strength = 0.002;  ///< depth of a rain drop's dent, metres (a visitor's drop, by default)
   double drop_radius = 0.03;     ///< a drop's radius (its Gaussian's sigma), metres
-  std::uint64_t seed = 1;        ///< where and when rain falls
+  double wind_height = 0;        ///< RMS height of the wind's waves, metres; 0: calm
+  double wind_direction_deg = 0; ///< where the wind blows to, degrees from +x towards +y
+  double wind_wavelength = 0.3;  ///< the wind waves' peak wavelength, metres
+  std::uint64_t seed = 1;        ///< where and when rain falls, and the wind's waves
   double warmup_s = 0;           ///< seconds of rain simulated before the first frame, [0, 60]
   bool paused = false;           ///< a stream holds the water still (its clock stops) while set
 

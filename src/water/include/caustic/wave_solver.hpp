@@ -12,8 +12,10 @@
 #pragma once
 
 #include "caustic/water_params.hpp"
+#include "caustic/wind.hpp"
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace caustic::water {
@@ -33,8 +35,15 @@ class WaveSolver {
   /// less its mean so the water's volume is unchanged. Throws as
   /// check_drop() does.
   void drop(double x, double y, double strength, double radius);
-  /// One time step, rain included.
+  /// One time step, rain and wind included.
   void step();
+  /// Drives the water towards these travelling waves instead of the
+  /// wind's (their omega is taken as given); empty: no forcing. Needs
+  /// damping above 0 to have an effect. Kept until retune() changes a
+  /// wind key, the seed, the wave speed or the step.
+  void set_waves(std::vector<Wave> waves);
+  /// The waves the water is driven towards (empty without wind).
+  const Forcing* forcing() const { return forcing_ ? &*forcing_ : nullptr; }
   /// Takes new values for what may change while the water moves (wave
   /// speed, damping, time step, rain, seed, pause); the heights stay, and a
   /// new time step keeps the surface's velocity. Throws SceneError as
@@ -71,6 +80,8 @@ class WaveSolver {
   std::uint64_t steps_ = 0, raindrops_ = 0;
   std::uint64_t rng_;
   double next_rain_ = 0;  // seconds
+  std::optional<Forcing> forcing_;
+  std::vector<double> force_;  // dt^2 f of the current step
 };
 
 }  // namespace caustic::water
