@@ -30,7 +30,7 @@ TEST_P(StreamedFidelity, TheChoiceMeetsTheTargetAtTheStreamedSize) {
     GTEST_SKIP() << GetParam() << " was not built";
   const Scene loaded = load_scene(file);
   const auto source = std::make_shared<const Mesh>(load_obj(loaded.mesh_path()));
-  const MeshLevels levels = build_mesh_levels(source, loaded.object.flat_face_normal, coarser_resolutions(*source, loaded.object.shape));
+  const MeshLevels levels = build_mesh_levels(source, loaded.object.flat_face_normal, coarser_resolutions(*source, loaded));
   const Scene scene = follow_light(loaded, levels.place(loaded.object));  // as a session renders it
   const auto calibration = load_calibration(calibration_path(file), scene_fingerprint(scene, *source));
   ASSERT_TRUE(calibration) << "no calibration for the scene as shipped";

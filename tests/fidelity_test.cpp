@@ -224,7 +224,7 @@ class FidelityAuto : public GlTest {};
 
 TEST_F(FidelityAuto, CheaperForAFarDirectionalLightThanAPointLightImagedOnTheScreen) {
   const auto source = shared(grid_mesh(plano_convex_lens(40.0, 10.0), 256, 256));
-  const MeshLevels levels = build_mesh_levels(source, {0, 0, 1}, coarser_resolutions(*source, Shape::slab));
+  const MeshLevels levels = build_mesh_levels(source, {0, 0, 1}, coarser_resolutions(*source, Scene{}));
   Scene lens;
   lens.mesh = "generated";
   lens.object.flat_face_offset = 4.0;

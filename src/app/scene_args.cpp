@@ -47,7 +47,7 @@ bool load_scene_levels(const char* command, const std::filesystem::path& file,
   if (!load_scene_and_mesh(command, file, assignments, scene, &mesh)) return false;
   try {
     auto source = std::make_shared<const Mesh>(std::move(mesh));
-    std::vector<int> resolutions = coarser_resolutions(*source, scene->object.shape);
+    std::vector<int> resolutions = coarser_resolutions(*source, *scene);
     const int named = scene->render.mesh_resolution;
     if (named != 0 && std::find(resolutions.begin(), resolutions.end(), named) == resolutions.end())
       resolutions.push_back(named);

@@ -46,9 +46,9 @@ Mesh resample_face(const Mesh& mesh, const glm::dvec3& flat_normal, int n) {
   return out;
 }
 
-std::vector<int> coarser_resolutions(const Mesh& source, Shape shape) {
+std::vector<int> coarser_resolutions(const Mesh& source, const Scene& scene) {
   std::vector<int> out;
-  if (shape == Shape::solid) return out;
+  if (scene.object.shape == Shape::solid || scene.water) return out;
   for (int n = 8; static_cast<std::size_t>(n) * n < source.positions.size() && n <= 1024; n *= 2) out.push_back(n);
   return out;
 }

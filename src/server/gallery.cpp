@@ -62,7 +62,7 @@ std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, cons
   entry->scene = load_scene(file);
   entry->mesh = mesh ? std::move(mesh) : std::make_shared<const Mesh>(water::load_scene_mesh(entry->scene));
   entry->levels = std::make_shared<const MeshLevels>(
-      build_mesh_levels(entry->mesh, entry->scene.object.flat_face_normal, coarser_resolutions(*entry->mesh, entry->scene.object.shape)));
+      build_mesh_levels(entry->mesh, entry->scene.object.flat_face_normal, coarser_resolutions(*entry->mesh, entry->scene)));
   // Calibrated as rendered: with the screen where following puts it.
   const Scene placed = follow_light(entry->scene, entry->levels->place(entry->scene.object));
   entry->calibration = load_calibration(calibration_path(file), scene_fingerprint(placed, *entry->mesh));

@@ -19,10 +19,12 @@ namespace caustic {
 /// Throws std::invalid_argument for n < 2 and SceneError when nothing is hit.
 Mesh resample_face(const Mesh& mesh, const glm::dvec3& flat_normal, int n);
 
-/// Grid sizes worth offering below a mesh: powers of two from 32 while the
-/// grid has fewer vertices than the mesh itself; none for a solid, which is
-/// no height field (its multipass tracer thins the light's grid instead).
-std::vector<int> coarser_resolutions(const Mesh& source, Shape shape);
+/// Grid sizes worth offering below a scene's mesh: powers of two from 8
+/// while the grid has fewer vertices than the mesh itself; none for a solid,
+/// which is no height field (its multipass tracer thins the light's grid
+/// instead), nor for water, whose surface is new every frame (water.grid
+/// sets its size).
+std::vector<int> coarser_resolutions(const Mesh& source, const Scene& scene);
 
 /// Resamples `source` (mesh coordinates, flat face normal `flat_normal`) at
 /// each resolution. Throws SceneError when the face cannot be resampled.
