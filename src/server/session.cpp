@@ -210,6 +210,8 @@ void Session::tell_frame(guint32 rtp_timestamp, const FrameFacts& frame) {
       const nlohmann::json scene = scene_to_json(snap.scene);
       nlohmann::json room = {{"light", scene.at("light")}, {"screen", scene.at("screen")}, {"object", nlohmann::json::object()}};
       for (const char* key : {"position", "rotation_deg", "ior"}) room["object"][key] = scene.at("object").at(key);
+      // A pool's viewers draw its surface at its size (heights come with each frame).
+      if (snap.scene.water) room["water"] = {{"size", snap.scene.water->size}};
       frames_out_->send(nlohmann::json{{"params", room}, {"version", snap.version}}.dump());
       params_told_ = frame.version;
       params_told_at_ = now;
