@@ -46,6 +46,7 @@ void post_drop(ServerState& s, SoupServerMessage* msg, Session& session) {
       return reply_problem(msg, s.metrics, SOUP_STATUS_UNPROCESSABLE_ENTITY, printable_name(key) + ": unknown key",
                            printable_name(key));
   const Scene scene = session.params().snapshot().scene;
+  if (!scene.water) return reply_problem(msg, s.metrics, SOUP_STATUS_CONFLICT, "this session's scene has no water");
   water::Drop drop{0, 0, scene.water->rain_strength, scene.water->drop_radius};
   double* fields[] = {&drop.x, &drop.y, &drop.strength, &drop.radius};
   for (std::size_t i = 0; i < std::size(kDropKeys); ++i) {

@@ -45,10 +45,12 @@ Mesh load_scene_mesh(const Scene& scene) {
   return water_mesh(solver);
 }
 
-Pool::Pool(const WaveParams& params) : solver_(params) { warm_up(solver_); }
+Pool::Pool(const WaveParams& params) : solver_(params), shape_(params) { warm_up(solver_); }
 
 std::optional<std::uint64_t> Pool::post(const Drop& drop) {
-  check_drop(solver_.params(), drop.x, drop.y, drop.strength, drop.radius);
+  // The pool's grid and size never change (retune() refuses): checked
+  // against the first parameters, which no other thread writes.
+  check_drop(shape_, drop.x, drop.y, drop.strength, drop.radius);
   std::lock_guard hold(lock_);
   if (queued_.size() >= kMaxQueued) return std::nullopt;
   queued_.push_back(drop);

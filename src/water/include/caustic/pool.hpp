@@ -82,6 +82,7 @@ class Pool {
 
  private:
   WaveSolver solver_;
+  const WaveParams shape_;  // as constructed: the grid and size drops are checked against
   double owed_ = 0;  // seconds simulated short of a whole step
   std::uint64_t drops_ = 0;
   std::shared_ptr<const Mesh> mesh_;
