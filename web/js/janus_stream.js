@@ -2,13 +2,14 @@
 // A broadcast through the Janus WebRTC server: its WebSocket API (create,
 // attach to the streaming plugin, watch the mountpoint with its pin, answer
 // the offer, start), with the viewer link's token on every request, the
-// video, and the "frames" data channel that announces parameter versions.
+// video, and the "frames" data channel that announces parameter versions
+// (and, for a pool, the surface each frame shows).
 
 const KEEPALIVE_MS = 25000;  // Janus ends a session silent for 60 s
 
 export class JanusStream {
-  constructor({ url, mountpoint, pin, token }, video, { onState, onVersion, onParams }) {
-    Object.assign(this, { url, mountpoint, pin, token, video, onState, onVersion, onParams });
+  constructor({ url, mountpoint, pin, token }, video, { onState, onVersion, onParams, onFrame }) {
+    Object.assign(this, { url, mountpoint, pin, token, video, onState, onVersion, onParams, onFrame });
     this.pending = new Map();  // transaction -> { resolve, reject }
     this.next = 0;
     this.closed = false;
@@ -52,16 +53,20 @@ export class JanusStream {
     await this.message({ request: 'start' }, { type: answer.type, sdp: answer.sdp });
   }
 
-  // Frame messages: {"version", "level"} of the newest picture sent, and
-  // {"params", "version"}: what places the room (screen, light, the
-  // object's pose), on each change and each second.
+  // Frame messages: {"rtp_timestamp", "version", "level"} of the newest
+  // picture sent (with "water" for a pool), also passed whole to onFrame,
+  // and {"params", "version"}: what places the room (screen, light, the
+  // object's pose, a pool's size), on each change and each second.
   listen(channel) {
     this.channels = (this.channels ?? 0) + 1;
     channel.binaryType = 'arraybuffer';
     channel.onmessage = ({ data }) => {
       const message = JSON.parse(typeof data === 'string' ? data : new TextDecoder().decode(data));
       if (message.params) this.onParams?.(message.params, message.version);
-      else this.onVersion(message.version, message.level);
+      else {
+        this.onVersion(message.version, message.level);
+        this.onFrame?.(message);
+      }
     };
   }
 

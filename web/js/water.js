@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
-// The pool's water in the viewer (scenes with a `water` section): the server
-// simulates the surface, and every frame's message on the "frames" channel
-// carries a coarse copy of the surface that frame's caustic came from. The
-// page draws that copy over the floor when the frame is shown, so the
-// ripples and the caustic under them agree; a click on the water drops a
-// stone there (POST .../drops); the panel pauses the water and sets its rain.
+// The pool's water (scenes with a `water` section): the server simulates
+// the surface, and every frame's message on the "frames" channel carries a
+// coarse copy of the surface that frame's caustic came from. A page draws
+// that copy over the floor when the frame is shown, so the ripples and the
+// caustic under them agree (ShownWater: the viewer and a broadcast's
+// viewers). In the viewer a click on the water also drops a stone there
+// (POST .../drops), and the panel pauses the water and sets its rain
+// (PoolWater).
 import * as THREE from 'three';
 
 import { postDrop } from './api.js';
@@ -154,21 +156,14 @@ export class WaterSurface {
   }
 }
 
-/// The water of a viewer: the surface, clicks that drop stones, and what the
-/// page knows of it (`record`, read by the tests as window.caustic.water).
-/// `session()` is the current session (it changes on reconnect),
-/// `onRefused(problem or null)` shows or clears a refused drop's reason.
-export class PoolWater {
-  constructor(room, controls, water, { session, onRefused }) {
+/// The surface drawn from the shown frames' water messages, and what the
+/// page knows of it (`record`: the last drawn step, drops and n, and how
+/// many surfaces were drawn; read by the tests as window.caustic.water).
+/// Placing it hides the object's slab. A broadcast's viewers only watch.
+export class ShownWater {
+  constructor(room, water) {
     this.surface = new WaterSurface(room, water.size);
-    this.session = session;
-    this.onRefused = onRefused;
-    // lastDrop: the last accepted drop, with the surfaces drawn (updates)
-    // and the time when the server accepted it and when a frame showed it.
-    this.record = { step: null, drops: null, n: null, updates: 0, posted: 0, lastDrop: null, refused: null };
-    // A press on a gizmo's handle drags the light or the object, wherever it ends.
-    const gizmo = controls.gizmo;
-    this.listen(room.renderer.domElement, () => gizmo.dragging || (gizmo.object !== undefined && gizmo.axis !== null));
+    this.record = { step: null, drops: null, n: null, updates: 0 };
   }
 
   /// A frame's message, when that frame is shown.
@@ -176,6 +171,28 @@ export class PoolWater {
     this.surface.show(message.n, decodeHeights(message));
     Object.assign(this.record, { step: message.step, drops: message.drops, n: message.n });
     this.record.updates += 1;
+  }
+}
+
+/// The water of a viewer: the shown surface, clicks that drop stones, and
+/// what the page knows of them (`record`, besides ShownWater's).
+/// `session()` is the current session (it changes on reconnect),
+/// `onRefused(problem or null)` shows or clears a refused drop's reason.
+export class PoolWater extends ShownWater {
+  constructor(room, controls, water, { session, onRefused }) {
+    super(room, water);
+    this.session = session;
+    this.onRefused = onRefused;
+    // lastDrop: the last accepted drop, with the surfaces drawn (updates)
+    // and the time when the server accepted it and when a frame showed it.
+    Object.assign(this.record, { posted: 0, lastDrop: null, refused: null });
+    // A press on a gizmo's handle drags the light or the object, wherever it ends.
+    const gizmo = controls.gizmo;
+    this.listen(room.renderer.domElement, () => gizmo.dragging || (gizmo.object !== undefined && gizmo.axis !== null));
+  }
+
+  show(message) {
+    super.show(message);
     const last = this.record.lastDrop;
     if (last && last.shownAt === null && message.drops >= last.drop)
       Object.assign(last, { shownAt: this.record.updates, shownMs: performance.now() });
