@@ -146,6 +146,24 @@ TEST(Pool, ViewersGetTheCoarseSurfaceOfEachFrameDrawn) {
   EXPECT_FALSE(pool.proxy(pool.step()).heights.empty());
 }
 
+TEST(Pool, ACoarserCopyKeepsTheWallsAndInterpolatesInside) {
+  Proxy fine;
+  fine.n = 32;
+  fine.step = 9;
+  // A plane, which bilinear sampling keeps exactly: h = 100 i - 30 j units.
+  for (int j = 0; j < 32; ++j)
+    for (int i = 0; i < 32; ++i) fine.heights.push_back(static_cast<std::int16_t>(100 * i - 30 * j));
+  const Proxy coarse = resample(fine, 16);
+  ASSERT_EQ(coarse.n, 16);
+  ASSERT_EQ(coarse.heights.size(), 256u);
+  EXPECT_EQ(coarse.step, 9u);
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 16; ++i)
+      EXPECT_NEAR(coarse.heights[static_cast<std::size_t>(j) * 16 + i], (100 * i - 30 * j) * 31.0 / 15, 0.5) << i << "," << j;
+  EXPECT_EQ(resample(fine, 32).heights, fine.heights);
+  EXPECT_TRUE(resample(Proxy{}, 16).heights.empty());
+}
+
 TEST(Pool, AScenesSurfaceIsItsWarmedUpWaterEveryTime) {
   Scene scene;
   WaveParams p = calm();

@@ -21,6 +21,10 @@ namespace {
 
 using Ref = std::weak_ptr<Session>;
 
+// A broadcast's frame message with the pool's surface at 16 x 16: 684
+// characters of heights, the message under 900 bytes.
+constexpr int kBroadcastWaterSide = 16;
+
 }  // namespace
 
 std::string random_hex() {
@@ -196,9 +200,12 @@ std::optional<std::chrono::steady_clock::time_point> Session::render_heartbeat()
 
 void Session::tell_frame(guint32 rtp_timestamp, const FrameFacts& frame) {
   nlohmann::json told{{"rtp_timestamp", rtp_timestamp}, {"version", frame.version}, {"level", frame.level}};
-  // The surface this frame's caustic came from, for the viewer to draw.
+  // The surface this frame's caustic came from, for the viewer to draw; a
+  // broadcast's is coarser, for its datagram to pass Janus whole (Janus
+  // reads at most 1,500 bytes of one).
   if (pool_)
-    if (const auto proxy = pool_->proxy(frame.water_step); !proxy.heights.empty()) told["water"] = water_message(proxy);
+    if (const auto proxy = pool_->proxy(frame.water_step); !proxy.heights.empty())
+      told["water"] = water_message(frames_out_ ? water::resample(proxy, kBroadcastWaterSide) : proxy);
   if (frames_out_) {
     frames_out_->send(told.dump());
     // Viewers draw the room from what places it (screen, light, the

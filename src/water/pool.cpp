@@ -14,29 +14,46 @@ void warm_up(WaveSolver& solver) {
   while (solver.time() + 0.5 * solver.time_step() < seconds) solver.step();
 }
 
-Proxy sample(const WaveSolver& solver) {
-  const auto& p = solver.params();
-  const int n = p.grid, side = Pool::kProxySide;
-  const auto& h = solver.heights();
-  Proxy out;
-  out.n = side;
-  out.step = solver.steps();
-  out.heights.reserve(static_cast<std::size_t>(side) * side);
-  const double per = static_cast<double>(n - 1) / (side - 1);  // grid cells per proxy cell
+// `side` x `side` samples of the n x n grid `at(i, j)` spans, walls included,
+// bilinear, in units of `unit`.
+template <typename At>
+std::vector<std::int16_t> bilinear(int n, int side, double unit, const At& at) {
+  std::vector<std::int16_t> out;
+  out.reserve(static_cast<std::size_t>(side) * side);
+  const double per = static_cast<double>(n - 1) / (side - 1);  // grid cells per sample
   for (int j = 0; j < side; ++j)
     for (int i = 0; i < side; ++i) {
       const double u = i * per, v = j * per;
       const int i0 = std::min(static_cast<int>(u), n - 2), j0 = std::min(static_cast<int>(v), n - 2);
       const double fu = u - i0, fv = v - j0;
-      const auto at = [&](int a, int b) { return h[static_cast<std::size_t>(b) * n + a]; };
       const double value = (1 - fv) * ((1 - fu) * at(i0, j0) + fu * at(i0 + 1, j0)) +
                            fv * ((1 - fu) * at(i0, j0 + 1) + fu * at(i0 + 1, j0 + 1));
-      out.heights.push_back(static_cast<std::int16_t>(std::clamp(std::lround(value / out.unit), -32767L, 32767L)));
+      out.push_back(static_cast<std::int16_t>(std::clamp(std::lround(value / unit), -32767L, 32767L)));
     }
   return out;
 }
 
+Proxy sample(const WaveSolver& solver) {
+  const int n = solver.params().grid;
+  const auto& h = solver.heights();
+  Proxy out;
+  out.n = Pool::kProxySide;
+  out.step = solver.steps();
+  out.heights = bilinear(n, out.n, out.unit, [&](int i, int j) { return h[static_cast<std::size_t>(j) * n + i]; });
+  return out;
+}
+
 }  // namespace
+
+Proxy resample(const Proxy& proxy, int n) {
+  Proxy out = proxy;
+  if (proxy.heights.empty() || n == proxy.n) return out;
+  out.n = n;
+  out.heights = bilinear(proxy.n, n, proxy.unit, [&](int i, int j) {
+    return proxy.heights[static_cast<std::size_t>(j) * proxy.n + i] * proxy.unit;
+  });
+  return out;
+}
 
 Mesh load_scene_mesh(const Scene& scene) {
   if (!scene.water) return load_obj(scene.mesh_path());

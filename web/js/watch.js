@@ -5,6 +5,8 @@
 // as the viewer (the scene's public slab, screen and light, placed by the
 // parameters the stream's data carries) and says which parameter version
 // it shows. Its holder drives the scene; viewers watch and look around.
+// A pool's surface is drawn from the heights of the frame being shown
+// (water.js), as in the viewer; a viewer of a broadcast drops no stones.
 // `view=video` in the fragment shows the plain video instead (a device
 // without WebGL, or a wall display).
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -12,6 +14,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { JanusStream } from './janus_stream.js';
 import { FrameRate, Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
+import { ShownWater } from './water.js';
 
 const link = new URLSearchParams(location.hash.slice(1));
 const stateLabel = document.getElementById('state');
@@ -58,7 +61,11 @@ described.then((scene) => {
   document.title = `${scene.name} (broadcast)`;
 });
 
-let room = null, orbit = null;
+// The room message carries no atlas: the whole picture is the screen's
+// lightmap, whatever its size (which only scales an atlas's tiles).
+const whole = (params) => ({ ...params, render: { width: 1, height: 1 } });
+
+let room = null, orbit = null, water = null;
 async function placeRoom(params, version) {
   if (version < state.paramsVersion) return;  // an older message, overtaken
   state.params = params;
@@ -69,14 +76,91 @@ async function placeRoom(params, version) {
     if (!scene?.proxy || room) return;
     room = new CausticRoom(document.getElementById('stage'), video, scene.proxy,
                            softwareWebGL() ? Quality.low : Quality.high);
-    room.apply(state.params);  // frames the first view
+    room.apply(whole(state.params));  // frames the first view
     orbit = new OrbitControls(room.camera, room.renderer.domElement);
     orbit.target.copy(room.target);
     orbit.update();
-    return;
+    frames.watch();
+  } else {
+    room.apply(whole(state.params));
   }
-  room.apply(state.params);
+  // A pool: its surface in place of the slab, at the size the room message names.
+  if (state.params.water && !water) {
+    water = new ShownWater(room, state.params.water);
+    state.water = water.record;
+  }
 }
+
+// Which frame message each shown frame came with. Janus numbers a viewer's
+// RTP timestamps from the first packet it relays to that viewer, so a shown
+// frame's timestamp is the server's (the message's) less an offset of this
+// page's own, learnt from the recently shown frames: of the offsets that
+// pair at least half of them with messages, the one whose messages arrived
+// nearest the times their frames did (they leave the server together;
+// steady frame intervals pair shifted offsets too). While the offset in use
+// pairs half of them, a frame without a message by it (late or lost) shows
+// none rather than another frame's.
+const MESSAGES_KEPT = 512;
+const FRAMES_PAIRED = 16;
+const PAIRED_TO_LEARN = 3;
+const ARRIVALS_APART_MS = 1000;  // at most, between a frame and its message
+class FrameMessages {
+  constructor(video, onShown) {
+    Object.assign(this, { video, onShown, offset: null, shown: [], paired: 0 });
+    this.messages = new Map();  // the server's rtp timestamp -> { message, at (arrival, ms) }
+  }
+
+  add(message) {
+    if (!Number.isInteger(message.rtp_timestamp)) return;
+    this.messages.set(message.rtp_timestamp >>> 0, { message, at: performance.now() });
+    if (this.messages.size > MESSAGES_KEPT) this.messages.delete(this.messages.keys().next().value);
+  }
+
+  // The recent frames `offset` pairs with messages: how many, and how far
+  // apart their arrivals were on average (ms).
+  pairing(offset) {
+    let count = 0, apart = 0;
+    for (const { rtp, at } of this.shown) {
+      const told = this.messages.get((rtp + offset) >>> 0);
+      if (told) [count, apart] = [count + 1, apart + Math.abs(told.at - at)];
+    }
+    return { count, apart: count ? apart / count : Infinity };
+  }
+
+  // The message of a shown frame (its timestamp, and when it arrived), or undefined.
+  match(rtp, at) {
+    this.shown.push({ rtp, at });
+    if (this.shown.length > FRAMES_PAIRED) this.shown.shift();
+    const told = (offset) => this.messages.get((rtp + offset) >>> 0)?.message;
+    const enough = Math.max(PAIRED_TO_LEARN, this.shown.length / 2);
+    if (this.offset !== null && !told(this.offset) && this.pairing(this.offset).count >= enough) return undefined;
+    let best = null, nearest = Infinity;
+    for (const [key, message] of this.messages) {
+      if (Math.abs(message.at - at) > ARRIVALS_APART_MS) continue;
+      const offset = (key - rtp) >>> 0;  // one that pairs this frame
+      const { count, apart } = this.pairing(offset);
+      if (count >= enough && apart < nearest) [best, nearest] = [offset, apart];
+    }
+    if (best !== null) this.offset = best;
+    return this.offset === null ? undefined : told(this.offset);
+  }
+
+  watch() {
+    if (!('requestVideoFrameCallback' in this.video)) return;
+    const onFrame = (now, meta) => {
+      const message = this.match(meta.rtpTimestamp, meta.receiveTime ?? now);
+      if (message) {
+        this.paired += 1;
+        this.onShown(message);
+      }
+      this.video.requestVideoFrameCallback(onFrame);
+    };
+    this.video.requestVideoFrameCallback(onFrame);
+  }
+}
+const frames = new FrameMessages(video, (message) => water?.show(message.water));
+state.framesPaired = () => frames.paired;
+state.waterHeights = () => water?.surface.drawnHeights() ?? null;
 
 const stream = new JanusStream({
   url: new URL(link.get('janus') ?? '', location.href).href.replace(/^http/, 'ws'),
@@ -91,6 +175,7 @@ const stream = new JanusStream({
     versionLabel.textContent = `frame version ${version}${level ? ' (preview)' : ''}`;
   },
   onParams: (params, version) => { placeRoom(params, version); },
+  onFrame: (message) => { if (!flat && message.water) frames.add(message); },  // a pool's
 });
 state.peer = () => stream.pc;
 state.stream = stream;

@@ -38,6 +38,10 @@ struct Proxy {
   std::vector<std::int16_t> heights;
 };
 
+/// The same surface on an `n` x `n` grid (bilinear, walls kept): what fits
+/// a datagram a relay passes on whole (16 x 16 is 512 bytes of heights).
+Proxy resample(const Proxy& proxy, int n);
+
 /// The mesh a scene renders: its OBJ file, or for a scene with water the
 /// surface after water.warmup_s of rain from still water (the same seed,
 /// the same surface). Throws SceneError.
