@@ -138,15 +138,6 @@ static gboolean gst_caustic_src_set_caps(GstBaseSrc* src, GstCaps* caps) {
   return TRUE;
 }
 
-// Water given with the source moves on where it was; otherwise the scene's
-// starts from its warmed-up surface. Under s.lock.
-static void start_water(State& s) {
-  const caustic::Scene scene = s.params->snapshot().scene;
-  if (!scene.water) s.pool.reset();
-  else if (!s.pool) s.pool = std::make_shared<caustic::water::Pool>(*scene.water);
-  s.source.pool = s.pool;
-}
-
 static gboolean gst_caustic_src_start(GstBaseSrc* src) {
   State& s = state_of(src);
   std::lock_guard lock(s.lock);

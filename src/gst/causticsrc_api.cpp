@@ -14,6 +14,15 @@ State* checked_state(GstElement* element) {
 
 }  // namespace
 
+// Water given with the source moves on where it was; otherwise the scene's
+// starts from its warmed-up surface. Under s.lock.
+void start_water(State& s) {
+  const caustic::Scene scene = s.params->snapshot().scene;
+  if (!scene.water) s.pool.reset();
+  else if (!s.pool) s.pool = std::make_shared<caustic::water::Pool>(*scene.water);
+  s.source.pool = s.pool;
+}
+
 void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std::shared_ptr<const MeshLevels> meshes,
                 std::shared_ptr<water::Pool> pool) {
   if (State* s = checked_state(causticsrc)) {

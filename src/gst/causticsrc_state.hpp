@@ -45,6 +45,9 @@ struct State {
   caustic::gst::DueWait due_wait;
 };
 
+/// Gives the stream its water as it starts (causticsrc_api.cpp). Under s.lock.
+void start_water(State& s);
+
 }  // namespace caustic::gst
 
 struct GstCausticSrc {

@@ -81,4 +81,14 @@ void validate(const WaveParams& p) {
           "must be 0 to " + text(kMaxWarmup) + " seconds");
 }
 
+void check_drop(const WaveParams& p, double x, double y, double strength, double radius) {
+  const double half = p.size / 2;
+  require(std::isfinite(x) && std::abs(x) <= half, "x", "must lie in the pool, within " + text(half) + " m of its centre");
+  require(std::isfinite(y) && std::abs(y) <= half, "y", "must lie in the pool, within " + text(half) + " m of its centre");
+  require(std::isfinite(strength) && std::abs(strength) <= 0.05 * p.size, "strength",
+          "must be at most 5% of the pool's size in magnitude");
+  require(std::isfinite(radius) && radius >= spacing(p) && radius <= p.size / 4, "radius",
+          "must be from one grid spacing (" + text(spacing(p)) + " m) to a quarter of the pool");
+}
+
 }  // namespace caustic::water

@@ -5,22 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <string>
 
 namespace caustic::water {
 namespace {
-
-std::string text(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
-
-void require(bool ok, const char* key, const std::string& what) {
-  if (!ok) throw SceneError(key, what);
-}
 
 // splitmix64: a small generator whose sequence is fixed by its seed on every
 // platform (the standard distributions are not), so runs repeat bit for bit.
@@ -59,8 +47,8 @@ void WaveSolver::derive() {
 
 void WaveSolver::retune(const WaveParams& params) {
   validate(params);
-  require(params.grid == params_.grid, "water.grid", "cannot change while the water moves");
-  require(params.size == params_.size, "water.size", "cannot change while the water moves");
+  if (params.grid != params_.grid) throw SceneError("water.grid", "cannot change while the water moves");
+  if (params.size != params_.size) throw SceneError("water.size", "cannot change while the water moves");
   const double before = dt_;
   const bool new_rain = params.rain_rate != params_.rain_rate || params.seed != params_.seed;
   const bool new_wind = params.wind_height != params_.wind_height || params.wind_direction_deg != params_.wind_direction_deg ||
@@ -82,16 +70,6 @@ void WaveSolver::retune(const WaveParams& params) {
 double WaveSolver::weight(int i, int j) const {
   const int last = params_.grid - 1;
   return (i == 0 || i == last ? 0.5 : 1.0) * (j == 0 || j == last ? 0.5 : 1.0);
-}
-
-void check_drop(const WaveParams& p, double x, double y, double strength, double radius) {
-  const double half = p.size / 2;
-  require(std::isfinite(x) && std::abs(x) <= half, "x", "must lie in the pool, within " + text(half) + " m of its centre");
-  require(std::isfinite(y) && std::abs(y) <= half, "y", "must lie in the pool, within " + text(half) + " m of its centre");
-  require(std::isfinite(strength) && std::abs(strength) <= 0.05 * p.size, "strength",
-          "must be at most 5% of the pool's size in magnitude");
-  require(std::isfinite(radius) && radius >= spacing(p) && radius <= p.size / 4, "radius",
-          "must be from one grid spacing (" + text(spacing(p)) + " m) to a quarter of the pool");
 }
 
 void WaveSolver::drop(double x, double y, double strength, double radius) {

@@ -51,5 +51,9 @@ double step_seconds(const WaveParams& params);
 /// ...) of the first value out of range; a time step above max_time_step()
 /// is refused with the bound in the message.
 void validate(const WaveParams& params);
+/// Throws SceneError ("x", "y", "strength", "radius") for a drop outside
+/// the pool, not finite, or with a radius under one grid spacing or over a
+/// quarter pool; what WaveSolver::drop() checks first.
+void check_drop(const WaveParams& params, double x, double y, double strength, double radius);
 
 }  // namespace caustic::water

@@ -20,11 +20,6 @@
 
 namespace caustic::water {
 
-/// Throws SceneError ("x", "y", "strength", "radius") for a drop outside
-/// the pool, not finite, or with a radius under one grid spacing or over a
-/// quarter pool; what WaveSolver::drop() checks first.
-void check_drop(const WaveParams& params, double x, double y, double strength, double radius);
-
 class WaveSolver {
  public:
   /// Still water. Throws as validate() does.
