@@ -53,6 +53,12 @@ TEST(Pool, PausedWaterStandsButTakesDrops) {
   EXPECT_EQ(pool.step(), 0u);              // ...but no time passes
   EXPECT_EQ(pool.drops(), 1u);
   EXPECT_FALSE(pool.advance(paused, 1.0));
+  // Viewers are told of the surface with the drop, though the step stands.
+  pool.mesh();
+  ASSERT_TRUE(pool.post({-0.3, 0.2, 0.005, 0.05}).has_value());
+  pool.advance(paused, 1.0);
+  pool.mesh();
+  EXPECT_EQ(pool.proxy(0).drops, 2u);
   EXPECT_TRUE(pool.advance(calm(), 0.05));
   EXPECT_EQ(pool.step(), 5u);
 }

@@ -109,8 +109,11 @@ std::shared_ptr<const Mesh> Pool::mesh() {
 
 Proxy Pool::proxy(std::uint64_t step) const {
   std::lock_guard hold(lock_);
-  for (const Proxy& p : proxies_)
-    if (p.step == step) return p;
+  // Newest first: a drop into paused water makes a new surface at the same
+  // step, and the frames after it must show it (those drawn just before it
+  // get it a frame early).
+  for (auto p = proxies_.rbegin(); p != proxies_.rend(); ++p)
+    if (p->step == step) return *p;
   return {};
 }
 
