@@ -6,6 +6,7 @@
 #include "caustic/image_io.hpp"
 #include "caustic/json_text.hpp"
 #include "caustic/pool.hpp"
+#include "caustic/water_mesh.hpp"
 #include "caustic/resample.hpp"
 #include "caustic/screen_follow.hpp"
 #include "caustic/spectral.hpp"
@@ -60,7 +61,12 @@ std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, cons
   auto entry = std::make_shared<GalleryEntry>();
   entry->id = id;
   entry->scene = load_scene(file);
-  entry->mesh = mesh ? std::move(mesh) : std::make_shared<const Mesh>(water::load_scene_mesh(entry->scene));
+  if (entry->scene.water && !mesh) {
+    auto warmed = std::make_shared<const water::WaveSolver>(water::warmed_up(*entry->scene.water));
+    mesh = std::make_shared<const Mesh>(water::water_mesh(*warmed));
+    entry->water = std::move(warmed);
+  }
+  entry->mesh = mesh ? std::move(mesh) : std::make_shared<const Mesh>(load_obj(entry->scene.mesh_path()));
   entry->levels = std::make_shared<const MeshLevels>(
       build_mesh_levels(entry->mesh, entry->scene.object.flat_face_normal, coarser_resolutions(*entry->mesh, entry->scene)));
   // Calibrated as rendered: with the screen where following puts it.

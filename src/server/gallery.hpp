@@ -6,6 +6,7 @@
 #include "caustic/fidelity.hpp"
 #include "caustic/mesh.hpp"
 #include "caustic/mesh_levels.hpp"
+#include "caustic/wave_solver.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -26,7 +27,8 @@ namespace caustic::server {
 struct GalleryEntry {
   std::string id;  ///< the scene file's name without .json
   Scene scene;
-  std::shared_ptr<const Mesh> mesh;           ///< as loaded
+  std::shared_ptr<const Mesh> mesh;           ///< as loaded (of a scene with water: its warmed-up surface)
+  std::shared_ptr<const water::WaveSolver> water;  ///< a scene with water: warmed up once, each session's start
   std::shared_ptr<const MeshLevels> levels;   ///< `mesh` and its coarser grids
   std::optional<Calibration> calibration;     ///< from <id>.calibration.json when it matches
   std::vector<unsigned char> thumbnail_png;

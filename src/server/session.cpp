@@ -68,7 +68,8 @@ Session::Session(std::string id, std::shared_ptr<const GalleryEntry> scene, Sess
       [entry](const Scene& candidate) { check_geometry_public(candidate, *entry->levels); },
       [entry](Scene candidate) { return resolve_for(*entry, std::move(candidate)); });
   // The water outlives a pipeline: a reloaded page finds it where it was.
-  if (initial.water) pool_ = std::make_shared<water::Pool>(*initial.water);
+  if (initial.water)
+    pool_ = scene_->water ? std::make_shared<water::Pool>(*scene_->water) : std::make_shared<water::Pool>(*initial.water);
 }
 
 std::shared_ptr<Session> Session::start(const std::string& id, std::shared_ptr<const GalleryEntry> scene,

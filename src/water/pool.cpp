@@ -9,11 +9,6 @@
 namespace caustic::water {
 namespace {
 
-void warm_up(WaveSolver& solver) {
-  const double seconds = solver.params().warmup_s;
-  while (solver.time() + 0.5 * solver.time_step() < seconds) solver.step();
-}
-
 // `side` x `side` samples of the n x n grid `at(i, j)` spans, walls included,
 // bilinear, in units of `unit`.
 template <typename At>
@@ -55,14 +50,19 @@ Proxy resample(const Proxy& proxy, int n) {
   return out;
 }
 
-Mesh load_scene_mesh(const Scene& scene) {
-  if (!scene.water) return load_obj(scene.mesh_path());
-  WaveSolver solver(*scene.water);
-  warm_up(solver);
-  return water_mesh(solver);
+WaveSolver warmed_up(const WaveParams& params) {
+  WaveSolver solver(params);
+  while (solver.time() + 0.5 * solver.time_step() < params.warmup_s) solver.step();
+  return solver;
 }
 
-Pool::Pool(const WaveParams& params) : solver_(params), shape_(params) { warm_up(solver_); }
+Mesh load_scene_mesh(const Scene& scene) {
+  return scene.water ? water_mesh(warmed_up(*scene.water)) : load_obj(scene.mesh_path());
+}
+
+Pool::Pool(const WaveParams& params) : Pool(warmed_up(params)) {}
+
+Pool::Pool(WaveSolver warmed) : solver_(std::move(warmed)), shape_(solver_.params()) {}
 
 std::optional<std::uint64_t> Pool::post(const Drop& drop) {
   // The pool's grid and size never change (retune() refuses): checked

@@ -42,9 +42,12 @@ struct Proxy {
 /// a datagram a relay passes on whole (16 x 16 is 512 bytes of heights).
 Proxy resample(const Proxy& proxy, int n);
 
+/// The water after params.warmup_s of rain and wind from still water (the
+/// same seed, the same surface). Throws SceneError.
+WaveSolver warmed_up(const WaveParams& params);
+
 /// The mesh a scene renders: its OBJ file, or for a scene with water the
-/// surface after water.warmup_s of rain from still water (the same seed,
-/// the same surface). Throws SceneError.
+/// surface warmed_up() leaves. Throws SceneError.
 Mesh load_scene_mesh(const Scene& scene);
 
 class Pool {
@@ -60,6 +63,8 @@ class Pool {
 
   /// Still water warmed up for params.warmup_s. Throws SceneError.
   explicit Pool(const WaveParams& params);
+  /// Water that was warmed up once (warmed_up()), for each stream a copy.
+  explicit Pool(WaveSolver warmed);
 
   /// Any thread: checks the drop (SceneError naming "x", "y", "strength" or
   /// "radius") and queues it. Returns its number (1 for the first posted):
