@@ -97,7 +97,9 @@ TEST(SceneWater, TheBoundPicksAWholeFractionOfASixtiethWithinIt) {
     const double k = 1.0 / (60 * dt);  // steps per sixtieth of a second
     EXPECT_NEAR(k, std::round(k), 1e-9) << grid;
     // The largest such: one step fewer would break the bound.
-    if (std::round(k) > 1) EXPECT_GT(1.0 / (60 * (std::round(k) - 1)), water::max_time_step(p)) << grid;
+    if (std::round(k) > 1) {
+      EXPECT_GT(1.0 / (60 * (std::round(k) - 1)), water::max_time_step(p)) << grid;
+    }
   }
   water::WaveParams fixed;
   fixed.time_step = 0.004;
