@@ -154,7 +154,9 @@ static gboolean gst_caustic_src_start(GstBaseSrc* src) {
   try {
     const caustic::Scene scene = caustic::load_scene(s.scene_path);
     auto meshes = std::make_shared<caustic::MeshLevels>();
-    meshes->source = std::make_shared<const caustic::Mesh>(caustic::water::load_scene_mesh(scene));
+    // Water is warmed up once: its pool's first surface is the mesh.
+    if (scene.water) s.pool = std::make_shared<caustic::water::Pool>(*scene.water);
+    meshes->source = s.pool ? s.pool->mesh() : std::make_shared<const caustic::Mesh>(caustic::load_obj(scene.mesh_path()));
     // Only the mesh as loaded here: a scene naming a coarser level is refused.
     s.params = std::make_shared<caustic::ParamStore>(
         scene, [meshes](const caustic::Scene& candidate) { caustic::check_geometry(candidate, *meshes); });
