@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <optional>
+#include <string>
 
 namespace caustic {
 namespace {
@@ -22,6 +23,13 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
 bool same_caustic(const Scene& a, const Scene& b) {
   return a.object == b.object && a.light == b.light && a.screen == b.screen && a.receivers == b.receivers &&
          a.render == b.render;
+}
+
+// Mesa's software rasterisers run the geometry stage on one thread.
+bool software_renderer() {
+  const auto* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  const std::string renderer = name ? name : "";
+  return renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos;
 }
 
 }  // namespace
@@ -44,6 +52,8 @@ struct Engine::Impl {
   double target_exposure = 1, shown_exposure = 1;
   std::chrono::steady_clock::time_point last_post{};
   int divisor = 1;  // preview: caustic at 1/divisor of the output size
+  const bool software = software_renderer();
+  TriangleSetup setup = TriangleSetup::automatic;
   FrameStats stats;
   std::uint64_t ray_passes = 0;
 };
@@ -94,6 +104,13 @@ void Engine::set_preview_divisor(int divisor) {
   if (s.scene) set_scene(*s.scene, s.mesh);  // new caustic target size, dirty frame
 }
 
+void Engine::set_triangle_setup(TriangleSetup setup) {
+  auto& s = *impl_;
+  if (setup == s.setup) return;
+  s.setup = setup;
+  s.ray_dirty = s.post_dirty = s.prepare_dirty = s.scene.has_value();
+}
+
 bool Engine::dirty() const { return impl_->ray_dirty || impl_->post_dirty; }
 
 bool Engine::render() {
@@ -105,16 +122,24 @@ bool Engine::render() {
     const int wavelengths = s.divisor > 1 ? std::min(s.scene->render.wavelengths, kPreviewWavelengths)
                                           : s.scene->render.wavelengths;
     const auto passes = spectral_passes(*s.scene, wavelengths);
+    const bool on_cpu = s.setup == TriangleSetup::cpu || (s.setup == TriangleSetup::automatic && s.software);
+    s.stats.cpu_setup = on_cpu;
     // One pass: the per-vertex method, or the multipass method for a solid
-    // on a light grid that a preview thins like its picture.
+    // on a light grid that a preview thins like its picture. The CPU's time
+    // is the tracing and the setup: the splats' draw is timed with the GL's.
     auto pass = [&](double ior, glm::vec3 weight, bool clear, bool count) {
-      if (!s.solid) return s.ray.draw(*s.scene, s.placement, s.hdr, ior, weight, clear, count);
-      const int n = std::max(16, s.scene->render.light_grid / s.divisor);
       const auto traced = std::chrono::steady_clock::now();
+      if (!s.solid) {
+        if (!on_cpu) return s.ray.draw(*s.scene, s.placement, s.hdr, ior, weight, clear, count);
+        s.ray.draw_on_cpu(*s.scene, s.placement, *s.mesh, s.hdr, ior, weight, clear, count);
+        s.stats.trace_ms += elapsed_ms(traced);
+        return;
+      }
+      const int n = std::max(16, s.scene->render.light_grid / s.divisor);
       const LandedGrid grid = trace_light_grid(*s.scene, *s.solid, ior, n);
       s.stats.trace_ms += elapsed_ms(traced);
       if (count) s.stats.split = static_cast<std::uint32_t>(grid.split);
-      s.ray.draw_landed(grid, *s.scene, s.placement, s.hdr, weight, clear, count);
+      s.ray.draw_landed(grid, *s.scene, s.placement, s.hdr, weight, clear, count, on_cpu);
     };
     if (passes.empty()) pass(s.scene->object.ior, glm::vec3(1), true, true);
     for (std::size_t i = 0; i < passes.size(); ++i) {

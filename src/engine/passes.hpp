@@ -7,12 +7,9 @@
 #include "caustic/exposure.hpp"
 #include "caustic/light_grid.hpp"
 #include "gl_objects.hpp"
+#include "splats.hpp"
 
 namespace caustic {
-
-struct TriangleCounts {
-  std::uint32_t drawn = 0, dropped = 0, positive = 0, negative = 0, collapsed = 0;
-};
 
 class RayPass {
  public:
@@ -24,10 +21,15 @@ class RayPass {
   /// monochrome one. `count`: this pass's triangles are what counts() reports.
   void draw(const Scene& scene, const Placement& placement, const gl::RenderTarget& target, double ior,
             glm::vec3 weight, bool clear, bool count = true);
+  /// The same picture with the rays traced and the triangles set up on the
+  /// CPU (splats.hpp) from `mesh`, the one last uploaded.
+  void draw_on_cpu(const Scene& scene, const Placement& placement, const Mesh& mesh, const gl::RenderTarget& target,
+                   double ior, glm::vec3 weight, bool clear, bool count = true);
   /// The same deposit for rays a solid's multipass tracer already followed
   /// (caustic/light_grid.hpp): their tints and Fresnel weights ride along.
   void draw_landed(const LandedGrid& grid, const Scene& scene, const Placement& placement,
-                   const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count = true);
+                   const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count = true,
+                   bool on_cpu = false);
   TriangleCounts counts() const;
 
  private:
@@ -35,11 +37,19 @@ class RayPass {
   void deposit(const gl::Program& program, GLuint vao, GLsizei indices, const Scene& scene,
                const Placement& placement, const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count,
                bool clear_tint);
+  // The CPU's quads into `target`, through caustic_splat.vert and caustic.frag.
+  void draw_splats(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
+                   const Scene& scene, const Placement& placement, const gl::RenderTarget& target, glm::vec3 weight,
+                   bool clear, bool count);
 
-  gl::Program program_, landed_program_;
-  gl::VertexArray vao_, landed_vao_;
+  gl::Program program_, landed_program_, splat_program_;
+  gl::VertexArray vao_, landed_vao_, splat_vao_;
   gl::Buffer positions_, normals_, colours_, indices_, counters_;
-  gl::Buffer landed_vertices_, landed_indices_;
+  gl::Buffer landed_vertices_, landed_indices_, splat_buffer_;
+  std::vector<Splat> splats_;  // kept: one allocation for every frame
+  int max_point_size_ = 1;
+  TriangleCounts cpu_counts_;
+  bool counted_on_cpu_ = false;  // the last counting pass set up its triangles on the CPU
   GLsizei index_count_ = 0;
   bool tinted_ = false;
 };

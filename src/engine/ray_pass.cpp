@@ -4,7 +4,9 @@
 #include "caustic/receivers.hpp"
 #include "caustic/vertex_rays.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <cstddef>
 #include <string>
 
@@ -21,6 +23,23 @@ double reference_distance2(const Scene& scene, const Placement& placement) {
 // uName[i] of a uniform array.
 std::string element(const char* name, std::size_t i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
 
+// Overlapping (folded) sheets add up as light does: no depth test, no
+// culling, additive blending.
+void add_up() {
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_FUNC_ADD);
+  glBlendFunc(GL_ONE, GL_ONE);
+}
+
+// Draws into `target`, black first when `clear`.
+void bind(const gl::RenderTarget& target, bool clear) {
+  target.bind();
+  const float black[4] = {0, 0, 0, 0};
+  if (clear) glClearNamedFramebufferfv(target.framebuffer.id(), GL_COLOR, 0, black);
+}
+
 }  // namespace
 
 RayPass::RayPass()
@@ -29,8 +48,26 @@ RayPass::RayPass()
                 {GL_FRAGMENT_SHADER, {"caustic.frag"}}}),
       landed_program_({{GL_VERTEX_SHADER, {"caustic_landed.vert"}},
                        {GL_GEOMETRY_SHADER, {"optics.glsl", "caustic.geom"}},
-                       {GL_FRAGMENT_SHADER, {"caustic.frag"}}}) {
+                       {GL_FRAGMENT_SHADER, {"caustic.frag"}}}),
+      splat_program_({{GL_VERTEX_SHADER, {"caustic_splat.vert"}}, {GL_FRAGMENT_SHADER, {"caustic.frag"}}}) {
   glNamedBufferStorage(counters_.id(), sizeof(TriangleCounts), nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
+  // The CPU setup's squares are points: no larger than the GL draws them,
+  // nor than 64 pixels, past which one primitive more costs less than the
+  // pixels a larger square wastes.
+  GLfloat sizes[2] = {1, 1};
+  glGetFloatv(GL_POINT_SIZE_RANGE, sizes);
+  max_point_size_ = std::clamp(static_cast<int>(sizes[1]), 1, 64);
+  const GLuint vao = splat_vao_.id();
+  glVertexArrayVertexBuffer(vao, 0, splat_buffer_.id(), 0, sizeof(Splat));
+  const struct {
+    GLint size;
+    std::size_t offset;
+  } attribs[] = {{4, offsetof(Splat, a)}, {4, offsetof(Splat, c)}, {3, offsetof(Splat, side)}, {3, offsetof(Splat, tint)}};
+  for (GLuint a = 0; a < std::size(attribs); ++a) {
+    glEnableVertexArrayAttrib(vao, a);
+    glVertexArrayAttribFormat(vao, a, attribs[a].size, GL_FLOAT, GL_FALSE, static_cast<GLuint>(attribs[a].offset));
+    glVertexArrayAttribBinding(vao, a, 0);
+  }
 }
 
 void RayPass::upload(const Mesh& mesh) {
@@ -98,13 +135,54 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
   deposit(program_, vao_.id(), index_count_, scene, placement, target, weight, clear, count, !tinted_);
 }
 
+void RayPass::draw_on_cpu(const Scene& scene, const Placement& placement, const Mesh& mesh,
+                          const gl::RenderTarget& target, double ior, glm::vec3 weight, bool clear, bool count) {
+  draw_splats(land_vertices(scene, placement, mesh, ior), mesh.triangles, scene, placement, target, weight, clear,
+              count);
+}
+
+void RayPass::draw_splats(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
+                          const Scene& scene, const Placement& placement, const gl::RenderTarget& target,
+                          glm::vec3 weight, bool clear, bool count) {
+  const int width = target.texture.width(), height = target.texture.height();
+  make_splats(rays, triangles, scene, placement, width, height, max_point_size_, &splats_,
+              count ? &cpu_counts_ : nullptr);
+  if (count) counted_on_cpu_ = true;
+  bind(target, clear);
+  if (splats_.empty()) return;
+  glNamedBufferData(splat_buffer_.id(), static_cast<GLsizeiptr>(splats_.size() * sizeof(Splat)), splats_.data(),
+                    GL_STREAM_DRAW);
+  const auto& p = splat_program_;
+  p.set("uWeight", weight);
+  // A point whose centre lies outside the viewport is clipped whole, even
+  // the part of it over the target: the viewport reaches a point's width
+  // past the target's far edges, which keeps every centre inside it, and
+  // the framebuffer drops what falls past the target.
+  const glm::ivec2 viewport(width + max_point_size_, height + max_point_size_);
+  glViewport(0, 0, viewport.x, viewport.y);
+  p.set("uViewport", glm::vec2(viewport));
+  add_up();
+  p.use();
+  glBindVertexArray(splat_vao_.id());
+  glEnable(GL_PROGRAM_POINT_SIZE);
+  glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(splats_.size()));
+  glDisable(GL_PROGRAM_POINT_SIZE);
+  glViewport(0, 0, width, height);
+  glBindVertexArray(0);
+  glDisable(GL_BLEND);
+  gl::check_errors("caustic pass (CPU setup)");
+}
+
 void RayPass::draw_landed(const LandedGrid& grid, const Scene& scene, const Placement& placement,
-                          const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count) {
+                          const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count, bool on_cpu) {
+  if (on_cpu) return draw_splats(grid.vertices, grid.triangles, scene, placement, target, weight, clear, count);
   if (grid.triangles.empty()) {  // no light through the solid: GL allows no empty storage
     const TriangleCounts zero{};
-    if (count) glNamedBufferSubData(counters_.id(), 0, sizeof zero, &zero);
-    const float black[4] = {0, 0, 0, 0};
-    if (clear) glClearNamedFramebufferfv(target.framebuffer.id(), GL_COLOR, 0, black);
+    if (count) {
+      glNamedBufferSubData(counters_.id(), 0, sizeof zero, &zero);
+      counted_on_cpu_ = false;
+    }
+    bind(target, clear);
     return;
   }
   // A new grid each frame: fresh buffers (immutable storage), one interleaved.
@@ -157,17 +235,14 @@ void RayPass::deposit(const gl::Program& p, GLuint vao, GLsizei indices, const S
   }
 
   const TriangleCounts zero{};
-  if (count) glNamedBufferSubData(counters_.id(), 0, sizeof zero, &zero);
+  if (count) {
+    glNamedBufferSubData(counters_.id(), 0, sizeof zero, &zero);
+    counted_on_cpu_ = false;
+  }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counters_.id());
 
-  target.bind();
-  const float black[4] = {0, 0, 0, 0};
-  if (clear) glClearNamedFramebufferfv(target.framebuffer.id(), GL_COLOR, 0, black);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_CULL_FACE);
-  glEnable(GL_BLEND);
-  glBlendEquation(GL_FUNC_ADD);
-  glBlendFunc(GL_ONE, GL_ONE);
+  bind(target, clear);
+  add_up();
   p.use();
   glBindVertexArray(vao);
   // A clear face reads the tint attribute's constant value: pass everything.
@@ -179,6 +254,7 @@ void RayPass::deposit(const gl::Program& p, GLuint vao, GLsizei indices, const S
 }
 
 TriangleCounts RayPass::counts() const {
+  if (counted_on_cpu_) return cpu_counts_;
   TriangleCounts c;
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   glGetNamedBufferSubData(counters_.id(), 0, sizeof c, &c);

@@ -16,12 +16,11 @@ bool flat_face_first(const Scene& scene, const Placement& placement) {
   return glm::dot(scene.light.direction, placement.flat_normal) < 0.0;
 }
 
-VertexRay trace_vertex(const Scene& scene, const Placement& placement, const glm::dvec3& v, const glm::dvec3& n) {
+ExitRay exit_ray(const Scene& scene, const Placement& placement, double ior, const glm::dvec3& v, const glm::dvec3& n) {
   using namespace optics;
   const bool point = scene.light.type == LightType::point;
-  const double ior = scene.object.ior;
   const Plane flat{placement.flat_normal, placement.flat_offset};
-  VertexRay ray;
+  ExitRay ray;
   ray.footprint = v;
   Vec3 incident = point ? glm::normalize(v - scene.light.position) : scene.light.direction;
   Vec3 origin = v, dir;
@@ -61,15 +60,26 @@ VertexRay trace_vertex(const Scene& scene, const Placement& placement, const glm
       dir = out->direction;
     }
   }
-
-  const auto& screen = scene.screen;
-  const double denom = glm::dot(dir, screen.normal);
-  if (!(std::abs(denom) > 1e-6)) return ray;
-  const double s = glm::dot(screen.center - origin, screen.normal) / denom;
-  if (!(s > 0.0) || !std::isfinite(s)) return ray;
-  const Vec3 hit = origin + s * dir - screen.center;
-  ray.screen = {glm::dot(hit, screen_right(screen)), glm::dot(hit, screen.up)};
+  ray.valid = true;
+  ray.origin = origin;
+  ray.direction = dir;
   ray.transmittance = scene.render.fresnel ? t : 1.0;
+  return ray;
+}
+
+VertexRay trace_vertex(const Scene& scene, const Placement& placement, const glm::dvec3& v, const glm::dvec3& n) {
+  const ExitRay exit = exit_ray(scene, placement, scene.object.ior, v, n);
+  VertexRay ray;
+  ray.footprint = exit.footprint;
+  if (!exit.valid) return ray;
+  const auto& screen = scene.screen;
+  const double denom = glm::dot(exit.direction, screen.normal);
+  if (!(std::abs(denom) > 1e-6)) return ray;
+  const double s = glm::dot(screen.center - exit.origin, screen.normal) / denom;
+  if (!(s > 0.0) || !std::isfinite(s)) return ray;
+  const glm::dvec3 hit = exit.origin + s * exit.direction - screen.center;
+  ray.screen = {glm::dot(hit, screen_right(screen)), glm::dot(hit, screen.up)};
+  ray.transmittance = exit.transmittance;
   ray.valid = true;
   return ray;
 }

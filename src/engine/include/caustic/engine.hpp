@@ -26,10 +26,17 @@ class EngineError : public std::runtime_error {
 /// How a read-back delivers the picture.
 enum class PixelFormat { rgba, i420 };
 
+/// Where the caustic pass follows the rays and sets up each triangle's
+/// splat: in the GL's vertex and geometry stages, or on the CPU with the GL
+/// drawing the splats (the same picture). automatic: the CPU under a
+/// software renderer, whose geometry stage runs on one thread.
+enum class TriangleSetup { automatic, gpu, cpu };
+
 /// What the last render did.
 struct FrameStats {
   double ray_ms = 0;          ///< caustic pass, GPU work finished
-  double trace_ms = 0;        ///< of ray_ms, a solid's light grid traced on the CPU (0 for a slab)
+  double trace_ms = 0;        ///< of ray_ms, rays traced and triangles set up on the CPU
+  bool cpu_setup = false;     ///< the caustic pass set up its triangles on the CPU
   double post_ms = 0;         ///< bloom and tone mapping, GPU work finished
   // Triangle counts are the last ray pass's (of a spectral frame: its reddest wavelength).
   std::uint32_t drawn = 0;    ///< triangles that reached the screen
@@ -62,6 +69,10 @@ class Engine {
   /// into the full-size picture (read_hdr then returns the small image).
   /// 1 (the default) is full quality. Marks the frame dirty when it changes.
   void set_preview_divisor(int divisor);
+
+  /// Where the caustic pass sets up its triangles (automatic by default).
+  /// Marks the frame dirty when it changes.
+  void set_triangle_setup(TriangleSetup setup);
 
   /// True when the next render() will draw.
   bool dirty() const;

@@ -20,8 +20,23 @@ struct VertexRay {
 };
 
 
+/// The ray leaving the object from one caustic-face vertex, before it meets
+/// any surface: what the screen and the receivers are intersected with.
+struct ExitRay {
+  bool valid = false;          ///< false: TIR or grazing inside the object
+  glm::dvec3 origin{0.0};      ///< where it leaves the object (world)
+  glm::dvec3 direction{0.0};   ///< unit, world
+  glm::dvec3 footprint{0.0};   ///< where it entered the object
+  double transmittance = 1.0;  ///< Fresnel product (1 when Fresnel is off)
+};
+
 /// Whether light meets the flat face before the caustic face.
 bool flat_face_first(const Scene& scene, const Placement& placement);
+
+/// Follows the ray through caustic-face vertex `v` (world) with normal `n`
+/// (world, unit) out of the object refracted with index `ior` (one
+/// wavelength's, or object.ior).
+ExitRay exit_ray(const Scene& scene, const Placement& placement, double ior, const glm::dvec3& v, const glm::dvec3& n);
 
 /// Traces the ray through caustic-face vertex `v` (world) with normal `n` (world, unit).
 VertexRay trace_vertex(const Scene& scene, const Placement& placement, const glm::dvec3& v, const glm::dvec3& n);

@@ -1,0 +1,181 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "splats.hpp"
+
+#include "caustic/optics.hpp"
+#include "caustic/vertex_rays.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace caustic {
+namespace {
+
+// Below this many square pixels a triangle's corners are too close for a
+// stable area; its flux goes to the pixel under its centroid (caustic.geom).
+constexpr double kCollapsed = 1e-4;
+
+double signed_area(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+  const glm::dvec2 e1 = b - a, e2 = c - a;
+  return 0.5 * (e1.x * e2.y - e1.y * e2.x);
+}
+
+// A surface's rectangle and its atlas tile (pixels, origin bottom left as GL counts).
+struct Tile {
+  glm::dvec2 half, origin, size;
+  glm::dvec2 to_pixels(glm::dvec2 local) const { return origin + (local / half * 0.5 + 0.5) * size; }
+  glm::dvec2 world_per_pixel() const { return 2.0 * half / size; }
+};
+
+class Setup {
+ public:
+  Setup(const Scene& scene, const Placement& placement, int width, int height, int max_side, std::vector<Splat>* out,
+        TriangleCounts* counts)
+      : scene_(scene), resolution_(width, height), max_side_(max_side), out_(out), counts_(counts) {
+    const auto surfaces = receiving_surfaces(scene);
+    const auto layout = atlas_layout(width, height, surfaces.size());
+    for (std::size_t i = 0; i < surfaces.size(); ++i)
+      tiles_.push_back({glm::dvec2(surfaces[i].width / 2, surfaces[i].height / 2),
+                        glm::dvec2(layout[i].x, height - layout[i].y - layout[i].height),
+                        glm::dvec2(layout[i].width, layout[i].height)});
+    const glm::dvec3 d = scene.light.position - placement.center;
+    reference_distance2_ = glm::dot(d, d);
+  }
+
+  void triangle(const LandedVertex& v0, const LandedVertex& v1, const LandedVertex& v2) {
+    if (v0.valid * v1.valid * v2.valid < 0.5f) return count(&TriangleCounts::dropped);
+    const double transmittance = (double(v0.transmittance) + v1.transmittance + v2.transmittance) / 3.0;
+    const int surface = static_cast<int>(v0.surface);
+    const bool together = surface >= 0 && v1.surface == v0.surface && v2.surface == v0.surface;
+    const Tile& tile = tiles_[std::max(surface, 0)];
+    const glm::dvec2 a = tile.to_pixels(v0.screen), b = tile.to_pixels(v1.screen), c = tile.to_pixels(v2.screen);
+    const double signed_pixels = signed_area(a, b, c), area_pixels = std::abs(signed_pixels);
+    const glm::dvec2 wpp = tile.world_per_pixel();
+    const double pixel_area = wpp.x * wpp.y, screen_area = area_pixels * pixel_area;
+
+    double flux;
+    if (scene_.render.intensity == IntensityMode::report) {
+      const double plane_area = std::abs(signed_area(v0.plane, v1.plane, v2.plane));
+      flux = transmittance * screen_area / std::max(plane_area, 1e-12) * screen_area;
+    } else if (scene_.light.type == LightType::point) {
+      flux = transmittance * reference_distance2_ *
+             optics::solid_angle(scene_.light.position, v0.footprint, v1.footprint, v2.footprint);
+    } else {
+      const glm::dvec3 f0 = v0.footprint;
+      const glm::dvec3 area_vector = 0.5 * glm::cross(glm::dvec3(v1.footprint) - f0, glm::dvec3(v2.footprint) - f0);
+      flux = transmittance * std::abs(glm::dot(area_vector, scene_.light.direction));
+    }
+    flux *= (double(v0.share) + v1.share + v2.share) / 3.0;
+    if (!together) {  // parted among the surfaces: each corner that landed takes a third
+      if (!(flux > 0.0) || std::isinf(flux)) return;
+      for (const LandedVertex* v : {&v0, &v1, &v2}) {
+        const int own = static_cast<int>(v->surface);
+        if (own < 0) continue;
+        const Tile& t = tiles_[own];
+        // A corner on its rectangle's far edge belongs to the tile's last pixel.
+        const glm::dvec2 p = glm::min(t.to_pixels(v->screen), t.origin + t.size - 0.5);
+        count(&TriangleCounts::collapsed);
+        const glm::dvec2 w = t.world_per_pixel();
+        point(p, flux / 3.0 / (w.x * w.y), v->tint);
+      }
+      return;
+    }
+    glm::dvec2 lo = glm::min(glm::min(a, b), c), hi = glm::max(glm::max(a, b), c);
+    const bool offscreen = glm::any(glm::greaterThan(lo, resolution_)) || glm::any(glm::lessThan(hi, glm::dvec2(0.0)));
+    const bool huge = glm::any(glm::greaterThan(hi - lo, 64.0 * resolution_));  // precision, not physics
+    if (!(flux > 0.0) || std::isinf(flux) || offscreen || huge) {
+      if (!(flux == 0.0) && !offscreen) count(&TriangleCounts::dropped);
+      return;
+    }
+    count(&TriangleCounts::drawn);
+    count(signed_pixels >= 0.0 ? &TriangleCounts::positive : &TriangleCounts::negative);
+    const glm::vec3 tint = (v0.tint + v1.tint + v2.tint) / 3.0f;
+    if (area_pixels < kCollapsed) {
+      count(&TriangleCounts::collapsed);
+      return point((a + b + c) / 3.0, flux / pixel_area, tint);
+    }
+    squares(a, b, c, glm::floor(lo), glm::floor(hi) + 1.0, flux / screen_area, tint);
+  }
+
+ private:
+  void count(std::uint32_t TriangleCounts::*which) {
+    if (counts_) ++(counts_->*which);
+  }
+
+  // All of `irradiance` (flux per pixel area) into the pixel under `at`: a
+  // quad inside one pixel covers its centre only.
+  void point(glm::dvec2 at, double irradiance, glm::vec3 tint) {
+    const glm::vec2 p(at);
+    out_->push_back({p, p, p, glm::floor(p), 1.0f, static_cast<float>(irradiance), 1.0f, 0.0f, tint});
+  }
+
+  // The box [lo, hi) (whole pixels) in squares. A square costs the
+  // rasteriser about what 20 pixels do, so a long thin box is cut into
+  // squares about as wide as it is thin (at least 4 pixels) rather than
+  // covered by one square its length.
+  void squares(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 lo, glm::dvec2 hi, double irradiance,
+               glm::vec3 tint) {
+    // Clipped to the target (a pixel past it is never drawn), which keeps
+    // the count of squares bounded.
+    lo = glm::max(lo, glm::dvec2(0.0));
+    hi = glm::min(hi, resolution_);
+    const glm::dvec2 size = hi - lo;
+    const double thin = std::min(size.x, size.y), wide = std::max(size.x, size.y);
+    const double side = std::min<double>(max_side_, std::max(thin, std::min(wide, 4.0)));
+    const float e = static_cast<float>(irradiance);
+    for (double y = lo.y; y < hi.y; y += side)
+      for (double x = lo.x; x < hi.x; x += side)
+        out_->push_back({glm::vec2(a), glm::vec2(b), glm::vec2(c), glm::vec2(x, y), static_cast<float>(side), e, 0.0f,
+                         0.0f, tint});
+  }
+
+  const Scene& scene_;
+  glm::dvec2 resolution_;
+  int max_side_;
+  std::vector<Splat>* out_;
+  TriangleCounts* counts_;
+  std::vector<Tile> tiles_;
+  double reference_distance2_ = 0;
+};
+
+}  // namespace
+
+std::vector<LandedVertex> land_vertices(const Scene& scene, const Placement& placement, const Mesh& mesh, double ior) {
+  const auto surfaces = receiving_surfaces(scene);
+  const ScreenParams& screen = scene.screen;
+  const glm::dvec3 right = screen_right(screen);
+  const glm::dvec3 plane_center = screen.center - scene.render.report_plane_distance * screen.normal;
+  const bool tinted_mesh = tinted(mesh);
+  std::vector<LandedVertex> rays(mesh.positions.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const glm::dvec3 v = glm::dvec3(placement.model * glm::dvec4(glm::dvec3(mesh.positions[i]), 1.0));
+    const glm::dvec3 n = glm::normalize(placement.rotation * glm::dvec3(mesh.normals[i]));
+    const ExitRay exit = exit_ray(scene, placement, ior, v, n);
+    LandedVertex& r = rays[i];
+    r.footprint = glm::vec3(exit.footprint);
+    r.transmittance = static_cast<float>(exit.transmittance);
+    if (tinted_mesh) r.tint = mesh.colours[i];
+    if (!exit.valid) continue;
+    const ReceiverHit hit = first_receiver(scene, exit.origin, exit.direction);
+    // Alone, a screen the ray misses drops its triangles; among receivers the
+    // corners that landed keep their shares.
+    r.valid = hit.index >= 0 || surfaces.size() > 1 ? 1.0f : 0.0f;
+    r.surface = static_cast<float>(hit.index);
+    if (hit.index >= 0) r.screen = glm::vec2(hit.local);
+    const double along = glm::dot(plane_center - exit.origin, screen.normal) / glm::dot(exit.direction, screen.normal);
+    const glm::dvec3 on_plane = exit.origin + along * exit.direction - plane_center;
+    r.plane = glm::vec2(glm::dot(on_plane, right), glm::dot(on_plane, screen.up));
+  }
+  return rays;
+}
+
+void make_splats(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles, const Scene& scene,
+                 const Placement& placement, int width, int height, int max_side, std::vector<Splat>* splats,
+                 TriangleCounts* counts) {
+  splats->clear();
+  splats->reserve(triangles.size());
+  if (counts) *counts = {};
+  Setup setup(scene, placement, width, height, std::max(1, max_side), splats, counts);
+  for (const auto& t : triangles) setup.triangle(rays[t.x], rays[t.y], rays[t.z]);
+}
+
+}  // namespace caustic
