@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <cstdio>
 #include <filesystem>
 #include <vector>
@@ -95,17 +96,22 @@ TEST_F(Exposure, AChangeEasesInAndThenSettles) {
   engine_->render();  // a new mesh again: lands at once
   EXPECT_NEAR(engine_->stats().exposure, before, 1e-9 * before);
 
-  // Same mesh, brighter scene: the light now lands on a tenth of the area.
-  s.screen.width = s.screen.height = 51.2 / std::sqrt(10.0);
+  // Same mesh, dimmer light: on the screen turned 60 degrees the beam
+  // spreads over twice the area (Lambert), so the metered irradiance halves
+  // and the exposure doubles, easing in.
+  const double theta = std::numbers::pi / 3;
+  s.screen.normal = {std::sin(theta), 0, std::cos(theta)};
   s.post.exposure_adapt_s = 0.05;
   engine_->set_scene(s, flat);
   engine_->render();
   const double first = engine_->stats().exposure;
-  EXPECT_LE(first, before);
+  EXPECT_GE(first, before);
   settle(*engine_);
   EXPECT_FALSE(engine_->dirty()) << "the exposure never settled";
   const double settled = engine_->stats().exposure;
-  EXPECT_LE(settled, first);
+  EXPECT_GE(settled, first);
+  // The meter's bins are 1/8 stop (9%) wide.
+  EXPECT_NEAR(settled / before, 1 / std::cos(theta), 0.09 / std::cos(theta));
   EXPECT_GT(engine_->ray_passes(), passes);
   EXPECT_EQ(engine_->ray_passes(), passes + 3) << "easing redrew the caustic instead of only the tone map";
 }
