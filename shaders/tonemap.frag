@@ -9,6 +9,7 @@ uniform sampler2D uBloom;
 uniform float uBloomStrength;
 uniform float uExposure;
 uniform float uGamma;
+uniform bool uGrey;  // a monochrome frame: R = G = B, mapped once
 layout(location = 0) out vec4 outColor;
 
 void main() {
@@ -19,6 +20,11 @@ void main() {
   // Per channel: a saturated colour too bright for the screen desaturates
   // towards white, as film and eyes show it, instead of clipping its hue.
   vec3 value = max(hdr + uBloomStrength * bloom, 0.0) * local_factor(uv);
+  if (uGrey) {  // a third of the transcendental work, which dominates this pass on a CPU renderer
+    float grey = pow(1.0 - exp(-uExposure * value.r), 1.0 / uGamma);
+    outColor = vec4(vec3(grey), 1.0);
+    return;
+  }
   vec3 mapped = 1.0 - exp(-uExposure * value);
   outColor = vec4(pow(mapped, vec3(1.0 / uGamma)), 1.0);
 }
