@@ -185,14 +185,17 @@ TEST_F(Cli, PerfBenchWritesFrameCosts) {
 
 TEST_F(Cli, WaterBenchWritesFrameCostsAndTheLastFrames) {
   const CommandResult r =
-      causticd("bench --water --out " + dir_.string() + " --grids 32 48 --sizes 128 --seconds 0.2");
+      causticd("bench --water --out " + dir_.string() + " --grids 32,48 --sizes 128 --seconds 0.2 --setups gpu,cpu");
   ASSERT_EQ(r.status, 0) << r.output;
   const auto rows = csv_lines(dir_ / "water.csv");
-  ASSERT_EQ(rows.size(), 3u);  // the header and two grids at one size
-  EXPECT_EQ(rows[0],
-            "grid,pixels,steps_per_frame,sim_ms,mesh_ms,caustic_ms,post_ms,i420_ms,frame_ms,frame_p95_ms,over_budget,frames");
-  EXPECT_EQ(rows[1].rfind("32,128,", 0), 0u) << rows[1];
-  EXPECT_GT(fs::file_size(dir_ / "water-48-128.png"), 100u);
+  ASSERT_EQ(rows.size(), 5u);  // the header and two grids at one size, each set up both ways
+  EXPECT_EQ(rows[0], "grid,pixels,setup,steps_per_frame,sim_ms,mesh_ms,caustic_ms,post_ms,i420_ms,frame_ms,"
+                     "frame_p95_ms,over_budget,frames");
+  EXPECT_EQ(rows[1].rfind("32,128,gpu,", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[2].rfind("32,128,cpu,", 0), 0u) << rows[2];
+  EXPECT_GT(fs::file_size(dir_ / "water-48-128-cpu.png"), 100u);
+  expect_rejected("bench --water --out " + dir_.string() + " --setups sideways", "--setups");
+  expect_rejected("bench --out " + dir_.string() + " --grids 64", "--water");
   expect_rejected("bench --water --out " + dir_.string() + " --grids 8", "--grids");
   expect_rejected("bench --water --out " + dir_.string() + " --seconds 0", "--seconds");
   expect_rejected("bench --water --perf --out " + dir_.string(), "--water");

@@ -182,6 +182,7 @@ std::function<int()> add_bench_command(CLI::App& app) {
   auto water = std::make_shared<bool>(false);
   auto grids = std::make_shared<std::vector<int>>(std::vector<int>{128, 256});
   auto seconds = std::make_shared<double>(3.0);
+  auto setups = std::make_shared<std::vector<TriangleSetup>>(std::vector<TriangleSetup>{TriangleSetup::automatic});
   CLI::App* cmd = app.add_subcommand("bench", "Frame time and error against the reference over methods and sizes");
   cmd->add_option("--out", opt->out, "Folder for results.csv and the charts")->required();
   cmd->add_flag("--perf", *perf, "Frame costs instead (caustic, post, read-back, I420) over --meshes and --sizes: perf.csv");
@@ -194,31 +195,43 @@ std::function<int()> add_bench_command(CLI::App& app) {
                 "default 256; sizes: --sizes, default 1024; reference: --photons, default 16 M here)")
       ->excludes("--perf")
       ->excludes("--spectral");
-  cmd->add_flag("--water", *water,
+  CLI::Option* water_flag = cmd->add_flag("--water", *water,
                 "A rainy pool's frames (simulation, mesh, caustic, post, I420) for each --grids and --sizes "
                 "(default 1024) over --seconds of water: water.csv")
       ->excludes("--perf")
       ->excludes("--spectral")
       ->excludes("--multipass");
-  cmd->add_option("--grids", *grids, "--water: water grids (vertices per side)")->check(CLI::Range(16, 512));
+  cmd->add_option("--grids", *grids, "--water: water grids (vertices per side)")
+      ->delimiter(',')
+      ->check(CLI::Range(16, 512))
+      ->needs(water_flag);
   cmd->add_option("--seconds", *seconds, "--water: seconds of water to time, 30 frames each")
-      ->check(CLI::Range(0.1, 120.0));
+      ->check(CLI::Range(0.1, 120.0))
+      ->needs(water_flag);
+  cmd->add_option("--setups", *setups,
+                  "--water: where the caustic pass sets up its triangles, a row each: auto (the CPU under a "
+                  "software renderer), gpu (vertex and geometry stages), cpu")
+      ->delimiter(',')
+      ->transform(CLI::CheckedTransformer(kTriangleSetups, CLI::ignore_case))
+      ->needs(water_flag);
   cmd->add_option("--photons", opt->photons, "Photons for each reference")->check(CLI::Range(1000, 2'000'000'000));
   cmd->add_option("--frames", opt->frames, "Timed frames per configuration (median)")->check(CLI::Range(1, 100));
   cmd->add_option("--source", opt->source, "Vertices per side of the surface the meshes are resampled from")
       ->check(CLI::Range(16, 4096));
-  cmd->add_option("--meshes", opt->meshes, "Mesh resolutions (vertices per side)")->check(CLI::Range(8, 2048));
+  cmd->add_option("--meshes", opt->meshes, "Mesh resolutions (vertices per side)")
+      ->delimiter(',')->check(CLI::Range(8, 2048));
   cmd->add_option("--sizes", opt->sizes, "Render sizes (pixels per side, multiples of 128)")
+      ->delimiter(',')
       ->check(CLI::Range(128, 4096) & CLI::Validator([](std::string& v) {
                 return std::stoi(v) % 128 ? std::string("must be a multiple of 128") : std::string();
               }, "MULTIPLE OF 128"));
-  return [cmd, opt, perf, spectral, multipass, water, grids, seconds] {
+  return [cmd, opt, perf, spectral, multipass, water, grids, seconds, setups] {
     if (!cmd->parsed()) return -1;
     try {
       if (*perf) return run_perf_bench({opt->out, opt->frames, opt->meshes, opt->sizes});
       if (*water) {
         const auto sizes = cmd->count("--sizes") ? opt->sizes : std::vector<int>{1024};
-        return run_water_bench({opt->out, opt->frames, opt->meshes, sizes}, *grids, *seconds);
+        return run_water_bench({opt->out, opt->frames, opt->meshes, sizes}, *grids, *seconds, *setups);
       }
       if (*multipass) {
         const std::uint64_t photons = cmd->count("--photons") ? opt->photons : 16'000'000;

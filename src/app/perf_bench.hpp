@@ -10,7 +10,9 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace caustic::app {
@@ -68,8 +70,13 @@ int run_multipass_bench(const PerfOptions& options);
 /// the floor, post, I420 read-back) for each water grid and --sizes over
 /// `seconds` of water; prints medians, the 95th percentile and the frames
 /// over the 33.3 ms budget, and writes water.csv and each row's last frame
-/// (water-GRID-SIZE.png).
-int run_water_bench(const PerfOptions& options, const std::vector<int>& grids, double seconds);
+/// (water-GRID-SIZE[-SETUP].png), once for each of `setups`.
+int run_water_bench(const PerfOptions& options, const std::vector<int>& grids, double seconds,
+                    const std::vector<TriangleSetup>& setups);
+
+/// The names of the triangle setups, as --setups spells them.
+inline const std::map<std::string, TriangleSetup> kTriangleSetups{
+    {"auto", TriangleSetup::automatic}, {"gpu", TriangleSetup::gpu}, {"cpu", TriangleSetup::cpu}};
 
 /// The second part of --spectral (spectral_accuracy.cpp).
 void run_spectral_accuracy(const std::filesystem::path& out, int frames, std::uint64_t photons, Engine& engine);
