@@ -70,70 +70,73 @@ int run_water_bench(const PerfOptions& opt, const std::vector<int>& grids, doubl
   std::filesystem::create_directories(opt.out);
   GlContext context(egl_platform_from_environment());
   std::ofstream csv(opt.out / "water.csv");
-  csv << "grid,pixels,setup,steps_per_frame,sim_ms,mesh_ms,caustic_ms,post_ms,i420_ms,frame_ms,frame_p95_ms,over_budget,frames\n";
+  csv << "grid,pixels,setup,steps_per_frame,sim_ms,mesh_ms,caustic_ms,post_ms,i420_ms,frame_ms,frame_p95_ms,"
+         "over_budget,frames\n";
   std::printf("renderer: %s; %.0f s of water per row, one frame per 1/30 s\n", context.renderer().c_str(), seconds);
   for (int grid : grids) {
     for (int size : opt.sizes) {
-     for (TriangleSetup setup : setups) {
-      water::WaveParams params = pool_water(grid);
-      // Coarse grids: drops one spacing wide, wind waves eight spacings long.
-      params.drop_radius = std::max(params.drop_radius, water::spacing(params));
-      params.wind_wavelength = std::max(params.wind_wavelength, 8 * water::spacing(params));
-      // Whole steps per frame, each within the stability bound.
-      const int steps = static_cast<int>(std::ceil(kFrame / water::max_time_step(params)));
-      params.time_step = kFrame / steps;
-      water::WaveSolver solver(params);
-      const Scene scene = pool_scene(size);
-      Engine engine;
-      engine.set_triangle_setup(setup);
-      std::vector<std::uint8_t> picture;
-      std::vector<double> sim, mesh_ms, caustic, post, i420, frame;
-      const int frames = static_cast<int>(std::lround(seconds / kFrame));
-      for (int f = 0; f < frames + 1; ++f) {
-        auto t0 = std::chrono::steady_clock::now();
-        for (int i = 0; i < steps; ++i) solver.step();
-        const double sim_ms = ms_since(t0);
-        t0 = std::chrono::steady_clock::now();
-        auto mesh = std::make_shared<const Mesh>(water::water_mesh(solver));
-        const double built_ms = ms_since(t0);
-        t0 = std::chrono::steady_clock::now();
-        engine.set_scene(scene, std::move(mesh));
-        engine.render();
-        const double rendered_ms = ms_since(t0);
-        t0 = std::chrono::steady_clock::now();
-        picture.resize(engine.picture_bytes(PixelFormat::i420));
-        std::uint64_t tag = 0;
-        engine.start_readback(static_cast<std::uint64_t>(f), PixelFormat::i420);
-        engine.poll_readback(picture.data(), picture.size(), &tag, true);
-        const double read_ms = ms_since(t0);
-        if (f == 0) continue;  // warm-up: shaders compile
-        sim.push_back(sim_ms);
-        mesh_ms.push_back(built_ms);
-        caustic.push_back(engine.stats().ray_ms);
-        post.push_back(engine.stats().post_ms);
-        i420.push_back(read_ms);
-        frame.push_back(sim_ms + built_ms + rendered_ms + read_ms);
+      for (TriangleSetup setup : setups) {
+        water::WaveParams params = pool_water(grid);
+        // Coarse grids: drops one spacing wide, wind waves eight spacings long.
+        params.drop_radius = std::max(params.drop_radius, water::spacing(params));
+        params.wind_wavelength = std::max(params.wind_wavelength, 8 * water::spacing(params));
+        // Whole steps per frame, each within the stability bound.
+        const int steps = static_cast<int>(std::ceil(kFrame / water::max_time_step(params)));
+        params.time_step = kFrame / steps;
+        water::WaveSolver solver(params);
+        const Scene scene = pool_scene(size);
+        Engine engine;
+        engine.set_triangle_setup(setup);
+        std::vector<std::uint8_t> picture;
+        std::vector<double> sim, mesh_ms, caustic, post, i420, frame;
+        const int frames = static_cast<int>(std::lround(seconds / kFrame));
+        for (int f = 0; f < frames + 1; ++f) {
+          auto t0 = std::chrono::steady_clock::now();
+          for (int i = 0; i < steps; ++i) solver.step();
+          const double sim_ms = ms_since(t0);
+          t0 = std::chrono::steady_clock::now();
+          auto mesh = std::make_shared<const Mesh>(water::water_mesh(solver));
+          const double built_ms = ms_since(t0);
+          t0 = std::chrono::steady_clock::now();
+          engine.set_scene(scene, std::move(mesh));
+          engine.render();
+          const double rendered_ms = ms_since(t0);
+          t0 = std::chrono::steady_clock::now();
+          picture.resize(engine.picture_bytes(PixelFormat::i420));
+          std::uint64_t tag = 0;
+          engine.start_readback(static_cast<std::uint64_t>(f), PixelFormat::i420);
+          engine.poll_readback(picture.data(), picture.size(), &tag, true);
+          const double read_ms = ms_since(t0);
+          if (f == 0) continue;  // warm-up: shaders compile
+          sim.push_back(sim_ms);
+          mesh_ms.push_back(built_ms);
+          caustic.push_back(engine.stats().ray_ms);
+          post.push_back(engine.stats().post_ms);
+          i420.push_back(read_ms);
+          frame.push_back(sim_ms + built_ms + rendered_ms + read_ms);
+        }
+        // The last frame, to look at.
+        const std::string suffix = setups.size() > 1 ? "-" + setup_name(setup) : "";
+        write_png(engine.read_ldr(),
+                  opt.out / ("water-" + std::to_string(grid) + "-" + std::to_string(size) + suffix + ".png"));
+        int over = 0;
+        for (double ms : frame) over += ms > 1000 * kFrame;
+        std::vector<double> sorted = frame;
+        std::sort(sorted.begin(), sorted.end());
+        const double p95 = sorted[static_cast<std::size_t>(0.95 * static_cast<double>(sorted.size() - 1))];
+        const std::string where = engine.stats().cpu_setup ? "cpu" : "gpu";
+        csv << grid << ',' << size << ',' << where << ',' << steps << ',' << middle_sample(sim) << ','
+            << middle_sample(mesh_ms) << ','
+            << middle_sample(caustic) << ',' << middle_sample(post) << ',' << middle_sample(i420) << ','
+            << middle_sample(frame) << ',' << p95 << ',' << over << ',' << frame.size() << '\n';
+        std::printf("grid %3d^2, %4d^2 px, setup %s, %d steps/frame: sim %5.2f ms  mesh %5.2f ms  caustic %6.1f ms  "
+                    "post %5.1f ms  "
+                    "I420 %5.1f ms  frame %6.1f ms (p95 %6.1f)  %d of %zu frames over 33.3 ms; %llu raindrops\n",
+                    grid, size, where.c_str(), steps, middle_sample(sim), middle_sample(mesh_ms), middle_sample(caustic),
+                    middle_sample(post), middle_sample(i420), middle_sample(frame), p95, over, frame.size(),
+                    static_cast<unsigned long long>(solver.raindrops()));
+        std::fflush(stdout);
       }
-      // The last frame, to look at.
-      const std::string suffix = setups.size() > 1 ? "-" + setup_name(setup) : "";
-      write_png(engine.read_ldr(),
-                opt.out / ("water-" + std::to_string(grid) + "-" + std::to_string(size) + suffix + ".png"));
-      int over = 0;
-      for (double ms : frame) over += ms > 1000 * kFrame;
-      std::vector<double> sorted = frame;
-      std::sort(sorted.begin(), sorted.end());
-      const double p95 = sorted[static_cast<std::size_t>(0.95 * static_cast<double>(sorted.size() - 1))];
-      const std::string where = engine.stats().cpu_setup ? "cpu" : "gpu";
-      csv << grid << ',' << size << ',' << where << ',' << steps << ',' << middle_sample(sim) << ',' << middle_sample(mesh_ms) << ','
-          << middle_sample(caustic) << ',' << middle_sample(post) << ',' << middle_sample(i420) << ','
-          << middle_sample(frame) << ',' << p95 << ',' << over << ',' << frame.size() << '\n';
-      std::printf("grid %3d^2, %4d^2 px, setup %s, %d steps/frame: sim %5.2f ms  mesh %5.2f ms  caustic %6.1f ms  post %5.1f ms  "
-                  "I420 %5.1f ms  frame %6.1f ms (p95 %6.1f)  %d of %zu frames over 33.3 ms; %llu raindrops\n",
-                  grid, size, where.c_str(), steps, middle_sample(sim), middle_sample(mesh_ms), middle_sample(caustic),
-                  middle_sample(post), middle_sample(i420), middle_sample(frame), p95, over, frame.size(),
-                  static_cast<unsigned long long>(solver.raindrops()));
-      std::fflush(stdout);
-     }
     }
   }
   std::printf("wrote %s/water.csv and the last frame of each row, water-GRID-SIZE.png\n", opt.out.string().c_str());
