@@ -139,7 +139,7 @@ int run_water_bench(const PerfOptions& opt, const std::vector<int>& grids, doubl
       }
     }
   }
-  std::printf("wrote %s/water.csv and the last frame of each row, water-GRID-SIZE.png\n", opt.out.string().c_str());
+  std::printf("wrote %s/water.csv and the last frame of each row, water-GRID-SIZE[-SETUP].png\n", opt.out.string().c_str());
   return 0;
 }
 

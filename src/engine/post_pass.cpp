@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <string>
 #include <vector>
 
 namespace caustic {

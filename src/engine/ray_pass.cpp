@@ -6,22 +6,32 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
+#include <initializer_list>
 #include <cstddef>
 #include <string>
 
 namespace caustic {
 namespace {
 
-// Relative irradiance of a point light is normalised to what it delivers
-// at the object's centre (docs/physics.md ch. 1).
-double reference_distance2(const Scene& scene, const Placement& placement) {
-  const glm::dvec3 d = scene.light.position - placement.center;
-  return glm::dot(d, d);
-}
-
 // uName[i] of a uniform array.
 std::string element(const char* name, std::size_t i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
+
+// One float attribute of an interleaved vertex: its components and offset.
+struct Attribute {
+  GLint size;
+  std::size_t offset;
+};
+
+// Attributes 0, 1, ... of `vao`, in order, all from its buffer binding 0.
+void describe(GLuint vao, std::initializer_list<Attribute> attributes) {
+  GLuint index = 0;
+  for (const Attribute& a : attributes) {
+    glEnableVertexArrayAttrib(vao, index);
+    glVertexArrayAttribFormat(vao, index, a.size, GL_FLOAT, GL_FALSE, static_cast<GLuint>(a.offset));
+    glVertexArrayAttribBinding(vao, index, 0);
+    ++index;
+  }
+}
 
 // Overlapping (folded) sheets add up as light does: no depth test, no
 // culling, additive blending.
@@ -59,15 +69,8 @@ RayPass::RayPass()
   max_point_size_ = std::clamp(static_cast<int>(sizes[1]), 1, 64);
   const GLuint vao = splat_vao_.id();
   glVertexArrayVertexBuffer(vao, 0, splat_buffer_.id(), 0, sizeof(Splat));
-  const struct {
-    GLint size;
-    std::size_t offset;
-  } attribs[] = {{4, offsetof(Splat, a)}, {4, offsetof(Splat, c)}, {3, offsetof(Splat, side)}, {3, offsetof(Splat, tint)}};
-  for (GLuint a = 0; a < std::size(attribs); ++a) {
-    glEnableVertexArrayAttrib(vao, a);
-    glVertexArrayAttribFormat(vao, a, attribs[a].size, GL_FLOAT, GL_FALSE, static_cast<GLuint>(attribs[a].offset));
-    glVertexArrayAttribBinding(vao, a, 0);
-  }
+  describe(vao,
+           {{4, offsetof(Splat, a)}, {4, offsetof(Splat, c)}, {3, offsetof(Splat, side)}, {3, offsetof(Splat, tint)}});
 }
 
 void RayPass::upload(const Mesh& mesh) {
@@ -195,18 +198,10 @@ void RayPass::draw_landed(const LandedGrid& grid, const Scene& scene, const Plac
                        grid.triangles.data(), 0);
   const GLuint vao = landed_vao_.id();
   glVertexArrayVertexBuffer(vao, 0, landed_vertices_.id(), 0, sizeof(LandedVertex));
-  const struct {
-    GLint size;
-    std::size_t offset;
-  } attribs[] = {{2, offsetof(LandedVertex, screen)},        {2, offsetof(LandedVertex, plane)},
+  describe(vao, {{2, offsetof(LandedVertex, screen)},        {2, offsetof(LandedVertex, plane)},
                  {3, offsetof(LandedVertex, footprint)},     {1, offsetof(LandedVertex, transmittance)},
                  {1, offsetof(LandedVertex, valid)},         {3, offsetof(LandedVertex, tint)},
-                 {1, offsetof(LandedVertex, share)},         {1, offsetof(LandedVertex, surface)}};
-  for (GLuint a = 0; a < std::size(attribs); ++a) {
-    glEnableVertexArrayAttrib(vao, a);
-    glVertexArrayAttribFormat(vao, a, attribs[a].size, GL_FLOAT, GL_FALSE, static_cast<GLuint>(attribs[a].offset));
-    glVertexArrayAttribBinding(vao, a, 0);
-  }
+                 {1, offsetof(LandedVertex, share)},         {1, offsetof(LandedVertex, surface)}});
   glVertexArrayElementBuffer(vao, landed_indices_.id());
   gl::check_errors("landed grid upload");
   deposit(landed_program_, vao, static_cast<GLsizei>(grid.triangles.size() * 3), scene, placement, target, weight,

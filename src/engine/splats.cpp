@@ -37,8 +37,7 @@ class Setup {
       tiles_.push_back({glm::dvec2(surfaces[i].width / 2, surfaces[i].height / 2),
                         glm::dvec2(layout[i].x, height - layout[i].y - layout[i].height),
                         glm::dvec2(layout[i].width, layout[i].height)});
-    const glm::dvec3 d = scene.light.position - placement.center;
-    reference_distance2_ = glm::dot(d, d);
+    reference_distance2_ = reference_distance2(scene, placement);
   }
 
   void triangle(const LandedVertex& v0, const LandedVertex& v1, const LandedVertex& v2) {
@@ -102,7 +101,7 @@ class Setup {
   }
 
   // All of `irradiance` (flux per pixel area) into the pixel under `at`: a
-  // quad inside one pixel covers its centre only.
+  // point one pixel wide over that pixel's centre.
   void point(glm::dvec2 at, double irradiance, glm::vec3 tint) {
     const glm::vec2 p(at);
     out_->push_back({p, p, p, glm::floor(p), 1.0f, static_cast<float>(irradiance), 1.0f, 0.0f, tint});

@@ -84,12 +84,17 @@ VertexRay trace_vertex(const Scene& scene, const Placement& placement, const glm
   return ray;
 }
 
+double reference_distance2(const Scene& scene, const Placement& placement) {
+  const glm::dvec3 d = scene.light.position - placement.center;
+  return glm::dot(d, d);
+}
+
 double triangle_flux(const Scene& scene, const Placement& placement, const VertexRay& a, const VertexRay& b,
                      const VertexRay& c) {
   const double t = (a.transmittance + b.transmittance + c.transmittance) / 3.0;
   if (scene.light.type == LightType::point) {
-    const double r_ref = glm::length(scene.light.position - placement.center);
-    return t * r_ref * r_ref * optics::solid_angle(scene.light.position, a.footprint, b.footprint, c.footprint);
+    return t * reference_distance2(scene, placement) *
+           optics::solid_angle(scene.light.position, a.footprint, b.footprint, c.footprint);
   }
   const glm::dvec3 area_vector = 0.5 * glm::cross(b.footprint - a.footprint, c.footprint - a.footprint);
   return t * std::abs(glm::dot(area_vector, scene.light.direction));

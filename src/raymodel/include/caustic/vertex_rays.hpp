@@ -41,6 +41,10 @@ ExitRay exit_ray(const Scene& scene, const Placement& placement, double ior, con
 /// Traces the ray through caustic-face vertex `v` (world) with normal `n` (world, unit).
 VertexRay trace_vertex(const Scene& scene, const Placement& placement, const glm::dvec3& v, const glm::dvec3& n);
 
+/// A point light's relative irradiance is normalised to what it delivers at
+/// the object's centre (docs/physics.md ch. 1): the square of that distance.
+double reference_distance2(const Scene& scene, const Placement& placement);
+
 /// Flux (relative units: per unit E0, times area in world units) that enters
 /// the triangle whose vertex rays are a, b, c, including the mean Fresnel
 /// transmittance: what the engine spreads over the projected triangle.
