@@ -1,19 +1,15 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
-// The caustic pass's two triangle setups draw the same picture: the GL's
-// vertex and geometry stages (caustic.vert, caustic.geom) and their CPU twin
-// (src/engine/splats.hpp) with the GL drawing its squares. Each scene below
-// takes a different branch of the setup; the two pictures and triangle
-// counts must agree to float precision. And the squares a triangle is cut
-// into tile its bounding box: every pixel once, none twice.
+// The caustic pass's two paths draw the same picture: the GL's vertex,
+// geometry and fragment stages (caustic.vert, caustic.geom, caustic.frag)
+// and their CPU twin (src/engine/cpu_setup.hpp, coverage.hpp) with the GL
+// adding its image. Each scene below takes a different branch of the setup;
+// the two pictures and triangle counts must agree to float precision.
 #include "gl_test_support.hpp"
-
-#include "splats.hpp"
 
 #include "caustic/water_mesh.hpp"
 
 #include <cmath>
 #include <map>
-#include <random>
 #include <utility>
 
 using namespace caustic;
@@ -48,7 +44,7 @@ std::map<std::string, Case> cases() {
     s.screen.width = s.screen.height = 40;
     s.light.direction = {std::sin(0.35), 0, -std::cos(0.35)};
     c["oblique_slab"] = {s, shared(grid_mesh(flat_face(10.0), 33, 33))};
-    // Lit up to the target's far edge: squares that overhang it must still be drawn.
+    // Lit up to the target's far edge: triangles that overhang it keep the part inside.
     Scene t = straight_down_scene(3.0, 50.0, 40.0, 256);
     t.render.fresnel = true;
     t.light.direction = {std::sin(0.35), 0, -std::cos(0.35)};
@@ -182,51 +178,4 @@ TEST_F(TriangleSetups, AutomaticMeansTheCpuUnderASoftwareRenderer) {
   const bool software = context_->renderer().find("llvmpipe") != std::string::npos ||
                         context_->renderer().find("softpipe") != std::string::npos;
   EXPECT_EQ(draw(c, TriangleSetup::automatic).second.cpu_setup, software);
-}
-
-TEST(Splats, TheSquaresOfATriangleTileItsBoxOnce) {
-  // Random triangles, some long and thin, some past the target's edges: the
-  // squares cover each pixel of the clipped bounding box once, and nothing
-  // outside it but the last row and column's overhang.
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> at(-40.0, 140.0), thin(0.0, 1.0);
-  Scene s = straight_down_scene(1.0, 10.0, 100.0, 100);
-  const Placement placement;
-  for (int trial = 0; trial < 300; ++trial) {
-    std::vector<LandedVertex> rays(3);
-    for (auto& r : rays) {
-      r.valid = 1;
-      r.surface = 0;
-    }
-    glm::dvec2 a(at(rng), at(rng)), b(at(rng), at(rng));
-    glm::dvec2 c = thin(rng) < 0.3 ? a + (b - a) * 0.5 + glm::dvec2(0.5, -0.7) : glm::dvec2(at(rng), at(rng));
-    // Pixels to screen units: the screen is 100 mm over 100 pixels, centred.
-    const glm::dvec2 corners[3] = {a, b, c};
-    for (int k = 0; k < 3; ++k) {
-      rays[k].screen = glm::vec2(corners[k] - 50.0);
-      rays[k].footprint = glm::vec3(static_cast<float>(corners[k].x), static_cast<float>(corners[k].y), 0.0f);
-    }
-    std::vector<Splat> splats;
-    TriangleCounts counts;
-    make_splats(rays, {{0, 1, 2}}, s, placement, 100, 100, 16, &splats, &counts);
-    const glm::dvec2 lo = glm::max(glm::floor(glm::min(glm::min(a, b), c)), glm::dvec2(0.0));
-    const glm::dvec2 hi = glm::min(glm::floor(glm::max(glm::max(a, b), c)) + 1.0, glm::dvec2(100.0));
-    if (counts.drawn == 0) continue;  // off the target, or no flux
-    ASSERT_EQ(counts.collapsed, 0u);
-    std::vector<int> covered(100 * 100, 0);
-    for (const Splat& q : splats) {
-      ASSERT_LE(q.side, 16.0f);
-      ASSERT_EQ(q.point, 0.0f);
-      for (int y = static_cast<int>(q.lo.y); y < q.lo.y + q.side; ++y)
-        for (int x = static_cast<int>(q.lo.x); x < q.lo.x + q.side; ++x)
-          if (x >= 0 && y >= 0 && x < 100 && y < 100) ++covered[static_cast<std::size_t>(y) * 100 + x];
-    }
-    for (int y = 0; y < 100; ++y)
-      for (int x = 0; x < 100; ++x) {
-        const bool inside = x >= lo.x && x < hi.x && y >= lo.y && y < hi.y;
-        const int n = covered[static_cast<std::size_t>(y) * 100 + x];
-        if (inside) ASSERT_EQ(n, 1) << "trial " << trial << " pixel " << x << "," << y;
-        else ASSERT_LE(n, 1) << "trial " << trial << " pixel " << x << "," << y;
-      }
-  }
 }

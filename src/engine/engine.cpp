@@ -126,7 +126,7 @@ bool Engine::render() {
     s.stats.cpu_setup = on_cpu;
     // One pass: the per-vertex method, or the multipass method for a solid
     // on a light grid that a preview thins like its picture. The CPU's time
-    // is the tracing and the setup: the splats' draw is timed with the GL's.
+    // is the tracing, the setup, the deposit and the image's upload.
     auto pass = [&](double ior, glm::vec3 weight, bool clear, bool count) {
       const auto traced = std::chrono::steady_clock::now();
       if (!s.solid) {

@@ -7,7 +7,7 @@
 #include "caustic/exposure.hpp"
 #include "caustic/light_grid.hpp"
 #include "gl_objects.hpp"
-#include "splats.hpp"
+#include "cpu_setup.hpp"
 
 namespace caustic {
 
@@ -22,7 +22,7 @@ class RayPass {
   void draw(const Scene& scene, const Placement& placement, const gl::RenderTarget& target, double ior,
             glm::vec3 weight, bool clear, bool count = true);
   /// The same picture with the rays traced and the triangles set up on the
-  /// CPU (splats.hpp) from `mesh`, the one last uploaded.
+  /// CPU (cpu_setup.hpp) from `mesh`, the one last uploaded.
   void draw_on_cpu(const Scene& scene, const Placement& placement, const Mesh& mesh, const gl::RenderTarget& target,
                    double ior, glm::vec3 weight, bool clear, bool count = true);
   /// The same deposit for rays a solid's multipass tracer already followed
@@ -37,17 +37,17 @@ class RayPass {
   void deposit(const gl::Program& program, GLuint vao, GLsizei indices, const Scene& scene,
                const Placement& placement, const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count,
                bool clear_tint);
-  // The CPU's quads into `target`, through caustic_splat.vert and caustic.frag.
-  void draw_splats(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
+  // The triangles set up and deposited on the CPU, added into `target` as one image (coverage.frag).
+  void draw_deposited(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
                    const Scene& scene, const Placement& placement, const gl::RenderTarget& target, glm::vec3 weight,
                    bool clear, bool count);
 
-  gl::Program program_, landed_program_, splat_program_;
-  gl::VertexArray vao_, landed_vao_, splat_vao_;
+  gl::Program program_, landed_program_, coverage_program_;
+  gl::VertexArray vao_, landed_vao_, empty_vao_;
   gl::Buffer positions_, normals_, colours_, indices_, counters_;
-  gl::Buffer landed_vertices_, landed_indices_, splat_buffer_;
-  std::vector<Splat> splats_;  // kept: one allocation for every frame
-  int max_point_size_ = 1;
+  gl::Buffer landed_vertices_, landed_indices_;
+  CoverageRaster raster_;  // kept: one allocation for every frame
+  gl::Texture coverage_;
   TriangleCounts cpu_counts_;
   bool counted_on_cpu_ = false;  // the last counting pass set up its triangles on the CPU
   GLsizei index_count_ = 0;

@@ -59,18 +59,8 @@ RayPass::RayPass()
       landed_program_({{GL_VERTEX_SHADER, {"caustic_landed.vert"}},
                        {GL_GEOMETRY_SHADER, {"optics.glsl", "caustic.geom"}},
                        {GL_FRAGMENT_SHADER, {"caustic.frag"}}}),
-      splat_program_({{GL_VERTEX_SHADER, {"caustic_splat.vert"}}, {GL_FRAGMENT_SHADER, {"caustic.frag"}}}) {
+      coverage_program_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"coverage.frag"}}}) {
   glNamedBufferStorage(counters_.id(), sizeof(TriangleCounts), nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
-  // The CPU setup's squares are points: no larger than the GL draws them,
-  // nor than 64 pixels, past which one primitive more costs less than the
-  // pixels a larger square wastes.
-  GLfloat sizes[2] = {1, 1};
-  glGetFloatv(GL_POINT_SIZE_RANGE, sizes);
-  max_point_size_ = std::clamp(static_cast<int>(sizes[1]), 1, 64);
-  const GLuint vao = splat_vao_.id();
-  glVertexArrayVertexBuffer(vao, 0, splat_buffer_.id(), 0, sizeof(Splat));
-  describe(vao,
-           {{4, offsetof(Splat, a)}, {4, offsetof(Splat, c)}, {3, offsetof(Splat, side)}, {3, offsetof(Splat, tint)}});
 }
 
 void RayPass::upload(const Mesh& mesh) {
@@ -140,45 +130,42 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
 
 void RayPass::draw_on_cpu(const Scene& scene, const Placement& placement, const Mesh& mesh,
                           const gl::RenderTarget& target, double ior, glm::vec3 weight, bool clear, bool count) {
-  draw_splats(land_vertices(scene, placement, mesh, ior), mesh.triangles, scene, placement, target, weight, clear,
+  draw_deposited(land_vertices(scene, placement, mesh, ior), mesh.triangles, scene, placement, target, weight, clear,
               count);
 }
 
-void RayPass::draw_splats(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
+void RayPass::draw_deposited(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
                           const Scene& scene, const Placement& placement, const gl::RenderTarget& target,
                           glm::vec3 weight, bool clear, bool count) {
   const int width = target.texture.width(), height = target.texture.height();
-  make_splats(rays, triangles, scene, placement, width, height, max_point_size_, &splats_,
-              count ? &cpu_counts_ : nullptr);
+  const bool grey = target.texture.format() == GL_R32F;
+  raster_.reset(width, height, grey ? 1 : 3);
+  deposit_on_cpu(rays, triangles, scene, placement, &raster_, count ? &cpu_counts_ : nullptr);
   if (count) counted_on_cpu_ = true;
+  const GLenum format = grey ? GL_R32F : GL_RGB32F;
+  if (coverage_.width() != width || coverage_.height() != height || coverage_.format() != format)
+    coverage_ = gl::Texture(format, width, height);
+  const std::vector<float>& image = raster_.resolve();
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTextureSubImage2D(coverage_.id(), 0, 0, 0, width, height, grey ? GL_RED : GL_RGB, GL_FLOAT, image.data());
   bind(target, clear);
-  if (splats_.empty()) return;
-  glNamedBufferData(splat_buffer_.id(), static_cast<GLsizeiptr>(splats_.size() * sizeof(Splat)), splats_.data(),
-                    GL_STREAM_DRAW);
-  const auto& p = splat_program_;
+  const auto& p = coverage_program_;
   p.set("uWeight", weight);
-  // A point whose centre lies outside the viewport is clipped whole, even
-  // the part of it over the target: the viewport reaches a point's width
-  // past the target's far edges, which keeps every centre inside it, and
-  // the framebuffer drops what falls past the target.
-  const glm::ivec2 viewport(width + max_point_size_, height + max_point_size_);
-  glViewport(0, 0, viewport.x, viewport.y);
-  p.set("uViewport", glm::vec2(viewport));
+  p.set("uGrey", grey);
+  p.set("uCoverage", 0);
+  glBindTextureUnit(0, coverage_.id());
   add_up();
   p.use();
-  glBindVertexArray(splat_vao_.id());
-  glEnable(GL_PROGRAM_POINT_SIZE);
-  glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(splats_.size()));
-  glDisable(GL_PROGRAM_POINT_SIZE);
-  glViewport(0, 0, width, height);
+  glBindVertexArray(empty_vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
   glDisable(GL_BLEND);
-  gl::check_errors("caustic pass (CPU setup)");
+  gl::check_errors("caustic pass (CPU deposit)");
 }
 
 void RayPass::draw_landed(const LandedGrid& grid, const Scene& scene, const Placement& placement,
                           const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count, bool on_cpu) {
-  if (on_cpu) return draw_splats(grid.vertices, grid.triangles, scene, placement, target, weight, clear, count);
+  if (on_cpu) return draw_deposited(grid.vertices, grid.triangles, scene, placement, target, weight, clear, count);
   if (grid.triangles.empty()) {  // no light through the solid: GL allows no empty storage
     const TriangleCounts zero{};
     if (count) {

@@ -26,17 +26,18 @@ class EngineError : public std::runtime_error {
 /// How a read-back delivers the picture.
 enum class PixelFormat { rgba, i420 };
 
-/// Where the caustic pass follows the rays and sets up each triangle's
-/// splat: in the GL's vertex and geometry stages, or on the CPU with the GL
-/// drawing the splats (the same picture). automatic: the CPU under a
-/// software renderer, whose geometry stage runs on one thread.
+/// Where the caustic pass follows the rays, sets up each triangle and
+/// deposits its exact coverage: in the GL's vertex, geometry and fragment
+/// stages, or on the CPU with the GL adding the image (the same picture).
+/// automatic: the CPU under a software renderer, whose geometry stage runs
+/// on one thread and whose fragment stage pays for every triangle's box.
 enum class TriangleSetup { automatic, gpu, cpu };
 
 /// What the last render did.
 struct FrameStats {
   double ray_ms = 0;          ///< caustic pass, GPU work finished
-  double trace_ms = 0;        ///< of ray_ms, rays traced and triangles set up on the CPU
-  bool cpu_setup = false;     ///< the caustic pass set up its triangles on the CPU
+  double trace_ms = 0;        ///< of ray_ms, rays traced, triangles set up and deposited on the CPU
+  bool cpu_setup = false;     ///< the caustic pass set up and deposited its triangles on the CPU
   double post_ms = 0;         ///< bloom and tone mapping, GPU work finished
   // Triangle counts are the last ray pass's (of a spectral frame: its reddest wavelength).
   std::uint32_t drawn = 0;    ///< triangles that reached the screen

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
-#include "splats.hpp"
+#include "cpu_setup.hpp"
 
 #include "caustic/optics.hpp"
 #include "caustic/vertex_rays.hpp"
@@ -28,9 +28,9 @@ struct Tile {
 
 class Setup {
  public:
-  Setup(const Scene& scene, const Placement& placement, int width, int height, int max_side, std::vector<Splat>* out,
-        TriangleCounts* counts)
-      : scene_(scene), resolution_(width, height), max_side_(max_side), out_(out), counts_(counts) {
+  Setup(const Scene& scene, const Placement& placement, CoverageRaster* raster, TriangleCounts* counts)
+      : scene_(scene), resolution_(raster->width(), raster->height()), raster_(raster), counts_(counts) {
+    const int width = raster->width(), height = raster->height();
     const auto surfaces = receiving_surfaces(scene);
     const auto layout = atlas_layout(width, height, surfaces.size());
     for (std::size_t i = 0; i < surfaces.size(); ++i)
@@ -78,7 +78,7 @@ class Setup {
       }
       return;
     }
-    glm::dvec2 lo = glm::min(glm::min(a, b), c), hi = glm::max(glm::max(a, b), c);
+    const glm::dvec2 lo = glm::min(glm::min(a, b), c), hi = glm::max(glm::max(a, b), c);
     const bool offscreen = glm::any(glm::greaterThan(lo, resolution_)) || glm::any(glm::lessThan(hi, glm::dvec2(0.0)));
     const bool huge = glm::any(glm::greaterThan(hi - lo, 64.0 * resolution_));  // precision, not physics
     if (!(flux > 0.0) || std::isinf(flux) || offscreen || huge) {
@@ -92,7 +92,7 @@ class Setup {
       count(&TriangleCounts::collapsed);
       return point((a + b + c) / 3.0, flux / pixel_area, tint);
     }
-    squares(a, b, c, glm::floor(lo), glm::floor(hi) + 1.0, flux / screen_area, tint);
+    raster_->triangle(a, b, c, flux / screen_area * glm::dvec3(tint));
   }
 
  private:
@@ -100,37 +100,12 @@ class Setup {
     if (counts_) ++(counts_->*which);
   }
 
-  // All of `irradiance` (flux per pixel area) into the pixel under `at`: a
-  // point one pixel wide over that pixel's centre.
-  void point(glm::dvec2 at, double irradiance, glm::vec3 tint) {
-    const glm::vec2 p(at);
-    out_->push_back({p, p, p, glm::floor(p), 1.0f, static_cast<float>(irradiance), 1.0f, 0.0f, tint});
-  }
-
-  // The box [lo, hi) (whole pixels) in squares. A square costs the
-  // rasteriser about what 20 pixels do, so a long thin box is cut into
-  // squares about as wide as it is thin (at least 4 pixels) rather than
-  // covered by one square its length.
-  void squares(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 lo, glm::dvec2 hi, double irradiance,
-               glm::vec3 tint) {
-    // Clipped to the target (a pixel past it is never drawn), which keeps
-    // the count of squares bounded.
-    lo = glm::max(lo, glm::dvec2(0.0));
-    hi = glm::min(hi, resolution_);
-    const glm::dvec2 size = hi - lo;
-    const double thin = std::min(size.x, size.y), wide = std::max(size.x, size.y);
-    const double side = std::min<double>(max_side_, std::max(thin, std::min(wide, 4.0)));
-    const float e = static_cast<float>(irradiance);
-    for (double y = lo.y; y < hi.y; y += side)
-      for (double x = lo.x; x < hi.x; x += side)
-        out_->push_back({glm::vec2(a), glm::vec2(b), glm::vec2(c), glm::vec2(x, y), static_cast<float>(side), e, 0.0f,
-                         0.0f, tint});
-  }
+  // All of `irradiance` (flux per pixel area) into the pixel under `at`.
+  void point(glm::dvec2 at, double irradiance, glm::vec3 tint) { raster_->point(at, irradiance * glm::dvec3(tint)); }
 
   const Scene& scene_;
   glm::dvec2 resolution_;
-  int max_side_;
-  std::vector<Splat>* out_;
+  CoverageRaster* raster_;
   TriangleCounts* counts_;
   std::vector<Tile> tiles_;
   double reference_distance2_ = 0;
@@ -167,13 +142,10 @@ std::vector<LandedVertex> land_vertices(const Scene& scene, const Placement& pla
   return rays;
 }
 
-void make_splats(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles, const Scene& scene,
-                 const Placement& placement, int width, int height, int max_side, std::vector<Splat>* splats,
-                 TriangleCounts* counts) {
-  splats->clear();
-  splats->reserve(triangles.size());
+void deposit_on_cpu(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
+                    const Scene& scene, const Placement& placement, CoverageRaster* raster, TriangleCounts* counts) {
   if (counts) *counts = {};
-  Setup setup(scene, placement, width, height, std::max(1, max_side), splats, counts);
+  Setup setup(scene, placement, raster, counts);
   for (const auto& t : triangles) setup.triangle(rays[t.x], rays[t.y], rays[t.z]);
 }
 

@@ -1,0 +1,174 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "coverage.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+namespace caustic {
+namespace {
+
+// Pixel coordinates beyond this are dropped: they keep floor_int in range
+// (the caustic pass drops triangles wider than 64 targets long before).
+constexpr double kLimit = 1e8;
+
+bool usable(glm::dvec2 p) { return std::abs(p.x) < kLimit && std::abs(p.y) < kLimit; }  // false for NaN
+
+// floor() for |x| < 2^31 without a library call (the build targets plain SSE2).
+int floor_int(double x) {
+  const int i = static_cast<int>(x);
+  return i - (x < i ? 1 : 0);
+}
+
+// Mean of clamp(t, 0, 1) for t running linearly from u0 to u1 (caustic.frag's
+// meanRamp), every term scaling with |u1 - u0|: no cancellation for steep edges.
+double mean_ramp(double u0, double u1) {
+  const double lo = std::min(u0, u1), hi = std::max(u0, u1);
+  if (hi - lo < 1e-12) return std::clamp(0.5 * (lo + hi), 0.0, 1.0);
+  const double cl = std::clamp(lo, 0.0, 1.0), ch = std::clamp(hi, 0.0, 1.0);
+  return (0.5 * (ch - cl) * (ch + cl) + (std::max(hi, 1.0) - std::max(lo, 1.0))) / (hi - lo);
+}
+
+// The integral from -inf to t of the hat max(0, 1 - |s|): the share of a
+// unit of x, spread uniformly up to t, that pixel i takes of the change
+// f(i) - f(i - 1) when t is measured from i.
+double hat_integral(double t) {
+  if (t <= -1) return 0;
+  if (t < 0) return 0.5 * (t + 1) * (t + 1);
+  if (t < 1) return 1 - 0.5 * (1 - t) * (1 - t);
+  return 1;
+}
+
+// Below this width in x an edge's part in a row counts as vertical, at its
+// mean x: the coverage it misplaces is at most this share of the row's height.
+constexpr double kVertical = 1e-7;
+
+// Rows per band at the least: a thread costs more than a thin band saves.
+constexpr int kMinBandRows = 64;
+
+}  // namespace
+
+void CoverageRaster::reset(int width, int height, int channels) {
+  width_ = std::max(width, 0);
+  height_ = std::max(height, 0);
+  channels_ = channels == 3 ? 3 : 1;
+  changes_.resize(static_cast<std::size_t>(width_) * height_ * channels_);
+  image_.resize(changes_.size());
+  triangles_.clear();
+  points_.clear();
+}
+
+void CoverageRaster::triangle(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec3 value) {
+  if (!usable(a) || !usable(b) || !usable(c) || width_ == 0 || height_ == 0) return;
+  // The edges' integrals sum to minus the covered area for a counter-
+  // clockwise triangle, plus for a clockwise one.
+  const double twice_area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  triangles_.push_back({a, b, c, twice_area > 0 ? -value : value});
+}
+
+void CoverageRaster::point(glm::dvec2 at, glm::dvec3 value) {
+  if (!usable(at)) return;
+  const int i = floor_int(at.x), j = floor_int(at.y);
+  if (i < 0 || j < 0 || i >= width_ || j >= height_) return;
+  points_.push_back({i, j, value});
+}
+
+// In each row of [rows_lo, rows_hi) the edge crosses: the integral over its
+// part within the row of the width of pixel i to its right, f(i)
+// (caustic.frag's edgeCoverage, signed by the edge's direction in y),
+// stored as f(i) - f(i - 1). f is 0 left of the edge and the row's whole
+// signed height right of it, so only the pixels the edge spans, and the one
+// after, change; a part left of the image counts in pixel 0, a part right
+// of it nowhere.
+template <int N>
+void CoverageRaster::edge(glm::dvec2 p, glm::dvec2 q, const glm::dvec3& value, int rows_lo, int rows_hi) {
+  if (p.y == q.y) return;
+  const double direction = q.y > p.y ? 1.0 : -1.0;
+  if (q.y < p.y) std::swap(p, q);
+  if (q.y <= rows_lo || p.y >= rows_hi) return;
+  const double slope = (q.x - p.x) / (q.y - p.y);
+  const int first_row = std::max(rows_lo, floor_int(p.y));
+  const int last_row = std::min(rows_hi - 1, floor_int(q.y));
+  double y0 = std::max(p.y, double(first_row)), x0 = p.x + (y0 - p.y) * slope;
+  for (int j = first_row; j <= last_row; ++j) {
+    const double y1 = std::min(q.y, double(j + 1)), x1 = p.x + (y1 - p.y) * slope;
+    const double height = direction * (y1 - y0);
+    const double xa = x0, xb = x1;
+    y0 = y1, x0 = x1;  // the next row starts where this one ends
+    double lo = std::min(xa, xb), hi = std::max(xa, xb);
+    if (!(height != 0) || lo >= width_) continue;
+    double* row = &changes_[static_cast<std::size_t>(j) * width_ * N];
+    auto add = [&](int i, double weight) {
+      for (int k = 0; k < N; ++k) row[i * N + k] += weight * value[k];
+    };
+    if (hi - lo < kVertical) lo = hi = 0.5 * (xa + xb);
+    const int left = floor_int(lo), right = floor_int(hi);
+    if (left == right && left >= 0) {
+      // Within one pixel, the common case for a steep edge: the width to
+      // its right averages left + 1 - (xa + xb) / 2, and every pixel after
+      // gets the whole height.
+      const double f = height * (left + 1 - 0.5 * (lo + hi));
+      add(left, f);
+      if (left + 1 < width_) add(left + 1, height - f);
+      continue;
+    }
+    // Across several pixels: f(i) - f(i - 1) is the height per unit of x
+    // times the integral of the hat centred on i over [lo, hi], the whole
+    // height per unit of x where the edge crosses pixels i - 1 and i both.
+    // A part left of the image: pixel 0 takes f(0) whole.
+    int i = std::max(0, left);
+    if (left < 0) add(i++, height * mean_ramp(1 - xa, 1 - xb));
+    const int last = std::min(width_ - 1, right + 1);
+    const double per_x = height / (hi - lo);
+    for (; i <= last; ++i) add(i, per_x * (hat_integral(hi - i) - hat_integral(lo - i)));
+  }
+}
+
+// One band of rows [lo, hi): cleared, every edge and point that falls in it
+// deposited, then summed along each row into the image.
+void CoverageRaster::band(int lo, int hi) {
+  const std::size_t row = static_cast<std::size_t>(width_) * channels_;
+  std::fill(changes_.begin() + lo * row, changes_.begin() + hi * row, 0.0);
+  for (const Triangle& t : triangles_) {
+    if (channels_ == 1) {
+      edge<1>(t.a, t.b, t.value, lo, hi), edge<1>(t.b, t.c, t.value, lo, hi), edge<1>(t.c, t.a, t.value, lo, hi);
+    } else {
+      edge<3>(t.a, t.b, t.value, lo, hi), edge<3>(t.b, t.c, t.value, lo, hi), edge<3>(t.c, t.a, t.value, lo, hi);
+    }
+  }
+  for (const Point& p : points_) {
+    if (p.j < lo || p.j >= hi) continue;
+    double* cell = &changes_[(static_cast<std::size_t>(p.j) * width_ + p.i) * channels_];
+    for (int k = 0; k < channels_; ++k) {
+      cell[k] += p.value[k];
+      if (p.i + 1 < width_) cell[channels_ + k] -= p.value[k];
+    }
+  }
+  for (int j = lo; j < hi; ++j) {
+    const double* changes = &changes_[j * row];
+    float* out = &image_[j * row];
+    if (channels_ == 1) {
+      double sum = 0;
+      for (std::size_t n = 0; n < row; ++n) out[n] = static_cast<float>(sum += changes[n]);
+      continue;
+    }
+    double sum[3] = {0, 0, 0};
+    for (std::size_t n = 0; n < row; n += 3)
+      for (int k = 0; k < 3; ++k) out[n + k] = static_cast<float>(sum[k] += changes[n + k]);
+  }
+}
+
+const std::vector<float>& CoverageRaster::resolve() {
+  // Bands of rows on the machine's cores: each walks every edge but touches
+  // only its own rows, so they share nothing but the read-only lists.
+  const int cores = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 8u));
+  const int bands = std::clamp(height_ / kMinBandRows, 1, cores);
+  std::vector<std::thread> helpers;
+  for (int b = 1; b < bands; ++b)
+    helpers.emplace_back([this, b, bands] { band(height_ * b / bands, height_ * (b + 1) / bands); });
+  band(0, height_ / bands);
+  for (auto& h : helpers) h.join();
+  return image_;
+}
+
+}  // namespace caustic
