@@ -71,10 +71,13 @@ TEST_F(EngineSolid, TheSpotIsTightestAtTheBackFocalLength) {
   const double focus = -kD / 2 - f * (1 - (kN - 1) * kD / (kN * kR));
   double best = 0, best_z = 0;
   // Spherical aberration of this 10 mm aperture moves the tightest spot
-  // ahead of the paraxial focus by about 0.4 mm; the scan steps 0.25 mm.
+  // ahead of the paraxial focus, here by 0.5-1 mm; the scan steps 0.25 mm.
+  // The circle (30 um) is smaller than every spot in the scan, so the
+  // largest share is unique: a wider one holds all the light at several
+  // depths and the tie is decided by rounding.
   for (double z = focus - 1.5; z <= focus + 1.5; z += 0.25) {
     const Scene s = lens_scene(z, 2, 256);
-    const double share = encircled(render(s, lens()), s.screen, 0.1);
+    const double share = encircled(render(s, lens()), s.screen, 0.03);
     if (share > best) best = share, best_z = z;
   }
   EXPECT_NEAR(best_z, focus, 1.0) << "paraxial focus " << focus;

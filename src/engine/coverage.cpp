@@ -145,16 +145,18 @@ void CoverageRaster::band(int lo, int hi) {
     }
   }
   for (int j = lo; j < hi; ++j) {
+    // Every value added is at least 0, so a sum below 0 is rounding (a
+    // residue of ~1e-16 times the brightest value the row crossed), and 0.
     const double* changes = &changes_[j * row];
     float* out = &image_[j * row];
     if (channels_ == 1) {
       double sum = 0;
-      for (std::size_t n = 0; n < row; ++n) out[n] = static_cast<float>(sum += changes[n]);
+      for (std::size_t n = 0; n < row; ++n) out[n] = static_cast<float>(std::max(sum += changes[n], 0.0));
       continue;
     }
     double sum[3] = {0, 0, 0};
     for (std::size_t n = 0; n < row; n += 3)
-      for (int k = 0; k < 3; ++k) out[n + k] = static_cast<float>(sum[k] += changes[n + k]);
+      for (int k = 0; k < 3; ++k) out[n + k] = static_cast<float>(std::max(sum[k] += changes[n + k], 0.0));
   }
 }
 

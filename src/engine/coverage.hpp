@@ -23,7 +23,7 @@ class CoverageRaster {
   /// Starts an empty `width` x `height` image of `channels` (1 or 3) values a pixel.
   void reset(int width, int height, int channels);
 
-  /// Adds `value` (its first `channels` components) times the area of each
+  /// Adds `value` (its first `channels` components, each at least 0) times the area of each
   /// pixel that the triangle abc covers, in either winding. Corners are in
   /// pixels, pixel (i, j) spanning [i, i + 1) x [j, j + 1); what falls
   /// outside the image is dropped, and so is a triangle with a corner that
