@@ -2,9 +2,14 @@
 // causticsrc streaming water: the surface moves with the stream's clock
 // (each new picture shows a later solver step, and a different caustic),
 // a drop posted to the element's pool shows in a later frame, paused water
-// stands, and a scene without water has no pool.
+// stands, water too slow for its frame rate comes as previews, and a scene
+// without water has no pool.
 #include "causticsrc_fixture.hpp"
 
+#include "caustic/gl_context.hpp"
+
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 
 using namespace caustic::testing;
@@ -56,6 +61,36 @@ TEST_F(CausticSrc, PausedWaterStands) {
   Frame later = take(pull());
   for (int i = 0; i < 300 && later.water_step == last.water_step; ++i) later = take(pull());
   EXPECT_GT(later.water_step, last.water_step);
+}
+
+TEST_F(CausticSrc, WaterTooSlowForItsFrameRateComesAsPreviewsAndFullFramesAreTriedAgain) {
+  {
+    const caustic::GlContext context(caustic::egl_platform_from_environment());
+    if (context.renderer().find("llvmpipe") == std::string::npos)
+      GTEST_SKIP() << "a 512x512 pool fits 1/240 s on " << context.renderer();
+  }
+  // A software renderer cannot draw 512x512 of water in 1/240 s: after the
+  // first (full) picture come previews, and a second after it a full frame
+  // tries again. Bounded in frames and time.
+  start("causticsrc name=src scene=" + scene("pool") + " width=512 height=512 framerate=240/1 ! appsink name=sink");
+  constexpr std::uint32_t kFull = 0, kPreview = 1;  // CausticFrameMeta.level
+  std::vector<std::uint32_t> levels;  // of each new picture
+  std::uint64_t last_step = 0;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  bool tried_again = false;
+  for (int i = 0; i < 20000 && !tried_again && std::chrono::steady_clock::now() < until; ++i) {
+    const Frame f = take(pull());
+    if (!levels.empty() && f.water_step == last_step && f.level == levels.back()) continue;  // re-sent
+    last_step = f.water_step;
+    levels.push_back(f.level);
+    tried_again = levels.size() > 2 && levels.back() == kFull &&
+                  std::count(levels.begin(), levels.end(), kPreview) > 0;
+  }
+  ASSERT_FALSE(levels.empty());
+  EXPECT_EQ(levels.front(), kFull);
+  ASSERT_GE(levels.size(), 2u);
+  EXPECT_EQ(levels[1], kPreview) << "the first full frame should not have fitted 1/240 s";
+  EXPECT_TRUE(tried_again) << levels.size() << " pictures, none full after the previews";
 }
 
 TEST_F(CausticSrc, ASceneWithoutWaterHasNoPool) {

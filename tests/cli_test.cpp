@@ -185,16 +185,20 @@ TEST_F(Cli, PerfBenchWritesFrameCosts) {
 
 TEST_F(Cli, WaterBenchWritesFrameCostsAndTheLastFrames) {
   const CommandResult r =
-      causticd("bench --water --out " + dir_.string() + " --grids 32,48 --sizes 128 --seconds 0.2 --setups gpu,cpu");
+      causticd("bench --water --out " + dir_.string() +
+               " --grids 32,48 --sizes 128 --seconds 0.2 --setups gpu,cpu --divisors 1,2");
   ASSERT_EQ(r.status, 0) << r.output;
   const auto rows = csv_lines(dir_ / "water.csv");
-  ASSERT_EQ(rows.size(), 5u);  // the header and two grids at one size, each set up both ways
-  EXPECT_EQ(rows[0], "grid,pixels,setup,steps_per_frame,sim_ms,mesh_ms,caustic_ms,post_ms,i420_ms,frame_ms,"
+  ASSERT_EQ(rows.size(), 9u);  // the header and two grids at one size, each set up both ways, full and preview
+  EXPECT_EQ(rows[0], "grid,pixels,setup,divisor,steps_per_frame,sim_ms,mesh_ms,caustic_ms,post_ms,i420_ms,frame_ms,"
                      "frame_p95_ms,over_budget,frames");
-  EXPECT_EQ(rows[1].rfind("32,128,gpu,", 0), 0u) << rows[1];
-  EXPECT_EQ(rows[2].rfind("32,128,cpu,", 0), 0u) << rows[2];
-  EXPECT_GT(fs::file_size(dir_ / "water-48-128-cpu.png"), 100u);
+  EXPECT_EQ(rows[1].rfind("32,128,gpu,1,", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[2].rfind("32,128,gpu,2,", 0), 0u) << rows[2];
+  EXPECT_EQ(rows[3].rfind("32,128,cpu,1,", 0), 0u) << rows[3];
+  EXPECT_GT(fs::file_size(dir_ / "water-48-128-cpu-p2.png"), 100u);
   expect_rejected("bench --water --out " + dir_.string() + " --setups sideways", "--setups");
+  expect_rejected("bench --water --out " + dir_.string() + " --divisors 0", "--divisors");
+  expect_rejected("bench --out " + dir_.string() + " --divisors 2", "--water");
   expect_rejected("bench --out " + dir_.string() + " --grids 64", "--water");
   expect_rejected("bench --water --out " + dir_.string() + " --grids 8", "--grids");
   expect_rejected("bench --water --out " + dir_.string() + " --seconds 0", "--seconds");

@@ -180,9 +180,7 @@ std::function<int()> add_bench_command(CLI::App& app) {
   auto spectral = std::make_shared<bool>(false);
   auto multipass = std::make_shared<bool>(false);
   auto water = std::make_shared<bool>(false);
-  auto grids = std::make_shared<std::vector<int>>(std::vector<int>{128, 256});
-  auto seconds = std::make_shared<double>(3.0);
-  auto setups = std::make_shared<std::vector<TriangleSetup>>(std::vector<TriangleSetup>{TriangleSetup::automatic});
+  auto water_opt = std::make_shared<WaterBenchOptions>();
   CLI::App* cmd = app.add_subcommand("bench", "Frame time and error against the reference over methods and sizes");
   cmd->add_option("--out", opt->out, "Folder for results.csv and the charts")->required();
   cmd->add_flag("--perf", *perf, "Frame costs instead (caustic, post, read-back, I420) over --meshes and --sizes: perf.csv");
@@ -201,18 +199,24 @@ std::function<int()> add_bench_command(CLI::App& app) {
       ->excludes("--perf")
       ->excludes("--spectral")
       ->excludes("--multipass");
-  cmd->add_option("--grids", *grids, "--water: water grids (vertices per side)")
+  cmd->add_option("--grids", water_opt->grids, "--water: water grids (vertices per side)")
       ->delimiter(',')
       ->check(CLI::Range(16, 512))
       ->needs(water_flag);
-  cmd->add_option("--seconds", *seconds, "--water: seconds of water to time, 30 frames each")
+  cmd->add_option("--seconds", water_opt->seconds, "--water: seconds of water to time, 30 frames each")
       ->check(CLI::Range(0.1, 120.0))
       ->needs(water_flag);
-  cmd->add_option("--setups", *setups,
+  cmd->add_option("--setups", water_opt->setups,
                   "--water: where the caustic pass sets up its triangles, a row each: auto (the CPU under a "
                   "software renderer), gpu (vertex and geometry stages), cpu")
       ->delimiter(',')
       ->transform(CLI::CheckedTransformer(kTriangleSetups, CLI::ignore_case))
+      ->needs(water_flag);
+  cmd->add_option("--divisors", water_opt->divisors,
+                  "--water: the caustic at 1/N of the size per side, a row each: 1 full frames, 2 or more the "
+                  "stream's previews (no bloom)")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 8))
       ->needs(water_flag);
   cmd->add_option("--photons", opt->photons, "Photons for each reference")->check(CLI::Range(1000, 2'000'000'000));
   cmd->add_option("--frames", opt->frames, "Timed frames per configuration (median)")->check(CLI::Range(1, 100));
@@ -225,13 +229,13 @@ std::function<int()> add_bench_command(CLI::App& app) {
       ->check(CLI::Range(128, 4096) & CLI::Validator([](std::string& v) {
                 return std::stoi(v) % 128 ? std::string("must be a multiple of 128") : std::string();
               }, "MULTIPLE OF 128"));
-  return [cmd, opt, perf, spectral, multipass, water, grids, seconds, setups] {
+  return [cmd, opt, perf, spectral, multipass, water, water_opt] {
     if (!cmd->parsed()) return -1;
     try {
       if (*perf) return run_perf_bench({opt->out, opt->frames, opt->meshes, opt->sizes});
       if (*water) {
         const auto sizes = cmd->count("--sizes") ? opt->sizes : std::vector<int>{1024};
-        return run_water_bench({opt->out, opt->frames, opt->meshes, sizes}, *grids, *seconds, *setups);
+        return run_water_bench({opt->out, opt->frames, opt->meshes, sizes}, *water_opt);
       }
       if (*multipass) {
         const std::uint64_t photons = cmd->count("--photons") ? opt->photons : 16'000'000;

@@ -66,13 +66,23 @@ int run_spectral_bench(const PerfOptions& options);
 /// of reference; prints the rows and writes multipass.csv.
 int run_multipass_bench(const PerfOptions& options);
 
+/// What `--water` times besides the sizes: water grids (vertices per side),
+/// seconds of water a row, where the triangles are set up, and the caustic's
+/// divisors (1: full frames; 2: previews, the caustic at half size and no
+/// bloom, as the stream draws them).
+struct WaterBenchOptions {
+  std::vector<int> grids{128, 256};
+  double seconds = 3.0;
+  std::vector<TriangleSetup> setups{TriangleSetup::automatic};
+  std::vector<int> divisors{1};
+};
+
 /// `--water`: a rainy pool's frames (simulation, surface mesh, caustic on
 /// the floor, post, I420 read-back) for each water grid and --sizes over
-/// `seconds` of water; prints medians, the 95th percentile and the frames
-/// over the 33.3 ms budget, and writes water.csv and each row's last frame
-/// (water-GRID-SIZE[-SETUP].png), once for each of `setups`.
-int run_water_bench(const PerfOptions& options, const std::vector<int>& grids, double seconds,
-                    const std::vector<TriangleSetup>& setups);
+/// `water.seconds` of water; prints medians, the 95th percentile and the
+/// frames over the 33.3 ms budget, and writes water.csv and each row's last
+/// frame (water-GRID-SIZE[-SETUP][-pDIVISOR].png), a row for each setup and divisor.
+int run_water_bench(const PerfOptions& options, const WaterBenchOptions& water);
 
 /// The names of the triangle setups, as --setups spells them.
 inline const std::map<std::string, TriangleSetup> kTriangleSetups{

@@ -63,19 +63,27 @@ std::string setup_name(TriangleSetup setup) {
   return "?";
 }
 
+// Each setup at each divisor, a row each.
+std::vector<std::pair<TriangleSetup, int>> rows(const WaterBenchOptions& water) {
+  std::vector<std::pair<TriangleSetup, int>> out;
+  for (TriangleSetup setup : water.setups)
+    for (int divisor : water.divisors) out.emplace_back(setup, divisor);
+  return out;
+}
+
 }  // namespace
 
-int run_water_bench(const PerfOptions& opt, const std::vector<int>& grids, double seconds,
-                    const std::vector<TriangleSetup>& setups) {
+int run_water_bench(const PerfOptions& opt, const WaterBenchOptions& water) {
+  const double seconds = water.seconds;
   std::filesystem::create_directories(opt.out);
   GlContext context(egl_platform_from_environment());
   std::ofstream csv(opt.out / "water.csv");
-  csv << "grid,pixels,setup,steps_per_frame,sim_ms,mesh_ms,caustic_ms,post_ms,i420_ms,frame_ms,frame_p95_ms,"
+  csv << "grid,pixels,setup,divisor,steps_per_frame,sim_ms,mesh_ms,caustic_ms,post_ms,i420_ms,frame_ms,frame_p95_ms,"
          "over_budget,frames\n";
   std::printf("renderer: %s; %.0f s of water per row, one frame per 1/30 s\n", context.renderer().c_str(), seconds);
-  for (int grid : grids) {
+  for (int grid : water.grids) {
     for (int size : opt.sizes) {
-      for (TriangleSetup setup : setups) {
+      for (const auto& [setup, divisor] : rows(water)) {
         water::WaveParams params = pool_water(grid);
         // Coarse grids: drops one spacing wide, wind waves eight spacings long.
         params.drop_radius = std::max(params.drop_radius, water::spacing(params));
@@ -87,6 +95,7 @@ int run_water_bench(const PerfOptions& opt, const std::vector<int>& grids, doubl
         const Scene scene = pool_scene(size);
         Engine engine;
         engine.set_triangle_setup(setup);
+        engine.set_preview_divisor(divisor);
         std::vector<std::uint8_t> picture;
         std::vector<double> sim, mesh_ms, caustic, post, i420, frame;
         const int frames = static_cast<int>(std::lround(seconds / kFrame));
@@ -116,7 +125,8 @@ int run_water_bench(const PerfOptions& opt, const std::vector<int>& grids, doubl
           frame.push_back(sim_ms + built_ms + rendered_ms + read_ms);
         }
         // The last frame, to look at.
-        const std::string suffix = setups.size() > 1 ? "-" + setup_name(setup) : "";
+        const std::string suffix = (water.setups.size() > 1 ? "-" + setup_name(setup) : "") +
+                                   (water.divisors.size() > 1 ? "-p" + std::to_string(divisor) : "");
         write_png(engine.read_ldr(),
                   opt.out / ("water-" + std::to_string(grid) + "-" + std::to_string(size) + suffix + ".png"));
         int over = 0;
@@ -125,14 +135,16 @@ int run_water_bench(const PerfOptions& opt, const std::vector<int>& grids, doubl
         std::sort(sorted.begin(), sorted.end());
         const double p95 = sorted[static_cast<std::size_t>(0.95 * static_cast<double>(sorted.size() - 1))];
         const std::string where = engine.stats().cpu_setup ? "cpu" : "gpu";
-        csv << grid << ',' << size << ',' << where << ',' << steps << ',' << middle_sample(sim) << ','
+        const std::string level = divisor == 1 ? "full" : "preview 1/" + std::to_string(divisor);
+        csv << grid << ',' << size << ',' << where << ',' << divisor << ',' << steps << ',' << middle_sample(sim) << ','
             << middle_sample(mesh_ms) << ','
             << middle_sample(caustic) << ',' << middle_sample(post) << ',' << middle_sample(i420) << ','
             << middle_sample(frame) << ',' << p95 << ',' << over << ',' << frame.size() << '\n';
-        std::printf("grid %3d^2, %4d^2 px, setup %s, %d steps/frame: sim %5.2f ms  mesh %5.2f ms  caustic %6.1f ms  "
+        std::printf("grid %3d^2, %4d^2 px, setup %s, %s, %d steps/frame: sim %5.2f ms  mesh %5.2f ms  caustic %6.1f ms  "
                     "post %5.1f ms  "
                     "I420 %5.1f ms  frame %6.1f ms (p95 %6.1f)  %d of %zu frames over 33.3 ms; %llu raindrops\n",
-                    grid, size, where.c_str(), steps, middle_sample(sim), middle_sample(mesh_ms), middle_sample(caustic),
+                    grid, size, where.c_str(), level.c_str(), steps, middle_sample(sim), middle_sample(mesh_ms),
+                    middle_sample(caustic),
                     middle_sample(post), middle_sample(i420), middle_sample(frame), p95, over, frame.size(),
                     static_cast<unsigned long long>(solver.raindrops()));
         std::fflush(stdout);

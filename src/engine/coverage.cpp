@@ -130,6 +130,7 @@ void CoverageRaster::band(int lo, int hi) {
   const std::size_t row = static_cast<std::size_t>(width_) * channels_;
   std::fill(changes_.begin() + lo * row, changes_.begin() + hi * row, 0.0);
   for (const Triangle& t : triangles_) {
+    if (std::max({t.a.y, t.b.y, t.c.y}) <= lo || std::min({t.a.y, t.b.y, t.c.y}) >= hi) continue;  // another band's
     if (channels_ == 1) {
       edge<1>(t.a, t.b, t.value, lo, hi), edge<1>(t.b, t.c, t.value, lo, hi), edge<1>(t.c, t.a, t.value, lo, hi);
     } else {

@@ -30,6 +30,18 @@ struct Current {
   Current& operator=(const Current&) = delete;
 };
 
+// After a full frame of water: its cost, and when to try the next one
+// should it not fit the interval.
+void pace_water(FrameSource& source, std::chrono::steady_clock::time_point now) {
+  WaterPacing& pacing = source.water_pacing;
+  const FrameStats& stats = source.engine->stats();
+  pacing.full_ms = stats.ray_ms + stats.post_ms;
+  pacing.full_at = now;
+  const bool fits = pacing.full_ms <= std::chrono::duration<double, std::milli>(source.frame_interval).count();
+  const auto& p = source.progressive;
+  pacing.retry = fits || pacing.retry.count() == 0 ? p.water_retry : std::min(2 * pacing.retry, p.water_retry_max);
+}
+
 }  // namespace
 
 GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const MeshLevels& meshes, int width,
@@ -66,10 +78,16 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
       source.water_clock = now;
     }
   }
-  // The first picture is a full one; after that, recent changes mean motion.
+  // The first picture is a full one; after that, recent changes mean
+  // motion, and so does water whose full frames do not fit the interval.
   const bool moving = source.progressive.enabled && source.picture && !source.isolated &&
                       now - source.changed_at < source.progressive.settle;
-  const std::uint32_t want = moving ? preview : full_quality;
+  const bool water = source.pool && source.seen_scene.water;
+  const WaterPacing& pacing = source.water_pacing;
+  const bool water_too_slow = water && source.progressive.enabled && source.picture &&
+                              pacing.full_ms > std::chrono::duration<double, std::milli>(source.frame_interval).count() &&
+                              now - pacing.full_at < pacing.retry;
+  const std::uint32_t want = moving || water_too_slow ? preview : full_quality;
   // Automatic exposure easing towards a new metering redraws the tone map
   // each frame until it settles (the version stays the same).
   const bool settling = source.engine && source.engine->dirty();
@@ -93,7 +111,6 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     try {
       source.engine->set_preview_divisor(want == preview ? source.progressive.divisor : 1);
       // Water's surface is its own: a preview draws it at the smaller size only.
-      const bool water = source.pool && scene.water;
       source.engine->set_scene(scene,
                                water             ? source.pool->mesh()
                                : want == preview ? preview_mesh(meshes, scene, source.progressive.mesh)
@@ -103,6 +120,7 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
       const std::uint64_t before = source.engine->ray_passes();
       source.engine->render();
       source.renders += source.engine->ray_passes() - before;
+      if (water && want == full_quality && source.engine->ray_passes() > before) pace_water(source, now);
       if (source.observer) source.observer(source.engine->stats(), version);
       const std::uint64_t tag = ++source.readbacks;
       source.in_flight.push_back({tag, version, water ? source.pool->step() : 0, want});
@@ -196,6 +214,7 @@ void release(FrameSource& source) {
   source.in_flight.clear();
   source.water_clock = {};
   source.water_dirty = false;
+  source.water_pacing = {};
 }
 
 }  // namespace caustic::gst

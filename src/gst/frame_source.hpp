@@ -33,6 +33,21 @@ struct Progressive {
   std::chrono::milliseconds lone{250};
   int divisor = 2;   ///< preview caustic at 1/divisor of the output size per side
   int mesh = 32;     ///< preview mesh level, when it is coarser than the scene's
+  /// Water moves every frame, so it is never still: its frames are full
+  /// ones while a full frame's render fits the frame interval, previews
+  /// while it does not. A full frame then and again tries whether it fits
+  /// now: after `water_retry`, twice as long after each try that did not
+  /// (up to `water_retry_max`), so that a machine too slow for it
+  /// overruns a few frames a minute, not one a second.
+  std::chrono::milliseconds water_retry{1000};
+  std::chrono::milliseconds water_retry_max{16000};
+};
+
+/// What the water's pacing (Progressive) last measured.
+struct WaterPacing {
+  double full_ms = 0;  ///< the last full frame's render (caustic and post-processing)
+  std::chrono::steady_clock::time_point full_at{};  ///< when it was drawn
+  std::chrono::milliseconds retry{0};               ///< until the next full frame, while they do not fit
 };
 
 /// Requests for the picture last rendered (a REST client's frame.png),
@@ -74,6 +89,7 @@ struct FrameSource {
   std::chrono::nanoseconds frame_interval{std::chrono::nanoseconds(1'000'000'000) / 30};  // as negotiated
   std::chrono::steady_clock::time_point water_clock{};  // when the water last advanced
   bool water_dirty = false;                             // moved since last drawn
+  WaterPacing water_pacing;
   std::atomic<std::uint64_t> renders{0};  // caustic passes so far (read from any thread)
   std::atomic<std::uint64_t> picture_version{0};  // version of the newest finished picture, any thread
   std::function<void(const FrameStats&, std::uint64_t)> observer;  // after each render
