@@ -252,7 +252,21 @@ void Engine::start_readback(std::uint64_t tag, PixelFormat format) {
   glBindTextureUnit(0, s.ldr.texture.id());
   s.to_i420.set("uPicture", 0);
   s.to_i420.set("uSize", glm::ivec2(w, h));
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  if (s.hdr.texture.format() == GL_R32F) {
+    // A grey frame's chroma is 128 throughout (the U and V weights sum to
+    // zero): the pass draws the Y plane only and the rest is cleared, which
+    // on a software renderer halves the conversion.
+    glViewport(0, 0, w, h);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, h, w, h / 2);
+    const float neutral[4] = {128.0f / 255.0f, 0, 0, 0};
+    glClearNamedFramebufferfv(s.i420.framebuffer.id(), GL_COLOR, 0, neutral);
+    glDisable(GL_SCISSOR_TEST);
+    glViewport(0, 0, w, h * 3 / 2);
+  } else {
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  }
   glBindVertexArray(0);
   gl::check_errors("I420 conversion");
   s.readback.start(s.i420.texture, tag, 1);

@@ -142,11 +142,18 @@ void RayPass::draw_deposited(const std::vector<LandedVertex>& rays, const std::v
   raster_.reset(width, height, grey ? 1 : 3);
   deposit_on_cpu(rays, triangles, scene, placement, &raster_, count ? &cpu_counts_ : nullptr);
   if (count) counted_on_cpu_ = true;
+  const std::vector<float>& image = raster_.resolve();
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  if (grey && clear && weight == glm::vec3(1.0f)) {
+    // The whole of a monochrome frame: the image is the target's content,
+    // uploaded as it is (a full-size pass less on a software renderer).
+    glTextureSubImage2D(target.texture.id(), 0, 0, 0, width, height, GL_RED, GL_FLOAT, image.data());
+    gl::check_errors("caustic pass (CPU deposit)");
+    return;
+  }
   const GLenum format = grey ? GL_R32F : GL_RGB32F;
   if (coverage_.width() != width || coverage_.height() != height || coverage_.format() != format)
     coverage_ = gl::Texture(format, width, height);
-  const std::vector<float>& image = raster_.resolve();
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glTextureSubImage2D(coverage_.id(), 0, 0, 0, width, height, grey ? GL_RED : GL_RGB, GL_FLOAT, image.data());
   bind(target, clear);
   const auto& p = coverage_program_;
