@@ -21,7 +21,8 @@ void main() {
   // towards white, as film and eyes show it, instead of clipping its hue.
   vec3 value = max(hdr + uBloomStrength * bloom, 0.0) * local_factor(uv);
   if (uGrey) {  // a third of the transcendental work, which dominates this pass on a CPU renderer
-    float grey = pow(1.0 - exp(-uExposure * value.r), 1.0 / uGamma);
+    float grey = 1.0 - exp(-uExposure * value.r);
+    if (uGamma != 1.0) grey = pow(grey, 1.0 / uGamma);  // a uniform branch: linear output skips the pow
     outColor = vec4(vec3(grey), 1.0);
     return;
   }
