@@ -39,8 +39,8 @@ class RayPass {
                bool clear_tint);
   // The triangles set up and deposited on the CPU, added into `target` as one image (coverage.frag).
   void draw_deposited(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
-                   const Scene& scene, const Placement& placement, const gl::RenderTarget& target, glm::vec3 weight,
-                   bool clear, bool count);
+                      const Scene& scene, const Placement& placement, const gl::RenderTarget& target,
+                      glm::vec3 weight, bool clear, bool count);
 
   gl::Program program_, landed_program_, coverage_program_;
   gl::VertexArray vao_, landed_vao_, empty_vao_;

@@ -131,12 +131,12 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
 void RayPass::draw_on_cpu(const Scene& scene, const Placement& placement, const Mesh& mesh,
                           const gl::RenderTarget& target, double ior, glm::vec3 weight, bool clear, bool count) {
   draw_deposited(land_vertices(scene, placement, mesh, ior), mesh.triangles, scene, placement, target, weight, clear,
-              count);
+                 count);
 }
 
 void RayPass::draw_deposited(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
-                          const Scene& scene, const Placement& placement, const gl::RenderTarget& target,
-                          glm::vec3 weight, bool clear, bool count) {
+                             const Scene& scene, const Placement& placement, const gl::RenderTarget& target,
+                             glm::vec3 weight, bool clear, bool count) {
   const int width = target.texture.width(), height = target.texture.height();
   const bool grey = target.texture.format() == GL_R32F;
   raster_.reset(width, height, grey ? 1 : 3);

@@ -30,6 +30,11 @@ struct Current {
   Current& operator=(const Current&) = delete;
 };
 
+// Whether the last full frame of water fitted the frame interval.
+bool water_fits(const FrameSource& source) {
+  return source.water_pacing.full_ms <= std::chrono::duration<double, std::milli>(source.frame_interval).count();
+}
+
 // After a full frame of water: its cost, and when to try the next one
 // should it not fit the interval.
 void pace_water(FrameSource& source, std::chrono::steady_clock::time_point now) {
@@ -37,7 +42,7 @@ void pace_water(FrameSource& source, std::chrono::steady_clock::time_point now) 
   const FrameStats& stats = source.engine->stats();
   pacing.full_ms = stats.ray_ms + stats.post_ms;
   pacing.full_at = now;
-  const bool fits = pacing.full_ms <= std::chrono::duration<double, std::milli>(source.frame_interval).count();
+  const bool fits = water_fits(source);
   const auto& p = source.progressive;
   pacing.retry = fits || pacing.retry.count() == 0 ? p.water_retry : std::min(2 * pacing.retry, p.water_retry_max);
 }
@@ -84,8 +89,7 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
                       now - source.changed_at < source.progressive.settle;
   const bool water = source.pool && source.seen_scene.water;
   const WaterPacing& pacing = source.water_pacing;
-  const bool water_too_slow = water && source.progressive.enabled && source.picture &&
-                              pacing.full_ms > std::chrono::duration<double, std::milli>(source.frame_interval).count() &&
+  const bool water_too_slow = water && source.progressive.enabled && source.picture && !water_fits(source) &&
                               now - pacing.full_at < pacing.retry;
   const std::uint32_t want = moving || water_too_slow ? preview : full_quality;
   // Automatic exposure easing towards a new metering redraws the tone map
