@@ -136,12 +136,12 @@ int run_water_bench(const PerfOptions& opt, const WaterBenchOptions& water) {
         const double p95 = sorted[static_cast<std::size_t>(0.95 * static_cast<double>(sorted.size() - 1))];
         const std::string where = engine.stats().cpu_setup ? "cpu" : "gpu";
         const std::string level = divisor == 1 ? "full" : "preview 1/" + std::to_string(divisor);
-        csv << grid << ',' << size << ',' << where << ',' << divisor << ',' << steps << ',' << middle_sample(sim) << ','
-            << middle_sample(mesh_ms) << ','
+        csv << grid << ',' << size << ',' << where << ',' << divisor << ',' << steps << ','
+            << middle_sample(sim) << ',' << middle_sample(mesh_ms) << ','
             << middle_sample(caustic) << ',' << middle_sample(post) << ',' << middle_sample(i420) << ','
             << middle_sample(frame) << ',' << p95 << ',' << over << ',' << frame.size() << '\n';
-        std::printf("grid %3d^2, %4d^2 px, setup %s, %s, %d steps/frame: sim %5.2f ms  mesh %5.2f ms  caustic %6.1f ms  "
-                    "post %5.1f ms  "
+        std::printf("grid %3d^2, %4d^2 px, setup %s, %s, %d steps/frame: sim %5.2f ms  mesh %5.2f ms  "
+                    "caustic %6.1f ms  post %5.1f ms  "
                     "I420 %5.1f ms  frame %6.1f ms (p95 %6.1f)  %d of %zu frames over 33.3 ms; %llu raindrops\n",
                     grid, size, where.c_str(), level.c_str(), steps, middle_sample(sim), middle_sample(mesh_ms),
                     middle_sample(caustic),
@@ -151,7 +151,8 @@ int run_water_bench(const PerfOptions& opt, const WaterBenchOptions& water) {
       }
     }
   }
-  std::printf("wrote %s/water.csv and the last frame of each row, water-GRID-SIZE[-SETUP].png\n", opt.out.string().c_str());
+  std::printf("wrote %s/water.csv and the last frame of each row, water-GRID-SIZE[-SETUP][-pDIVISOR].png\n",
+              opt.out.string().c_str());
   return 0;
 }
 

@@ -255,7 +255,7 @@ void Engine::start_readback(std::uint64_t tag, PixelFormat format) {
   if (s.hdr.texture.format() == GL_R32F) {
     // A grey frame's chroma is 128 throughout (the U and V weights sum to
     // zero): the pass draws the Y plane only and the rest is cleared, which
-    // on a software renderer halves the conversion.
+    // on a software renderer takes a quarter off the conversion.
     glViewport(0, 0, w, h);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glEnable(GL_SCISSOR_TEST);
