@@ -3,7 +3,8 @@
 // "surface", docs/physics.md §14): still water against Fresnel, a small
 // sinusoidal wave against its paraxial map and its fold depth, and the
 // flux that lands against the flux that entered; one seed, one caustic.
-#include "gl_test_support.hpp"
+// Under a lamp and between walls: engine_pool_test.cpp.
+#include "water_scene.hpp"
 
 #include "caustic/optics.hpp"
 #include "caustic/vertex_rays.hpp"
@@ -16,23 +17,6 @@ using namespace caustic;
 using namespace caustic::testing;
 
 namespace {
-
-constexpr double kWater = 1.333;
-constexpr double kHalf = 10.0;  // the water's footprint, mm
-
-// A pool: the surface (mesh z = -h, turned over so that world z = h) at
-// z = 0, the floor `depth` below it, 256 px across `floor_size` mm, the sun
-// `theta` from the vertical travelling towards +x.
-Scene pool(double depth, double theta, double floor_size) {
-  Scene s = straight_down_scene(0.0, depth, floor_size, 256);
-  s.object.flat_face_offset.reset();
-  s.object.shape = Shape::surface;
-  s.object.ior = kWater;
-  s.object.rotation_deg = {180, 0, 0};
-  s.light.direction = {std::sin(theta), 0, -std::cos(theta)};
-  s.render.fresnel = true;
-  return s;
-}
 
 // The mean and the worst relative departure from it of the floor's pixels
 // whose centres lie `margin` inside the square of half-width `half` about `at`.
@@ -62,7 +46,7 @@ TEST_F(Water, StillWaterLightsTheFloorEvenlyWithFresnelsTransmittance) {
   const auto still = shared(grid_mesh(flat_face(kHalf), 64, 64));
   for (double degrees : {0.0, 30.0, 60.0}) {
     const double theta = degrees * std::numbers::pi / 180, depth = 10.0;
-    const Scene s = pool(depth, theta, 40.0);
+    const Scene s = water_pool(depth, theta, 40.0);
     const HdrImage img = render(s, still);
     // The lit patch is the surface's square, shifted along the refracted ray.
     const double sin_t = std::sin(theta) / kWater;
@@ -109,7 +93,7 @@ TEST_F(SineWave, TheFloorFollowsThePredictedModulation) {
   const double transmittance = optics::fresnel_transmittance(1.0, 1.0, kWater);
   for (double m : {0.05, 0.5}) {
     const double depth = m * fold_depth();
-    const Scene s = pool(depth, 0.0, 25.6);
+    const Scene s = water_pool(depth, 0.0, 25.6);
     const HdrImage img = render(s, wave);
     const auto floor = profile(img, s.screen);
     const double c = (1 - 1 / kWater) * depth;
@@ -140,7 +124,7 @@ TEST_F(SineWave, TheFloorFollowsThePredictedModulation) {
 
 TEST_F(SineWave, SheetsFoldAtThePredictedDepth) {
   for (double m : {0.95, 1.05}) {
-    const Scene s = pool(m * fold_depth(), 0.0, 25.6);
+    const Scene s = water_pool(m * fold_depth(), 0.0, 25.6);
     render(s, wave);
     const auto folded = engine_->stats().folded;
     std::printf("depth %.3f of the fold depth %.1f mm: %u folded triangles\n", m, fold_depth(), folded);
@@ -156,7 +140,7 @@ TEST_F(Water, WhateverTheWavesTheFloorGetsTheFluxThatEntered) {
   // Two crossing waves, deep enough to fold; the sun 40 degrees off.
   const auto waves = shared(grid_mesh(sine_window(0.05, 1.3, 0.04, 0.9, kHalf), 129, 129));
   for (bool fresnel : {false, true}) {
-    Scene s = pool(60.0, 0.7, 100.0);
+    Scene s = water_pool(60.0, 0.7, 100.0);
     s.render.fresnel = fresnel;
     const HdrImage img = render(s, waves);
     const Placement placement = place_object(s.object, *waves);
@@ -185,7 +169,7 @@ TEST_F(Water, OneSeedAndOneStepCountGiveTheSameCausticBitForBit) {
     p.seed = seed;
     water::WaveSolver solver(p);
     for (int i = 0; i < 300; ++i) solver.step();
-    Scene s = pool(1.2, 0.35, 2.4);
+    Scene s = water_pool(1.2, 0.35, 2.4);
     s.object.rotation_deg = {0, 0, 0};  // water_mesh is already face up
     s.screen.center = {0.15, 0, -1.2};
     return render(s, shared(water::water_mesh(solver)));
