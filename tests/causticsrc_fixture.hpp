@@ -30,12 +30,14 @@ class CausticSrc : public ::testing::Test {
     ASSERT_TRUE(caustic::gst::register_elements());
   }
 
-  void start(const std::string& description) {
+  // `observer`, when given, is set before the render thread starts.
+  void start(const std::string& description, caustic::gst::FrameObserver observer = {}) {
     GError* error = nullptr;
     pipeline_.reset(gst_parse_launch(description.c_str(), &error));
     ASSERT_EQ(error, nullptr) << error->message;
     src_ = gst_bin_get_by_name(GST_BIN(pipeline_.get()), "src");
     sink_ = gst_bin_get_by_name(GST_BIN(pipeline_.get()), "sink");
+    if (observer) caustic::gst::set_frame_observer(src_, std::move(observer));
     ASSERT_NE(gst_element_set_state(pipeline_.get(), GST_STATE_PLAYING), GST_STATE_CHANGE_FAILURE);
   }
   void TearDown() override {

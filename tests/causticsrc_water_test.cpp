@@ -2,8 +2,8 @@
 // causticsrc streaming water: the surface moves with the stream's clock
 // (each new picture shows a later solver step, and a different caustic),
 // a drop posted to the element's pool shows in a later frame, paused water
-// stands, water too slow for its frame rate comes as previews, and a scene
-// without water has no pool.
+// stands, water too slow for its frame rate comes as previews of a thinned
+// surface, and a scene without water has no pool.
 #include "causticsrc_fixture.hpp"
 
 #include "caustic/gl_context.hpp"
@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <mutex>
+#include <vector>
 
 using namespace caustic::testing;
 
@@ -72,7 +74,14 @@ TEST_F(CausticSrc, WaterTooSlowForItsFrameRateComesAsPreviewsAndFullFramesAreTri
   // A software renderer cannot draw 512x512 of water in 1/240 s: after the
   // first (full) picture come previews, and a second after it a full frame
   // tries again. Bounded in frames and time.
-  start("causticsrc name=src scene=" + scene("pool") + " width=512 height=512 framerate=240/1 ! appsink name=sink");
+  // The triangles each render set up: a preview's surface is thinned.
+  std::mutex lock;
+  std::vector<std::uint32_t> triangles;
+  start("causticsrc name=src scene=" + scene("pool") + " width=512 height=512 framerate=240/1 ! appsink name=sink",
+        [&](const caustic::FrameStats& stats, std::uint64_t) {
+          const std::lock_guard hold(lock);
+          if (stats.ray_ms > 0) triangles.push_back(stats.drawn + stats.dropped);
+        });
   constexpr std::uint32_t kFull = 0, kPreview = 1;  // CausticFrameMeta.level
   std::vector<std::uint32_t> levels;  // of each new picture
   std::uint64_t last_step = 0;
@@ -91,6 +100,11 @@ TEST_F(CausticSrc, WaterTooSlowForItsFrameRateComesAsPreviewsAndFullFramesAreTri
   ASSERT_GE(levels.size(), 2u);
   EXPECT_EQ(levels[1], kPreview) << "the first full frame should not have fitted 1/240 s";
   EXPECT_TRUE(tried_again) << levels.size() << " pictures, none full after the previews";
+  // 127^2 cells a full frame; every other post (and the wall's) a preview.
+  gst_element_set_state(pipeline_.get(), GST_STATE_NULL);
+  const std::lock_guard hold(lock);
+  EXPECT_NE(std::find(triangles.begin(), triangles.end(), 2u * 127 * 127), triangles.end());
+  EXPECT_NE(std::find(triangles.begin(), triangles.end(), 2u * 64 * 64), triangles.end());
 }
 
 TEST_F(CausticSrc, ASceneWithoutWaterHasNoPool) {

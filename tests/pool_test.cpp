@@ -152,6 +152,26 @@ TEST(Pool, ViewersGetTheCoarseSurfaceOfEachFrameDrawn) {
   EXPECT_FALSE(pool.proxy(pool.step()).heights.empty());
 }
 
+TEST(Pool, APreviewDrawsTheSurfaceThinnedAndViewersGetOneCopyOfIt) {
+  Pool pool(calm());
+  pool.advance(calm(), 0.01);
+  const std::uint64_t first = pool.step();
+  const auto thin = pool.mesh(2), full = pool.mesh();
+  EXPECT_EQ(pool.mesh(2), thin);  // each built once a surface
+  EXPECT_EQ(pool.mesh(), full);
+  const auto n = static_cast<std::size_t>(calm().grid), m = (n - 2) / 2 + 2;  // every other post and the wall's
+  EXPECT_EQ(full->positions.size(), n * n);
+  EXPECT_EQ(thin->positions.size(), m * m);
+  // kProxiesKept surfaces, each drawn at both levels: the first is still
+  // kept, so each was copied for the viewers once.
+  for (std::size_t k = 1; k < Pool::kProxiesKept; ++k) {
+    pool.advance(calm(), 0.01);
+    EXPECT_NE(pool.mesh(2), thin);
+    pool.mesh();
+  }
+  EXPECT_FALSE(pool.proxy(first).heights.empty());
+}
+
 TEST(Pool, ACoarserCopyKeepsTheWallsAndInterpolatesInside) {
   Proxy fine;
   fine.n = 32;

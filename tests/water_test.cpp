@@ -265,5 +265,35 @@ TEST(WaterMesh, StillWaterIsFlatAndEveryVertexFollowsItsHeight) {
   for (int j = 0; j < p.grid; ++j) EXPECT_EQ(wavy.normals[static_cast<std::size_t>(j) * p.grid].x, 0.0f);
 }
 
+TEST(WaterMesh, APreviewKeepsEveryOtherPostAndTheWallsWithTheirOwnNormals) {
+  WaveParams p;
+  p.grid = 34;  // 0, 2, ..., 32 and the wall's 33: the last cell one post wide
+  WaveSolver s(p);
+  s.drop(0.3, -0.2, 2e-3, 0.1);
+  for (int i = 0; i < 10; ++i) s.step();
+  const Mesh full = water_mesh(s), thin = water_mesh(s, 2);
+  EXPECT_EQ(water_mesh(s, 1).positions, full.positions);
+  std::vector<int> posts;
+  for (int i = 0; i <= 32; i += 2) posts.push_back(i);
+  posts.push_back(33);
+  const std::size_t m = posts.size();
+  ASSERT_EQ(thin.positions.size(), m * m);
+  EXPECT_EQ(thin.triangles.size(), 2 * (m - 1) * (m - 1));
+  EXPECT_NO_THROW(validate_mesh(thin));
+  for (std::size_t b = 0; b < m; ++b)
+    for (std::size_t a = 0; a < m; ++a) {
+      const std::size_t k = b * m + a, at = static_cast<std::size_t>(posts[b] * p.grid + posts[a]);
+      EXPECT_EQ(thin.positions[k], full.positions[at]) << a << ", " << b;
+      EXPECT_EQ(thin.normals[k], full.normals[at]) << a << ", " << b;
+    }
+  // Wall to wall, facing up.
+  EXPECT_FLOAT_EQ(thin.positions.front().x, static_cast<float>(-p.size / 2));
+  EXPECT_FLOAT_EQ(thin.positions.back().y, static_cast<float>(p.size / 2));
+  for (const auto& t : thin.triangles) {
+    const glm::vec3 a = thin.positions[t.x], b = thin.positions[t.y], c = thin.positions[t.z];
+    EXPECT_GT(glm::cross(b - a, c - a).z, 0.0f);
+  }
+}
+
 }  // namespace
 }  // namespace caustic::water

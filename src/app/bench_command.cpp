@@ -214,7 +214,7 @@ std::function<int()> add_bench_command(CLI::App& app) {
       ->needs(water_flag);
   cmd->add_option("--divisors", water_opt->divisors,
                   "--water: the caustic at 1/N of the size per side, a row each: 1 full frames, 2 or more the "
-                  "stream's previews (no bloom)")
+                  "stream's previews (no bloom, the surface on every Nth post)")
       ->delimiter(',')
       ->check(CLI::Range(1, 8))
       ->needs(water_flag);

@@ -113,10 +113,11 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     const std::uint64_t version = source.rendered = source.seen;
     source.rendered_level = want;
     try {
-      source.engine->set_preview_divisor(want == preview ? source.progressive.divisor : 1);
-      // Water's surface is its own: a preview draws it at the smaller size only.
+      const int divisor = want == preview ? source.progressive.divisor : 1;
+      source.engine->set_preview_divisor(divisor);
+      // Water's surface is its own: a preview thins it as it shrinks the picture.
       source.engine->set_scene(scene,
-                               water             ? source.pool->mesh()
+                               water             ? source.pool->mesh(divisor)
                                : want == preview ? preview_mesh(meshes, scene, source.progressive.mesh)
                                                  : meshes.at(scene.render.mesh_resolution),
                                water);

@@ -91,20 +91,28 @@ bool Pool::advance(const WaveParams& params, double seconds) {
     owed_ -= static_cast<double>(steps) * solver_.time_step();
     moved = moved || steps > 0;
   }
-  if (moved) mesh_.reset();
+  if (moved) mesh_.reset(), thinned_.reset();
   return moved;
 }
 
-std::shared_ptr<const Mesh> Pool::mesh() {
-  if (!mesh_) {
-    mesh_ = std::make_shared<const Mesh>(water_mesh(solver_));
+std::shared_ptr<const Mesh> Pool::mesh(int stride) {
+  stride = std::max(stride, 1);
+  if (!mesh_ && !thinned_) {  // the first frame of this surface: its viewers' copy
     Proxy coarse = sample(solver_);
     coarse.drops = drops_;
     std::lock_guard hold(lock_);
     proxies_.push_back(std::move(coarse));
     while (proxies_.size() > kProxiesKept) proxies_.pop_front();
   }
-  return mesh_;
+  if (stride == 1) {
+    if (!mesh_) mesh_ = std::make_shared<const Mesh>(water_mesh(solver_));
+    return mesh_;
+  }
+  if (!thinned_ || thinned_stride_ != stride) {
+    thinned_ = std::make_shared<const Mesh>(water_mesh(solver_, stride));
+    thinned_stride_ = stride;
+  }
+  return thinned_;
 }
 
 Proxy Pool::proxy(std::uint64_t step) const {

@@ -77,8 +77,10 @@ class Pool {
   /// params.paused. True when the surface changed.
   bool advance(const WaveParams& params, double seconds);
 
-  /// Render thread: the surface now, as the engine draws it.
-  std::shared_ptr<const Mesh> mesh();
+  /// Render thread: the surface now, as the engine draws it; with `stride`
+  /// above 1 thinned for a preview (water_mesh.hpp). Each is built once a
+  /// surface.
+  std::shared_ptr<const Mesh> mesh(int stride = 1);
   /// Render thread: the solver step the surface shows.
   std::uint64_t step() const { return solver_.steps(); }
   /// Posted drops fallen so far, rain excluded (render thread).
@@ -94,7 +96,8 @@ class Pool {
   const WaveParams shape_;  // as constructed: the grid and size drops are checked against
   double owed_ = 0;  // seconds simulated short of a whole step
   std::uint64_t drops_ = 0;
-  std::shared_ptr<const Mesh> mesh_;
+  std::shared_ptr<const Mesh> mesh_, thinned_;  // of the surface now; empty once it moves
+  int thinned_stride_ = 0;
   mutable std::mutex lock_;
   std::vector<Drop> queued_;
   std::uint64_t posted_ = 0;
