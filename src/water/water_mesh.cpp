@@ -8,8 +8,6 @@
 
 namespace caustic::water {
 
-Mesh water_mesh(const WaveSolver& solver) { return water_mesh(solver, 1); }
-
 Mesh water_mesh(const WaveSolver& solver, int stride) {
   const auto& p = solver.params();
   const int n = p.grid;

@@ -13,14 +13,13 @@ namespace caustic::water {
 /// differences (at a wall the mirrored row makes the slope across it zero,
 /// as the solver's walls do), two triangles per grid cell wound
 /// counter-clockwise seen from +z.
-Mesh water_mesh(const WaveSolver& solver);
-
-/// The same surface on every `stride`-th post per side (and the wall's, so
-/// that it still spans the pool: the last cell may be narrower), for a
-/// preview that draws its caustic at 1/stride of the size: a quarter of the
-/// triangles at 2. Each normal is the full grid's at its post, so the slopes
-/// are the water's; waves shorter than two of the thinned cells are lost.
-/// stride 1 is water_mesh(); at most grid - 1.
-Mesh water_mesh(const WaveSolver& solver, int stride);
+///
+/// With `stride` above 1 (at most grid - 1), only every stride-th post per
+/// side and the wall's, so that the mesh still spans the pool (the last cell
+/// may be narrower): for a preview that draws its caustic at 1/stride of the
+/// size, a quarter of the triangles at 2. Each normal is the full grid's at
+/// its post, so the slopes are the water's; waves shorter than two of the
+/// thinned cells are lost.
+Mesh water_mesh(const WaveSolver& solver, int stride = 1);
 
 }  // namespace caustic::water
