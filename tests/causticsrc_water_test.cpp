@@ -50,13 +50,19 @@ TEST_F(CausticSrc, PausedWaterStands) {
   start("causticsrc name=src scene=" + scene("pool") + " width=64 height=64 framerate=30/1 ! appsink name=sink");
   take(pull());
   auto params = caustic::gst::param_store(src_);
-  params->apply_patch({{"water", {{"paused", true}}}});
-  // Frames rendered before the pause took hold may still come out.
+  // A fixed exposure: automatic exposure would ease between a preview's
+  // metering and the full frame's.
+  params->apply_patch({{"water", {{"paused", true}}}, {"post", {{"exposure_mode", "manual"}}}});
+  // Frames rendered before the pause took hold may still come out, and on a
+  // loaded machine previews; paused water is then drawn in full, once.
   Frame last = take(pull());
   for (int i = 0; i < 30; ++i) last = take(pull());
+  for (int i = 0; i < 300 && last.level != 0; ++i) last = take(pull());
+  ASSERT_EQ(last.level, 0u) << "paused water never drawn in full";
   for (int i = 0; i < 15; ++i) {
     const Frame f = take(pull());
     EXPECT_EQ(f.water_step, last.water_step) << i;
+    EXPECT_EQ(f.level, 0u) << i;
     EXPECT_EQ(f.pixels, last.pixels) << i;
   }
   params->apply_patch({{"water", {{"paused", false}}}});
@@ -100,6 +106,17 @@ TEST_F(CausticSrc, WaterTooSlowForItsFrameRateComesAsPreviewsAndFullFramesAreTri
   ASSERT_GE(levels.size(), 2u);
   EXPECT_EQ(levels[1], kPreview) << "the first full frame should not have fitted 1/240 s";
   EXPECT_TRUE(tried_again) << levels.size() << " pictures, none full after the previews";
+  // Paused, the water is drawn in full and stays so: previews are for motion.
+  // The pause is a change (version 2), previewed while it settles.
+  caustic::gst::param_store(src_)->apply_patch({{"water", {{"paused", true}}}});
+  Frame f = take(pull());
+  for (int i = 0; i < 2000 && (f.version < 2 || f.level != kFull); ++i) f = take(pull());
+  EXPECT_EQ(f.level, kFull) << "paused water never drawn in full";
+  for (int i = 0; i < 480; ++i) {  // two seconds of frames: past the next retry of a full frame
+    f = take(pull());
+    if (f.level != kFull) break;
+  }
+  EXPECT_EQ(f.level, kFull) << "paused water went back to previews";
   // 127^2 cells a full frame; every other post (and the wall's) a preview.
   gst_element_set_state(pipeline_.get(), GST_STATE_NULL);
   const std::lock_guard hold(lock);

@@ -89,8 +89,9 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
                       now - source.changed_at < source.progressive.settle;
   const bool water = source.pool && source.seen_scene.water;
   const WaterPacing& pacing = source.water_pacing;
-  const bool water_too_slow = water && source.progressive.enabled && source.picture && !water_fits(source) &&
-                              now - pacing.full_at < pacing.retry;
+  // Paused water stands still: drawn full once, it needs no previews.
+  const bool water_too_slow = water && !source.seen_scene.water->paused && source.progressive.enabled &&
+                              source.picture && !water_fits(source) && now - pacing.full_at < pacing.retry;
   const std::uint32_t want = moving || water_too_slow ? preview : full_quality;
   // Automatic exposure easing towards a new metering redraws the tone map
   // each frame until it settles (the version stays the same).
