@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "coverage.hpp"
 
+#include "bands.hpp"
+
 #include <algorithm>
 #include <cmath>
-#include <thread>
 
 namespace caustic {
 namespace {
@@ -162,15 +163,8 @@ void CoverageRaster::band(int lo, int hi) {
 }
 
 const std::vector<float>& CoverageRaster::resolve() {
-  // Bands of rows on the machine's cores: each walks every edge but touches
-  // only its own rows, so they share nothing but the read-only lists.
-  const int cores = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 8u));
-  const int bands = std::clamp(height_ / kMinBandRows, 1, cores);
-  std::vector<std::thread> helpers;
-  for (int b = 1; b < bands; ++b)
-    helpers.emplace_back([this, b, bands] { band(height_ * b / bands, height_ * (b + 1) / bands); });
-  band(0, height_ / bands);
-  for (auto& h : helpers) h.join();
+  // Each band walks every edge but touches only its own rows.
+  in_bands(height_, kMinBandRows, [this](int lo, int hi) { band(lo, hi); });
   return image_;
 }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/engine.hpp"
 
+#include "cpu_post.hpp"
 #include "passes.hpp"
 #include "readback.hpp"
 
@@ -38,6 +39,8 @@ bool software_renderer() {
 struct Engine::Impl {
   RayPass ray;
   PostPass post;
+  CpuPost cpu_post;
+  bool picture_on_cpu = false;  // the last frame's picture is cpu_post's, not ldr's
   gl::RenderTarget hdr, ldr, i420;
   gl::Program to_i420{{{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"i420.frag"}}}};
   gl::VertexArray empty_vao;
@@ -161,8 +164,14 @@ bool Engine::render() {
   PostParams post = s.scene->post;
   if (s.divisor > 1) post.bloom_strength = 0;  // a preview skips the glow
   const bool automatic = post.exposure_mode == ExposureMode::automatic;
+  // A grey frame the CPU deposited is post-processed where it lies
+  // (cpu_post.hpp): the local operator's base stays on the GL.
+  const std::vector<float>* on_cpu = post.tone_map == ToneMap::global ? s.ray.whole_image() : nullptr;
+  const int hdr_w = s.hdr.texture.width(), hdr_h = s.hdr.texture.height();
   if (s.prepare_dirty) {
-    const exposure::Histogram histogram = s.post.prepare(post, s.hdr.texture, automatic);
+    const exposure::Histogram histogram = !on_cpu ? s.post.prepare(post, s.hdr.texture, automatic)
+                                          : automatic ? CpuPost::meter(*on_cpu, hdr_w, hdr_h)
+                                                      : exposure::Histogram{};
     if (automatic) {
       s.stats.metered = exposure::quantile(histogram, post.auto_percentile);
       // Nothing lit: keep the last exposure rather than jump to an arbitrary one.
@@ -176,8 +185,14 @@ bool Engine::render() {
                                                                      post.exposure_adapt_s);
   s.snap_exposure = false;
   s.last_post = start;
-  s.post.run(post, s.hdr.texture, s.ldr, s.shown_exposure);
-  glFinish();
+  if (on_cpu) {
+    s.cpu_post.run(post, *on_cpu, hdr_w, hdr_h, s.ldr.texture.width(), s.ldr.texture.height(), s.shown_exposure);
+  } else {
+    s.post.run(post, s.hdr.texture, s.ldr, s.shown_exposure);
+    glFinish();
+  }
+  s.picture_on_cpu = on_cpu != nullptr;
+  s.stats.cpu_post = s.picture_on_cpu;
   s.stats.exposure = s.shown_exposure;
   s.stats.post_ms = elapsed_ms(start);
   if (!s.ray_dirty) s.stats.ray_ms = 0;
@@ -221,6 +236,7 @@ RgbHdrImage Engine::read_hdr_rgb() const {
 
 Rgba8Image Engine::read_ldr() const {
   const auto& t = impl_->ldr.texture;
+  if (impl_->picture_on_cpu) return {t.width(), t.height(), impl_->cpu_post.rgba()};
   Rgba8Image img{t.width(), t.height(), std::vector<std::uint8_t>(static_cast<std::size_t>(t.width()) * t.height() * 4)};
   if (img.pixels.empty()) return img;
   std::vector<std::uint8_t> raw(img.pixels.size());
@@ -238,9 +254,12 @@ std::size_t Engine::picture_bytes(PixelFormat format) const {
 
 void Engine::start_readback(std::uint64_t tag, PixelFormat format) {
   auto& s = *impl_;
-  if (format == PixelFormat::rgba) return s.readback.start(s.ldr.texture, tag);
   const int w = s.ldr.texture.width(), h = s.ldr.texture.height();
-  if (w % 8 || h % 2) throw EngineError("I420 needs a width divisible by 8 and an even height");
+  if (format == PixelFormat::i420 && (w % 8 || h % 2))
+    throw EngineError("I420 needs a width divisible by 8 and an even height");
+  if (s.picture_on_cpu)  // no GL: the CPU's picture, converted where it lies
+    return s.readback.put(format == PixelFormat::rgba ? s.cpu_post.rgba() : s.cpu_post.i420(), tag);
+  if (format == PixelFormat::rgba) return s.readback.start(s.ldr.texture, tag);
   if (s.i420.texture.width() != w || s.i420.texture.height() != h * 3 / 2)
     s.i420 = gl::RenderTarget(GL_R8, w, h * 3 / 2);
   // One pass writes the three planes in memory order, so the read-back is a

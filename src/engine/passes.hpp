@@ -31,6 +31,9 @@ class RayPass {
                    const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count = true,
                    bool on_cpu = false);
   TriangleCounts counts() const;
+  /// The target's whole content as the CPU deposited it (a grey frame's one
+  /// pass, rows from the bottom), or null when the last draw left it elsewhere.
+  const std::vector<float>* whole_image() const { return whole_image_; }
 
  private:
   // The splat both methods share: caustic.geom and caustic.frag's uniforms, then the draw.
@@ -49,6 +52,7 @@ class RayPass {
   CoverageRaster raster_;  // kept: one allocation for every frame
   gl::Texture coverage_;
   TriangleCounts cpu_counts_;
+  const std::vector<float>* whole_image_ = nullptr;  // raster_'s image, while it is the target's content
   bool counted_on_cpu_ = false;  // the last counting pass set up its triangles on the CPU
   GLsizei index_count_ = 0;
   bool tinted_ = false;

@@ -100,6 +100,7 @@ void RayPass::upload(const Mesh& mesh) {
 
 void RayPass::draw(const Scene& scene, const Placement& placement, const gl::RenderTarget& target, double ior,
                    glm::vec3 weight, bool clear, bool count) {
+  whole_image_ = nullptr;
   const auto& p = program_;
   const auto& screen = scene.screen;
   p.set("uModel", glm::mat4(placement.model));
@@ -143,12 +144,14 @@ void RayPass::draw_deposited(const std::vector<LandedVertex>& rays, const std::v
   deposit_on_cpu(rays, triangles, scene, placement, &raster_, count ? &cpu_counts_ : nullptr);
   if (count) counted_on_cpu_ = true;
   const std::vector<float>& image = raster_.resolve();
+  whole_image_ = nullptr;
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   if (grey && clear && weight == glm::vec3(1.0f)) {
     // The whole of a monochrome frame: the image is the target's content,
     // uploaded as it is (a full-size pass less on a software renderer).
     glTextureSubImage2D(target.texture.id(), 0, 0, 0, width, height, GL_RED, GL_FLOAT, image.data());
     gl::check_errors("caustic pass (CPU deposit)");
+    whole_image_ = &image;
     return;
   }
   const GLenum format = grey ? GL_R32F : GL_RGB32F;
@@ -172,6 +175,7 @@ void RayPass::draw_deposited(const std::vector<LandedVertex>& rays, const std::v
 
 void RayPass::draw_landed(const LandedGrid& grid, const Scene& scene, const Placement& placement,
                           const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count, bool on_cpu) {
+  whole_image_ = nullptr;
   if (on_cpu) return draw_deposited(grid.vertices, grid.triangles, scene, placement, target, weight, clear, count);
   if (grid.triangles.empty()) {  // no light through the solid: GL allows no empty storage
     const TriangleCounts zero{};

@@ -11,10 +11,11 @@ Readback::~Readback() {
 }
 
 bool Readback::pending() const {
-  return std::any_of(slots_.begin(), slots_.end(), [](const Slot& s) { return s.fence != nullptr; });
+  return host_.queued || std::any_of(slots_.begin(), slots_.end(), [](const Slot& s) { return s.fence != nullptr; });
 }
 
 std::size_t Readback::queued_bytes() const {
+  if (host_.queued && host_.order == started_) return host_.bytes.size();
   for (const auto& s : slots_)
     if (s.fence && s.order == started_) return static_cast<std::size_t>(s.width) * s.height * s.texel_bytes;
   return 0;
@@ -53,21 +54,35 @@ void Readback::start(const gl::Texture& texture, std::uint64_t tag, int bytes_pe
   gl::check_errors("read-back start");
 }
 
+void Readback::put(std::vector<std::uint8_t> bytes, std::uint64_t tag) {
+  host_ = Host{std::move(bytes), tag, ++started_, true};
+}
+
 bool Readback::poll(std::uint8_t* dest, std::size_t bytes, std::uint64_t* tag, bool wait) {
   // The newest finished copy wins; older ones are dropped unread.
   Slot* ready = nullptr;
   for (auto& s : slots_) {
-    if (!s.fence) continue;
+    if (!s.fence || (host_.queued && s.order < host_.order)) continue;
     const GLenum state = glClientWaitSync(s.fence, GL_SYNC_FLUSH_COMMANDS_BIT, wait ? 1'000'000'000 : 0);
     if ((state == GL_ALREADY_SIGNALED || state == GL_CONDITION_SATISFIED) && (!ready || s.order > ready->order))
       ready = &s;
   }
-  if (!ready) return false;
+  const std::uint64_t newest = ready ? ready->order : host_.queued ? host_.order : 0;
+  if (newest == 0) return false;
   for (auto& s : slots_)
-    if (s.fence && s.order <= ready->order && &s != ready) {
+    if (s.fence && s.order <= newest && &s != ready) {
       glDeleteSync(s.fence);
       s.fence = nullptr;
     }
+  if (!ready) {
+    if (bytes != host_.bytes.size())
+      throw EngineError("read-back of " + std::to_string(host_.bytes.size()) + " bytes into " + std::to_string(bytes));
+    std::copy(host_.bytes.begin(), host_.bytes.end(), dest);
+    host_.queued = false;
+    *tag = host_.tag;
+    return true;
+  }
+  if (host_.queued && host_.order < ready->order) host_.queued = false;
   const std::size_t row = static_cast<std::size_t>(ready->width) * ready->texel_bytes;
   if (bytes != row * ready->height)
     throw EngineError("read-back of " + std::to_string(row * ready->height) + " bytes into " + std::to_string(bytes));

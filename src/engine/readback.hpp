@@ -3,7 +3,8 @@
 // buffer objects: start() queues the copy and returns; poll() hands the
 // picture over once its fence has signalled, so a streaming thread never
 // waits for the GPU (on a GPU the copy overlaps the next frame; on llvmpipe
-// the fence is already signalled when start() returns).
+// the fence is already signalled when start() returns). A picture the CPU
+// made (cpu_post.hpp) joins the same queue, so the newest still wins.
 #pragma once
 
 #include "caustic/engine.hpp"
@@ -11,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 namespace caustic {
 
@@ -25,6 +27,9 @@ class Readback {
   /// first on the way out) or, with `bytes_per_texel` 1, an R8 texture whose
   /// rows are already in memory order (the I420 layout).
   void start(const gl::Texture& texture, std::uint64_t tag, int bytes_per_texel = 4);
+  /// Queues a picture the CPU already made (`bytes`, in the order poll()
+  /// delivers: RGBA rows from the top, or I420), ready at once.
+  void put(std::vector<std::uint8_t> bytes, std::uint64_t tag);
   /// Copies the newest finished picture into `dest` (exactly `bytes` long:
   /// its one copy on the way out of GL), once ready or after waiting when
   /// `wait`. Returns false when none is ready; `tag` is what start() got.
@@ -43,7 +48,14 @@ class Readback {
     int width = 0, height = 0;
     int texel_bytes = 4;
   };
+  struct Host {  // a picture made on the CPU
+    std::vector<std::uint8_t> bytes;
+    std::uint64_t tag = 0;
+    std::uint64_t order = 0;
+    bool queued = false;
+  };
   std::array<Slot, 2> slots_;
+  Host host_;
   std::uint64_t started_ = 0;
   std::size_t capacity_ = 0;
 };

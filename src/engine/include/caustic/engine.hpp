@@ -31,6 +31,8 @@ enum class PixelFormat { rgba, i420 };
 /// stages, or on the CPU with the GL adding the image (the same picture).
 /// automatic: the CPU under a software renderer, whose geometry stage runs
 /// on one thread and whose fragment stage pays for every triangle's box.
+/// A grey frame deposited on the CPU is post-processed there too (the same
+/// picture, within a level of 255) unless its tone map is local.
 enum class TriangleSetup { automatic, gpu, cpu };
 
 /// What the last render did.
@@ -39,6 +41,7 @@ struct FrameStats {
   double trace_ms = 0;        ///< of ray_ms, rays traced, triangles set up and deposited on the CPU
   bool cpu_setup = false;     ///< the caustic pass set up and deposited its triangles on the CPU
   double post_ms = 0;         ///< bloom and tone mapping, GPU work finished
+  bool cpu_post = false;      ///< post-processing ran on the CPU (a grey frame the CPU deposited)
   // Triangle counts are the last ray pass's (of a spectral frame: its reddest wavelength).
   std::uint32_t drawn = 0;    ///< triangles that reached the screen
   std::uint32_t dropped = 0;  ///< triangles with a vertex lost to TIR, a miss or grazing incidence

@@ -1,0 +1,212 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "cpu_post.hpp"
+
+#include "bands.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+namespace caustic {
+namespace {
+
+constexpr int kMaxBlurRadius = 48;  // as post_pass.cpp's
+constexpr int kMinBandRows = 64;    // rows a thread at the least (bands.hpp)
+
+// Buckets of the level table: the exposed value's float bits above kDropBits,
+// from 2^-40 to 2^24. A bucket spans 2^-9 (0.2%) of its value, less than
+// two levels' thresholds lie apart for the gammas in use, so a value's level
+// is nearly always its bucket's first or the next (level() steps on until
+// it holds, whatever the gamma).
+constexpr int kDropBits = 14;
+constexpr std::uint32_t kFirstKey = (127u - 40u) << (23 - kDropBits);
+constexpr std::uint32_t kEndKey = (127u + 24u) << (23 - kDropBits);
+
+// Bilinear sampling of a `from`-texel axis onto `to` pixels as GL's texture()
+// with clamp to edge: pixel i's centre falls at texel (i + 0.5) from/to - 0.5.
+struct Tap {
+  int lo, hi;
+  float t;  // weight of hi
+};
+std::vector<Tap> taps(int from, int to) {
+  std::vector<Tap> out(static_cast<std::size_t>(to));
+  for (int i = 0; i < to; ++i) {
+    const double s = (i + 0.5) * from / to - 0.5;
+    const int lo = static_cast<int>(std::floor(s));
+    out[i] = {std::clamp(lo, 0, from - 1), std::clamp(lo + 1, 0, from - 1), static_cast<float>(s - lo)};
+  }
+  return out;
+}
+
+// One row of a bilinearly sampled image: rows a and b mixed by t, then taps across.
+void sample_row(const float* a, const float* b, float t, const std::vector<Tap>& across, float* out) {
+  for (std::size_t x = 0; x < across.size(); ++x) {
+    const Tap& c = across[x];
+    const float lo = a[c.lo] + t * (b[c.lo] - a[c.lo]), hi = a[c.hi] + t * (b[c.hi] - a[c.hi]);
+    out[x] = lo + c.t * (hi - lo);
+  }
+}
+
+}  // namespace
+
+exposure::Histogram CpuPost::meter(const std::vector<float>& hdr, int width, int height) {
+  exposure::Histogram histogram{};
+  const int k = exposure::meter_stride(width, height);
+  for (int y = 0; y < height; y += k)
+    for (int x = 0; x < width; x += k) exposure::count(histogram, hdr[static_cast<std::size_t>(y) * width + x]);
+  return histogram;
+}
+
+void CpuPost::glow(const PostParams& post, const std::vector<float>& hdr, int width, int height) {
+  // The sizes and weights of PostPass::run, so that both draw one glow.
+  const int shrink = post.bloom_radius < 8 ? 2 : post.bloom_radius < 16 ? 4 : 8;
+  const int bw = std::max(1, width / shrink), bh = std::max(1, height / shrink);
+  glow_width_ = bw;
+  glow_height_ = bh;
+  glow_.resize(static_cast<std::size_t>(bw) * bh);
+  scratch_.resize(glow_.size());
+  const float threshold = static_cast<float>(post.bloom_threshold), mean = 1.0f / static_cast<float>(shrink * shrink);
+  in_bands(bh, kMinBandRows / shrink, [&](int lo, int hi) {
+    for (int by = lo; by < hi; ++by) {
+      float* out = &glow_[static_cast<std::size_t>(by) * bw];
+      std::fill(out, out + bw, 0.0f);
+      for (int dy = 0; dy < shrink; ++dy) {
+        const float* row = &hdr[static_cast<std::size_t>(std::min(by * shrink + dy, height - 1)) * width];
+        for (int bx = 0; bx < bw; ++bx)
+          for (int dx = 0; dx < shrink; ++dx) out[bx] += std::max(row[std::min(bx * shrink + dx, width - 1)] - threshold, 0.0f);
+      }
+      for (int bx = 0; bx < bw; ++bx) out[bx] *= mean;
+    }
+  });
+
+  const double sigma = post.bloom_radius / shrink;
+  const int radius = std::clamp(static_cast<int>(std::ceil(3.0 * sigma)), 1, kMaxBlurRadius);
+  std::vector<double> exact(radius + 1);
+  double total = 0;
+  for (int k = 0; k <= radius; ++k) {
+    exact[k] = std::exp(-0.5 * k * k / (sigma * sigma));
+    total += k == 0 ? exact[k] : 2 * exact[k];
+  }
+  std::vector<float> weight(2 * radius + 1);
+  for (int k = -radius; k <= radius; ++k) weight[k + radius] = static_cast<float>(exact[std::abs(k)] / total);
+
+  // Across (into scratch_), each row padded with its edge texels as the clamp
+  // to edge reads them; then down (back into glow_), row by row, so that
+  // both directions are sums of whole rows the compiler can vectorise.
+  in_bands(bh, kMinBandRows / shrink, [&](int lo, int hi) {
+    std::vector<float> padded(static_cast<std::size_t>(bw + 2 * radius));
+    for (int by = lo; by < hi; ++by) {
+      const float* row = &glow_[static_cast<std::size_t>(by) * bw];
+      std::fill_n(padded.begin(), radius, row[0]);
+      std::copy_n(row, bw, padded.begin() + radius);
+      std::fill_n(padded.begin() + radius + bw, radius, row[bw - 1]);
+      float* out = &scratch_[static_cast<std::size_t>(by) * bw];
+      std::fill(out, out + bw, 0.0f);
+      for (int k = 0; k <= 2 * radius; ++k) {
+        const float w = weight[k];
+        const float* in = padded.data() + k;
+        for (int bx = 0; bx < bw; ++bx) out[bx] += w * in[bx];
+      }
+    }
+  });
+  in_bands(bh, kMinBandRows / shrink, [&](int lo, int hi) {
+    for (int by = lo; by < hi; ++by) {
+      float* out = &glow_[static_cast<std::size_t>(by) * bw];
+      std::fill(out, out + bw, 0.0f);
+      for (int k = -radius; k <= radius; ++k) {
+        const float w = weight[k + radius];
+        const float* in = &scratch_[static_cast<std::size_t>(std::clamp(by + k, 0, bh - 1)) * bw];
+        for (int bx = 0; bx < bw; ++bx) out[bx] += w * in[bx];
+      }
+    }
+  });
+}
+
+void CpuPost::make_levels(double gamma) {
+  // Level k (of 255) is written once the curve reaches (k - 0.5) / 255, as a
+  // unorm target rounds: (1 - exp(-x))^(1/gamma) >= c at x >= -ln(1 - c^gamma).
+  if (gamma == levels_gamma_ && !first_.empty()) return;
+  levels_gamma_ = gamma;
+  thresholds_[0] = 0.0f;
+  for (int k = 1; k <= 255; ++k)
+    thresholds_[k] = static_cast<float>(-std::log1p(-std::pow((k - 0.5) / 255.0, gamma)));
+  thresholds_[256] = INFINITY;
+  first_.resize(kEndKey - kFirstKey);
+  int level = 0;
+  for (std::uint32_t key = kFirstKey; key < kEndKey; ++key) {
+    const float bottom = std::bit_cast<float>(key << kDropBits);
+    while (level < 255 && bottom >= thresholds_[level + 1]) ++level;
+    first_[key - kFirstKey] = static_cast<std::uint8_t>(level);
+  }
+}
+
+std::uint8_t CpuPost::level(float x) const {
+  if (!(x > 0.0f)) return 0;  // NaN too
+  const std::uint32_t key = std::bit_cast<std::uint32_t>(x) >> kDropBits;
+  int k = key < kFirstKey ? 0 : key >= kEndKey ? 255 : first_[key - kFirstKey];
+  while (k < 255 && x >= thresholds_[k + 1]) ++k;
+  return static_cast<std::uint8_t>(k);
+}
+
+void CpuPost::run(const PostParams& post, const std::vector<float>& hdr, int width, int height, int out_width,
+                  int out_height, double exposure) {
+  out_width_ = out_width;
+  out_height_ = out_height;
+  picture_.resize(static_cast<std::size_t>(out_width) * out_height);
+  const bool bloom = post.bloom_strength > 0 && post.bloom_radius > 0;
+  if (bloom) glow(post, hdr, width, height);
+  make_levels(post.gamma);
+  const bool same = width == out_width && height == out_height;
+  const auto across = taps(width, out_width), down = taps(height, out_height);
+  const auto glow_across = taps(glow_width_, out_width), glow_down = taps(glow_height_, out_height);
+  const float strength = bloom ? static_cast<float>(post.bloom_strength) : 0.0f, scale = static_cast<float>(exposure);
+  in_bands(out_height, kMinBandRows, [&](int lo, int hi) {
+    std::vector<float> value(static_cast<std::size_t>(out_width)), extra(value.size());
+    for (int y = lo; y < hi; ++y) {
+      if (same) {
+        std::copy_n(&hdr[static_cast<std::size_t>(y) * width], width, value.begin());
+      } else {
+        const Tap& d = down[y];
+        sample_row(&hdr[static_cast<std::size_t>(d.lo) * width], &hdr[static_cast<std::size_t>(d.hi) * width], d.t,
+                   across, value.data());
+      }
+      if (bloom) {
+        const Tap& d = glow_down[y];
+        sample_row(&glow_[static_cast<std::size_t>(d.lo) * glow_width_],
+                   &glow_[static_cast<std::size_t>(d.hi) * glow_width_], d.t, glow_across, extra.data());
+        for (int x = 0; x < out_width; ++x) value[x] += strength * extra[x];
+      }
+      std::uint8_t* out = &picture_[static_cast<std::size_t>(y) * out_width];
+      for (int x = 0; x < out_width; ++x) out[x] = level(scale * value[x]);
+    }
+  });
+}
+
+std::vector<std::uint8_t> CpuPost::rgba() const {
+  std::vector<std::uint8_t> out(picture_.size() * 4);
+  std::size_t n = 0;
+  for (int y = out_height_ - 1; y >= 0; --y)
+    for (int x = 0; x < out_width_; ++x, n += 4) {
+      const std::uint8_t g = picture_[static_cast<std::size_t>(y) * out_width_ + x];
+      out[n] = out[n + 1] = out[n + 2] = g;
+      out[n + 3] = 255;
+    }
+  return out;
+}
+
+std::vector<std::uint8_t> CpuPost::i420() const {
+  // shaders/i420.frag's Y of an 8-bit grey g: 16 + (0.256788 + 0.504129 + 0.097906) g, rounded as a unorm target.
+  std::array<std::uint8_t, 256> luma{};
+  for (int g = 0; g < 256; ++g)
+    luma[g] = static_cast<std::uint8_t>(std::lround(16.0 + g * (0.256788 + 0.504129 + 0.097906)));
+  const std::size_t plane = picture_.size();
+  std::vector<std::uint8_t> out(plane * 3 / 2, 128);
+  for (int y = 0; y < out_height_; ++y) {
+    const std::uint8_t* row = &picture_[static_cast<std::size_t>(out_height_ - 1 - y) * out_width_];
+    std::uint8_t* dest = &out[static_cast<std::size_t>(y) * out_width_];
+    for (int x = 0; x < out_width_; ++x) dest[x] = luma[row[x]];
+  }
+  return out;
+}
+
+}  // namespace caustic

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Post-processing of a grey frame on the CPU: the twin of post_pass.cpp's
+// meter, bright pass, blur and global tone map (shaders/meter.frag,
+// bright.frag, blur.frag, tonemap.frag) for a frame whose caustic the CPU
+// already deposited (coverage.hpp). Under a software renderer each of those
+// full-size passes cost about 5 ms whatever it computed; here the picture is
+// one pass over the pixels, the glow a pass over a quarter or less of them,
+// and the 8-bit level comes from 255 thresholds on the exposed value
+// instead of an exp() and a pow() per pixel. The I420 picture then needs no
+// GL at all: a grey frame's Y plane is a table of its 256 levels and its
+// chroma is 128.
+#pragma once
+
+#include "caustic/exposure.hpp"
+#include "caustic/scene.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace caustic {
+
+class CpuPost {
+ public:
+  /// What PostPass::prepare meters for the global operator: the histogram
+  /// of every meter_stride-th pixel of the `width` x `height` image `hdr`
+  /// (rows from the bottom, GL's order).
+  static exposure::Histogram meter(const std::vector<float>& hdr, int width, int height);
+
+  /// Bloom (when post.bloom_strength and bloom_radius are above 0) and the
+  /// global tone map of `hdr` (`width` x `height`, bottom row first) into an
+  /// `out_width` x `out_height` 8-bit grey picture, upsampled bilinearly
+  /// when smaller (a preview), as PostPass::run draws it.
+  void run(const PostParams& post, const std::vector<float>& hdr, int width, int height, int out_width,
+           int out_height, double exposure);
+
+  /// The last picture, rows from the bottom, one byte a pixel.
+  const std::vector<std::uint8_t>& picture() const { return picture_; }
+  int width() const { return out_width_; }
+  int height() const { return out_height_; }
+
+  /// The picture as RGBA (R = G = B, A = 255), rows from the top.
+  std::vector<std::uint8_t> rgba() const;
+  /// The picture as I420 (BT.601, limited range, planes packed), rows from the top.
+  std::vector<std::uint8_t> i420() const;
+
+ private:
+  void glow(const PostParams& post, const std::vector<float>& hdr, int width, int height);
+  // Levels 1..255 start at thresholds_[1..255] of the exposed value; first_[bucket] is the level
+  // at the bottom of a bucket of values that share their float's top 18 bits (for levels_gamma_).
+  void make_levels(double gamma);
+  std::uint8_t level(float x) const;
+
+  std::vector<float> glow_, scratch_;
+  int glow_width_ = 0, glow_height_ = 0;
+  std::array<float, 257> thresholds_{};
+  std::vector<std::uint8_t> first_;
+  double levels_gamma_ = 0;
+  std::vector<std::uint8_t> picture_;
+  int out_width_ = 0, out_height_ = 0;
+};
+
+}  // namespace caustic
