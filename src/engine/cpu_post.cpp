@@ -2,6 +2,7 @@
 #include "cpu_post.hpp"
 
 #include "bands.hpp"
+#include "glow.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -10,7 +11,6 @@
 namespace caustic {
 namespace {
 
-constexpr int kMaxBlurRadius = 48;  // as post_pass.cpp's
 constexpr int kMinBandRows = 64;    // rows a thread at the least (bands.hpp)
 
 // Buckets of the level table: the exposed value's float bits above kDropBits,
@@ -59,7 +59,7 @@ exposure::Histogram CpuPost::meter(const std::vector<float>& hdr, int width, int
 
 void CpuPost::glow(const PostParams& post, const std::vector<float>& hdr, int width, int height) {
   // The sizes and weights of PostPass::run, so that both draw one glow.
-  const int shrink = post.bloom_radius < 8 ? 2 : post.bloom_radius < 16 ? 4 : 8;
+  const int shrink = glow_shrink(post.bloom_radius);
   const int bw = std::max(1, width / shrink), bh = std::max(1, height / shrink);
   glow_width_ = bw;
   glow_height_ = bh;
@@ -79,16 +79,10 @@ void CpuPost::glow(const PostParams& post, const std::vector<float>& hdr, int wi
     }
   });
 
-  const double sigma = post.bloom_radius / shrink;
-  const int radius = std::clamp(static_cast<int>(std::ceil(3.0 * sigma)), 1, kMaxBlurRadius);
-  std::vector<double> exact(radius + 1);
-  double total = 0;
-  for (int k = 0; k <= radius; ++k) {
-    exact[k] = std::exp(-0.5 * k * k / (sigma * sigma));
-    total += k == 0 ? exact[k] : 2 * exact[k];
-  }
+  const std::vector<double> exact = glow_weights(post.bloom_radius, shrink);
+  const int radius = static_cast<int>(exact.size()) - 1;
   std::vector<float> weight(2 * radius + 1);
-  for (int k = -radius; k <= radius; ++k) weight[k + radius] = static_cast<float>(exact[std::abs(k)] / total);
+  for (int k = -radius; k <= radius; ++k) weight[k + radius] = static_cast<float>(exact[std::abs(k)]);
 
   // Across (into scratch_), each row padded with its edge texels as the clamp
   // to edge reads them; then down (back into glow_), row by row, so that

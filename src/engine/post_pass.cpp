@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "passes.hpp"
 
+#include "glow.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -8,8 +10,6 @@
 
 namespace caustic {
 namespace {
-
-constexpr int kMaxBlurRadius = 48;  // blur.frag's kMaxRadius
 
 float local_strength(const PostParams& post) {
   return post.tone_map == ToneMap::local ? static_cast<float>(post.local_strength) : 0.0f;
@@ -83,7 +83,7 @@ void PostPass::run(const PostParams& post, const gl::Texture& hdr, const gl::Ren
     // no fine detail. Half, quarter or eighth size, keeping the Gaussian at
     // least 2 texels wide so that the bilinear upsampling in the tone map
     // stays smooth; each step down makes the blur ~8x cheaper.
-    const int shrink = post.bloom_radius < 8 ? 2 : post.bloom_radius < 16 ? 4 : 8;
+    const int shrink = glow_shrink(post.bloom_radius);
     const int bw = std::max(1, hdr.width() / shrink), bh = std::max(1, hdr.height() / shrink);
     // A colour frame glows in colour; a grey one keeps one channel, a
     // quarter of the blur's memory traffic, in full floats: a software
@@ -102,19 +102,13 @@ void PostPass::run(const PostParams& post, const gl::Texture& hdr, const gl::Ren
     bright_.set("uHdr", 0);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 
-    const double sigma = post.bloom_radius / shrink;  // in texels of the small image
-    const int radius = std::clamp(static_cast<int>(std::ceil(3.0 * sigma)), 1, kMaxBlurRadius);
-    std::vector<double> weights(radius + 1);
-    double total = 0;
-    for (int k = 0; k <= radius; ++k) {
-      weights[k] = std::exp(-0.5 * k * k / (sigma * sigma));
-      total += k == 0 ? weights[k] : 2 * weights[k];
-    }
+    const std::vector<double> weights = glow_weights(post.bloom_radius, shrink);
+    const int radius = static_cast<int>(weights.size()) - 1;
     blur_.use();
     blur_.set("uSource", 0);
     blur_.set("uRadius", radius);
     for (int k = 0; k <= radius; ++k)
-      blur_.set(("uWeights[" + std::to_string(k) + "]").c_str(), static_cast<float>(weights[k] / total));
+      blur_.set(("uWeights[" + std::to_string(k) + "]").c_str(), static_cast<float>(weights[k]));
     bloom_b_.bind();
     glBindTextureUnit(0, bloom_a_.texture.id());
     blur_.set("uStep", glm::ivec2(1, 0));
