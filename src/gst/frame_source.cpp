@@ -72,15 +72,22 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
   // at the next advance even while the water is paused.
   if (source.pool && source.seen_scene.water) {
     if (source.water_clock == std::chrono::steady_clock::time_point{}) source.water_clock = now;
-    if (now - source.water_clock >= source.frame_interval || !source.picture) {
+    const auto since = now - source.water_clock;
+    if (since >= source.frame_interval || !source.picture) {
+      // Whole intervals: this thread notices the time a few milliseconds
+      // late, and restarting the clock then would draw fewer frames of
+      // water than the stream sends (each late by its own delay).
+      const auto step = since < source.frame_interval
+                            ? since
+                            : source.frame_interval * (since / source.frame_interval);
       try {
         source.water_dirty =
-            source.pool->advance(*source.seen_scene.water, std::chrono::duration<double>(now - source.water_clock).count()) ||
+            source.pool->advance(*source.seen_scene.water, std::chrono::duration<double>(step).count()) ||
             source.water_dirty;
       } catch (const SceneError& e) {
         GST_CAT_WARNING(caustic_src_debug, "water not advanced: %s", e.what());
       }
-      source.water_clock = now;
+      source.water_clock += std::chrono::duration_cast<std::chrono::steady_clock::duration>(step);
     }
   }
   // The first picture is a full one; after that, recent changes mean
@@ -94,8 +101,11 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
                               source.picture && !water_fits(source) && now - pacing.full_at < pacing.retry;
   const std::uint32_t want = moving || water_too_slow ? preview : full_quality;
   // Automatic exposure easing towards a new metering redraws the tone map
-  // each frame until it settles (the version stays the same).
-  const bool settling = source.engine && source.engine->dirty();
+  // each frame until it settles (the version stays the same). Moving water
+  // eases with its next frame, at most an interval away: a tone map redrawn
+  // between its frames would only take time from the frames and the encoder.
+  const bool water_moves = water && !source.seen_scene.water->paused;
+  const bool settling = source.engine && source.engine->dirty() && !water_moves;
   const bool changed = source.seen != source.rendered || want != source.rendered_level || settling || source.water_dirty;
   if (!changed && !source.readback_pending && source.picture) return gst_buffer_ref(source.picture);
   if (!source.context) {

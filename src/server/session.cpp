@@ -144,7 +144,8 @@ void Session::build() {
                static_cast<guint>(c.still_interval_ms), nullptr);
   Metrics* metrics = options_.metrics;
   gst::set_frame_observer(src, [metrics](const FrameStats& stats, std::uint64_t) {
-    ++metrics->frames_rendered;
+    // A tone map redrawn alone (exposure easing) is not a caustic pass.
+    if (stats.ray_ms > 0) ++metrics->frames_rendered;
     metrics->render_ms.observe(stats.ray_ms + stats.post_ms);
   });
   gst::set_overrun_observer(src, [metrics] { ++metrics->render_overruns; });
