@@ -8,7 +8,8 @@
 // asserts nothing.
 //
 //   caustic-stream-bench --codec vp8 --width 1024 --height 1024 --seconds 20 --patches 100
-//   caustic-stream-bench --scene pool --seconds 60 --drops 20 --patches 1
+//   caustic-stream-bench --scene pool --seconds 60 --drops 20 --patches 1 [--peer-nice 19]
+//   caustic-stream-bench --scenes-dir DIR --scene pool-256 --seconds 60 --patches 1
 #include "proc_stats.hpp"
 #include "server_process.hpp"
 #include "webrtc_peer.hpp"
@@ -22,6 +23,8 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+
+#include <sys/resource.h>
 
 using caustic::testing::http;
 using caustic::testing::ServerProcess;
@@ -53,11 +56,20 @@ int main(int argc, char** argv) {
   int drops = 0;
   app.add_option("--drops", drops, "After the steady state: drops posted 0.5 s apart (a scene with water)")
       ->check(CLI::Range(0, 1000));
+  std::string scenes_dir;
+  app.add_option("--scenes-dir", scenes_dir, "The server's scenes folder (default: the built-in scenes)")
+      ->check(CLI::ExistingDirectory);
+  int peer_nice = 0;
+  app.add_option("--peer-nice", peer_nice,
+                 "Niceness of the receiving peer (19: a visitor's browser elsewhere, using only idle time)")
+      ->check(CLI::Range(0, 19));
   CLI11_PARSE(app, argc, argv);
   gst_init(nullptr, nullptr);
 
-  ServerProcess server({"--width", std::to_string(width), "--height", std::to_string(height), "--framerate",
-                        std::to_string(framerate), "--codec", codec});
+  std::vector<std::string> args{"--width", std::to_string(width), "--height", std::to_string(height),
+                                "--framerate", std::to_string(framerate), "--codec", codec};
+  if (!scenes_dir.empty()) args.insert(args.end(), {"--scenes-dir", scenes_dir});
+  ServerProcess server(args);
   if (server.url().empty()) return 1;
   const std::string pid = g_subprocess_get_identifier(server.process());
   const json s = http("POST", server.url() + "/api/v1/sessions", json{{"scene", scene}, {"codec", codec}}.dump()).json();
@@ -67,13 +79,17 @@ int main(int argc, char** argv) {
   }
   std::string ws = server.url() + s["signal_url"].get<std::string>();
   ws.replace(0, 4, "ws");
+  // Set on this thread before the peer's threads exist, which inherit it;
+  // the server, already started, keeps its own.
+  if (peer_nice > 0 && setpriority(PRIO_PROCESS, 0, peer_nice) != 0) std::perror("setpriority");
   WebRtcPeer peer(codec, ws);
   if (!peer.wait_for_frames(5, 60)) {
     std::fprintf(stderr, "no video: %s\n", peer.error().c_str());
     return 1;
   }
   std::printf("machine: %s\n", caustic::bench::machine().c_str());
-  std::printf("session: %s, %dx%d at %d fps, scene %s\n", codec.c_str(), width, height, framerate, scene.c_str());
+  std::printf("session: %s, %dx%d at %d fps, scene %s, the peer at nice %d\n", codec.c_str(), width, height,
+              framerate, scene.c_str(), peer_nice);
 
   // Steady state: parameters unchanged, frames re-sent and encoded.
   auto measure = [&](double secs, const std::function<void()>& during) {
@@ -94,11 +110,24 @@ int main(int argc, char** argv) {
   std::printf("steady state: measuring %.0f s ...\n", seconds);
   const double overruns0 = counter("causticd_render_overruns_total"), sent0 = counter("causticd_frames_sent_total");
   const double rendered0 = counter("causticd_frames_rendered_total");
+  // Mean seconds of a histogram since the marks taken here.
+  const auto mean_ms = [&](const std::string& name, double sum0, double count0) {
+    const double n = counter(name + "_count") - count0;
+    return n > 0 ? 1000.0 * (counter(name + "_sum") - sum0) / n : 0.0;
+  };
+  const double render_sum0 = counter("causticd_render_seconds_sum"), render_n0 = counter("causticd_render_seconds_count");
+  const double encode_sum0 = counter("causticd_encode_seconds_sum"), encode_n0 = counter("causticd_encode_seconds_count");
+  const int messages0 = peer.frame_messages(), steady_previews0 = peer.previews();
   const auto [steady_fps, steady_cpu] = measure(seconds, [] {});
   std::printf("steady state: %.1f fps decoded, server CPU %.0f%% of one core\n", steady_fps, steady_cpu);
   std::printf("steady state: %.0f frames sent, %.0f caustics rendered, %.0f frames sent while a render overran\n",
               counter("causticd_frames_sent_total") - sent0, counter("causticd_frames_rendered_total") - rendered0,
               counter("causticd_render_overruns_total") - overruns0);
+  std::printf("steady state: %d of %d frame messages were previews\n", peer.previews() - steady_previews0,
+              peer.frame_messages() - messages0);
+  std::printf("steady state: a render %.1f ms, an encode %.1f ms (means, wall clock)\n",
+              mean_ms("causticd_render_seconds", render_sum0, render_n0),
+              mean_ms("causticd_encode_seconds", encode_sum0, encode_n0));
   if (drops > 0) {
     // A visitor's click: from the 202 to the first frame message whose surface holds the drop.
     const std::string url = server.url() + "/api/v1/sessions/" + s["id"].get<std::string>() + "/drops";
