@@ -110,6 +110,7 @@ int main(int argc, char** argv) {
   std::printf("steady state: measuring %.0f s ...\n", seconds);
   const double overruns0 = counter("causticd_render_overruns_total"), sent0 = counter("causticd_frames_sent_total");
   const double rendered0 = counter("causticd_frames_rendered_total");
+  const double dropped0 = counter("causticd_frames_dropped_total");
   // Mean seconds of a histogram since the marks taken here.
   const auto mean_ms = [&](const std::string& name, double sum0, double count0) {
     const double n = counter(name + "_count") - count0;
@@ -123,6 +124,8 @@ int main(int argc, char** argv) {
   std::printf("steady state: %.0f frames sent, %.0f caustics rendered, %.0f frames sent while a render overran\n",
               counter("causticd_frames_sent_total") - sent0, counter("causticd_frames_rendered_total") - rendered0,
               counter("causticd_render_overruns_total") - overruns0);
+  std::printf("steady state: %.0f frames dropped before the encoder (still busy)\n",
+              counter("causticd_frames_dropped_total") - dropped0);
   std::printf("steady state: %d of %d frame messages were previews\n", peer.previews() - steady_previews0,
               peer.frame_messages() - messages0);
   std::printf("steady state: a render %.1f ms, an encode %.1f ms (means, wall clock)\n",

@@ -258,7 +258,8 @@ TEST_F(Rest, MetricsAreExposedInPrometheusFormat) {
   EXPECT_EQ(r.content_type, "text/plain");
   for (const char* name : {"causticd_sessions 1", "causticd_sessions_created_total 1", "causticd_frames_rendered_total",
                            "causticd_render_seconds_bucket", "causticd_encode_seconds_count",
-                           "causticd_parameter_updates_total", "causticd_http_errors_total"})
+                           "causticd_parameter_updates_total", "causticd_http_errors_total",
+                           "causticd_frames_dropped_total", "causticd_render_overruns_total"})
     EXPECT_NE(r.body.find(name), std::string::npos) << name;
 }
 

@@ -40,6 +40,9 @@ std::string Metrics::render(std::size_t sessions, std::size_t connections) const
   counter("causticd_frames_rendered_total", "Caustic passes drawn.", frames_rendered);
   counter("causticd_render_overruns_total", "Frames sent while a render outlasted its frame interval (the previous picture went out again).",
           render_overruns);
+  counter("causticd_frames_dropped_total",
+          "Frames dropped before the encoder because it was still encoding an earlier one (the newest goes next).",
+          frames_dropped);
   counter("causticd_frames_sent_total", "Encoded frames handed to the RTP payloader.", frames_sent);
   counter("causticd_parameter_updates_total", "Accepted parameter patches.", parameter_updates);
   counter("causticd_water_drops_total", "Drops accepted into sessions' water.", water_drops);

@@ -30,6 +30,7 @@ struct Metrics {
   std::atomic<std::uint64_t> sessions_rejected{0};
   std::atomic<std::uint64_t> frames_rendered{0};  ///< caustic passes
   std::atomic<std::uint64_t> render_overruns{0};  ///< frames re-sent because a render outlasted its interval
+  std::atomic<std::uint64_t> frames_dropped{0};   ///< frames the encoder queue dropped, the encoder still busy
   std::atomic<std::uint64_t> frames_sent{0};      ///< encoded frames handed to the payloader
   std::atomic<std::uint64_t> parameter_updates{0};
   std::atomic<std::uint64_t> water_drops{0};

@@ -150,6 +150,14 @@ void Session::build() {
   });
   gst::set_overrun_observer(src, [metrics] { ++metrics->render_overruns; });
   gst_object_unref(src);
+  // The leaky queue before the encoder drops one frame at each overrun.
+  if (GstElement* queue = gst_bin_get_by_name(GST_BIN(pipeline_), "encoder_queue")) {
+    g_signal_connect(queue, "overrun", G_CALLBACK(+[](GstElement*, gpointer data) {
+                       ++static_cast<Metrics*>(data)->frames_dropped;
+                     }),
+                     metrics);
+    gst_object_unref(queue);
+  }
 
   Ref self_ref = weak_from_this();
   pass_key_unit_requests(pipeline_);
