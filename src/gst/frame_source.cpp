@@ -71,13 +71,20 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
   // Water moves with the clock, a frame interval at a time; a drop falls
   // at the next advance even while the water is paused.
   if (source.pool && source.seen_scene.water) {
-    if (source.water_clock == std::chrono::steady_clock::time_point{}) source.water_clock = now;
+    using Clock = std::chrono::steady_clock;
+    if (source.water_clock == Clock::time_point{}) source.water_clock = now;
+    // A frame of water starts when the stream asks for a frame (its due
+    // time), so that it is drawn by the next one: advanced at this thread's
+    // own look, a few milliseconds late and at its own phase, a frame would
+    // miss its due time whenever the render ends near it. Without asks
+    // (a pipeline not yet playing), every interval and a half of its own.
+    const Clock::time_point asked{Clock::duration(source.asked.load())};
     const auto since = now - source.water_clock;
-    if (since >= source.frame_interval || !source.picture) {
-      // Whole intervals: this thread notices the time a few milliseconds
-      // late, and restarting the clock then would draw fewer frames of
-      // water than the stream sends (each late by its own delay).
-      const auto step = since < source.frame_interval
+    const bool on_ask = asked > source.water_clock && asked - source.water_clock >= source.frame_interval / 2;
+    if (on_ask || since >= source.frame_interval * 3 / 2 || !source.picture) {
+      // Whole intervals without asks, so that the water keeps the frame rate.
+      const auto step = on_ask ? asked - source.water_clock
+                        : since < source.frame_interval
                             ? since
                             : source.frame_interval * (since / source.frame_interval);
       try {

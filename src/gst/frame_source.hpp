@@ -88,6 +88,9 @@ struct FrameSource {
   std::shared_ptr<water::Pool> pool;
   std::chrono::nanoseconds frame_interval{std::chrono::nanoseconds(1'000'000'000) / 30};  // as negotiated
   std::chrono::steady_clock::time_point water_clock{};  // when the water last advanced
+  /// When the stream last asked for a frame (steady-clock ticks; 0: never),
+  /// from the streaming thread: the water moves on at these due times.
+  std::atomic<std::chrono::steady_clock::rep> asked{0};
   bool water_dirty = false;                             // moved since last drawn
   WaterPacing water_pacing;
   std::atomic<std::uint64_t> renders{0};  // caustic passes so far (read from any thread)
