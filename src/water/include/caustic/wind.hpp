@@ -50,6 +50,7 @@ class Forcing {
   double dt_, gamma_;
   std::vector<Wave> waves_;
   std::vector<std::complex<double>> rows_, columns_;  // [i * W + w], [j * W + w]: exp(i k x)
+  std::vector<double> rows_re_, rows_im_;  // rows_ by wave, [w * n + i]: a wave's whole row at a time
 };
 
 }  // namespace caustic::water
