@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// The render thread's water clock (frame_source.cpp): a frame of water
+// starts when the stream asks for a frame, moved on by the time since the
+// last advance, so that it is drawn by the next due time; an ask within
+// half an interval of the last advance waits; without asks the water keeps
+// whole intervals of its own clock. The asks are set here, so nothing
+// depends on how fast this machine draws.
+#include "frame_source.hpp"
+
+#include "caustic/param_store.hpp"
+#include "caustic/pool.hpp"
+#include "caustic/scene.hpp"
+
+#include <gst/gst.h>
+#include <gtest/gtest.h>
+
+#include <memory>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Buffer {
+  GstBuffer* buffer;
+  ~Buffer() {
+    if (buffer) gst_buffer_unref(buffer);
+  }
+};
+
+}  // namespace
+
+TEST(FrameSourceWater, AFrameOfWaterStartsWhenTheStreamAsksForIt) {
+  gst_init(nullptr, nullptr);
+  const caustic::Scene scene = caustic::load_scene(std::string(CAUSTIC_ASSET_DIR) + "/scenes/pool.json");
+  ASSERT_TRUE(scene.water);
+  const caustic::ParamStore params(scene);
+  const caustic::MeshLevels meshes;  // water draws its own surface
+  caustic::gst::FrameSource source;
+  source.pool = std::make_shared<caustic::water::Pool>(*scene.water);
+  const auto interval = std::chrono::duration_cast<Clock::duration>(source.frame_interval);
+  auto frame = [&] { return Buffer{caustic::gst::produce_frame(source, params, meshes, 32, 32, true)}; };
+
+  { const Buffer first = frame(); }
+  // The last advance set well ahead of now, so that the clock's own
+  // fallback (an interval and a half without asks) cannot act below,
+  // however long this machine takes to draw.
+  const Clock::time_point start = Clock::now() + 100 * interval;
+  source.water_clock = start;
+  const std::uint64_t steps = source.pool->step();
+
+  // Asked five intervals after the last advance: the water moves on by
+  // exactly that, at once, and the frame drawn shows it.
+  source.asked = (start + 5 * interval).time_since_epoch().count();
+  { const Buffer moved = frame(); }
+  EXPECT_EQ(source.water_clock, start + 5 * interval);
+  EXPECT_GT(source.pool->step(), steps);
+
+  // The same ask again, and one within half an interval: no new water.
+  const std::uint64_t after_ask = source.pool->step();
+  { const Buffer again = frame(); }
+  source.asked = (start + 5 * interval + interval * 2 / 5).time_since_epoch().count();
+  { const Buffer early = frame(); }
+  EXPECT_EQ(source.water_clock, start + 5 * interval);
+  EXPECT_EQ(source.pool->step(), after_ask);
+
+  // No asks (the stream not playing): once an interval and a half has
+  // passed, the water moves by whole intervals of its own clock.
+  source.asked = 0;
+  const Clock::time_point back = Clock::now() - 7 * interval / 2;
+  source.water_clock = back;
+  { const Buffer own = frame(); }
+  const auto moved = source.water_clock - back;
+  EXPECT_GE(moved, 3 * interval);
+  EXPECT_EQ(moved % interval, Clock::duration::zero()) << "not whole intervals";
+  EXPECT_GT(source.pool->step(), after_ask);
+  caustic::gst::release(source);
+}
