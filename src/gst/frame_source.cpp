@@ -94,7 +94,7 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
       } catch (const SceneError& e) {
         GST_CAT_WARNING(caustic_src_debug, "water not advanced: %s", e.what());
       }
-      source.water_clock += std::chrono::duration_cast<std::chrono::steady_clock::duration>(step);
+      source.water_clock += std::chrono::duration_cast<Clock::duration>(step);
     }
   }
   // The first picture is a full one; after that, recent changes mean

@@ -59,9 +59,9 @@ void FrameWorker::run() {
 }
 
 GstBuffer* FrameWorker::latest(std::chrono::nanoseconds frame_interval) {
-  const std::int64_t since = busy_since_.load();
-  source_.asked = std::chrono::steady_clock::now().time_since_epoch().count();
-  if (since != 0 && std::chrono::steady_clock::now().time_since_epoch().count() - since >
+  const std::int64_t since = busy_since_.load(), now = std::chrono::steady_clock::now().time_since_epoch().count();
+  source_.asked = now;
+  if (since != 0 && now - since >
                         std::chrono::duration_cast<std::chrono::steady_clock::duration>(frame_interval).count())
     ++overruns_;
   std::unique_lock lock(lock_);
