@@ -118,3 +118,47 @@ TEST(Coverage, APointFillsThePixelUnderItAndNothingOutsideCounts) {
       EXPECT_EQ(image[static_cast<std::size_t>(j) * 8 + i], expected) << i << "," << j;
     }
 }
+
+TEST(Coverage, AMeshWalksEachSharedEdgeOnceAndCoversAsItsTriangles) {
+  // A 6 x 5 grid of vertices jittered hard enough to fold, with triangles of
+  // each winding, some left out (their neighbours' shared edges then stand
+  // alone), and a second frame on the same grid reusing the edge table.
+  constexpr int kWidth = 23, kHeight = 19, kNx = 6, kNy = 5;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> jitter(-2.5, 2.5), unit(0.0, 1.0);
+  std::vector<glm::uvec3> triangles;
+  for (int j = 0; j + 1 < kNy; ++j)
+    for (int i = 0; i + 1 < kNx; ++i) {
+      const unsigned v = j * kNx + i;
+      triangles.push_back({v, v + 1, v + kNx + 1});
+      triangles.push_back({v, v + kNx + 1, v + kNx});
+    }
+  CoverageRaster raster;
+  for (int frame = 0; frame < 2; ++frame)
+    for (int channels : {1, 3}) {
+      std::vector<glm::dvec2> at(kNx * kNy);
+      for (int j = 0; j < kNy; ++j)
+        for (int i = 0; i < kNx; ++i) at[j * kNx + i] = {-3.0 + 5.5 * i + jitter(rng), -2.0 + 5.0 * j + jitter(rng)};
+      std::vector<glm::dvec3> values(triangles.size());
+      for (auto& v : values) v = unit(rng) < 0.15 ? glm::dvec3(0) : glm::dvec3(unit(rng), unit(rng), unit(rng));
+      raster.reset(kWidth, kHeight, channels);
+      raster.use_mesh(triangles);
+      for (std::size_t t = 0; t < triangles.size(); ++t)
+        if (values[t] != glm::dvec3(0)) {
+          const glm::uvec3 c = triangles[t];
+          raster.mesh_triangle(t, at[c.x], at[c.y], at[c.z], values[t]);
+        }
+      const std::vector<float>& image = raster.resolve();
+      for (int j = 0; j < kHeight; ++j)
+        for (int i = 0; i < kWidth; ++i)
+          for (int k = 0; k < channels; ++k) {
+            double expected = 0;
+            for (std::size_t t = 0; t < triangles.size(); ++t) {
+              const glm::uvec3 c = triangles[t];
+              expected += values[t][k] * covered(at[c.x], at[c.y], at[c.z], i, j);
+            }
+            ASSERT_NEAR(image[(static_cast<std::size_t>(j) * kWidth + i) * channels + k], expected, 1e-5)
+                << "frame " << frame << ", " << channels << " channels, pixel " << i << "," << j << " channel " << k;
+          }
+    }
+}

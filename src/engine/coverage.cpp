@@ -57,6 +57,49 @@ void CoverageRaster::reset(int width, int height, int channels) {
   image_.resize(changes_.size());
   triangles_.clear();
   points_.clear();
+  mesh_in_use_ = false;
+}
+
+void CoverageRaster::use_mesh(const std::vector<glm::uvec3>& triangles) {
+  if (triangles != mesh_ || side_edge_.size() != 3 * triangles.size()) {
+    mesh_ = triangles;
+    // Sides sorted by their vertex pair: a run of equal pairs is one edge.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> sides(3 * triangles.size());
+    std::uint32_t top = 0;
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = triangles[t][k], b = triangles[t][(k + 1) % 3];
+        sides[3 * t + k] = {(std::uint64_t{std::min(a, b)} << 32) | std::max(a, b), static_cast<std::uint32_t>(3 * t + k)};
+        top = std::max({top, a, b});
+      }
+    std::sort(sides.begin(), sides.end());
+    side_edge_.assign(sides.size(), 0);
+    edges_.clear();
+    for (std::size_t i = 0; i < sides.size(); ++i) {
+      const std::uint32_t side = sides[i].second;
+      const std::uint32_t from = mesh_[side / 3][side % 3];
+      if (i == 0 || sides[i].first != sides[i - 1].first)
+        edges_.push_back({from, mesh_[side / 3][(side % 3 + 1) % 3]});
+      const auto e = static_cast<std::int32_t>(edges_.size() - 1);
+      side_edge_[side] = from == edges_.back().x ? e : ~e;
+    }
+    corners_.assign(triangles.empty() ? 0 : std::size_t{top} + 1, glm::dvec2(0));
+  }
+  edge_values_.assign(edges_.size(), glm::dvec3(0));
+  mesh_in_use_ = true;
+}
+
+void CoverageRaster::mesh_triangle(std::size_t t, glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec3 value) {
+  if (!usable(a) || !usable(b) || !usable(c) || width_ == 0 || height_ == 0) return;
+  const double twice_area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  const glm::dvec3 signed_value = twice_area > 0 ? -value : value;  // as triangle()
+  const glm::uvec3& corners = mesh_[t];
+  corners_[corners.x] = a, corners_[corners.y] = b, corners_[corners.z] = c;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const std::int32_t e = side_edge_[3 * t + k];
+    if (e >= 0) edge_values_[e] += signed_value;
+    else edge_values_[~e] -= signed_value;
+  }
 }
 
 void CoverageRaster::triangle(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec3 value) {
@@ -138,6 +181,14 @@ void CoverageRaster::band(int lo, int hi) {
       edge<3>(t.a, t.b, t.value, lo, hi), edge<3>(t.b, t.c, t.value, lo, hi), edge<3>(t.c, t.a, t.value, lo, hi);
     }
   }
+  if (mesh_in_use_)
+    for (std::size_t e = 0; e < edges_.size(); ++e) {
+      const glm::dvec3& value = edge_values_[e];
+      if (value == glm::dvec3(0)) continue;  // no triangle drawn beside it, or two that cancel
+      const glm::dvec2 p = corners_[edges_[e].x], q = corners_[edges_[e].y];
+      if (channels_ == 1) edge<1>(p, q, value, lo, hi);
+      else edge<3>(p, q, value, lo, hi);
+    }
   for (const Point& p : points_) {
     if (p.j < lo || p.j >= hi) continue;
     double* cell = &changes_[(static_cast<std::size_t>(p.j) * width_ + p.i) * channels_];

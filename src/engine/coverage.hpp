@@ -14,6 +14,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <vector>
 
 namespace caustic {
@@ -29,6 +30,17 @@ class CoverageRaster {
   /// outside the image is dropped, and so is a triangle with a corner that
   /// is not finite.
   void triangle(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec3 value);
+
+  /// A mesh's triangles (vertex indices) before adding them with
+  /// mesh_triangle(): an edge two triangles share is then walked once with
+  /// the sum of their values, as an edge's integral only changes sign with
+  /// its direction (half the walks of a closed grid). The edge table is
+  /// kept while the triangles stay the same (a moving surface keeps its grid).
+  void use_mesh(const std::vector<glm::uvec3>& triangles);
+
+  /// Triangle `t` of the mesh in use, as triangle(); a vertex its triangles
+  /// share must come at one position from each.
+  void mesh_triangle(std::size_t t, glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec3 value);
 
   /// Adds `value` to the pixel holding `at` (nothing when it is outside).
   void point(glm::dvec2 at, glm::dvec3 value);
@@ -58,6 +70,15 @@ class CoverageRaster {
   int width_ = 0, height_ = 0, channels_ = 1;
   std::vector<Triangle> triangles_;
   std::vector<Point> points_;
+  // The mesh in use: its triangles, each side's edge (3 t + k, ~edge when
+  // walked against the edge's direction), the edges' vertices (from, to),
+  // and this frame's summed values and vertex positions.
+  bool mesh_in_use_ = false;
+  std::vector<glm::uvec3> mesh_;
+  std::vector<std::int32_t> side_edge_;
+  std::vector<glm::uvec2> edges_;
+  std::vector<glm::dvec3> edge_values_;
+  std::vector<glm::dvec2> corners_;
   std::vector<double> changes_;  // per pixel and channel: the covered area's change from the pixel to its left
   std::vector<float> image_;
 };

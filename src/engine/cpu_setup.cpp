@@ -40,7 +40,8 @@ class Setup {
     reference_distance2_ = reference_distance2(scene, placement);
   }
 
-  void triangle(const LandedVertex& v0, const LandedVertex& v1, const LandedVertex& v2) {
+  // Triangle `t` of the mesh the raster uses.
+  void triangle(std::size_t t, const LandedVertex& v0, const LandedVertex& v1, const LandedVertex& v2) {
     if (v0.valid * v1.valid * v2.valid < 0.5f) return count(&TriangleCounts::dropped);
     const double transmittance = (double(v0.transmittance) + v1.transmittance + v2.transmittance) / 3.0;
     const int surface = static_cast<int>(v0.surface);
@@ -92,7 +93,7 @@ class Setup {
       count(&TriangleCounts::collapsed);
       return point((a + b + c) / 3.0, flux / pixel_area, tint);
     }
-    raster_->triangle(a, b, c, flux / screen_area * glm::dvec3(tint));
+    raster_->mesh_triangle(t, a, b, c, flux / screen_area * glm::dvec3(tint));
   }
 
  private:
@@ -146,7 +147,9 @@ void deposit_on_cpu(const std::vector<LandedVertex>& rays, const std::vector<glm
                     const Scene& scene, const Placement& placement, CoverageRaster* raster, TriangleCounts* counts) {
   if (counts) *counts = {};
   Setup setup(scene, placement, raster, counts);
-  for (const auto& t : triangles) setup.triangle(rays[t.x], rays[t.y], rays[t.z]);
+  raster->use_mesh(triangles);
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    setup.triangle(t, rays[triangles[t].x], rays[triangles[t].y], rays[triangles[t].z]);
 }
 
 }  // namespace caustic
