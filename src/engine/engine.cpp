@@ -89,7 +89,10 @@ void Engine::set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh, boo
   const GLenum hdr_format = spectral(scene) || tinted(*mesh) ? GL_RGBA32F : GL_R32F;
   const bool new_hdr = s.hdr.texture.width() != hdr_w || s.hdr.texture.height() != hdr_h ||
                        s.hdr.texture.format() != hdr_format;
-  if (new_hdr) s.hdr = gl::RenderTarget(hdr_format, hdr_w, hdr_h, GL_LINEAR);
+  if (new_hdr) {
+    s.hdr = gl::RenderTarget(hdr_format, hdr_w, hdr_h, GL_LINEAR);
+    s.ray.forget_whole_image();
+  }
   s.ray_dirty = s.ray_dirty || new_mesh || new_size || new_hdr || !same_caustic(*s.scene, scene);
   s.post_dirty = s.post_dirty || s.ray_dirty || s.scene->post != scene.post;
   s.prepare_dirty = s.prepare_dirty || s.post_dirty;
@@ -167,6 +170,7 @@ bool Engine::render() {
   // A grey frame the CPU deposited is post-processed where it lies
   // (cpu_post.hpp): the local operator's base stays on the GL.
   const std::vector<float>* on_cpu = post.tone_map == ToneMap::global ? s.ray.whole_image() : nullptr;
+  if (!on_cpu) s.ray.upload_whole_image();  // the GL's post-processing reads the texture
   const int hdr_w = s.hdr.texture.width(), hdr_h = s.hdr.texture.height();
   if (s.prepare_dirty) {
     const exposure::Histogram histogram = !on_cpu ? s.post.prepare(post, s.hdr.texture, automatic)
@@ -208,6 +212,10 @@ HdrImage Engine::read_hdr() const {
   if (t.format() != GL_R32F) return luminance(read_hdr_rgb());
   HdrImage img{t.width(), t.height(), std::vector<float>(static_cast<std::size_t>(t.width()) * t.height())};
   if (img.pixels.empty()) return img;
+  if (const std::vector<float>* whole = impl_->ray.whole_image()) {  // the CPU's, maybe not uploaded
+    gl::copy_rows_top_first(whole->data(), img.pixels.data(), static_cast<std::size_t>(img.width), img.height);
+    return img;
+  }
   std::vector<float> raw(img.pixels.size());
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glGetTextureImage(t.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(float)), raw.data());

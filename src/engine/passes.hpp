@@ -33,7 +33,13 @@ class RayPass {
   TriangleCounts counts() const;
   /// The target's whole content as the CPU deposited it (a grey frame's one
   /// pass, rows from the bottom), or null when the last draw left it elsewhere.
+  /// It reaches the target's texture only at upload_whole_image(): a frame
+  /// post-processed on the CPU (cpu_post.hpp) never needs it there.
   const std::vector<float>* whole_image() const { return whole_image_; }
+  /// Copies the whole image into its target's texture, once, for a reader on the GL.
+  void upload_whole_image();
+  /// The target is gone (resized): the image is no longer its content.
+  void forget_whole_image() { whole_image_ = nullptr; }
 
  private:
   // The splat both methods share: caustic.geom and caustic.frag's uniforms, then the draw.
@@ -53,6 +59,8 @@ class RayPass {
   gl::Texture coverage_;
   TriangleCounts cpu_counts_;
   const std::vector<float>* whole_image_ = nullptr;  // raster_'s image, while it is the target's content
+  GLuint whole_texture_ = 0;                         // ... of this texture, which has it once uploaded
+  bool whole_uploaded_ = false;
   bool counted_on_cpu_ = false;  // the last counting pass set up its triangles on the CPU
   GLsizei index_count_ = 0;
   bool tinted_ = false;

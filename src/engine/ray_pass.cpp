@@ -100,6 +100,7 @@ void RayPass::upload(const Mesh& mesh) {
 
 void RayPass::draw(const Scene& scene, const Placement& placement, const gl::RenderTarget& target, double ior,
                    glm::vec3 weight, bool clear, bool count) {
+  if (!clear) upload_whole_image();  // added to: the texture must hold what is there
   whole_image_ = nullptr;
   const auto& p = program_;
   const auto& screen = scene.screen;
@@ -140,6 +141,7 @@ void RayPass::draw_deposited(const std::vector<LandedVertex>& rays, const std::v
                              glm::vec3 weight, bool clear, bool count) {
   const int width = target.texture.width(), height = target.texture.height();
   const bool grey = target.texture.format() == GL_R32F;
+  if (!clear) upload_whole_image();
   raster_.reset(width, height, grey ? 1 : 3);
   deposit_on_cpu(rays, triangles, scene, placement, &raster_, count ? &cpu_counts_ : nullptr);
   if (count) counted_on_cpu_ = true;
@@ -148,10 +150,11 @@ void RayPass::draw_deposited(const std::vector<LandedVertex>& rays, const std::v
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   if (grey && clear && weight == glm::vec3(1.0f)) {
     // The whole of a monochrome frame: the image is the target's content,
-    // uploaded as it is (a full-size pass less on a software renderer).
-    glTextureSubImage2D(target.texture.id(), 0, 0, 0, width, height, GL_RED, GL_FLOAT, image.data());
-    gl::check_errors("caustic pass (CPU deposit)");
+    // uploaded as it is when a reader on the GL needs it (a full-size pass
+    // less on a software renderer).
     whole_image_ = &image;
+    whole_texture_ = target.texture.id();
+    whole_uploaded_ = false;
     return;
   }
   const GLenum format = grey ? GL_R32F : GL_RGB32F;
@@ -173,8 +176,18 @@ void RayPass::draw_deposited(const std::vector<LandedVertex>& rays, const std::v
   gl::check_errors("caustic pass (CPU deposit)");
 }
 
+void RayPass::upload_whole_image() {
+  if (!whole_image_ || whole_uploaded_) return;
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTextureSubImage2D(whole_texture_, 0, 0, 0, raster_.width(), raster_.height(), GL_RED, GL_FLOAT,
+                      whole_image_->data());
+  gl::check_errors("caustic pass (CPU deposit upload)");
+  whole_uploaded_ = true;
+}
+
 void RayPass::draw_landed(const LandedGrid& grid, const Scene& scene, const Placement& placement,
                           const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count, bool on_cpu) {
+  if (!clear && !on_cpu) upload_whole_image();
   whole_image_ = nullptr;
   if (on_cpu) return draw_deposited(grid.vertices, grid.triangles, scene, placement, target, weight, clear, count);
   if (grid.triangles.empty()) {  // no light through the solid: GL allows no empty storage
