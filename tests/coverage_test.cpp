@@ -122,7 +122,7 @@ TEST(Coverage, APointFillsThePixelUnderItAndNothingOutsideCounts) {
 TEST(Coverage, AMeshWalksEachSharedEdgeOnceAndCoversAsItsTriangles) {
   // A 6 x 5 grid of vertices jittered hard enough to fold, with triangles of
   // each winding, some left out (their neighbours' shared edges then stand
-  // alone), and a second frame on the same grid reusing the edge table.
+  // alone), four images on one grid: its edge table is built once.
   constexpr int kWidth = 23, kHeight = 19, kNx = 6, kNy = 5;
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> jitter(-2.5, 2.5), unit(0.0, 1.0);

@@ -63,27 +63,38 @@ void CoverageRaster::reset(int width, int height, int channels) {
 void CoverageRaster::use_mesh(const std::vector<glm::uvec3>& triangles) {
   if (triangles != mesh_ || side_edge_.size() != 3 * triangles.size()) {
     mesh_ = triangles;
-    // Sides sorted by their vertex pair: a run of equal pairs is one edge.
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> sides(3 * triangles.size());
+    // Sides bucketed by their lower vertex (a counting sort, linear in the
+    // sides): within a bucket of a few, equal upper vertices are one edge.
+    const std::size_t sides = 3 * triangles.size();
+    auto side_from = [&](std::size_t side) { return mesh_[side / 3][side % 3]; };
+    auto side_to = [&](std::size_t side) { return mesh_[side / 3][(side % 3 + 1) % 3]; };
     std::uint32_t top = 0;
-    for (std::size_t t = 0; t < triangles.size(); ++t)
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t a = triangles[t][k], b = triangles[t][(k + 1) % 3];
-        sides[3 * t + k] = {(std::uint64_t{std::min(a, b)} << 32) | std::max(a, b), static_cast<std::uint32_t>(3 * t + k)};
-        top = std::max({top, a, b});
-      }
-    std::sort(sides.begin(), sides.end());
-    side_edge_.assign(sides.size(), 0);
+    for (const glm::uvec3& t : triangles) top = std::max({top, t.x, t.y, t.z});
+    const std::size_t vertices = triangles.empty() ? 0 : std::size_t{top} + 1;
+    std::vector<std::uint32_t> start(vertices + 1, 0), order(sides);
+    for (std::size_t side = 0; side < sides; ++side) ++start[std::min(side_from(side), side_to(side)) + 1];
+    for (std::size_t v = 0; v < vertices; ++v) start[v + 1] += start[v];
+    std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+    for (std::size_t side = 0; side < sides; ++side)
+      order[next[std::min(side_from(side), side_to(side))]++] = static_cast<std::uint32_t>(side);
+    side_edge_.assign(sides, 0);
     edges_.clear();
-    for (std::size_t i = 0; i < sides.size(); ++i) {
-      const std::uint32_t side = sides[i].second;
-      const std::uint32_t from = mesh_[side / 3][side % 3];
-      if (i == 0 || sides[i].first != sides[i - 1].first)
-        edges_.push_back({from, mesh_[side / 3][(side % 3 + 1) % 3]});
-      const auto e = static_cast<std::int32_t>(edges_.size() - 1);
-      side_edge_[side] = from == edges_.back().x ? e : ~e;
-    }
-    corners_.assign(triangles.empty() ? 0 : std::size_t{top} + 1, glm::dvec2(0));
+    for (std::size_t v = 0; v < vertices; ++v)
+      for (std::uint32_t n = start[v]; n < start[v + 1]; ++n) {
+        const std::uint32_t side = order[n], from = side_from(side), to = side_to(side);
+        std::int32_t e = -1;
+        for (std::uint32_t m = start[v]; m < n && e < 0; ++m) {  // an earlier side of this edge
+          const std::uint32_t other = order[m];
+          if (std::max(side_from(other), side_to(other)) != std::max(from, to)) continue;
+          e = side_edge_[other] >= 0 ? side_edge_[other] : ~side_edge_[other];
+        }
+        if (e < 0) {
+          e = static_cast<std::int32_t>(edges_.size());
+          edges_.push_back({from, to});
+        }
+        side_edge_[side] = from == edges_[e].x ? e : ~e;
+      }
+    corners_.assign(vertices, glm::dvec2(0));
   }
   edge_values_.assign(edges_.size(), glm::dvec3(0));
   mesh_in_use_ = true;

@@ -34,8 +34,10 @@ class CoverageRaster {
   /// A mesh's triangles (vertex indices) before adding them with
   /// mesh_triangle(): an edge two triangles share is then walked once with
   /// the sum of their values, as an edge's integral only changes sign with
-  /// its direction (half the walks of a closed grid). The edge table is
-  /// kept while the triangles stay the same (a moving surface keeps its grid).
+  /// its direction (half the walks of a closed grid). The edge table costs
+  /// a pass over the triangles and is kept while they stay the same (a
+  /// moving surface keeps its grid); the image depends only on what is
+  /// drawn, not on what came before.
   void use_mesh(const std::vector<glm::uvec3>& triangles);
 
   /// Triangle `t` of the mesh in use, as triangle(); a vertex its triangles
