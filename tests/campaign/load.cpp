@@ -44,6 +44,7 @@ void run_keepalive(const Options& opt, KindReport& rep) {
   health_answers(port);  // warm: lazily made state is not a leak
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   const int before = server.descriptors();
+  const auto kinds_before = server.descriptor_kinds();
   const int total = opt.short_mode ? 2000 : 100000;
   const double budget_ms = opt.short_mode ? 40000 : 360000;
   const std::vector<std::string> targets = {"/api/v1/health", "/api/v1/scenes", "/",           "/metrics",
@@ -97,7 +98,8 @@ void run_keepalive(const Options& opt, KindReport& rep) {
   // A couple may be transient (a timer's socket pair, a log rotation).
   rep.check("no descriptors left behind 2 s after keep-alive clients left", after - before <= 2,
             "  before " + std::to_string(before) + ", 2 s after " + std::to_string(after) + " (max during " +
-                std::to_string(watch.max_descriptors) + ")");
+                std::to_string(watch.max_descriptors) + "); grew: " +
+                descriptor_growth(kinds_before, server.descriptor_kinds()));
   rep.check("the planned number of requests fit in the time budget", sent == total,
             "  sent " + std::to_string(sent) + " of " + std::to_string(total));
   rep.check("the server still answers afterwards", health_answers(port));

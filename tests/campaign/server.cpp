@@ -10,6 +10,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <iterator>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -166,6 +168,78 @@ int ServerProcess::descriptors() const {
     if (e->d_name[0] != '.') ++n;
   closedir(d);
   return n;
+}
+
+namespace {
+
+// Socket inode -> "tcp LISTEN", "udp", "unix", ... from the process's own
+// view of the network tables.
+std::map<std::string, std::string> socket_kinds(pid_t pid) {
+  static const char* const kTcpStates[] = {"?",         "ESTABLISHED", "SYN_SENT", "SYN_RECV",   "FIN_WAIT1",
+                                           "FIN_WAIT2", "TIME_WAIT",   "CLOSE",    "CLOSE_WAIT", "LAST_ACK",
+                                           "LISTEN",    "CLOSING"};
+  struct Table {
+    const char* file;
+    const char* kind;
+    size_t inode_column;
+  };
+  static const Table kTables[] = {{"tcp", "tcp", 9},  {"tcp6", "tcp", 9}, {"udp", "udp", 9},
+                                  {"udp6", "udp", 9}, {"unix", "unix", 6}, {"netlink", "netlink", 9}};
+  std::map<std::string, std::string> out;
+  for (const Table& t : kTables) {
+    std::istringstream in(read_file("/proc/" + std::to_string(pid) + "/net/" + t.file));
+    std::string line;
+    std::getline(in, line);  // the header
+    while (std::getline(in, line)) {
+      std::istringstream fields(line);
+      std::vector<std::string> f;
+      for (std::string w; fields >> w;) f.push_back(w);
+      if (f.size() <= t.inode_column) continue;
+      std::string kind = t.kind;
+      if (kind == "tcp" && f.size() > 3) {
+        const unsigned long st = std::strtoul(f[3].c_str(), nullptr, 16);
+        kind += std::string(" ") + (st < std::size(kTcpStates) ? kTcpStates[st] : "?");
+      }
+      out["socket:[" + f[t.inode_column] + "]"] = kind;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::map<std::string, int> ServerProcess::descriptor_kinds() const {
+  std::map<std::string, int> out;
+  const std::string folder = "/proc/" + std::to_string(pid_) + "/fd";
+  DIR* d = opendir(folder.c_str());
+  if (!d) return out;
+  const auto sockets = socket_kinds(pid_);
+  while (const dirent* e = readdir(d)) {
+    if (e->d_name[0] == '.') continue;
+    char target[512];
+    const ssize_t n = readlink((folder + "/" + e->d_name).c_str(), target, sizeof target - 1);
+    if (n <= 0) continue;
+    std::string t(target, static_cast<size_t>(n));
+    if (const auto s = sockets.find(t); s != sockets.end())
+      t = s->second;
+    else if (t.rfind("socket:", 0) == 0)
+      t = "socket (other)";
+    else if (t.rfind("pipe:", 0) == 0)
+      t = "pipe";
+    ++out[t];
+  }
+  closedir(d);
+  return out;
+}
+
+std::string descriptor_growth(const std::map<std::string, int>& before, const std::map<std::string, int>& after) {
+  std::string out;
+  for (const auto& [kind, n] : after) {
+    const auto b = before.find(kind);
+    const int grew = n - (b == before.end() ? 0 : b->second);
+    if (grew > 0) out += (out.empty() ? "" : ", ") + kind + " +" + std::to_string(grew);
+  }
+  return out.empty() ? "nothing" : out;
 }
 
 int ServerProcess::threads() const {

@@ -5,6 +5,7 @@
 
 #include <sys/types.h>
 
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,6 +32,10 @@ class ServerProcess {
   pid_t pid() const { return pid_; }
   int descriptors() const;  // entries of /proc/PID/fd, -1 when unreadable
   int threads() const;      // Threads: of /proc/PID/status
+  // The descriptors by kind ("tcp CLOSE_WAIT", "udp", "unix", "netlink",
+  // "anon_inode:[eventfd]", a file's path), counted: a leak check that
+  // fails says what was left behind, not only how many.
+  std::map<std::string, int> descriptor_kinds() const;
   std::string log_tail(size_t bytes = 2000) const;
 
  private:
@@ -44,6 +49,9 @@ class ServerProcess {
   bool started_once_ = false;
   std::vector<std::string> refused_keys_;  // learnt on the first start
 };
+
+// "tcp CLOSE_WAIT +3, anon_inode:[eventfd] +2": the kinds `after` holds more of.
+std::string descriptor_growth(const std::map<std::string, int>& before, const std::map<std::string, int>& after);
 
 // Raises RLIMIT_NOFILE to its hard limit (inherited by the server too).
 long raise_descriptor_limit();

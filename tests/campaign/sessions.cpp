@@ -78,6 +78,7 @@ void run_sessions(const Options& opt, KindReport& rep) {
   if (const Session s = create_session(port, scenes[0]); s.ok()) delete_session(port, s);
   std::this_thread::sleep_for(std::chrono::seconds(1));
   const int fds_base = server.descriptors(), threads_base = server.threads();
+  const auto kinds_base = server.descriptor_kinds();
 
   // 1. create + delete cycles, spread over addresses to stay under the rate limit.
   const int cycles = opt.short_mode ? 20 : 100;
@@ -207,7 +208,8 @@ void run_sessions(const Options& opt, KindReport& rep) {
   rep.check("server process stays alive", server.alive(&why), "  " + why + "\n  log: " + escape(server.log_tail(600)));
   rep.check("no sessions left at the end", sessions == 0, "  health says " + std::to_string(sessions));
   rep.check("descriptors back near baseline (+4)", fds <= fds_base + 4,
-            "  baseline " + std::to_string(fds_base) + ", after " + std::to_string(fds));
+            "  baseline " + std::to_string(fds_base) + ", after " + std::to_string(fds) +
+                "; grew: " + descriptor_growth(kinds_base, server.descriptor_kinds()));
   rep.check("threads back near baseline (+2)", threads <= threads_base + 2,
             "  baseline " + std::to_string(threads_base) + ", after " + std::to_string(threads));
 }

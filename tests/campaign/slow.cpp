@@ -43,6 +43,7 @@ void run_slow(const Options& opt, KindReport& rep) {
   const int port = server.port();
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   const int fds_before = server.descriptors();
+  const auto kinds_before = server.descriptor_kinds();
 
   const int idle = opt.short_mode ? 200 : 1000, loris = opt.short_mode ? 50 : 200, bodies = 20;
   std::vector<Attacker> attackers;
@@ -186,7 +187,8 @@ void run_slow(const Options& opt, KindReport& rep) {
   rep.figure("descriptors_before", fds_before);
   rep.figure("descriptors_2s_after", fds_after);
   rep.check("no descriptors left behind after the slow clients", fds_after - fds_before <= 2,
-            "  before " + std::to_string(fds_before) + ", after " + std::to_string(fds_after));
+            "  before " + std::to_string(fds_before) + ", after " + std::to_string(fds_after) +
+                "; grew: " + descriptor_growth(kinds_before, server.descriptor_kinds()));
 }
 
 }  // namespace campaign
