@@ -20,10 +20,11 @@ using namespace caustic;
 using namespace caustic::testing;
 
 TEST(CpuPostCurve, EveryLevelIsTheRoundedToneCurve) {
-  // 4096 values from 1e-9 to 1e3, each a pixel of a 64 x 64 image.
-  const int side = 64;
-  std::vector<float> hdr(side * side);
-  for (std::size_t i = 0; i < hdr.size(); ++i) hdr[i] = static_cast<float>(std::pow(10.0, -9.0 + 12.0 * i / hdr.size()));
+  // 8192 values from 1e-30 to 1e3, each a pixel of a 64 x 128 image: at
+  // gamma 10 the lowest levels start below the level table's first bucket (2^-40).
+  const int side = 64, rows = 128;
+  std::vector<float> hdr(side * rows);
+  for (std::size_t i = 0; i < hdr.size(); ++i) hdr[i] = static_cast<float>(std::pow(10.0, -30.0 + 33.0 * i / hdr.size()));
   PostParams post;
   post.bloom_strength = 0;
   for (const double gamma : {0.1, 1.0, 2.2, 10.0})
@@ -31,24 +32,24 @@ TEST(CpuPostCurve, EveryLevelIsTheRoundedToneCurve) {
       SCOPED_TRACE("gamma " + std::to_string(gamma) + ", exposure " + std::to_string(exposure));
       post.gamma = gamma;
       CpuPost cpu;
-      cpu.run(post, hdr, side, side, side, side, exposure);
+      cpu.run(post, hdr, side, rows, side, rows, exposure);
       int checked = 0, levels_seen = 0, last = -1;
       for (std::size_t i = 0; i < hdr.size(); ++i) {
         const double x = static_cast<double>(static_cast<float>(exposure) * hdr[i]);
-        const double exact = 255.0 * std::pow(1.0 - std::exp(-x), 1.0 / gamma);
+        const double exact = 255.0 * std::pow(-std::expm1(-x), 1.0 / gamma);
         // Within float rounding of a half level either way is right.
         if (std::abs(exact - std::floor(exact) - 0.5) < 1e-3) continue;
         ASSERT_EQ(cpu.picture()[i], static_cast<int>(std::lround(exact))) << "value " << hdr[i];
         ++checked;
         if (cpu.picture()[i] != last) ++levels_seen, last = cpu.picture()[i];
       }
-      EXPECT_GT(checked, 4000);
+      EXPECT_GT(checked, 8000);
       EXPECT_GT(levels_seen, 100);  // the ramp crosses most levels: the table's buckets are exercised
     }
   // A value that is not a number shows black, as max(NaN, 0) does on the GPUs at hand.
   hdr[0] = std::nanf("");
   CpuPost cpu;
-  cpu.run(post, hdr, side, side, side, side, 1.0);
+  cpu.run(post, hdr, side, rows, side, rows, 1.0);
   EXPECT_EQ(cpu.picture()[0], 0);
 }
 

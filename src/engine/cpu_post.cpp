@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 
 namespace caustic {
 namespace {
@@ -16,7 +17,7 @@ constexpr int kMinBandRows = 64;    // rows a thread at the least (bands.hpp)
 // Buckets of the level table: the exposed value's float bits above kDropBits,
 // from 2^-40 to 2^24. A bucket spans 2^-9 (0.2%) of its value, less than
 // two levels' thresholds lie apart for the gammas in use, so a value's level
-// is nearly always its bucket's first or the next (level() steps on until
+// is nearly always its bucket's first or the next (levels() steps on until
 // it holds, whatever the gamma).
 constexpr int kDropBits = 14;
 constexpr std::uint32_t kFirstKey = (127u - 40u) << (23 - kDropBits);
@@ -38,11 +39,14 @@ std::vector<Tap> taps(int from, int to) {
   return out;
 }
 
-// One row of a bilinearly sampled image: rows a and b mixed by t, then taps across.
-void sample_row(const float* a, const float* b, float t, const std::vector<Tap>& across, float* out) {
+// One row of a bilinearly sampled image: rows a and b mixed by t into
+// `mixed` (a whole row at once, which vectorises), then taps across.
+void sample_row(const float* a, const float* b, float t, const std::vector<Tap>& across, std::vector<float>& mixed,
+                float* out) {
+  for (std::size_t x = 0; x < mixed.size(); ++x) mixed[x] = a[x] + t * (b[x] - a[x]);
   for (std::size_t x = 0; x < across.size(); ++x) {
     const Tap& c = across[x];
-    const float lo = a[c.lo] + t * (b[c.lo] - a[c.lo]), hi = a[c.hi] + t * (b[c.hi] - a[c.hi]);
+    const float lo = mixed[c.lo], hi = mixed[c.hi];
     out[x] = lo + c.t * (hi - lo);
   }
 }
@@ -66,16 +70,24 @@ void CpuPost::glow(const PostParams& post, const std::vector<float>& hdr, int wi
   glow_.resize(static_cast<std::size_t>(bw) * bh);
   scratch_.resize(glow_.size());
   const float threshold = static_cast<float>(post.bloom_threshold), mean = 1.0f / static_cast<float>(shrink * shrink);
+  // Each small texel the mean of its shrink x shrink pixels above the
+  // threshold: the rows summed first (whole rows, vectorised), then each
+  // run of shrink sums. Only an image narrower than shrink clamps.
   in_bands(bh, kMinBandRows / shrink, [&](int lo, int hi) {
+    std::vector<float> sums(static_cast<std::size_t>(std::max(width, bw * shrink)));
     for (int by = lo; by < hi; ++by) {
-      float* out = &glow_[static_cast<std::size_t>(by) * bw];
-      std::fill(out, out + bw, 0.0f);
+      std::fill(sums.begin(), sums.end(), 0.0f);
       for (int dy = 0; dy < shrink; ++dy) {
         const float* row = &hdr[static_cast<std::size_t>(std::min(by * shrink + dy, height - 1)) * width];
-        for (int bx = 0; bx < bw; ++bx)
-          for (int dx = 0; dx < shrink; ++dx) out[bx] += std::max(row[std::min(bx * shrink + dx, width - 1)] - threshold, 0.0f);
+        for (int x = 0; x < width; ++x) sums[x] += std::max(row[x] - threshold, 0.0f);
       }
-      for (int bx = 0; bx < bw; ++bx) out[bx] *= mean;
+      for (int x = width; x < bw * shrink; ++x) sums[x] = sums[width - 1];
+      float* out = &glow_[static_cast<std::size_t>(by) * bw];
+      for (int bx = 0; bx < bw; ++bx) {
+        float sum = 0.0f;
+        for (int dx = 0; dx < shrink; ++dx) sum += sums[bx * shrink + dx];
+        out[bx] = sum * mean;
+      }
     }
   });
 
@@ -123,23 +135,36 @@ void CpuPost::make_levels(double gamma) {
   levels_gamma_ = gamma;
   thresholds_[0] = 0.0f;
   for (int k = 1; k <= 255; ++k)
-    thresholds_[k] = static_cast<float>(-std::log1p(-std::pow((k - 0.5) / 255.0, gamma)));
-  thresholds_[256] = INFINITY;
-  first_.resize(kEndKey - kFirstKey);
+    thresholds_[k] = std::max(static_cast<float>(-std::log1p(-std::pow((k - 0.5) / 255.0, gamma))),
+                              std::numeric_limits<float>::denorm_min());  // 0 stays level 0
+  thresholds_[256] = thresholds_[257] = INFINITY;
+  // Entry 0 stands for every value below 2^-40 (0 too), level 0 on.
+  first_.assign(kEndKey - kFirstKey + 1, 0);
   int level = 0;
   for (std::uint32_t key = kFirstKey; key < kEndKey; ++key) {
     const float bottom = std::bit_cast<float>(key << kDropBits);
     while (level < 255 && bottom >= thresholds_[level + 1]) ++level;
-    first_[key - kFirstKey] = static_cast<std::uint8_t>(level);
+    first_[key - kFirstKey + 1] = static_cast<std::uint8_t>(level);
   }
 }
 
-std::uint8_t CpuPost::level(float x) const {
-  if (!(x > 0.0f)) return 0;  // NaN too
-  const std::uint32_t key = std::bit_cast<std::uint32_t>(x) >> kDropBits;
-  int k = key < kFirstKey ? 0 : key >= kEndKey ? 255 : first_[key - kFirstKey];
-  while (k < 255 && x >= thresholds_[k + 1]) ++k;
-  return static_cast<std::uint8_t>(k);
+void CpuPost::levels(const float* value, float scale, int n, std::uint8_t* out) const {
+  // Without branches on the data (a caustic's pixels cross thresholds at
+  // random): the bucket's first level, one comparison on, and the rare value
+  // that needs more steps (or lies below 2^-40) finished by the loop.
+  const std::uint8_t* first = first_.data();
+  const float* thresholds = thresholds_.data();
+  for (int i = 0; i < n; ++i) {
+    const float x = std::max(0.0f, scale * value[i]);  // NaN too
+    const std::uint32_t key = std::clamp(std::bit_cast<std::uint32_t>(x) >> kDropBits, kFirstKey - 1, kEndKey - 1);
+    int k = first[key - (kFirstKey - 1)];
+    // x >= the next threshold as the sign of their difference (exact in
+    // sign, and +0 when equal): a comparison the compiler would branch on.
+    k = std::min(k + 1 - static_cast<int>(std::bit_cast<std::uint32_t>(x - thresholds[k + 1]) >> 31), 255);
+    if (k < 255 && x >= thresholds[k + 1]) [[unlikely]]
+      while (k < 255 && x >= thresholds[k + 1]) ++k;
+    out[i] = static_cast<std::uint8_t>(k);
+  }
 }
 
 void CpuPost::run(const PostParams& post, const std::vector<float>& hdr, int width, int height, int out_width,
@@ -156,22 +181,24 @@ void CpuPost::run(const PostParams& post, const std::vector<float>& hdr, int wid
   const float strength = bloom ? static_cast<float>(post.bloom_strength) : 0.0f, scale = static_cast<float>(exposure);
   in_bands(out_height, kMinBandRows, [&](int lo, int hi) {
     std::vector<float> value(static_cast<std::size_t>(out_width)), extra(value.size());
+    std::vector<float> mixed(static_cast<std::size_t>(width)), glow_mixed(static_cast<std::size_t>(glow_width_));
     for (int y = lo; y < hi; ++y) {
+      const float* row = value.data();
       if (same) {
-        std::copy_n(&hdr[static_cast<std::size_t>(y) * width], width, value.begin());
+        row = &hdr[static_cast<std::size_t>(y) * width];
       } else {
         const Tap& d = down[y];
         sample_row(&hdr[static_cast<std::size_t>(d.lo) * width], &hdr[static_cast<std::size_t>(d.hi) * width], d.t,
-                   across, value.data());
+                   across, mixed, value.data());
       }
       if (bloom) {
         const Tap& d = glow_down[y];
         sample_row(&glow_[static_cast<std::size_t>(d.lo) * glow_width_],
-                   &glow_[static_cast<std::size_t>(d.hi) * glow_width_], d.t, glow_across, extra.data());
-        for (int x = 0; x < out_width; ++x) value[x] += strength * extra[x];
+                   &glow_[static_cast<std::size_t>(d.hi) * glow_width_], d.t, glow_across, glow_mixed, extra.data());
+        for (int x = 0; x < out_width; ++x) value[x] = row[x] + strength * extra[x];
+        row = value.data();
       }
-      std::uint8_t* out = &picture_[static_cast<std::size_t>(y) * out_width];
-      for (int x = 0; x < out_width; ++x) out[x] = level(scale * value[x]);
+      levels(row, scale, out_width, &picture_[static_cast<std::size_t>(y) * out_width]);
     }
   });
 }

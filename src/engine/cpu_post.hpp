@@ -46,14 +46,16 @@ class CpuPost {
 
  private:
   void glow(const PostParams& post, const std::vector<float>& hdr, int width, int height);
-  // Levels 1..255 start at thresholds_[1..255] of the exposed value; first_[bucket] is the level
-  // at the bottom of a bucket of values that share their float's top 18 bits (for levels_gamma_).
+  // Levels 1..255 start at thresholds_[1..255] of the exposed value (256 and 257 infinite);
+  // first_[1 + bucket] is the level at the bottom of a bucket of values that share their
+  // float's top 18 bits, first_[0] that of values below them (for levels_gamma_).
   void make_levels(double gamma);
-  std::uint8_t level(float x) const;
+  // The levels of scale * value[0 .. n) into out (levels() steps on from the bucket's first until it holds).
+  void levels(const float* value, float scale, int n, std::uint8_t* out) const;
 
   std::vector<float> glow_, scratch_;
   int glow_width_ = 0, glow_height_ = 0;
-  std::array<float, 257> thresholds_{};
+  std::array<float, 258> thresholds_{};
   std::vector<std::uint8_t> first_;
   double levels_gamma_ = 0;
   std::vector<std::uint8_t> picture_;
