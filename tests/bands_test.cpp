@@ -7,7 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <fstream>
+#include <mutex>
 #include <set>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -51,6 +54,29 @@ TEST(Bands, ThreadsCallAtOnceEachWithItsOwnCrew) {
     });
   for (auto& c : callers) c.join();
   EXPECT_EQ(wrong, 0);
+}
+
+// The process's threads, from /proc.
+int threads_now() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("Threads:", 0) == 0) return std::stoi(line.substr(8));
+  return -1;
+}
+
+TEST(Bands, OneCrewAThreadWhateverTheWork) {
+  if (band_cores() < 2) GTEST_SKIP() << "one core: in_bands needs no helpers";
+  // Three call sites, three instantiations of in_bands, on a fresh thread:
+  // one crew of helpers appears, not one a call site.
+  int before = 0, after = 0;
+  std::thread([&] {
+    before = threads_now();
+    in_bands(256, 1, [](int, int) {});
+    in_bands(256, 1, [&before](int, int) { (void)before; });
+    in_bands(256, 1, [&after](int, int) { (void)after; });
+    after = threads_now();
+  }).join();
+  EXPECT_EQ(after - before, band_cores() - 1);
 }
 
 TEST(Bands, ACrewRunsJobsOfFewerBandsThanHelpers) {

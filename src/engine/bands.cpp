@@ -8,6 +8,11 @@ int band_cores() {
   return cores;
 }
 
+BandCrew& band_crew() {
+  thread_local BandCrew crew(band_cores() - 1);
+  return crew;
+}
+
 BandCrew::BandCrew(int helpers) {
   for (int b = 1; b <= helpers; ++b) threads_.emplace_back([this, b] { serve(b); });
 }

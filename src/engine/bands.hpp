@@ -48,6 +48,10 @@ class BandCrew {
 /// The machine's cores the bands use, at most 8.
 int band_cores();
 
+/// The calling thread's crew (band_cores() - 1 helpers), made on first use:
+/// one a thread, whatever the work it splits.
+BandCrew& band_crew();
+
 /// Calls fn(lo, hi) for consecutive bands [lo, hi) covering [0, rows), one
 /// band a core, each at least `min_rows` rows: a band thinner than that
 /// costs more to hand over than it saves. The calling thread takes the first.
@@ -58,8 +62,7 @@ void in_bands(int rows, int min_rows, Fn&& fn) {
     fn(0, rows);
     return;
   }
-  thread_local BandCrew crew(band_cores() - 1);
-  crew.run(bands, [&fn, rows, bands](int b) { fn(rows * b / bands, rows * (b + 1) / bands); });
+  band_crew().run(bands, [&fn, rows, bands](int b) { fn(rows * b / bands, rows * (b + 1) / bands); });
 }
 
 }  // namespace caustic
