@@ -27,16 +27,17 @@ BandCrew::~BandCrew() {
 }
 
 void BandCrew::run(int bands, const std::function<void(int)>& job) {
-  bands = std::min(bands, helpers() + 1);
+  const int handed = std::clamp(bands - 1, 0, helpers());  // bands 1..handed go to helpers
   {
     std::lock_guard lock(mutex_);
     job_ = &job;
-    bands_ = bands;
-    pending_ = bands - 1;
+    bands_ = handed + 1;
+    pending_ = handed;
     ++generation_;
   }
-  start_.notify_all();
+  if (handed > 0) start_.notify_all();
   job(0);
+  for (int b = handed + 1; b < bands; ++b) job(b);  // more bands than helpers: the caller's
   std::unique_lock lock(mutex_);
   done_.wait(lock, [this] { return pending_ == 0; });
   job_ = nullptr;

@@ -8,8 +8,8 @@
 //
 // The helpers that take the other bands stay between calls, one crew per
 // calling thread (a render thread's crew ends with it): starting and
-// joining a thread costs 0.1-0.2 ms on the VMs measured, and a frame splits
-// its work a dozen times.
+// joining a thread costs 0.15-0.2 ms on the VM measured, a hand-over to a
+// waiting helper a tenth of that, and a frame splits its work five times.
 #pragma once
 
 #include <algorithm>
@@ -30,7 +30,8 @@ class BandCrew {
   BandCrew& operator=(const BandCrew&) = delete;
 
   int helpers() const { return static_cast<int>(threads_.size()); }
-  /// job(b) for b in [0, bands), band 0 on the calling thread; returns when all ended.
+  /// job(b) for every b in [0, bands): band 0, and those beyond the helpers,
+  /// on the calling thread; returns when all ended. `job` must not throw.
   void run(int bands, const std::function<void(int)>& job);
 
  private:
