@@ -30,21 +30,13 @@ struct Current {
   Current& operator=(const Current&) = delete;
 };
 
-// Whether the last full frame of water fitted the frame interval.
-bool water_fits(const FrameSource& source) {
-  return source.water_pacing.full_ms <= std::chrono::duration<double, std::milli>(source.frame_interval).count();
-}
-
-// After a full frame of water: its cost, and when to try the next one
-// should it not fit the interval.
-void pace_water(FrameSource& source, std::chrono::steady_clock::time_point now) {
-  WaterPacing& pacing = source.water_pacing;
-  const FrameStats& stats = source.engine->stats();
-  pacing.full_ms = stats.ray_ms + stats.post_ms;
-  pacing.full_at = now;
-  const bool fits = water_fits(source);
+// The water's pacing for the negotiated frame interval (made afresh when
+// that changes: what was measured was against the old budget).
+WaterPacing& water_pacing(FrameSource& source) {
   const auto& p = source.progressive;
-  pacing.retry = fits || pacing.retry.count() == 0 ? p.water_retry : std::min(2 * pacing.retry, p.water_retry_max);
+  const double budget = p.water_budget * std::chrono::duration<double, std::milli>(source.frame_interval).count();
+  if (source.water_pacing.budget_ms() != budget) source.water_pacing = WaterPacing(budget, p.water_retry, p.water_retry_max);
+  return source.water_pacing;
 }
 
 }  // namespace
@@ -102,10 +94,9 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
   const bool moving = source.progressive.enabled && source.picture && !source.isolated &&
                       now - source.changed_at < source.progressive.settle;
   const bool water = source.pool && source.seen_scene.water;
-  const WaterPacing& pacing = source.water_pacing;
   // Paused water stands still: drawn full once, it needs no previews.
   const bool water_too_slow = water && !source.seen_scene.water->paused && source.progressive.enabled &&
-                              source.picture && !water_fits(source) && now - pacing.full_at < pacing.retry;
+                              source.picture && !water_pacing(source).want_full(now);
   const std::uint32_t want = moving || water_too_slow ? preview : full_quality;
   // Automatic exposure easing towards a new metering redraws the tone map
   // each frame until it settles (the version stays the same). Moving water
@@ -143,7 +134,13 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
       const std::uint64_t before = source.engine->ray_passes();
       source.engine->render();
       source.renders += source.engine->ray_passes() - before;
-      if (water && want == full_quality && source.engine->ray_passes() > before) pace_water(source, now);
+      if (water && source.engine->ray_passes() > before) {
+        const FrameStats& stats = source.engine->stats();
+        if (want == full_quality)
+          water_pacing(source).full_drawn(stats.ray_ms + stats.post_ms, now);
+        else
+          water_pacing(source).preview_drawn(stats.ray_ms + stats.post_ms);
+      }
       if (source.observer) source.observer(source.engine->stats(), version);
       const std::uint64_t tag = ++source.readbacks;
       source.in_flight.push_back({tag, version, water ? source.pool->step() : 0, want});
@@ -237,7 +234,7 @@ void release(FrameSource& source) {
   source.in_flight.clear();
   source.water_clock = {};
   source.water_dirty = false;
-  source.water_pacing = {};
+  source.water_pacing = WaterPacing();
 }
 
 }  // namespace caustic::gst

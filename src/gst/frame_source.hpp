@@ -8,6 +8,7 @@
 #include "caustic/mesh_levels.hpp"
 #include "caustic/param_store.hpp"
 #include "caustic/pool.hpp"
+#include "water_pacing.hpp"
 
 #include <gst/gst.h>
 
@@ -34,20 +35,14 @@ struct Progressive {
   int divisor = 2;   ///< preview caustic at 1/divisor of the output size per side
   int mesh = 32;     ///< preview mesh level, when it is coarser than the scene's
   /// Water moves every frame, so it is never still: its frames are full
-  /// ones while a full frame's render fits the frame interval, previews
-  /// while it does not. A full frame then and again tries whether it fits
-  /// now: after `water_retry`, twice as long after each try that did not
-  /// (up to `water_retry_max`), so that a machine too slow for it
-  /// overruns a few frames a minute, not one a second.
+  /// ones while a full frame's render (caustic and post-processing) fits
+  /// `water_budget` of the frame interval (the rest goes to the simulation
+  /// step and the readback), previews while it does not, and full ones
+  /// again when the previews predict they fit (WaterPacing). Blind tries:
+  /// `water_retry` after the first miss, then every `water_retry_max`.
+  double water_budget = 0.8;
   std::chrono::milliseconds water_retry{1000};
-  std::chrono::milliseconds water_retry_max{16000};
-};
-
-/// What the water's pacing (Progressive) last measured.
-struct WaterPacing {
-  double full_ms = 0;  ///< the last full frame's render (caustic and post-processing)
-  std::chrono::steady_clock::time_point full_at{};  ///< when it was drawn
-  std::chrono::milliseconds retry{0};               ///< until the next full frame, while they do not fit
+  std::chrono::milliseconds water_retry_max{60000};
 };
 
 /// Requests for the picture last rendered (a REST client's frame.png),
