@@ -16,6 +16,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <thread>
+#include <utility>
 
 namespace caustic::server {
 
@@ -76,6 +77,31 @@ std::shared_ptr<const Gallery> load_checked_gallery(const std::filesystem::path&
 std::string status_line(const ServerState& s) {
   return std::string("STATUS=") + (s.draining ? "draining: " : "") + std::to_string(s.sessions.size()) + " sessions, " + std::to_string(s.gallery->entries.size()) +
          " scenes, " + s.renderer;
+}
+
+// Ends the sessions whose viewer never connected, went away, or stopped
+// showing signs of life (a frozen tab, a socket that never answers).
+void reap(ServerState& st) {
+  const auto now = std::chrono::steady_clock::now();
+  std::vector<std::pair<std::string, std::string>> doomed;
+  for (const auto& [id, session] : st.sessions) {
+    if (!session->connected() && now - session->idle_since() > std::chrono::seconds(st.config.idle_timeout_s))
+      doomed.emplace_back(id, "idle: no viewer connected");
+    else if (session->broadcast() &&
+             now - session->last_sign_of_life() > std::chrono::seconds(st.config.broadcast_timeout_s))
+      doomed.emplace_back(id, "silent: the presenter sent nothing for " +
+                                  std::to_string(st.config.broadcast_timeout_s) + " s");
+    else if (!session->broadcast() && session->connected() &&
+             now - session->last_sign_of_life() > std::chrono::seconds(st.config.viewer_timeout_s))
+      doomed.emplace_back(id, "silent: the viewer showed no sign of life for " +
+                                  std::to_string(st.config.viewer_timeout_s) + " s (" + session->last_media_said() +
+                                  ")");
+  }
+  for (const auto& [id, why] : doomed) {
+    ++st.metrics.sessions_reclaimed;
+    st.end_session(id, why);
+  }
+  if (!doomed.empty()) malloc_trim(0);
 }
 
 // True when every session's render thread came round its loop recently: one
@@ -199,26 +225,7 @@ void Server::run() {
   state_->reaper = g_timeout_add_seconds(
       1,
       [](gpointer data) -> gboolean {
-        auto& st = *static_cast<ServerState*>(data);
-        const auto now = std::chrono::steady_clock::now();
-        std::vector<std::pair<std::string, std::string>> doomed;
-        for (const auto& [id, session] : st.sessions) {
-          if (!session->connected() && now - session->idle_since() > std::chrono::seconds(st.config.idle_timeout_s))
-            doomed.emplace_back(id, "idle: no viewer connected");
-          else if (session->broadcast() &&
-                   now - session->last_sign_of_life() > std::chrono::seconds(st.config.broadcast_timeout_s))
-            doomed.emplace_back(id, "silent: the presenter sent nothing for " +
-                                        std::to_string(st.config.broadcast_timeout_s) + " s");
-          else if (!session->broadcast() && session->connected() &&
-                   now - session->last_sign_of_life() > std::chrono::seconds(st.config.viewer_timeout_s))
-            doomed.emplace_back(id, "silent: the viewer showed no sign of life for " +
-                                        std::to_string(st.config.viewer_timeout_s) + " s");
-        }
-        for (const auto& [id, why] : doomed) {
-          ++st.metrics.sessions_reclaimed;
-          st.end_session(id, why);
-        }
-        if (!doomed.empty()) malloc_trim(0);
+        reap(*static_cast<ServerState*>(data));
         return G_SOURCE_CONTINUE;
       },
       &s);

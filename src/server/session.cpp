@@ -243,8 +243,18 @@ void Session::tell_frame(guint32 rtp_timestamp, const FrameFacts& frame) {
   gst_webrtc_data_channel_send_string(channel_, told.dump().c_str());
 }
 
-void Session::alive_now() {
-  alive_ns_.store(std::chrono::steady_clock::now().time_since_epoch().count(), std::memory_order_relaxed);
+void Session::alive_now(Sign sign) {
+  const std::int64_t now = std::chrono::steady_clock::now().time_since_epoch().count();
+  alive_ns_.store(now, std::memory_order_relaxed);
+  if (sign == Sign::media) media_ns_.store(now, std::memory_order_relaxed);
+}
+
+std::string Session::last_media_said() const {
+  const std::int64_t then = media_ns_.load(std::memory_order_relaxed);
+  if (then == 0) return "no RTCP from it yet";
+  const auto ago = std::chrono::steady_clock::now().time_since_epoch() - std::chrono::steady_clock::duration(then);
+  return "its last RTCP came " + std::to_string(std::chrono::duration_cast<std::chrono::seconds>(ago).count()) +
+         " s ago";
 }
 
 std::chrono::steady_clock::time_point Session::last_sign_of_life() const {

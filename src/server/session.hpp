@@ -95,8 +95,12 @@ class Session : public std::enable_shared_from_this<Session> {
   /// (its viewers are Janus's); idle_since() says since when none has been.
   bool connected() const { return socket_ != nullptr || broadcast(); }
   bool broadcast() const { return options_.broadcast.has_value(); }
-  /// Notes a sign of life from the session's holder (a request with its token).
-  void alive_now();
+  /// Notes a sign of life from the session's holder (a request with its
+  /// token, a signalling message, or RTCP from the viewer's browser).
+  enum class Sign { request, media };
+  void alive_now(Sign sign = Sign::request);
+  /// For the log when a silent session ends: when its RTCP last came.
+  std::string last_media_said() const;
   std::chrono::steady_clock::time_point idle_since() const { return idle_since_; }
   /// When the session's render thread last proved alive (main thread);
   /// none before it started. It comes round every few milliseconds even
@@ -147,6 +151,7 @@ class Session : public std::enable_shared_from_this<Session> {
   std::chrono::steady_clock::time_point idle_since_;
   bool offered_ = false, closed_ = false, had_viewer_ = false;
   std::atomic<std::int64_t> alive_ns_{0};  // steady clock; written from streaming threads too
+  std::atomic<std::int64_t> media_ns_{0};  // the same, RTCP alone (0: none yet)
   std::mutex channel_lock_;
   GstWebRTCDataChannel* channel_ = nullptr;  // the "frames" channel
   std::unique_ptr<FrameDatagrams> frames_out_;  // a broadcast's frame messages

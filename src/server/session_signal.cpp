@@ -25,7 +25,7 @@ void Session::setup_webrtc() {
     g_signal_connect_data(
         rtpbin, "on-ssrc-active",
         G_CALLBACK((+[](GstElement*, guint, guint, gpointer data) {
-          if (auto s = static_cast<Ref*>(data)->lock()) s->alive_now();
+          if (auto s = static_cast<Ref*>(data)->lock()) s->alive_now(Session::Sign::media);
         })),
         new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
     gst_object_unref(rtpbin);

@@ -178,6 +178,10 @@ async function connect() {
     controls.orbit.addEventListener('end', rememberAddress);
     buildGui();
     if (shared) channel.set(shared);
+    // The first render compiles every shader: seconds on a slow or loaded
+    // machine, during which the page can neither answer the offer nor ping.
+    // Done before the stream opens, the server never sees that silence.
+    room.render();
   }
   loading.begin('connecting');
   stream = new Stream(session, video, {

@@ -65,7 +65,7 @@ struct ServerConfig {
   int rate_limit_per_s = 60;              ///< mutating requests per client address and second
   int rate_limit_burst = 120;             ///< ... and how many may come at once
   int max_sessions_per_address = 2;       ///< sessions one client address may hold
-  int viewer_timeout_s = 15;              ///< a connected viewer silent this long loses its session
+  int viewer_timeout_s = 30;              ///< a connected viewer silent this long loses its session
   std::string session_create_token;       ///< when set, creating a session needs it as a bearer token
   // Visitors' pictures made into glass (docs/design.md, "Over the API").
   bool design_uploads = true;             ///< POST /api/v1/designs accepts pictures
