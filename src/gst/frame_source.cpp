@@ -135,11 +135,11 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
       source.engine->render();
       source.renders += source.engine->ray_passes() - before;
       if (water && source.engine->ray_passes() > before) {
-        const FrameStats& stats = source.engine->stats();
+        const double ms = source.engine->stats().ray_ms + source.engine->stats().post_ms;
         if (want == full_quality)
-          water_pacing(source).full_drawn(stats.ray_ms + stats.post_ms, now);
+          water_pacing(source).full_drawn(ms, now);
         else
-          water_pacing(source).preview_drawn(stats.ray_ms + stats.post_ms);
+          water_pacing(source).preview_drawn(ms);
       }
       if (source.observer) source.observer(source.engine->stats(), version);
       const std::uint64_t tag = ++source.readbacks;

@@ -35,8 +35,6 @@ class WaterPacing {
   /// blind try is due.
   bool want_full(Clock::time_point now) const;
   double budget_ms() const { return budget_ms_; }
-
-  double full_ms() const { return full_ms_; }
   /// The last full frame's cost scaled by the previews' (0: no full frame yet).
   double predicted_full_ms() const;
 

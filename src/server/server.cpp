@@ -16,7 +16,6 @@
 #include <atomic>
 #include <cstdlib>
 #include <thread>
-#include <utility>
 
 namespace caustic::server {
 

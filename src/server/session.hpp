@@ -95,8 +95,9 @@ class Session : public std::enable_shared_from_this<Session> {
   /// (its viewers are Janus's); idle_since() says since when none has been.
   bool connected() const { return socket_ != nullptr || broadcast(); }
   bool broadcast() const { return options_.broadcast.has_value(); }
-  /// Notes a sign of life from the session's holder (a request with its
-  /// token, a signalling message, or RTCP from the viewer's browser).
+  /// Notes a sign of life from the session's holder: `request` for a
+  /// request with its token or a signalling message, `media` for RTCP
+  /// from the viewer's browser.
   enum class Sign { request, media };
   void alive_now(Sign sign = Sign::request);
   /// For the log when a silent session ends: when its RTCP last came.
