@@ -56,13 +56,36 @@ TEST(WaterPacing, ARatioIsMeasuredAgainstPreviewsOfTheSameLoad) {
   WaterPacing pacing(20, seconds(1), seconds(60));
   pacing.full_drawn(30, t0);
   for (int i = 0; i < 20; ++i) pacing.preview_drawn(8);  // a quiet machine: 30/8 would look expensive
-  pacing.full_drawn(19, t0 + seconds(1));                // the try fits
-  pacing.full_drawn(40, t0 + seconds(2));                // then the load doubles
-  pacing.preview_drawn(20);                              // full = 2 previews now
-  EXPECT_DOUBLE_EQ(pacing.predicted_full_ms(), 40);
-  for (int i = 0; i < 20; ++i) pacing.preview_drawn(9.5);
-  EXPECT_NEAR(pacing.predicted_full_ms(), 19, 0.2);  // 40 over the old 8 ms previews would say 47
+  pacing.full_drawn(19, t0 + seconds(1));                // the try fits: full = 2.375 previews
+  pacing.full_drawn(38, t0 + seconds(2));                // then the load doubles
+  pacing.preview_drawn(16);
+  EXPECT_DOUBLE_EQ(pacing.predicted_full_ms(), 38);
+  for (int i = 0; i < 20; ++i) pacing.preview_drawn(8);
+  EXPECT_NEAR(pacing.predicted_full_ms(), 19, 0.2);  // 38 over the old 8 ms previews would say 45
   EXPECT_TRUE(pacing.want_full(t0 + seconds(3)));
+}
+
+TEST(WaterPacing, OneSlowFullFrameDoesNotHoldBackTheOthers) {
+  WaterPacing pacing(20, seconds(1), seconds(60));
+  // Two misses at a steady load teach that a full frame costs two previews.
+  pacing.full_drawn(22, t0);
+  pacing.preview_drawn(11);
+  pacing.full_drawn(22, t0 + seconds(1));
+  pacing.preview_drawn(11);
+  for (int i = 0; i < 20; ++i) pacing.preview_drawn(8);
+  pacing.full_drawn(16, t0 + seconds(2));
+  // A hiccup: one full frame takes 40 ms, the preview after it 10.
+  pacing.full_drawn(40, t0 + seconds(3));
+  pacing.preview_drawn(10);
+  EXPECT_DOUBLE_EQ(pacing.predicted_full_ms(), 20);  // 2 x 10, not 4 x 10
+  EXPECT_TRUE(pacing.want_full(t0 + seconds(3) + milliseconds(66)));
+  // Slow full frames that persist do count: three of the last five ratios.
+  for (int i = 0; i < 2; ++i) {
+    pacing.full_drawn(40, t0 + seconds(4 + i));
+    pacing.preview_drawn(10);
+  }
+  EXPECT_DOUBLE_EQ(pacing.predicted_full_ms(), 40);
+  EXPECT_FALSE(pacing.want_full(t0 + seconds(5) + milliseconds(66)));
 }
 
 TEST(WaterPacing, NoPreviewsYetMeansTheLastFullFrameIsThePrediction) {

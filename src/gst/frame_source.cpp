@@ -136,10 +136,13 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
       source.renders += source.engine->ray_passes() - before;
       if (water && source.engine->ray_passes() > before) {
         const double ms = source.engine->stats().ray_ms + source.engine->stats().post_ms;
+        auto& pacing = water_pacing(source);
         if (want == full_quality)
-          water_pacing(source).full_drawn(ms, now);
+          pacing.full_drawn(ms, now);
         else
-          water_pacing(source).preview_drawn(ms);
+          pacing.preview_drawn(ms);
+        GST_CAT_DEBUG(caustic_src_debug, "water %s frame: %.1f ms (a full one predicted %.1f ms, budget %.1f ms)",
+                      want == full_quality ? "full" : "preview", ms, pacing.predicted_full_ms(), pacing.budget_ms());
       }
       if (source.observer) source.observer(source.engine->stats(), version);
       const std::uint64_t tag = ++source.readbacks;

@@ -5,12 +5,16 @@
 // previews: what slows a render (the encoder on the same cores, other
 // sessions) slows a preview and a full frame alike, so the last full
 // frame's cost, scaled by how much cheaper previews have become since,
-// predicts the next one. A try that does not fit is an overrun (the stream
+// predicts the next one. The scaling is the lower median of the last few
+// full-to-preview ratios, so that one slow frame (a hiccup of the machine,
+// the renderer's warm-up) next to a normal one does not hold full frames
+// back until the next blind try. A try that does not fit is an overrun (the stream
 // sends a picture again), so tries go by the prediction, and only rare
 // blind ones check it: one soon after the first miss (whose cost may hold
 // the renderer's warm-up), then one every `blind`.
 #pragma once
 
+#include <array>
 #include <chrono>
 
 namespace caustic::gst {
@@ -41,8 +45,12 @@ class WaterPacing {
  private:
   double budget_ms_;
   std::chrono::milliseconds first_, blind_;
+  void learn_ratio(double ratio);
+  double ratio() const;  // 0: none learnt yet
+
   double full_ms_ = 0, preview_ms_ = 0;
-  double ratio_ = 0;              // full / preview cost around the last full frame; 0: unknown
+  std::array<double, 5> ratios_{};  // full / preview cost around the last full frames, a ring
+  int ratios_seen_ = 0;
   bool ratio_from_next_ = false;  // no preview just before that full frame: learn it from the next
   bool preview_fresh_ = false;    // the last frame drawn was a preview
   int misses_ = 0;                // full frames that did not fit
