@@ -4,12 +4,14 @@
 // falling), turns the heights into the surface mesh, renders the caustic on
 // the floor and post-processes it, and reads the picture back as I420, as
 // the stream does; the frame is new every time, so nothing is cached.
+// Then the simulation alone, on the CPU and on the GL.
 #include "perf_bench.hpp"
 
 #include "caustic/engine.hpp"
 #include "caustic/gl_context.hpp"
 #include "caustic/image_io.hpp"
 #include "caustic/water_mesh.hpp"
+#include "caustic/wave_gl.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -53,7 +55,42 @@ water::WaveParams pool_water(int grid) {
   p.wind_direction_deg = 60;
   p.wind_wavelength = 0.3;
   p.seed = 7;
+  // Coarse grids: drops one spacing wide, wind waves eight spacings long.
+  p.drop_radius = std::max(p.drop_radius, water::spacing(p));
+  p.wind_wavelength = std::max(p.wind_wavelength, 8 * water::spacing(p));
+  // Whole steps per frame, each within the stability bound.
+  p.time_step = kFrame / std::ceil(kFrame / water::max_time_step(p));
   return p;
+}
+
+// The simulation alone, a frame's steps at a time, on the CPU and on the GL
+// (finished, then read back as the CPU's surface mesh would need it).
+void time_solvers(const std::vector<int>& grids, double seconds, const std::filesystem::path& out) {
+  std::ofstream csv(out / "water-solver.csv");
+  csv << "grid,steps_per_frame,cpu_ms,gl_ms,gl_readback_ms\n";
+  for (int grid : grids) {
+    const water::WaveParams params = pool_water(grid);
+    const int steps = static_cast<int>(std::lround(kFrame / params.time_step));
+    water::WaveSolver cpu(params);
+    water::WaveSolverGl gl(params);
+    std::vector<double> cpu_ms, gl_ms, read_ms;
+    for (int frame = 0; frame < std::max(1, static_cast<int>(seconds / kFrame)); ++frame) {
+      auto t0 = std::chrono::steady_clock::now();
+      for (int i = 0; i < steps; ++i) cpu.step();
+      cpu_ms.push_back(ms_since(t0));
+      t0 = std::chrono::steady_clock::now();
+      for (int i = 0; i < steps; ++i) gl.step();
+      gl.finish();
+      gl_ms.push_back(ms_since(t0));
+      t0 = std::chrono::steady_clock::now();
+      const auto heights = gl.heights();
+      read_ms.push_back(ms_since(t0));
+    }
+    std::printf("solver grid %3d^2, %d steps/frame: CPU %6.2f ms, GL %6.2f ms (+ read-back %5.2f ms), medians\n", grid,
+                steps, middle_sample(cpu_ms), middle_sample(gl_ms), middle_sample(read_ms));
+    csv << grid << ',' << steps << ',' << middle_sample(cpu_ms) << ',' << middle_sample(gl_ms) << ','
+        << middle_sample(read_ms) << '\n';
+  }
 }
 
 // --setups' spelling of a setup.
@@ -84,13 +121,8 @@ int run_water_bench(const PerfOptions& opt, const WaterBenchOptions& water) {
   for (int grid : water.grids) {
     for (int size : opt.sizes) {
       for (const auto& [setup, divisor] : rows(water)) {
-        water::WaveParams params = pool_water(grid);
-        // Coarse grids: drops one spacing wide, wind waves eight spacings long.
-        params.drop_radius = std::max(params.drop_radius, water::spacing(params));
-        params.wind_wavelength = std::max(params.wind_wavelength, 8 * water::spacing(params));
-        // Whole steps per frame, each within the stability bound.
-        const int steps = static_cast<int>(std::ceil(kFrame / water::max_time_step(params)));
-        params.time_step = kFrame / steps;
+        const water::WaveParams params = pool_water(grid);
+        const int steps = static_cast<int>(std::lround(kFrame / params.time_step));
         water::WaveSolver solver(params);
         const Scene scene = pool_scene(size);
         Engine engine;
@@ -151,7 +183,9 @@ int run_water_bench(const PerfOptions& opt, const WaterBenchOptions& water) {
       }
     }
   }
-  std::printf("wrote %s/water.csv and the last frame of each row, water-GRID-SIZE[-SETUP][-pDIVISOR].png\n",
+  time_solvers(water.grids, seconds, opt.out);
+  std::printf("wrote %s/water.csv, water-solver.csv and the last frame of each row, "
+              "water-GRID-SIZE[-SETUP][-pDIVISOR].png\n",
               opt.out.string().c_str());
   return 0;
 }

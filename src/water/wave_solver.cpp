@@ -8,26 +8,8 @@
 #include <string>
 
 namespace caustic::water {
-namespace {
 
-// splitmix64: a small generator whose sequence is fixed by its seed on every
-// platform (the standard distributions are not), so runs repeat bit for bit.
-std::uint64_t next_random(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
-// Uniform in [0, 1).
-double uniform(std::uint64_t& state) { return static_cast<double>(next_random(state) >> 11) * 0x1.0p-53; }
-
-// Seconds to the next event of a Poisson process of `rate` a second.
-double wait(std::uint64_t& state, double rate) { return -std::log1p(-uniform(state)) / rate; }
-
-}  // namespace
-
-WaveSolver::WaveSolver(const WaveParams& params) : params_(params), rng_(params.seed) {
+WaveSolver::WaveSolver(const WaveParams& params) : params_(params), rain_(params, params.seed, 0) {
   validate(params_);
   derive();
   set_waves(wind_waves(params_, dt_));
@@ -35,7 +17,6 @@ WaveSolver::WaveSolver(const WaveParams& params) : params_(params), rng_(params.
   before_.assign(cells, 0.0);
   now_.assign(cells, 0.0);
   next_.assign(cells, 0.0);
-  if (params_.rain_rate > 0) next_rain_ = wait(rng_, params_.rain_rate);
 }
 
 void WaveSolver::derive() {
@@ -61,15 +42,7 @@ void WaveSolver::retune(const WaveParams& params) {
   if (dt_ != before)
     for (std::size_t k = 0; k < now_.size(); ++k) before_[k] = now_[k] - (now_[k] - before_[k]) * (dt_ / before);
   if (new_wind) set_waves(wind_waves(params_, dt_));
-  if (new_rain) {
-    rng_ = params_.seed ^ steps_;
-    next_rain_ = params_.rain_rate > 0 ? time_ + wait(rng_, params_.rain_rate) : 0;
-  }
-}
-
-double WaveSolver::weight(int i, int j) const {
-  const int last = params_.grid - 1;
-  return (i == 0 || i == last ? 0.5 : 1.0) * (j == 0 || j == last ? 0.5 : 1.0);
+  if (new_rain) rain_ = Rain(params_, params_.seed ^ steps_, time_);
 }
 
 void WaveSolver::drop(double x, double y, double strength, double radius) {
@@ -89,7 +62,7 @@ void WaveSolver::drop(double x, double y, double strength, double radius) {
       const std::size_t k = static_cast<std::size_t>(j) * n + i;
       now_[k] += h;
       before_[k] += h;
-      sum += weight(i, j) * h;
+      sum += trapezoid_weight(i, j, n) * h;
     }
   // Walls cut the rim: take the remainder off everywhere, keeping the volume.
   // The trapezoidal weights add up to (n - 1)^2.
@@ -101,14 +74,8 @@ void WaveSolver::drop(double x, double y, double strength, double radius) {
 }
 
 void WaveSolver::rain() {
-  if (params_.rain_rate <= 0) return;
-  const double half = params_.size / 2;
-  while (next_rain_ <= time()) {
-    const double x = (2 * uniform(rng_) - 1) * half, y = (2 * uniform(rng_) - 1) * half;
-    drop(x, y, params_.rain_strength, params_.drop_radius);
-    ++raindrops_;
-    next_rain_ += wait(rng_, params_.rain_rate);
-  }
+  raindrops_ += static_cast<std::uint64_t>(
+      rain_.fall_until(time_, [&](double x, double y) { drop(x, y, params_.rain_strength, params_.drop_radius); }));
 }
 
 void WaveSolver::set_waves(std::vector<Wave> waves) {
@@ -125,7 +92,7 @@ void WaveSolver::step() {
     const int n = params_.grid;
     double sum = 0;
     for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) sum += weight(i, j) * force_[static_cast<std::size_t>(j) * n + i];
+      for (int i = 0; i < n; ++i) sum += trapezoid_weight(i, j, n) * force_[static_cast<std::size_t>(j) * n + i];
     const double mean = sum / (static_cast<double>(n - 1) * (n - 1));
     for (double& f : force_) f -= mean;
   }
@@ -150,30 +117,35 @@ void WaveSolver::step() {
   time_ += dt_;
 }
 
-double WaveSolver::energy() const {
-  const int n = params_.grid;
-  const double dx = spacing(params_), dt = dt_;
-  const double c2 = params_.wave_speed * params_.wave_speed;
+double scheme_energy(const WaveParams& params, double dt, const std::vector<double>& before,
+                     const std::vector<double>& now) {
+  const int n = params.grid;
+  const double dx = spacing(params);
+  const double c2 = params.wave_speed * params.wave_speed;
   double kinetic = 0, potential = 0;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const std::size_t k = static_cast<std::size_t>(j) * n + i;
-      const double v = (now_[k] - before_[k]) / dt;
-      kinetic += weight(i, j) * v * v;
+      const double v = (now[k] - before[k]) / dt;
+      kinetic += trapezoid_weight(i, j, n) * v * v;
       // Edges to the right and up; an edge along a wall weighs a half.
-      if (i + 1 < n) potential += (j == 0 || j == n - 1 ? 0.5 : 1.0) * (now_[k + 1] - now_[k]) * (before_[k + 1] - before_[k]);
-      if (j + 1 < n) potential += (i == 0 || i == n - 1 ? 0.5 : 1.0) * (now_[k + n] - now_[k]) * (before_[k + n] - before_[k]);
+      if (i + 1 < n) potential += (j == 0 || j == n - 1 ? 0.5 : 1.0) * (now[k + 1] - now[k]) * (before[k + 1] - before[k]);
+      if (j + 1 < n) potential += (i == 0 || i == n - 1 ? 0.5 : 1.0) * (now[k + n] - now[k]) * (before[k + n] - before[k]);
     }
   return 0.5 * dx * dx * kinetic + 0.5 * c2 * potential;
 }
 
-double WaveSolver::volume() const {
-  const int n = params_.grid;
-  const double dx = spacing(params_);
+double trapezoidal_volume(const WaveParams& params, const std::vector<double>& heights) {
+  const int n = params.grid;
+  const double dx = spacing(params);
   double sum = 0;
   for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) sum += weight(i, j) * now_[static_cast<std::size_t>(j) * n + i];
+    for (int i = 0; i < n; ++i) sum += trapezoid_weight(i, j, n) * heights[static_cast<std::size_t>(j) * n + i];
   return sum * dx * dx;
 }
+
+double WaveSolver::energy() const { return scheme_energy(params_, dt_, before_, now_); }
+
+double WaveSolver::volume() const { return trapezoidal_volume(params_, now_); }
 
 }  // namespace caustic::water

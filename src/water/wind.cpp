@@ -1,21 +1,12 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/wind.hpp"
 
+#include "caustic/rain.hpp"
+
 #include <cmath>
 #include <numbers>
 
 namespace caustic::water {
-namespace {
-
-// splitmix64 again, on its own stream: rain and wind from one seed stay apart.
-double uniform(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-}
-
-}  // namespace
 
 double scheme_omega(const WaveParams& p, double dt, double kx, double ky) {
   const double dx = spacing(p);

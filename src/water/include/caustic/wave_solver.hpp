@@ -11,6 +11,7 @@
 // derives the stability bound and the oracles tests/water_test.cpp holds it to.
 #pragma once
 
+#include "caustic/rain.hpp"
 #include "caustic/water_params.hpp"
 #include "caustic/wind.hpp"
 
@@ -19,6 +20,18 @@
 #include <vector>
 
 namespace caustic::water {
+
+/// A grid point's trapezoidal weight: 1/2 on a wall, 1/4 in a corner.
+inline double trapezoid_weight(int i, int j, int n) {
+  return (i == 0 || i == n - 1 ? 0.5 : 1.0) * (j == 0 || j == n - 1 ? 0.5 : 1.0);
+}
+
+/// The scheme's discrete energy between two successive steps' heights
+/// (WaveSolver::energy()), for any solver's heights.
+double scheme_energy(const WaveParams& params, double dt, const std::vector<double>& before,
+                     const std::vector<double>& now);
+/// The trapezoidal volume of a grid of heights, m^3 (WaveSolver::volume()).
+double trapezoidal_volume(const WaveParams& params, const std::vector<double>& heights);
 
 class WaveSolver {
  public:
@@ -64,7 +77,6 @@ class WaveSolver {
   double volume() const;
 
  private:
-  double weight(int i, int j) const;  // trapezoidal: 1/2 on walls, 1/4 in corners
   void rain();
 
   WaveParams params_;
@@ -73,8 +85,7 @@ class WaveSolver {
   double dt_ = 0, courant2_ = 0, a_ = 0, time_ = 0;
   std::vector<double> before_, now_, next_;
   std::uint64_t steps_ = 0, raindrops_ = 0;
-  std::uint64_t rng_;
-  double next_rain_ = 0;  // seconds
+  Rain rain_;
   std::optional<Forcing> forcing_;
   std::vector<double> force_;  // dt^2 f of the current step
 };
