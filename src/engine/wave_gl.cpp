@@ -155,7 +155,6 @@ double WaveSolverGl::time_step() const { return state_->dt; }
 double WaveSolverGl::time() const { return state_->time; }
 std::uint64_t WaveSolverGl::steps() const { return state_->steps; }
 std::uint64_t WaveSolverGl::raindrops() const { return state_->raindrops; }
-unsigned WaveSolverGl::heights_buffer() const { return state_->at(1).id(); }
 
 void WaveSolverGl::finish() const { glFinish(); }
 

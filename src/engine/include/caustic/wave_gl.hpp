@@ -42,9 +42,6 @@ class WaveSolverGl {
   void finish() const;
   /// The newest step's heights, read back (grid x grid, metres, row-major).
   std::vector<double> heights() const;
-  /// The storage buffer holding them (floats), for a renderer that reads
-  /// them where they are; valid until the next step().
-  unsigned heights_buffer() const;
 
  private:
   struct State;
