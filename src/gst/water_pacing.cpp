@@ -48,7 +48,8 @@ void WaterPacing::preview_drawn(double ms) {
 }
 
 double WaterPacing::predicted_full_ms() const {
-  return ratio() > 0 && preview_fresh_ ? ratio() * preview_ms_ : full_ms_;
+  const double scale = ratio();
+  return scale > 0 && preview_fresh_ ? scale * preview_ms_ : full_ms_;
 }
 
 bool WaterPacing::want_full(Clock::time_point now) const {
