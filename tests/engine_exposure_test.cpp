@@ -10,9 +10,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <chrono>
 #include <numbers>
 #include <cstdio>
 #include <filesystem>
+#include <thread>
 #include <vector>
 
 using namespace caustic;
@@ -34,8 +36,14 @@ int grey(const Rgba8Image& ldr, std::size_t i) { return ldr.pixels[4 * i]; }
 
 // Renders until the shown exposure has settled (bounded in count: the
 // settling is in wall-clock time, so a loaded machine only takes more rounds).
+// Each frame at least a millisecond apart: the easing follows the clock,
+// and a post-only frame of a small picture can take less than that (2000
+// of them back to back once ended short of the ~0.2 s the easing needs).
 void settle(Engine& engine) {
-  for (int i = 0; i < 2000 && engine.dirty(); ++i) engine.render();
+  for (int i = 0; i < 2000 && engine.dirty(); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    engine.render();
+  }
 }
 
 }  // namespace
