@@ -162,3 +162,47 @@ TEST(Coverage, AMeshWalksEachSharedEdgeOnceAndCoversAsItsTriangles) {
           }
     }
 }
+
+TEST(Coverage, LayersAndFlushedPassesAddUpAsOneImage) {
+  // Three passes over one grid at different positions (a wavelength each),
+  // each pass's triangles dealt between two layers as two threads fill
+  // them, a point in each, flushed between passes and resolved once: the
+  // image is every pass's coverage summed. The middle channel's values run
+  // below 0 too (a spectral weight): its sums stand where they are negative.
+  constexpr int kWidth = 21, kHeight = 17, kNx = 5, kNy = 4, kPasses = 3;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> jitter(-2.0, 2.0), unit(0.0, 1.0);
+  std::vector<glm::uvec3> triangles;
+  for (int j = 0; j + 1 < kNy; ++j)
+    for (int i = 0; i + 1 < kNx; ++i) {
+      const unsigned v = j * kNx + i;
+      triangles.push_back({v, v + 1, v + kNx + 1});
+      triangles.push_back({v, v + kNx + 1, v + kNx});
+    }
+  CoverageRaster raster;
+  raster.reset(kWidth, kHeight, 3);
+  std::vector<double> expected(static_cast<std::size_t>(kWidth) * kHeight * 3, 0.0);
+  for (int pass = 0; pass < kPasses; ++pass) {
+    if (pass > 0) raster.flush();
+    std::vector<glm::dvec2> at(kNx * kNy);
+    for (int j = 0; j < kNy; ++j)
+      for (int i = 0; i < kNx; ++i) at[j * kNx + i] = {-2.0 + 5.5 * i + jitter(rng), -1.0 + 5.0 * j + jitter(rng)};
+    raster.use_mesh(triangles, 2);
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+      const glm::dvec3 value(unit(rng), unit(rng) - 0.7, unit(rng));
+      const glm::uvec3 c = triangles[t];
+      raster.mesh_triangle(t, at[c.x], at[c.y], at[c.z], value, static_cast<int>(t % 2));
+      for (int j = 0; j < kHeight; ++j)
+        for (int i = 0; i < kWidth; ++i)
+          for (int k = 0; k < 3; ++k)
+            expected[(static_cast<std::size_t>(j) * kWidth + i) * 3 + k] +=
+                value[k] * covered(at[c.x], at[c.y], at[c.z], i, j);
+    }
+    const glm::dvec3 point(0.5 + pass, 1.0, 2.0);
+    raster.point({3.5 + 4 * pass, 7.25}, point, pass % 2);
+    for (int k = 0; k < 3; ++k) expected[(7 * static_cast<std::size_t>(kWidth) + 3 + 4 * pass) * 3 + k] += point[k];
+  }
+  ASSERT_LT(*std::min_element(expected.begin(), expected.end()), -0.1);
+  const std::vector<float>& image = raster.resolve();
+  for (std::size_t n = 0; n < expected.size(); ++n) ASSERT_NEAR(image[n], expected[n], 1e-5) << "value " << n;
+}

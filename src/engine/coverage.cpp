@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace caustic {
 namespace {
@@ -54,13 +55,16 @@ void CoverageRaster::reset(int width, int height, int channels) {
   height_ = std::max(height, 0);
   channels_ = channels == 3 ? 3 : 1;
   changes_.resize(static_cast<std::size_t>(width_) * height_ * channels_);
-  image_.resize(changes_.size());
   triangles_.clear();
-  points_.clear();
+  if (layers_.empty()) layers_.resize(1);
+  layers_in_use_ = 1;
+  layers_[0].points.clear();
+  layers_[0].negative = false;
   mesh_in_use_ = false;
+  flushed_ = negative_ = false;
 }
 
-void CoverageRaster::use_mesh(const std::vector<glm::uvec3>& triangles) {
+void CoverageRaster::use_mesh(const std::vector<glm::uvec3>& triangles, int layers) {
   if (triangles != mesh_ || side_edge_.size() != 3 * triangles.size()) {
     mesh_ = triangles;
     // Sides bucketed by their lower vertex (a counting sort, linear in the
@@ -70,7 +74,7 @@ void CoverageRaster::use_mesh(const std::vector<glm::uvec3>& triangles) {
     auto side_to = [&](std::size_t side) { return mesh_[side / 3][(side % 3 + 1) % 3]; };
     std::uint32_t top = 0;
     for (const glm::uvec3& t : triangles) top = std::max({top, t.x, t.y, t.z});
-    const std::size_t vertices = triangles.empty() ? 0 : std::size_t{top} + 1;
+    const std::size_t vertices = vertices_ = triangles.empty() ? 0 : std::size_t{top} + 1;
     std::vector<std::uint32_t> start(vertices + 1, 0), order(sides);
     for (std::size_t side = 0; side < sides; ++side) ++start[std::min(side_from(side), side_to(side)) + 1];
     for (std::size_t v = 0; v < vertices; ++v) start[v + 1] += start[v];
@@ -94,22 +98,31 @@ void CoverageRaster::use_mesh(const std::vector<glm::uvec3>& triangles) {
         }
         side_edge_[side] = from == edges_[e].x ? e : ~e;
       }
-    corners_.assign(vertices, glm::dvec2(0));
   }
-  edge_values_.assign(edges_.size(), glm::dvec3(0));
+  layers_in_use_ = std::max(layers, 1);
+  if (layers_.size() < static_cast<std::size_t>(layers_in_use_)) layers_.resize(static_cast<std::size_t>(layers_in_use_));
+  for (int k = 0; k < layers_in_use_; ++k) {
+    Layer& layer = layers_[static_cast<std::size_t>(k)];
+    layer.corners.resize(vertices_);
+    layer.edge_values.assign(edges_.size(), glm::dvec3(0));
+    if (k > 0) layer.points.clear(), layer.negative = false;  // layer 0's may hold what triangle() added
+  }
   mesh_in_use_ = true;
 }
 
-void CoverageRaster::mesh_triangle(std::size_t t, glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec3 value) {
+void CoverageRaster::mesh_triangle(std::size_t t, glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec3 value,
+                                   int layer) {
   if (!usable(a) || !usable(b) || !usable(c) || width_ == 0 || height_ == 0) return;
   const double twice_area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
   const glm::dvec3 signed_value = twice_area > 0 ? -value : value;  // as triangle()
   const glm::uvec3& corners = mesh_[t];
-  corners_[corners.x] = a, corners_[corners.y] = b, corners_[corners.z] = c;
+  Layer& l = layers_[static_cast<std::size_t>(layer)];
+  l.negative = l.negative || glm::any(glm::lessThan(value, glm::dvec3(0)));
+  l.corners[corners.x] = a, l.corners[corners.y] = b, l.corners[corners.z] = c;
   for (std::size_t k = 0; k < 3; ++k) {
     const std::int32_t e = side_edge_[3 * t + k];
-    if (e >= 0) edge_values_[e] += signed_value;
-    else edge_values_[~e] -= signed_value;
+    if (e >= 0) l.edge_values[e] += signed_value;
+    else l.edge_values[~e] -= signed_value;
   }
 }
 
@@ -119,13 +132,16 @@ void CoverageRaster::triangle(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dve
   // clockwise triangle, plus for a clockwise one.
   const double twice_area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
   triangles_.push_back({a, b, c, twice_area > 0 ? -value : value});
+  negative_ = negative_ || glm::any(glm::lessThan(value, glm::dvec3(0)));
 }
 
-void CoverageRaster::point(glm::dvec2 at, glm::dvec3 value) {
+void CoverageRaster::point(glm::dvec2 at, glm::dvec3 value, int layer) {
   if (!usable(at)) return;
   const int i = floor_int(at.x), j = floor_int(at.y);
   if (i < 0 || j < 0 || i >= width_ || j >= height_) return;
-  points_.push_back({i, j, value});
+  Layer& l = layers_[static_cast<std::size_t>(layer)];
+  l.negative = l.negative || glm::any(glm::lessThan(value, glm::dvec3(0)));
+  l.points.push_back({i, j, value});
 }
 
 // In each row of [rows_lo, rows_hi) the edge crosses: the integral over its
@@ -179,11 +195,12 @@ void CoverageRaster::edge(glm::dvec2 p, glm::dvec2 q, const glm::dvec3& value, i
   }
 }
 
-// One band of rows [lo, hi): cleared, every edge and point that falls in it
-// deposited, then summed along each row into the image.
-void CoverageRaster::band(int lo, int hi) {
+// One band of rows [lo, hi): cleared unless a flush already deposited in
+// it, every edge and point that falls in it deposited, then, when `sum`,
+// summed along each row into the image.
+void CoverageRaster::band(int lo, int hi, bool sum, int out_channels) {
   const std::size_t row = static_cast<std::size_t>(width_) * channels_;
-  std::fill(changes_.begin() + lo * row, changes_.begin() + hi * row, 0.0);
+  if (!flushed_) std::fill(changes_.begin() + lo * row, changes_.begin() + hi * row, 0.0);
   for (const Triangle& t : triangles_) {
     if (std::max({t.a.y, t.b.y, t.c.y}) <= lo || std::min({t.a.y, t.b.y, t.c.y}) >= hi) continue;  // another band's
     if (channels_ == 1) {
@@ -192,41 +209,65 @@ void CoverageRaster::band(int lo, int hi) {
       edge<3>(t.a, t.b, t.value, lo, hi), edge<3>(t.b, t.c, t.value, lo, hi), edge<3>(t.c, t.a, t.value, lo, hi);
     }
   }
-  if (mesh_in_use_)
-    for (std::size_t e = 0; e < edges_.size(); ++e) {
-      const glm::dvec3& value = edge_values_[e];
-      if (value == glm::dvec3(0)) continue;  // no triangle drawn beside it, or two that cancel
-      const glm::dvec2 p = corners_[edges_[e].x], q = corners_[edges_[e].y];
-      if (channels_ == 1) edge<1>(p, q, value, lo, hi);
-      else edge<3>(p, q, value, lo, hi);
-    }
-  for (const Point& p : points_) {
-    if (p.j < lo || p.j >= hi) continue;
-    double* cell = &changes_[(static_cast<std::size_t>(p.j) * width_ + p.i) * channels_];
-    for (int k = 0; k < channels_; ++k) {
-      cell[k] += p.value[k];
-      if (p.i + 1 < width_) cell[channels_ + k] -= p.value[k];
+  for (int k = 0; k < layers_in_use_; ++k) {
+    const Layer& layer = layers_[static_cast<std::size_t>(k)];
+    if (mesh_in_use_)
+      for (std::size_t e = 0; e < edges_.size(); ++e) {
+        const glm::dvec3& value = layer.edge_values[e];
+        if (value == glm::dvec3(0)) continue;  // no triangle of the layer beside it, or two that cancel
+        const glm::dvec2 p = layer.corners[edges_[e].x], q = layer.corners[edges_[e].y];
+        if (channels_ == 1) edge<1>(p, q, value, lo, hi);
+        else edge<3>(p, q, value, lo, hi);
+      }
+    for (const Point& p : layer.points) {
+      if (p.j < lo || p.j >= hi) continue;
+      double* cell = &changes_[(static_cast<std::size_t>(p.j) * width_ + p.i) * channels_];
+      for (int c = 0; c < channels_; ++c) {
+        cell[c] += p.value[c];
+        if (p.i + 1 < width_) cell[channels_ + c] -= p.value[c];
+      }
     }
   }
+  if (!sum) return;
+  // When every value added is at least 0, a sum below 0 is rounding (a
+  // residue of ~1e-16 times the brightest value the row crossed), and 0.
+  bool negative = negative_;
+  for (int k = 0; k < layers_in_use_; ++k) negative = negative || layers_[static_cast<std::size_t>(k)].negative;
+  const double floor = negative ? -std::numeric_limits<double>::infinity() : 0.0;
   for (int j = lo; j < hi; ++j) {
-    // Every value added is at least 0, so a sum below 0 is rounding (a
-    // residue of ~1e-16 times the brightest value the row crossed), and 0.
     const double* changes = &changes_[j * row];
-    float* out = &image_[j * row];
+    float* out = &image_[static_cast<std::size_t>(j) * width_ * out_channels];
     if (channels_ == 1) {
-      double sum = 0;
-      for (std::size_t n = 0; n < row; ++n) out[n] = static_cast<float>(std::max(sum += changes[n], 0.0));
+      double total = 0;
+      for (std::size_t n = 0; n < row; ++n) out[n] = static_cast<float>(std::max(total += changes[n], floor));
       continue;
     }
-    double sum[3] = {0, 0, 0};
-    for (std::size_t n = 0; n < row; n += 3)
-      for (int k = 0; k < 3; ++k) out[n + k] = static_cast<float>(std::max(sum[k] += changes[n + k], 0.0));
+    double total[3] = {0, 0, 0};
+    for (std::size_t n = 0, o = 0; n < row; n += 3, o += out_channels) {
+      for (int c = 0; c < 3; ++c) out[o + c] = static_cast<float>(std::max(total[c] += changes[n + c], floor));
+      if (out_channels == 4) out[o + 3] = 0.0f;
+    }
   }
 }
 
-const std::vector<float>& CoverageRaster::resolve() {
+void CoverageRaster::flush() {
   // Each band walks every edge but touches only its own rows.
-  in_bands(height_, kMinBandRows, [this](int lo, int hi) { band(lo, hi); });
+  in_bands(height_, kMinBandRows, [this](int lo, int hi) { band(lo, hi, false, channels_); });
+  flushed_ = true;
+  triangles_.clear();
+  for (int k = 0; k < layers_in_use_; ++k) {
+    Layer& layer = layers_[static_cast<std::size_t>(k)];
+    negative_ = negative_ || layer.negative;
+    layer.negative = false;
+    std::fill(layer.edge_values.begin(), layer.edge_values.end(), glm::dvec3(0));
+    layer.points.clear();
+  }
+}
+
+const std::vector<float>& CoverageRaster::resolve(bool rgba) {
+  const int out = rgba && channels_ == 3 ? 4 : channels_;
+  image_.resize(static_cast<std::size_t>(width_) * height_ * out);
+  in_bands(height_, kMinBandRows, [this, out](int lo, int hi) { band(lo, hi, true, out); });
   return image_;
 }
 

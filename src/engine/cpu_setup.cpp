@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "cpu_setup.hpp"
 
+#include "bands.hpp"
 #include "caustic/optics.hpp"
 #include "caustic/vertex_rays.hpp"
 
@@ -13,6 +14,10 @@ namespace {
 // Below this many square pixels a triangle's corners are too close for a
 // stable area; its flux goes to the pixel under its centroid (caustic.geom).
 constexpr double kCollapsed = 1e-4;
+
+// Triangles and vertices per core at the least: a share thinner than that
+// costs more to hand over than it saves.
+constexpr std::size_t kMinShare = 4096;
 
 double signed_area(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
   const glm::dvec2 e1 = b - a, e2 = c - a;
@@ -28,8 +33,14 @@ struct Tile {
 
 class Setup {
  public:
-  Setup(const Scene& scene, const Placement& placement, CoverageRaster* raster, TriangleCounts* counts)
-      : scene_(scene), resolution_(raster->width(), raster->height()), raster_(raster), counts_(counts) {
+  Setup(const Scene& scene, const Placement& placement, glm::dvec3 weight, CoverageRaster* raster, int layer,
+        TriangleCounts* counts)
+      : scene_(scene),
+        resolution_(raster->width(), raster->height()),
+        weight_(weight),
+        raster_(raster),
+        layer_(layer),
+        counts_(counts) {
     const int width = raster->width(), height = raster->height();
     const auto surfaces = receiving_surfaces(scene);
     const auto layout = atlas_layout(width, height, surfaces.size());
@@ -93,7 +104,7 @@ class Setup {
       count(&TriangleCounts::collapsed);
       return point((a + b + c) / 3.0, flux / pixel_area, tint);
     }
-    raster_->mesh_triangle(t, a, b, c, flux / screen_area * glm::dvec3(tint));
+    raster_->mesh_triangle(t, a, b, c, flux / screen_area * glm::dvec3(tint) * weight_, layer_);
   }
 
  private:
@@ -102,11 +113,15 @@ class Setup {
   }
 
   // All of `irradiance` (flux per pixel area) into the pixel under `at`.
-  void point(glm::dvec2 at, double irradiance, glm::vec3 tint) { raster_->point(at, irradiance * glm::dvec3(tint)); }
+  void point(glm::dvec2 at, double irradiance, glm::vec3 tint) {
+    raster_->point(at, irradiance * glm::dvec3(tint) * weight_, layer_);
+  }
 
   const Scene& scene_;
   glm::dvec2 resolution_;
+  glm::dvec3 weight_;
   CoverageRaster* raster_;
+  int layer_;
   TriangleCounts* counts_;
   std::vector<Tile> tiles_;
   double reference_distance2_ = 0;
@@ -121,7 +136,7 @@ std::vector<LandedVertex> land_vertices(const Scene& scene, const Placement& pla
   const glm::dvec3 plane_center = screen.center - scene.render.report_plane_distance * screen.normal;
   const bool tinted_mesh = tinted(mesh);
   std::vector<LandedVertex> rays(mesh.positions.size());
-  for (std::size_t i = 0; i < rays.size(); ++i) {
+  const auto land = [&](std::size_t i) {
     const glm::dvec3 v = glm::dvec3(placement.model * glm::dvec4(glm::dvec3(mesh.positions[i]), 1.0));
     const glm::dvec3 n = glm::normalize(placement.rotation * glm::dvec3(mesh.normals[i]));
     const ExitRay exit = exit_ray(scene, placement, ior, v, n);
@@ -129,7 +144,7 @@ std::vector<LandedVertex> land_vertices(const Scene& scene, const Placement& pla
     r.footprint = glm::vec3(exit.footprint);
     r.transmittance = static_cast<float>(exit.transmittance);
     if (tinted_mesh) r.tint = mesh.colours[i];
-    if (!exit.valid) continue;
+    if (!exit.valid) return;
     const ReceiverHit hit = first_receiver(scene, exit.origin, exit.direction);
     // Alone, a screen the ray misses drops its triangles; among receivers the
     // corners that landed keep their shares.
@@ -139,17 +154,34 @@ std::vector<LandedVertex> land_vertices(const Scene& scene, const Placement& pla
     const double along = glm::dot(plane_center - exit.origin, screen.normal) / glm::dot(exit.direction, screen.normal);
     const glm::dvec3 on_plane = exit.origin + along * exit.direction - plane_center;
     r.plane = glm::vec2(glm::dot(on_plane, right), glm::dot(on_plane, screen.up));
-  }
+  };
+  // Each vertex's ray is its own: a share of them a core.
+  in_bands(static_cast<int>(rays.size()), static_cast<int>(kMinShare), [&](int lo, int hi) {
+    for (int i = lo; i < hi; ++i) land(static_cast<std::size_t>(i));
+  });
   return rays;
 }
 
 void deposit_on_cpu(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
-                    const Scene& scene, const Placement& placement, CoverageRaster* raster, TriangleCounts* counts) {
-  if (counts) *counts = {};
-  Setup setup(scene, placement, raster, counts);
-  raster->use_mesh(triangles);
-  for (std::size_t t = 0; t < triangles.size(); ++t)
-    setup.triangle(t, rays[triangles[t].x], rays[triangles[t].y], rays[triangles[t].z]);
+                    const Scene& scene, const Placement& placement, glm::dvec3 weight, CoverageRaster* raster,
+                    TriangleCounts* counts) {
+  // A share of the triangles a core, each into its own layer of the raster.
+  const int shares = static_cast<int>(std::clamp<std::size_t>(triangles.size() / kMinShare, 1, band_cores()));
+  raster->use_mesh(triangles, shares);
+  std::vector<TriangleCounts> counted(static_cast<std::size_t>(shares));
+  const auto share = [&](int k) {
+    Setup setup(scene, placement, weight, raster, k, counts ? &counted[static_cast<std::size_t>(k)] : nullptr);
+    const std::size_t lo = triangles.size() * k / shares, hi = triangles.size() * (k + 1) / shares;
+    for (std::size_t t = lo; t < hi; ++t) setup.triangle(t, rays[triangles[t].x], rays[triangles[t].y], rays[triangles[t].z]);
+  };
+  if (shares == 1) share(0);
+  else band_crew().run(shares, share);
+  if (!counts) return;
+  *counts = {};
+  for (const TriangleCounts& c : counted) {
+    counts->drawn += c.drawn, counts->dropped += c.dropped, counts->positive += c.positive;
+    counts->negative += c.negative, counts->collapsed += c.collapsed;
+  }
 }
 
 }  // namespace caustic

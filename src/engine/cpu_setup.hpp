@@ -29,10 +29,13 @@ struct TriangleCounts {
 std::vector<LandedVertex> land_vertices(const Scene& scene, const Placement& placement, const Mesh& mesh, double ior);
 
 /// Sets up the triangles over `rays` as caustic.geom does and adds their
-/// irradiance (times their tint when `raster` has three channels) into
-/// `raster`, whose size is the target's, as caustic.frag does; counts the
-/// triangles into `counts` when it is not null.
+/// irradiance times `weight` (and their tint when `raster` has three
+/// channels) into `raster`, whose size is the target's, as caustic.frag
+/// does; counts the triangles into `counts` when it is not null. A share of
+/// the triangles a core, each into a layer of its own (it sets the
+/// raster's mesh); the caller flushes or resolves the raster.
 void deposit_on_cpu(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
-                    const Scene& scene, const Placement& placement, CoverageRaster* raster, TriangleCounts* counts);
+                    const Scene& scene, const Placement& placement, glm::dvec3 weight, CoverageRaster* raster,
+                    TriangleCounts* counts);
 
 }  // namespace caustic

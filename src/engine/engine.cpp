@@ -152,6 +152,7 @@ bool Engine::render() {
       const auto& w = passes[i].weight;
       pass(passes[i].ior, glm::vec3(w.r, w.g, w.b), i == 0, i + 1 == passes.size());
     }
+    s.ray.settle();
     s.stats.wavelengths = passes.empty() ? 1 : static_cast<int>(passes.size());
     s.stats.colour = s.hdr.texture.format() != GL_R32F;
     const TriangleCounts counts = s.ray.counts();  // the last pass's; waits for it to finish

@@ -31,32 +31,46 @@ class RayPass {
                    const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count = true,
                    bool on_cpu = false);
   TriangleCounts counts() const;
-  /// The target's whole content as the CPU deposited it (a grey frame's one
-  /// pass, rows from the bottom), or null when the last draw left it elsewhere.
-  /// It reaches the target's texture only at upload_whole_image(): a frame
-  /// post-processed on the CPU (cpu_post.hpp) never needs it there.
-  const std::vector<float>* whole_image() const { return whole_image_; }
-  /// Copies the whole image into its target's texture, once, for a reader on the GL.
+  /// After the passes of a frame: what the CPU's passes added up becomes
+  /// the target's whole content (whole_image()).
+  void settle();
+  /// The target's whole grey content as the CPU deposited it (rows from the
+  /// bottom) once settled, or null when it is in colour or the last draw
+  /// left it elsewhere. It reaches the target's texture only at
+  /// upload_whole_image(): a frame post-processed on the CPU (cpu_post.hpp)
+  /// never needs it there.
+  const std::vector<float>* whole_image() const { return raster_.channels() == 1 ? whole_image_ : nullptr; }
+  /// Copies the CPU's whole image (grey or colour) into its target's
+  /// texture, once, for a reader on the GL.
   void upload_whole_image();
   /// The target is gone (resized): the image is no longer its content.
-  void forget_whole_image() { whole_image_ = nullptr; }
+  void forget_whole_image() {
+    whole_image_ = nullptr;
+    raster_pending_ = false;
+  }
 
  private:
   // The splat both methods share: caustic.geom and caustic.frag's uniforms, then the draw.
   void deposit(const gl::Program& program, GLuint vao, GLsizei indices, const Scene& scene,
                const Placement& placement, const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count,
                bool clear_tint);
-  // The triangles set up and deposited on the CPU, added into `target` as one image (coverage.frag).
+  // The triangles set up on the CPU and deposited into the raster, which
+  // sums a frame's passes (wavelengths) as one image: every pass of a frame
+  // on the CPU, the first with `clear`.
   void draw_deposited(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
                       const Scene& scene, const Placement& placement, const gl::RenderTarget& target,
                       glm::vec3 weight, bool clear, bool count);
 
-  gl::Program program_, landed_program_, coverage_program_;
-  gl::VertexArray vao_, landed_vao_, empty_vao_;
+  // A pass on the GL: what the CPU left is uploaded first when the pass adds to it.
+  void on_the_gl(bool clear);
+
+  gl::Program program_, landed_program_;
+  gl::VertexArray vao_, landed_vao_;
   gl::Buffer positions_, normals_, colours_, indices_, counters_;
   gl::Buffer landed_vertices_, landed_indices_;
   CoverageRaster raster_;  // kept: one allocation for every frame
-  gl::Texture coverage_;
+  GLuint raster_texture_ = 0;    // the texture whose passes raster_ sums
+  bool raster_pending_ = false;  // ... not yet settled
   TriangleCounts cpu_counts_;
   const std::vector<float>* whole_image_ = nullptr;  // raster_'s image, while it is the target's content
   GLuint whole_texture_ = 0;                         // ... of this texture, which has it once uploaded

@@ -58,8 +58,7 @@ RayPass::RayPass()
                 {GL_FRAGMENT_SHADER, {"caustic.frag"}}}),
       landed_program_({{GL_VERTEX_SHADER, {"caustic_landed.vert"}},
                        {GL_GEOMETRY_SHADER, {"optics.glsl", "caustic.geom"}},
-                       {GL_FRAGMENT_SHADER, {"caustic.frag"}}}),
-      coverage_program_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"coverage.frag"}}}) {
+                       {GL_FRAGMENT_SHADER, {"caustic.frag"}}}) {
   glNamedBufferStorage(counters_.id(), sizeof(TriangleCounts), nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
 }
 
@@ -100,8 +99,7 @@ void RayPass::upload(const Mesh& mesh) {
 
 void RayPass::draw(const Scene& scene, const Placement& placement, const gl::RenderTarget& target, double ior,
                    glm::vec3 weight, bool clear, bool count) {
-  if (!clear) upload_whole_image();  // added to: the texture must hold what is there
-  whole_image_ = nullptr;
+  on_the_gl(clear);
   const auto& p = program_;
   const auto& screen = scene.screen;
   p.set("uModel", glm::mat4(placement.model));
@@ -139,57 +137,51 @@ void RayPass::draw_on_cpu(const Scene& scene, const Placement& placement, const 
 void RayPass::draw_deposited(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
                              const Scene& scene, const Placement& placement, const gl::RenderTarget& target,
                              glm::vec3 weight, bool clear, bool count) {
-  const int width = target.texture.width(), height = target.texture.height();
-  const bool grey = target.texture.format() == GL_R32F;
-  if (!clear) upload_whole_image();
-  raster_.reset(width, height, grey ? 1 : 3);
-  deposit_on_cpu(rays, triangles, scene, placement, &raster_, count ? &cpu_counts_ : nullptr);
-  if (count) counted_on_cpu_ = true;
-  const std::vector<float>& image = raster_.resolve();
-  whole_image_ = nullptr;
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  if (grey && clear && weight == glm::vec3(1.0f)) {
-    // The whole of a monochrome frame: the image is the target's content,
-    // uploaded as it is when a reader on the GL needs it (a full-size pass
-    // less on a software renderer).
-    whole_image_ = &image;
-    whole_texture_ = target.texture.id();
-    whole_uploaded_ = false;
-    return;
+  if (clear) {
+    raster_.reset(target.texture.width(), target.texture.height(), target.texture.format() == GL_R32F ? 1 : 3);
+    raster_texture_ = target.texture.id();
+  } else if (!raster_pending_ || raster_texture_ != target.texture.id()) {
+    throw EngineError("a pass set up on the CPU adds only to the CPU's passes before it");
+  } else {
+    raster_.flush();  // the passes before, deposited: the next may set other triangles up
   }
-  const GLenum format = grey ? GL_R32F : GL_RGB32F;
-  if (coverage_.width() != width || coverage_.height() != height || coverage_.format() != format)
-    coverage_ = gl::Texture(format, width, height);
-  glTextureSubImage2D(coverage_.id(), 0, 0, 0, width, height, grey ? GL_RED : GL_RGB, GL_FLOAT, image.data());
-  bind(target, clear);
-  const auto& p = coverage_program_;
-  p.set("uWeight", weight);
-  p.set("uGrey", grey);
-  p.set("uCoverage", 0);
-  glBindTextureUnit(0, coverage_.id());
-  add_up();
-  p.use();
-  glBindVertexArray(empty_vao_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
-  glDisable(GL_BLEND);
-  gl::check_errors("caustic pass (CPU deposit)");
+  whole_image_ = nullptr;
+  deposit_on_cpu(rays, triangles, scene, placement, glm::dvec3(weight), &raster_, count ? &cpu_counts_ : nullptr);
+  if (count) counted_on_cpu_ = true;
+  raster_pending_ = true;
+}
+
+void RayPass::on_the_gl(bool clear) {
+  if (!clear) upload_whole_image();  // added to: the texture must hold what is there
+  whole_image_ = nullptr;
+  raster_pending_ = false;
+}
+
+void RayPass::settle() {
+  if (!raster_pending_) return;
+  // The passes summed on the CPU are the target's whole content, uploaded
+  // when a reader on the GL needs it (a full-size pass less on a software
+  // renderer; none at all for a grey frame post-processed on the CPU).
+  whole_image_ = &raster_.resolve(true);
+  whole_texture_ = raster_texture_;
+  whole_uploaded_ = false;
+  raster_pending_ = false;
 }
 
 void RayPass::upload_whole_image() {
+  settle();
   if (!whole_image_ || whole_uploaded_) return;
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTextureSubImage2D(whole_texture_, 0, 0, 0, raster_.width(), raster_.height(), GL_RED, GL_FLOAT,
-                      whole_image_->data());
+  glTextureSubImage2D(whole_texture_, 0, 0, 0, raster_.width(), raster_.height(),
+                      raster_.channels() == 1 ? GL_RED : GL_RGBA, GL_FLOAT, whole_image_->data());
   gl::check_errors("caustic pass (CPU deposit upload)");
   whole_uploaded_ = true;
 }
 
 void RayPass::draw_landed(const LandedGrid& grid, const Scene& scene, const Placement& placement,
                           const gl::RenderTarget& target, glm::vec3 weight, bool clear, bool count, bool on_cpu) {
-  if (!clear && !on_cpu) upload_whole_image();
-  whole_image_ = nullptr;
   if (on_cpu) return draw_deposited(grid.vertices, grid.triangles, scene, placement, target, weight, clear, count);
+  on_the_gl(clear);
   if (grid.triangles.empty()) {  // no light through the solid: GL allows no empty storage
     const TriangleCounts zero{};
     if (count) {
