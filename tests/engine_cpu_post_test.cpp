@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
-// Post-processing of a grey frame on the CPU (src/engine/cpu_post.hpp).
+// Post-processing on the CPU (src/engine/cpu_post.hpp).
 // Oracles: the tone curve 255 (1 - exp(-exposure E))^(1/gamma), rounded,
 // for values spanning twelve decades and gammas across the scene format's
 // range; BT.601's limited-range Y of a grey level (16 + 219 g / 255) and
@@ -79,6 +79,37 @@ TEST(CpuPostCurve, I420IsLimitedRangeGreyWithNeutralChroma) {
     ASSERT_EQ(rgba[4 * i + 2], g);
     ASSERT_EQ(rgba[4 * i + 3], 255);
   }
+}
+
+TEST(CpuPostCurve, ColourI420IsBt601LimitedRange) {
+  // 2 x 2 blocks of black, white, the primaries and the secondaries, each
+  // channel far past white or 0; the oracle is BT.601's limited-range
+  // matrix (Y 16 + 65.481 R + 128.553 G + 24.966 B for R, G, B in [0, 1]).
+  const glm::dvec3 colours[8] = {{0, 0, 0}, {1, 1, 1}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0, 1, 1}, {1, 0, 1}};
+  const int w = 16, h = 2;
+  std::vector<float> hdr(w * h * 4);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) hdr[(y * w + x) * 4 + c] = colours[x / 2][c] > 0 ? 100.0f : 0.0f;
+  PostParams post;
+  post.bloom_strength = 0;
+  CpuPost cpu;
+  cpu.run(post, hdr, w, h, w, h, 1.0, 4);
+  ASSERT_TRUE(cpu.colour());
+  const auto i420 = cpu.i420();
+  ASSERT_EQ(i420.size(), static_cast<std::size_t>(w * h * 3 / 2));
+  for (int b = 0; b < 8; ++b) {
+    const glm::dvec3 c = colours[b];
+    const double y = 16 + 65.481 * c.r + 128.553 * c.g + 24.966 * c.b;
+    const double cb = 128 - 37.797 * c.r - 74.203 * c.g + 112.0 * c.b;
+    const double cr = 128 + 112.0 * c.r - 93.786 * c.g - 18.214 * c.b;
+    for (int k : {0, 1, w, w + 1}) EXPECT_NEAR(i420[2 * b + k], y, 0.51) << "block " << b;
+    EXPECT_NEAR(i420[w * h + b], cb, 0.51) << "block " << b;
+    EXPECT_NEAR(i420[w * h + w / 2 + b], cr, 0.51) << "block " << b;
+  }
+  const auto rgba = cpu.rgba();
+  for (int b = 0; b < 8; ++b)
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(rgba[8 * b + c], colours[b][c] > 0 ? 255 : 0);
 }
 
 namespace {
@@ -170,11 +201,49 @@ TEST_F(CpuPostAgainstGl, BothDrawTheSamePictureAndStream) {
   }
 }
 
-TEST_F(CpuPostAgainstGl, ALocalToneMapOrAColourFrameStaysOnTheGl) {
+TEST_F(CpuPostAgainstGl, AColourFrameDrawsTheSamePictureAndStream) {
+  // The lens in BK7 at three wavelengths: its focus fringed in colour. Each
+  // channel glows and maps alone on both paths; the GL's glow is in half
+  // floats, the CPU's in floats.
+  for (const int divisor : {1, 2}) {
+    SCOPED_TRACE("divisor " + std::to_string(divisor));
+    Scene s = straight_down_scene(4.0, 60.0, 30.0, 256);
+    s.render.fresnel = true;
+    s.render.wavelengths = 3;
+    s.object.glass = Glass{"bk7", optics::find_material("bk7")->law};
+    const Frame gl = draw(s, TriangleSetup::gpu, divisor), cpu = draw(s, TriangleSetup::cpu, divisor);
+    EXPECT_TRUE(cpu.stats.colour);
+    EXPECT_FALSE(gl.stats.cpu_post);
+    EXPECT_TRUE(cpu.stats.cpu_post);
+    EXPECT_NEAR(cpu.stats.exposure, gl.stats.exposure, 2e-3 * gl.stats.exposure);
+    ASSERT_EQ(cpu.ldr.pixels.size(), gl.ldr.pixels.size());
+    int worst = 0, differ = 0, tinted = 0;
+    for (std::size_t i = 0; i < gl.ldr.pixels.size(); i += 4) {
+      for (std::size_t c = 0; c < 3; ++c) {
+        const int d = std::abs(cpu.ldr.pixels[i + c] - gl.ldr.pixels[i + c]);
+        worst = std::max(worst, d);
+        differ += d > 0;
+      }
+      tinted += std::abs(gl.ldr.pixels[i] - gl.ldr.pixels[i + 2]) > 8;
+      ASSERT_EQ(cpu.ldr.pixels[i + 3], 255);
+    }
+    const int pixels = 256 * 256;
+    std::printf("colour at 1/%d: %d of %d values differ, by %d at most; %d pixels tinted\n", divisor, differ,
+                3 * pixels, worst, tinted);
+    EXPECT_GT(tinted, 20);  // a coloured picture, not a grey one in three channels
+    EXPECT_LE(worst, 2);
+    EXPECT_LT(differ, 3 * pixels / 50);
+    ASSERT_EQ(cpu.i420.size(), gl.i420.size());
+    int worst_yuv = 0;
+    for (std::size_t i = 0; i < cpu.i420.size(); ++i) worst_yuv = std::max(worst_yuv, std::abs(cpu.i420[i] - gl.i420[i]));
+    EXPECT_LE(worst_yuv, 2);
+  }
+}
+
+TEST_F(CpuPostAgainstGl, ALocalToneMapStaysOnTheGl) {
   Scene s = straight_down_scene(4.0, 60.0, 30.0, 128);
   s.post.tone_map = ToneMap::local;
   EXPECT_FALSE(draw(s, TriangleSetup::cpu, 1).stats.cpu_post);
-  s.post.tone_map = ToneMap::global;
   s.render.wavelengths = 3;
   s.object.glass = Glass{"bk7", optics::find_material("bk7")->law};
   EXPECT_FALSE(draw(s, TriangleSetup::cpu, 1).stats.cpu_post);

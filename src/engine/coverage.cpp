@@ -104,7 +104,11 @@ void CoverageRaster::use_mesh(const std::vector<glm::uvec3>& triangles, int laye
   for (int k = 0; k < layers_in_use_; ++k) {
     Layer& layer = layers_[static_cast<std::size_t>(k)];
     layer.corners.resize(vertices_);
-    layer.edge_values.assign(edges_.size(), glm::dvec3(0));
+    // A flush leaves the values it walked at 0: only a new table or a layer
+    // filled without one needs them cleared.
+    if (layer.edge_values.size() != edges_.size() || !layer.clean)
+      layer.edge_values.assign(edges_.size(), glm::dvec3(0));
+    layer.clean = false;
     if (k > 0) layer.points.clear(), layer.negative = false;  // layer 0's may hold what triangle() added
   }
   mesh_in_use_ = true;
@@ -260,6 +264,7 @@ void CoverageRaster::flush() {
     negative_ = negative_ || layer.negative;
     layer.negative = false;
     std::fill(layer.edge_values.begin(), layer.edge_values.end(), glm::dvec3(0));
+    layer.clean = true;
     layer.points.clear();
   }
 }

@@ -86,6 +86,7 @@ class CoverageRaster {
     std::vector<glm::dvec3> edge_values;
     std::vector<Point> points;
     bool negative = false;  // a value below 0 was added (a spectral weight)
+    bool clean = false;     // every edge value 0 (flushed since filled)
   };
   // Rows [lo, hi): cleared when nothing was flushed yet, what was added
   // deposited, then, when `sum`, summed along each row into the image.

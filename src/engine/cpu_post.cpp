@@ -4,6 +4,8 @@
 #include "bands.hpp"
 #include "glow.hpp"
 
+#include <glm/glm.hpp>
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -53,11 +55,15 @@ void sample_row(const float* a, const float* b, float t, const std::vector<Tap>&
 
 }  // namespace
 
-exposure::Histogram CpuPost::meter(const std::vector<float>& hdr, int width, int height) {
+exposure::Histogram CpuPost::meter(const std::vector<float>& hdr, int width, int height, int channels) {
   exposure::Histogram histogram{};
   const int k = exposure::meter_stride(width, height);
   for (int y = 0; y < height; y += k)
-    for (int x = 0; x < width; x += k) exposure::count(histogram, hdr[static_cast<std::size_t>(y) * width + x]);
+    for (int x = 0; x < width; x += k) {
+      const float* p = &hdr[(static_cast<std::size_t>(y) * width + x) * channels];
+      // shaders/local.glsl's luminance(), in the same float arithmetic.
+      exposure::count(histogram, channels == 1 ? p[0] : 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2]);
+    }
   return histogram;
 }
 
@@ -168,13 +174,30 @@ void CpuPost::levels(const float* value, float scale, int n, std::uint8_t* out) 
 }
 
 void CpuPost::run(const PostParams& post, const std::vector<float>& hdr, int width, int height, int out_width,
-                  int out_height, double exposure) {
+                  int out_height, double exposure, int channels) {
   out_width_ = out_width;
   out_height_ = out_height;
-  picture_.resize(static_cast<std::size_t>(out_width) * out_height);
+  colour_ = channels != 1;
+  const std::size_t plane = static_cast<std::size_t>(out_width) * out_height;
+  picture_.resize(colour_ ? 3 * plane : plane);
+  make_levels(post.gamma);
+  if (!colour_) return map_plane(post, hdr, width, height, exposure, picture_.data());
+  // A channel at a time, apart: the grey path's whole-row loops, three times.
+  plane_.resize(static_cast<std::size_t>(width) * height);
+  for (int c = 0; c < 3; ++c) {
+    in_bands(height, kMinBandRows, [&](int lo, int hi) {
+      for (std::size_t i = static_cast<std::size_t>(lo) * width; i < static_cast<std::size_t>(hi) * width; ++i)
+        plane_[i] = hdr[i * channels + c];
+    });
+    map_plane(post, plane_, width, height, exposure, &picture_[c * plane]);
+  }
+}
+
+void CpuPost::map_plane(const PostParams& post, const std::vector<float>& hdr, int width, int height,
+                        double exposure, std::uint8_t* picture) {
+  const int out_width = out_width_, out_height = out_height_;
   const bool bloom = post.bloom_strength > 0 && post.bloom_radius > 0;
   if (bloom) glow(post, hdr, width, height);
-  make_levels(post.gamma);
   const bool same = width == out_width && height == out_height;
   const auto across = taps(width, out_width), down = taps(height, out_height);
   const auto glow_across = taps(glow_width_, out_width), glow_down = taps(glow_height_, out_height);
@@ -198,35 +221,63 @@ void CpuPost::run(const PostParams& post, const std::vector<float>& hdr, int wid
         for (int x = 0; x < out_width; ++x) value[x] = row[x] + strength * extra[x];
         row = value.data();
       }
-      levels(row, scale, out_width, &picture_[static_cast<std::size_t>(y) * out_width]);
+      levels(row, scale, out_width, &picture[static_cast<std::size_t>(y) * out_width]);
     }
   });
 }
 
 std::vector<std::uint8_t> CpuPost::rgba() const {
-  std::vector<std::uint8_t> out(picture_.size() * 4);
+  const std::size_t plane = static_cast<std::size_t>(out_width_) * out_height_;
+  const std::size_t green = colour_ ? plane : 0, blue = colour_ ? 2 * plane : 0;
+  std::vector<std::uint8_t> out(plane * 4);
   std::size_t n = 0;
   for (int y = out_height_ - 1; y >= 0; --y)
     for (int x = 0; x < out_width_; ++x, n += 4) {
-      const std::uint8_t g = picture_[static_cast<std::size_t>(y) * out_width_ + x];
-      out[n] = out[n + 1] = out[n + 2] = g;
+      const std::size_t i = static_cast<std::size_t>(y) * out_width_ + x;
+      out[n] = picture_[i];
+      out[n + 1] = picture_[green + i];
+      out[n + 2] = picture_[blue + i];
       out[n + 3] = 255;
     }
   return out;
 }
 
 std::vector<std::uint8_t> CpuPost::i420() const {
-  // shaders/i420.frag's Y of an 8-bit grey g: 16 + (0.256788 + 0.504129 + 0.097906) g, rounded as a unorm target.
-  std::array<std::uint8_t, 256> luma{};
-  for (int g = 0; g < 256; ++g)
-    luma[g] = static_cast<std::uint8_t>(std::lround(16.0 + g * (0.256788 + 0.504129 + 0.097906)));
-  const std::size_t plane = picture_.size();
+  const std::size_t plane = static_cast<std::size_t>(out_width_) * out_height_;
   std::vector<std::uint8_t> out(plane * 3 / 2, 128);
-  for (int y = 0; y < out_height_; ++y) {
-    const std::uint8_t* row = &picture_[static_cast<std::size_t>(out_height_ - 1 - y) * out_width_];
-    std::uint8_t* dest = &out[static_cast<std::size_t>(y) * out_width_];
-    for (int x = 0; x < out_width_; ++x) dest[x] = luma[row[x]];
+  if (!colour_) {
+    // shaders/i420.frag's Y of an 8-bit grey g: 16 + (0.256788 + 0.504129 + 0.097906) g, rounded as a unorm target.
+    std::array<std::uint8_t, 256> luma{};
+    for (int g = 0; g < 256; ++g)
+      luma[g] = static_cast<std::uint8_t>(std::lround(16.0 + g * (0.256788 + 0.504129 + 0.097906)));
+    for (int y = 0; y < out_height_; ++y) {
+      const std::uint8_t* row = &picture_[static_cast<std::size_t>(out_height_ - 1 - y) * out_width_];
+      std::uint8_t* dest = &out[static_cast<std::size_t>(y) * out_width_];
+      for (int x = 0; x < out_width_; ++x) dest[x] = luma[row[x]];
+    }
+    return out;
   }
+  // shaders/i420.frag's sums in float, on levels / 255, rounded as a unorm target.
+  const auto rgb = [&](int x, int y) {  // y from the top
+    const std::size_t i = static_cast<std::size_t>(out_height_ - 1 - y) * out_width_ + x;
+    return glm::vec3(picture_[i], picture_[plane + i], picture_[2 * plane + i]) / 255.0f;
+  };
+  const auto unorm = [](float v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+  for (int y = 0; y < out_height_; ++y)
+    for (int x = 0; x < out_width_; ++x)
+      out[static_cast<std::size_t>(y) * out_width_ + x] =
+          unorm(16.0f / 255.0f + glm::dot(rgb(x, y), glm::vec3(0.256788f, 0.504129f, 0.097906f)));
+  const int half_w = out_width_ / 2, half_h = out_height_ / 2;
+  std::uint8_t* u = &out[plane];
+  std::uint8_t* v = u + static_cast<std::size_t>(half_w) * half_h;
+  for (int y = 0; y < half_h; ++y)
+    for (int x = 0; x < half_w; ++x) {
+      const glm::vec3 mean = 0.25f * (rgb(2 * x, 2 * y) + rgb(2 * x + 1, 2 * y) + rgb(2 * x, 2 * y + 1) +
+                                      rgb(2 * x + 1, 2 * y + 1));
+      const std::size_t k = static_cast<std::size_t>(y) * half_w + x;
+      u[k] = unorm(128.0f / 255.0f + glm::dot(mean, glm::vec3(-0.148223f, -0.290993f, 0.439216f)));
+      v[k] = unorm(128.0f / 255.0f + glm::dot(mean, glm::vec3(0.439216f, -0.367788f, -0.071427f)));
+    }
   return out;
 }
 

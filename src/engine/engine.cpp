@@ -168,14 +168,15 @@ bool Engine::render() {
   PostParams post = s.scene->post;
   if (s.divisor > 1) post.bloom_strength = 0;  // a preview skips the glow
   const bool automatic = post.exposure_mode == ExposureMode::automatic;
-  // A grey frame the CPU deposited is post-processed where it lies
+  // A frame the CPU deposited is post-processed where it lies
   // (cpu_post.hpp): the local operator's base stays on the GL.
   const std::vector<float>* on_cpu = post.tone_map == ToneMap::global ? s.ray.whole_image() : nullptr;
+  const int channels = s.ray.whole_channels();
   if (!on_cpu) s.ray.upload_whole_image();  // the GL's post-processing reads the texture
   const int hdr_w = s.hdr.texture.width(), hdr_h = s.hdr.texture.height();
   if (s.prepare_dirty) {
     const exposure::Histogram histogram = !on_cpu ? s.post.prepare(post, s.hdr.texture, automatic)
-                                          : automatic ? CpuPost::meter(*on_cpu, hdr_w, hdr_h)
+                                          : automatic ? CpuPost::meter(*on_cpu, hdr_w, hdr_h, channels)
                                                       : exposure::Histogram{};
     if (automatic) {
       s.stats.metered = exposure::quantile(histogram, post.auto_percentile);
@@ -191,7 +192,8 @@ bool Engine::render() {
   s.snap_exposure = false;
   s.last_post = start;
   if (on_cpu) {
-    s.cpu_post.run(post, *on_cpu, hdr_w, hdr_h, s.ldr.texture.width(), s.ldr.texture.height(), s.shown_exposure);
+    s.cpu_post.run(post, *on_cpu, hdr_w, hdr_h, s.ldr.texture.width(), s.ldr.texture.height(), s.shown_exposure,
+                   channels);
   } else {
     s.post.run(post, s.hdr.texture, s.ldr, s.shown_exposure);
     glFinish();
@@ -213,7 +215,8 @@ HdrImage Engine::read_hdr() const {
   if (t.format() != GL_R32F) return luminance(read_hdr_rgb());
   HdrImage img{t.width(), t.height(), std::vector<float>(static_cast<std::size_t>(t.width()) * t.height())};
   if (img.pixels.empty()) return img;
-  if (const std::vector<float>* whole = impl_->ray.whole_image()) {  // the CPU's, maybe not uploaded
+  const std::vector<float>* whole = impl_->ray.whole_image();  // the CPU's, maybe not uploaded
+  if (whole && impl_->ray.whole_channels() == 1) {
     gl::copy_rows_top_first(whole->data(), img.pixels.data(), static_cast<std::size_t>(img.width), img.height);
     return img;
   }
@@ -236,9 +239,14 @@ RgbHdrImage Engine::read_hdr_rgb() const {
     return img;
   }
   std::vector<float> raw(img.pixels.size());
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(t.id(), 0, GL_RGB, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(float)), raw.data());
-  gl::check_errors("HDR read-back");
+  if (const std::vector<float>* whole = impl_->ray.whole_image()) {  // the CPU's RGBA, maybe not uploaded
+    for (std::size_t i = 0; i < raw.size() / 3; ++i)
+      for (std::size_t c = 0; c < 3; ++c) raw[3 * i + c] = (*whole)[4 * i + c];
+  } else {
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(t.id(), 0, GL_RGB, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(float)), raw.data());
+    gl::check_errors("HDR read-back");
+  }
   gl::copy_rows_top_first(raw.data(), img.pixels.data(), static_cast<std::size_t>(img.width) * 3, img.height);
   return img;
 }

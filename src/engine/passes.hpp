@@ -34,12 +34,14 @@ class RayPass {
   /// After the passes of a frame: what the CPU's passes added up becomes
   /// the target's whole content (whole_image()).
   void settle();
-  /// The target's whole grey content as the CPU deposited it (rows from the
-  /// bottom) once settled, or null when it is in colour or the last draw
-  /// left it elsewhere. It reaches the target's texture only at
+  /// The target's whole content as the CPU deposited it (rows from the
+  /// bottom, whole_channels() floats a pixel) once settled, or null when the
+  /// last draw left it elsewhere. It reaches the target's texture only at
   /// upload_whole_image(): a frame post-processed on the CPU (cpu_post.hpp)
   /// never needs it there.
-  const std::vector<float>* whole_image() const { return raster_.channels() == 1 ? whole_image_ : nullptr; }
+  const std::vector<float>* whole_image() const { return whole_image_; }
+  /// 1 for a grey target; 4 (RGB and an unused fourth) for a colour one.
+  int whole_channels() const { return raster_.channels() == 1 ? 1 : 4; }
   /// Copies the CPU's whole image (grey or colour) into its target's
   /// texture, once, for a reader on the GL.
   void upload_whole_image();
