@@ -11,9 +11,11 @@ layout(location = 0) out vec4 outBlurred;
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
-  ivec2 last = textureSize(uSource, 0) - 1;
+  // Clamped to the texel's own tile (glow_cuts.glsl), as to the image's edge.
+  ivec4 tile = glowTile(p);
+  ivec2 first = tile.xy, last = tile.zw - 1;
   vec3 sum = vec3(0.0);
   for (int k = -uRadius; k <= uRadius; ++k)
-    sum += uWeights[abs(k)] * texelFetch(uSource, clamp(p + k * uStep, ivec2(0), last), 0).rgb;
+    sum += uWeights[abs(k)] * texelFetch(uSource, clamp(p + k * uStep, first, last), 0).rgb;
   outBlurred = vec4(sum, 1.0);
 }

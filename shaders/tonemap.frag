@@ -7,6 +7,7 @@ uniform sampler2D uHdr;
 uniform vec2 uOutputSize;
 uniform sampler2D uBloom;
 uniform float uBloomStrength;
+uniform int uShrink;  // the glow's texels per picture pixel, each way
 uniform float uExposure;
 uniform float uGamma;
 uniform bool uGrey;  // a monochrome frame: R = G = B, mapped once
@@ -16,7 +17,16 @@ void main() {
   vec2 uv = gl_FragCoord.xy / uOutputSize;
   vec3 hdr = textureSize(uHdr, 0) == ivec2(uOutputSize) ? texelFetch(uHdr, ivec2(gl_FragCoord.xy), 0).rgb
                                                         : texture(uHdr, uv).rgb;
-  vec3 bloom = uBloomStrength > 0.0 ? texture(uBloom, uv).rgb : vec3(0.0);
+  vec3 bloom = vec3(0.0);
+  if (uBloomStrength > 0.0) {
+    // Sampled within the tile of the picture's pixel under this one
+    // (glow_cuts.glsl): bilinear filtering stops at the tile's texel centres.
+    ivec2 hdrSize = textureSize(uHdr, 0), glowSize = textureSize(uBloom, 0);
+    ivec2 pixel = min(ivec2(uv * vec2(hdrSize)), hdrSize - 1);
+    ivec4 tile = glowTile(min(pixel / uShrink, glowSize - 1));
+    vec2 at = clamp(uv * vec2(glowSize), vec2(tile.xy) + 0.5, vec2(tile.zw) - 0.5);
+    bloom = texture(uBloom, at / vec2(glowSize)).rgb;
+  }
   // Per channel: a saturated colour too bright for the screen desaturates
   // towards white, as film and eyes show it, instead of clipping its hue.
   vec3 value = max(hdr + uBloomStrength * bloom, 0.0) * local_factor(uv);

@@ -8,6 +8,7 @@
 #include "caustic/receivers.hpp"
 #include "caustic/reference.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -149,4 +150,32 @@ TEST_F(EngineReceivers, OneEdgeOnToTheLightCatchesNothingAndBreaksNothing) {
   EXPECT_TRUE(all_finite(img));
   EXPECT_EQ(tile_flux(img, s, 1), 0.0);
   EXPECT_NEAR(tile_flux(img, s, 2), 400.0, 0.04);
+}
+
+TEST_F(EngineReceivers, TheGlowStaysOnTheSurfaceItsLightReached) {
+  // The slab's square of light on a receiver, the atlas's right tile, its
+  // left edge 21 px from the tile of the parked screen on the left; a glow
+  // of 16 px reaches 48. The atlas lays unrelated surfaces side by side, so
+  // both post-processing paths stop the glow at its tile's edges.
+  Scene s = base_scene(256);
+  s.receivers = {rectangle({0, 0, -20}, {0, 0, 1}, {0, 1, 0}, 30, 30)};
+  s.post.bloom_threshold = 0.1;
+  s.post.bloom_strength = 1.0;
+  s.post.bloom_radius = 16;
+  for (const TriangleSetup setup : {TriangleSetup::gpu, TriangleSetup::cpu}) {
+    SCOPED_TRACE(setup == TriangleSetup::gpu ? "on the GL" : "on the CPU");
+    engine_->set_triangle_setup(setup);
+    const HdrImage hdr = render(s, slab());
+    EXPECT_EQ(engine_->stats().cpu_post, setup == TriangleSetup::cpu);
+    const Rgba8Image ldr = engine_->read_ldr();
+    const auto at = [&](int x, int y) { return static_cast<int>(ldr.pixels[(static_cast<std::size_t>(y) * 256 + x) * 4]); };
+    int on_screen = 0;
+    for (int y = 0; y < 256; ++y)
+      for (int x = 0; x < 128; ++x) on_screen = std::max(on_screen, at(x, y));
+    EXPECT_EQ(on_screen, 0) << "the receiver's glow reached the screen's tile";
+    // Beside the square within its own tile: dark in the HDR image, lit by the glow.
+    EXPECT_EQ(hdr.pixels[128 * 256 + 140], 0.0f);
+    EXPECT_GT(at(140, 128), 8);
+    EXPECT_GT(at(128, 128), 0);  // the tile's first column glows too
+  }
 }

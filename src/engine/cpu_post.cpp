@@ -41,6 +41,19 @@ std::vector<Tap> taps(int from, int to) {
   return out;
 }
 
+// The glow's taps of each output pixel kept within the tile of the picture's
+// pixel under it (`cuts` in glow texels, glow.hpp), as tonemap.frag clamps
+// its glow coordinate: no tile shows its neighbour's glow.
+void confine(std::vector<Tap>& glow_taps, const std::vector<int>& cuts, int pixels, int shrink) {
+  const int out = static_cast<int>(glow_taps.size());
+  for (int i = 0; i < out; ++i) {
+    const int pixel = std::min(static_cast<int>((i + 0.5) * pixels / out), pixels - 1);
+    const auto [first, end] = glow_segment(cuts, std::min(pixel / shrink, cuts.back() - 1));
+    glow_taps[i].lo = std::clamp(glow_taps[i].lo, first, end - 1);
+    glow_taps[i].hi = std::clamp(glow_taps[i].hi, first, end - 1);
+  }
+}
+
 // One row of a bilinearly sampled image: rows a and b mixed by t into
 // `mixed` (a whole row at once, which vectorises), then taps across.
 void sample_row(const float* a, const float* b, float t, const std::vector<Tap>& across, std::vector<float>& mixed,
@@ -102,22 +115,28 @@ void CpuPost::glow(const PostParams& post, const std::vector<float>& hdr, int wi
   std::vector<float> weight(2 * radius + 1);
   for (int k = -radius; k <= radius; ++k) weight[k + radius] = static_cast<float>(exact[std::abs(k)]);
 
-  // Across (into scratch_), each row padded with its edge texels as the clamp
-  // to edge reads them; then down (back into glow_), row by row, so that
-  // both directions are sums of whole rows the compiler can vectorise.
+  // Across (into scratch_), each tile's run of a row padded with its edge
+  // texels as the clamp to edge reads them (glow.hpp's cuts); then down
+  // (back into glow_), row by row, so that both directions are sums of
+  // whole rows the compiler can vectorise.
+  cuts_ = glow_cuts(tiles_, height, shrink, bw, bh);
   in_bands(bh, kMinBandRows / shrink, [&](int lo, int hi) {
-    std::vector<float> padded(static_cast<std::size_t>(bw + 2 * radius));
+    std::vector<float> padded;
     for (int by = lo; by < hi; ++by) {
-      const float* row = &glow_[static_cast<std::size_t>(by) * bw];
-      std::fill_n(padded.begin(), radius, row[0]);
-      std::copy_n(row, bw, padded.begin() + radius);
-      std::fill_n(padded.begin() + radius + bw, radius, row[bw - 1]);
-      float* out = &scratch_[static_cast<std::size_t>(by) * bw];
-      std::fill(out, out + bw, 0.0f);
-      for (int k = 0; k <= 2 * radius; ++k) {
-        const float w = weight[k];
-        const float* in = padded.data() + k;
-        for (int bx = 0; bx < bw; ++bx) out[bx] += w * in[bx];
+      for (std::size_t c = 0; c + 1 < cuts_.x.size(); ++c) {
+        const int a = cuts_.x[c], n = cuts_.x[c + 1] - a;
+        const float* row = &glow_[static_cast<std::size_t>(by) * bw + a];
+        padded.resize(static_cast<std::size_t>(n + 2 * radius));
+        std::fill_n(padded.begin(), radius, row[0]);
+        std::copy_n(row, n, padded.begin() + radius);
+        std::fill_n(padded.begin() + radius + n, radius, row[n - 1]);
+        float* out = &scratch_[static_cast<std::size_t>(by) * bw + a];
+        std::fill(out, out + n, 0.0f);
+        for (int k = 0; k <= 2 * radius; ++k) {
+          const float w = weight[k];
+          const float* in = padded.data() + k;
+          for (int bx = 0; bx < n; ++bx) out[bx] += w * in[bx];
+        }
       }
     }
   });
@@ -125,9 +144,10 @@ void CpuPost::glow(const PostParams& post, const std::vector<float>& hdr, int wi
     for (int by = lo; by < hi; ++by) {
       float* out = &glow_[static_cast<std::size_t>(by) * bw];
       std::fill(out, out + bw, 0.0f);
+      const auto [first, end] = glow_segment(cuts_.y, by);
       for (int k = -radius; k <= radius; ++k) {
         const float w = weight[k + radius];
-        const float* in = &scratch_[static_cast<std::size_t>(std::clamp(by + k, 0, bh - 1)) * bw];
+        const float* in = &scratch_[static_cast<std::size_t>(std::clamp(by + k, first, end - 1)) * bw];
         for (int bx = 0; bx < bw; ++bx) out[bx] += w * in[bx];
       }
     }
@@ -174,7 +194,8 @@ void CpuPost::levels(const float* value, float scale, int n, std::uint8_t* out) 
 }
 
 void CpuPost::run(const PostParams& post, const std::vector<float>& hdr, int width, int height, int out_width,
-                  int out_height, double exposure, int channels) {
+                  int out_height, double exposure, int channels, const std::vector<AtlasTile>& tiles) {
+  tiles_ = tiles;
   out_width_ = out_width;
   out_height_ = out_height;
   colour_ = channels != 1;
@@ -200,7 +221,12 @@ void CpuPost::map_plane(const PostParams& post, const std::vector<float>& hdr, i
   if (bloom) glow(post, hdr, width, height);
   const bool same = width == out_width && height == out_height;
   const auto across = taps(width, out_width), down = taps(height, out_height);
-  const auto glow_across = taps(glow_width_, out_width), glow_down = taps(glow_height_, out_height);
+  auto glow_across = taps(glow_width_, out_width), glow_down = taps(glow_height_, out_height);
+  if (bloom) {
+    const int shrink = glow_shrink(post.bloom_radius);
+    confine(glow_across, cuts_.x, width, shrink);
+    confine(glow_down, cuts_.y, height, shrink);
+  }
   const float strength = bloom ? static_cast<float>(post.bloom_strength) : 0.0f, scale = static_cast<float>(exposure);
   in_bands(out_height, kMinBandRows, [&](int lo, int hi) {
     std::vector<float> value(static_cast<std::size_t>(out_width)), extra(value.size());

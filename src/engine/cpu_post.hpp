@@ -13,6 +13,8 @@
 #pragma once
 
 #include "caustic/exposure.hpp"
+#include "caustic/receivers.hpp"
+#include "glow.hpp"
 #include "caustic/scene.hpp"
 
 #include <array>
@@ -34,8 +36,10 @@ class CpuPost {
   /// `channels` as meter() takes them) into an `out_width` x `out_height`
   /// 8-bit picture, grey or RGB, upsampled bilinearly when smaller (a
   /// preview), as PostPass::run draws it.
+  /// `tiles`: the atlas's (atlas_layout()), whose edges the glow stops at
+  /// (glow.hpp); none, the whole picture.
   void run(const PostParams& post, const std::vector<float>& hdr, int width, int height, int out_width,
-           int out_height, double exposure, int channels = 1);
+           int out_height, double exposure, int channels = 1, const std::vector<AtlasTile>& tiles = {});
 
   /// The last picture, rows from the bottom, one byte a pixel: one plane,
   /// or R, G and B one after the other for a colour frame.
@@ -63,6 +67,8 @@ class CpuPost {
   void levels(const float* value, float scale, int n, std::uint8_t* out) const;
 
   std::vector<float> glow_, scratch_;
+  std::vector<AtlasTile> tiles_;
+  GlowCuts cuts_;
   int glow_width_ = 0, glow_height_ = 0;
   std::array<float, 258> thresholds_{};
   std::vector<std::uint8_t> first_;

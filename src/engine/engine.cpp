@@ -6,6 +6,7 @@
 #include "readback.hpp"
 
 #include "caustic/light_grid.hpp"
+#include "caustic/receivers.hpp"
 #include "caustic/spectral.hpp"
 
 #include <algorithm>
@@ -191,11 +192,13 @@ bool Engine::render() {
                                                                      post.exposure_adapt_s);
   s.snap_exposure = false;
   s.last_post = start;
+  // The tiles the caustic pass drew (cpu_setup.cpp, caustic.geom): a glow stops at their edges.
+  const auto tiles = atlas_layout(hdr_w, hdr_h, receiving_surfaces(*s.scene).size());
   if (on_cpu) {
     s.cpu_post.run(post, *on_cpu, hdr_w, hdr_h, s.ldr.texture.width(), s.ldr.texture.height(), s.shown_exposure,
-                   channels);
+                   channels, tiles);
   } else {
-    s.post.run(post, s.hdr.texture, s.ldr, s.shown_exposure);
+    s.post.run(post, s.hdr.texture, s.ldr, s.shown_exposure, tiles);
     glFinish();
   }
   s.picture_on_cpu = on_cpu != nullptr;

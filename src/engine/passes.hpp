@@ -90,8 +90,10 @@ class PostPass {
   /// (exposure.hpp); otherwise an empty histogram.
   exposure::Histogram prepare(const PostParams& post, const gl::Texture& hdr, bool meter);
   /// Bright pass and blur at reduced resolution, then tone mapping into `ldr`
-  /// with `exposure` (the base of the last prepare() when local).
-  void run(const PostParams& post, const gl::Texture& hdr, const gl::RenderTarget& ldr, double exposure);
+  /// with `exposure` (the base of the last prepare() when local). The glow
+  /// stops at the edges of the atlas's `tiles` (glow.hpp).
+  void run(const PostParams& post, const gl::Texture& hdr, const gl::RenderTarget& ldr, double exposure,
+           const std::vector<AtlasTile>& tiles);
 
  private:
   gl::Program bright_, blur_, tonemap_, base_down_, base_bilateral_, meter_;

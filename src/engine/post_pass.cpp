@@ -11,6 +11,16 @@
 namespace caustic {
 namespace {
 
+// glow_cuts.glsl's uniforms.
+void set_cuts(const gl::Program& program, const GlowCuts& cuts) {
+  for (const auto& [axis, values] : {std::pair{'X', &cuts.x}, std::pair{'Y', &cuts.y}}) {
+    if (values->size() > kMaxGlowCuts) throw EngineError("more tile edges than glow_cuts.glsl takes");
+    program.set((std::string("uCutCount") + axis).c_str(), static_cast<int>(values->size()));
+    for (std::size_t k = 0; k < values->size(); ++k)
+      program.set((std::string("uCuts") + axis + "[" + std::to_string(k) + "]").c_str(), (*values)[k]);
+  }
+}
+
 float local_strength(const PostParams& post) {
   return post.tone_map == ToneMap::local ? static_cast<float>(post.local_strength) : 0.0f;
 }
@@ -19,8 +29,9 @@ float local_strength(const PostParams& post) {
 
 PostPass::PostPass()
     : bright_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"bright.frag"}}}),
-      blur_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"blur.frag"}}}),
-      tonemap_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"local.glsl", "tonemap.frag"}}}),
+      blur_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"glow_cuts.glsl", "blur.frag"}}}),
+      tonemap_({{GL_VERTEX_SHADER, {"fullscreen.vert"}},
+                {GL_FRAGMENT_SHADER, {"local.glsl", "glow_cuts.glsl", "tonemap.frag"}}}),
       base_down_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"local.glsl", "base_down.frag"}}}),
       base_bilateral_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"base_bilateral.frag"}}}),
       meter_({{GL_VERTEX_SHADER, {"fullscreen.vert"}}, {GL_FRAGMENT_SHADER, {"local.glsl", "meter.frag"}}}) {}
@@ -73,17 +84,18 @@ exposure::Histogram PostPass::prepare(const PostParams& post, const gl::Texture&
   return histogram;
 }
 
-void PostPass::run(const PostParams& post, const gl::Texture& hdr, const gl::RenderTarget& ldr, double exposure) {
+void PostPass::run(const PostParams& post, const gl::Texture& hdr, const gl::RenderTarget& ldr, double exposure,
+                   const std::vector<AtlasTile>& tiles) {
   glDisable(GL_BLEND);
   glBindVertexArray(empty_vao_.id());
   const bool bloom = post.bloom_strength > 0 && post.bloom_radius > 0;
+  const int shrink = glow_shrink(post.bloom_radius);
   if (bloom) {
     // The glow is computed on a smaller image: a full-resolution float blur
     // costs as much as the caustic itself on a CPU renderer, and a glow needs
     // no fine detail. Half, quarter or eighth size, keeping the Gaussian at
     // least 2 texels wide so that the bilinear upsampling in the tone map
     // stays smooth; each step down makes the blur ~8x cheaper.
-    const int shrink = glow_shrink(post.bloom_radius);
     const int bw = std::max(1, hdr.width() / shrink), bh = std::max(1, hdr.height() / shrink);
     // A colour frame glows in colour; a grey one keeps one channel, a
     // quarter of the blur's memory traffic, in full floats: a software
@@ -104,6 +116,8 @@ void PostPass::run(const PostParams& post, const gl::Texture& hdr, const gl::Ren
 
     const std::vector<double> weights = glow_weights(post.bloom_radius, shrink);
     const int radius = static_cast<int>(weights.size()) - 1;
+    set_cuts(blur_, glow_cuts(tiles, hdr.height(), shrink, bw, bh));
+    set_cuts(tonemap_, glow_cuts(tiles, hdr.height(), shrink, bw, bh));
     blur_.use();
     blur_.set("uSource", 0);
     blur_.set("uRadius", radius);
@@ -128,6 +142,7 @@ void PostPass::run(const PostParams& post, const gl::Texture& hdr, const gl::Ren
   tonemap_.set("uBase", 2);
   tonemap_.set("uLocalStrength", local_strength(post));
   tonemap_.set("uBloomStrength", bloom ? static_cast<float>(post.bloom_strength) : 0.0f);
+  tonemap_.set("uShrink", shrink);
   tonemap_.set("uExposure", static_cast<float>(exposure));
   tonemap_.set("uGamma", static_cast<float>(post.gamma));
   tonemap_.set("uOutputSize", glm::vec2(ldr.texture.width(), ldr.texture.height()));
