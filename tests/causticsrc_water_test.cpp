@@ -46,6 +46,40 @@ TEST_F(CausticSrc, WaterMovesWithTheStreamAndDropsShowInIt) {
   EXPECT_TRUE(shown);
 }
 
+TEST_F(CausticSrc, WaterSteppedOnTheGlMovesAndComesBackWhenTheStreamStops) {
+  // water-solver=gl on any renderer (llvmpipe runs the compute shaders
+  // too): the pool's steps go to the GL while the stream runs, a drop still
+  // shows, and stopping hands the water back to the pool's own solver.
+  start("causticsrc name=src water-solver=gl scene=" + scene("pool") +
+        " width=64 height=64 framerate=30/1 ! appsink name=sink");
+  gint solver = -1;
+  g_object_get(src_, "water-solver", &solver, nullptr);
+  GParamSpec* spec = g_object_class_find_property(G_OBJECT_GET_CLASS(src_), "water-solver");
+  ASSERT_NE(spec, nullptr);
+  const GEnumValue* value = g_enum_get_value(G_PARAM_SPEC_ENUM(spec)->enum_class, solver);
+  ASSERT_NE(value, nullptr);
+  EXPECT_STREQ(value->value_nick, "gl");
+  Frame first = take(pull());
+  const auto pool = caustic::gst::water_pool(src_);
+  ASSERT_TRUE(pool);
+  std::uint64_t step = first.water_step;
+  int moved = 0;
+  for (int i = 0; i < 300 && moved < 3; ++i) {
+    const Frame f = take(pull());
+    if (f.water_step != step) ++moved, step = f.water_step;
+  }
+  EXPECT_EQ(moved, 3) << "the water did not move";
+  EXPECT_TRUE(pool->attached());
+  const auto drop = pool->post({0.0, 0.0, 0.02, 0.08});
+  ASSERT_TRUE(drop.has_value());
+  bool shown = false;
+  for (int frames = 0; frames < 300 && !shown; ++frames) shown = pool->proxy(take(pull()).water_step).drops >= *drop;
+  EXPECT_TRUE(shown);
+  pipeline_.reset();
+  EXPECT_FALSE(pool->attached());
+  EXPECT_GE(pool->solver().steps(), step);
+}
+
 TEST_F(CausticSrc, PausedWaterStands) {
   start("causticsrc name=src scene=" + scene("pool") + " width=64 height=64 framerate=30/1 ! appsink name=sink");
   take(pull());

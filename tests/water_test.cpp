@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <string>
 #include <numeric>
+#include <stdexcept>
 #include <vector>
 
 namespace caustic::water {
@@ -176,6 +177,29 @@ TEST(WaveSolver, RunsRepeatBitForBit) {
   WaveSolver c(p);
   for (int i = 0; i < 600; ++i) c.step();
   EXPECT_NE(a.heights(), c.heights());
+}
+
+TEST(WaveSolver, ARestoredStateGoesOnBitForBit) {
+  // Another solver's state, taken mid-storm: the steps that follow are the
+  // first solver's own, rain and wind included.
+  WaveParams p;
+  p.rain_rate = 30;
+  p.wind_height = 2e-3;
+  p.damping = 0.3;
+  WaveSolver a(p), b(p);
+  for (int i = 0; i < 300; ++i) a.step();
+  b.restore(a.state());
+  for (int i = 0; i < 300; ++i) a.step(), b.step();
+  EXPECT_EQ(a.heights(), b.heights());
+  EXPECT_EQ(a.raindrops(), b.raindrops());
+  EXPECT_EQ(a.steps(), b.steps());
+  EXPECT_GT(a.raindrops(), 10u);
+  WaveParams other = p;
+  other.grid = 64;
+  other.rain_rate = 0;
+  WaveSolver c(other);
+  EXPECT_THROW(c.restore(a.state()), std::invalid_argument);
+  EXPECT_EQ(c.steps(), 0u);
 }
 
 }  // namespace

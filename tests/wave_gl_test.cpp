@@ -3,7 +3,8 @@
 // water_test.cpp holds the CPU's (docs/physics.md §14): a ring's speed, the
 // damping's decay rate, the scheme's energy to float rounding, no growth at
 // the largest step, the kept volume; then against the CPU solver with rain,
-// wind and drops, and against itself run twice.
+// wind and drops, and against itself run twice; then taking the CPU's state
+// over and handing it back, alone and stepping a pool.
 #include "caustic/wave_gl.hpp"
 #include "gl_test_support.hpp"
 #include "water_test_support.hpp"
@@ -11,6 +12,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
+#include <stdexcept>
 
 namespace caustic::water {
 namespace {
@@ -128,6 +131,71 @@ TEST_F(WaveGl, RunsRepeatBitForBit) {
   WaveSolverGl c(p);
   for (int i = 0; i < 200; ++i) c.step();
   EXPECT_NE(a.heights(), c.heights());
+}
+
+TEST_F(WaveGl, TakesTheCpusStateOverAndHandsItBack) {
+  // Warmed on the CPU (rain, wind, a drop), stepped on the GL, handed back
+  // and stepped on the CPU again: the same water as the CPU alone, to the
+  // GL's float rounding, with the rain's schedule kept across both.
+  const WaveParams p = stormy();
+  WaveSolver alone(p), handed(p);
+  alone.drop(0.3, -0.2, 2e-3, 0.05);
+  handed.drop(0.3, -0.2, 2e-3, 0.05);
+  for (int i = 0; i < 100; ++i) alone.step(), handed.step();
+  WaveSolverGl gl(p, handed.state());
+  EXPECT_EQ(gl.steps(), handed.steps());
+  EXPECT_EQ(gl.time(), handed.time());
+  for (int i = 0; i < 100; ++i) alone.step(), gl.step();
+  handed.restore(gl.state());
+  for (int i = 0; i < 100; ++i) alone.step(), handed.step();
+  EXPECT_EQ(handed.steps(), alone.steps());
+  EXPECT_EQ(handed.time(), alone.time());
+  EXPECT_EQ(handed.raindrops(), alone.raindrops());
+  EXPECT_GT(alone.raindrops(), 0u);
+  double worst = 0;
+  for (std::size_t k = 0; k < alone.heights().size(); ++k)
+    worst = std::max(worst, std::abs(handed.heights()[k] - alone.heights()[k]));
+  EXPECT_GT(peak(alone.heights()), 1e-4);
+  EXPECT_LT(worst, 1e-4 * peak(alone.heights()));
+  EXPECT_THROW(WaveSolverGl(p, WaveState{{0.0}, {0.0}, 0, 0, 0.0, Rain(p, 1, 0)}), std::invalid_argument);
+}
+
+TEST_F(WaveGl, APoolSteppedOnTheGlMovesAsOnTheCpu) {
+  // Two pools from one warmed surface, one stepping on the GL: after frames,
+  // drops posted between them and a retune (more rain) while attached, the
+  // same surface; then detached, it goes on on the CPU.
+  WaveParams p = stormy();
+  p.warmup_s = 0.5;
+  const WaveSolver warmed = warmed_up(p);
+  Pool cpu(warmed), gl(warmed);
+  gl.attach([](const WaveParams& params, const WaveState& state) {
+    return std::make_unique<WaveSolverGl>(params, state);
+  });
+  ASSERT_TRUE(gl.attached());
+  const auto frames = [&](const WaveParams& params, int count) {
+    for (int f = 0; f < count; ++f) {
+      EXPECT_EQ(cpu.advance(params, 1.0 / 30), gl.advance(params, 1.0 / 30));
+      EXPECT_EQ(gl.step(), cpu.step());
+    }
+  };
+  frames(p, 10);
+  for (Pool* pool : {&cpu, &gl}) ASSERT_TRUE(pool->post({0.1, 0.2, 2e-3, 0.05}).has_value());
+  frames(p, 10);
+  p.rain_rate *= 3;
+  frames(p, 10);
+  gl.detach();
+  EXPECT_FALSE(gl.attached());
+  frames(p, 10);
+  EXPECT_EQ(gl.drops(), 1u);
+  EXPECT_EQ(gl.solver().raindrops(), cpu.solver().raindrops());
+  const auto& a = cpu.solver().heights();
+  const auto& b = gl.solver().heights();
+  double worst = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(a[k] - b[k]));
+  EXPECT_GT(peak(a), 1e-4);
+  EXPECT_LT(worst, 1e-4 * peak(a));
+  // Its mesh is the surface it stepped to.
+  EXPECT_EQ(gl.mesh()->positions.size(), a.size());
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/engine.hpp"
+#include "caustic/gl_context.hpp"
 
 #include "cpu_post.hpp"
 #include "passes.hpp"
@@ -30,8 +31,7 @@ bool same_caustic(const Scene& a, const Scene& b) {
 // Mesa's software rasterisers run the geometry stage on one thread.
 bool software_renderer() {
   const auto* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-  const std::string renderer = name ? name : "";
-  return renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos;
+  return is_software_renderer(name ? name : "");
 }
 
 }  // namespace

@@ -146,6 +146,12 @@ void GlContext::make_current() {
 void GlContext::release_current() { eglMakeCurrent(state_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT); }
 
 const std::string& GlContext::renderer() const { return state_->renderer; }
+
+bool GlContext::software() const { return is_software_renderer(state_->renderer); }
+
+bool is_software_renderer(const std::string& renderer) {
+  return renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos;
+}
 const std::string& GlContext::version() const { return state_->version; }
 
 }  // namespace caustic

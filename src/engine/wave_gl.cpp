@@ -7,6 +7,8 @@
 #include <array>
 #include <cmath>
 #include <complex>
+#include <stdexcept>
+#include <utility>
 
 namespace caustic::water {
 namespace {
@@ -40,6 +42,13 @@ struct WaveSolverGl::State {
   gl::Buffer rows, columns;
 
   explicit State(const WaveParams& p) : params(p), rain(p, p.seed, 0) {}
+  std::vector<double> read(int which) const {
+    const auto cells = static_cast<std::size_t>(params.grid) * static_cast<std::size_t>(params.grid);
+    std::vector<float> floats(cells);
+    glGetNamedBufferSubData(at(which).id(), 0, static_cast<GLsizeiptr>(cells * sizeof(float)), floats.data());
+    gl::check_errors("reading the GL wave solver's heights back");
+    return {floats.begin(), floats.end()};
+  }
   const gl::Buffer& at(int which) const { return heights[static_cast<std::size_t>((steps + which) % 3)]; }
   void dispatch() const {
     const GLuint groups = static_cast<GLuint>((params.grid + kGroup - 1) / kGroup);
@@ -81,6 +90,23 @@ WaveSolverGl::WaveSolverGl(const WaveParams& params) {
   s.rows = floats(rows.size(), rows.data());
   s.columns = floats(columns.size(), columns.data());
   gl::check_errors("the GL wave solver's buffers");
+}
+
+WaveSolverGl::WaveSolverGl(const WaveParams& params, const WaveState& state) : WaveSolverGl(params) {
+  const auto cells = static_cast<std::size_t>(params.grid) * static_cast<std::size_t>(params.grid);
+  if (state.before.size() != cells || state.now.size() != cells)
+    throw std::invalid_argument("a wave state of another grid");
+  State& s = *state_;
+  s.steps = state.steps;
+  s.raindrops = state.raindrops;
+  s.time = state.time;
+  s.rain = state.rain;
+  // Before and now where the rotation finds them at this step count.
+  for (const auto& [which, heights] : {std::pair{0, &state.before}, std::pair{1, &state.now}}) {
+    const std::vector<float> floats(heights->begin(), heights->end());
+    glNamedBufferSubData(s.at(which).id(), 0, static_cast<GLsizeiptr>(cells * sizeof(float)), floats.data());
+  }
+  gl::check_errors("the GL wave solver's state");
 }
 
 WaveSolverGl::~WaveSolverGl() = default;
@@ -158,12 +184,11 @@ std::uint64_t WaveSolverGl::raindrops() const { return state_->raindrops; }
 
 void WaveSolverGl::finish() const { glFinish(); }
 
-std::vector<double> WaveSolverGl::heights() const {
-  const auto cells = static_cast<std::size_t>(state_->params.grid) * static_cast<std::size_t>(state_->params.grid);
-  std::vector<float> read(cells);
-  glGetNamedBufferSubData(state_->at(1).id(), 0, static_cast<GLsizeiptr>(cells * sizeof(float)), read.data());
-  gl::check_errors("reading the GL wave solver's heights back");
-  return {read.begin(), read.end()};
+std::vector<double> WaveSolverGl::heights() const { return state_->read(1); }
+
+WaveState WaveSolverGl::state() const {
+  const State& s = *state_;
+  return {s.read(0), s.read(1), s.steps, s.raindrops, s.time, s.rain};
 }
 
 }  // namespace caustic::water

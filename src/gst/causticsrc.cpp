@@ -14,6 +14,8 @@
  * changing (progressive=true), frames are previews (level 1: a coarser mesh
  * level, the caustic at 1/preview-divisor of the size, no bloom); once they
  * have been still for settle-ms, one full-quality frame (level 0) follows.
+ * A scene with water moves it by the stream's clock, stepped on the GL when
+ * the renderer is a GPU (water-solver=auto), or where water-solver says.
  *
  * ## Example launch line
  * |[
@@ -47,7 +49,7 @@ G_DEFINE_TYPE(GstCausticSrc, gst_caustic_src, GST_TYPE_PUSH_SRC)
 
 enum { PROP_0, PROP_SCENE, PROP_WIDTH, PROP_HEIGHT, PROP_FRAMERATE, PROP_RENDERS, PROP_OVERRUNS, PROP_PROGRESSIVE, PROP_SETTLE_MS,
        PROP_PREVIEW_DIVISOR, PROP_PREVIEW_MESH, PROP_PICTURE_VERSION,
-       PROP_STILL_INTERVAL_MS, PROP_SKIPPED };
+       PROP_STILL_INTERVAL_MS, PROP_SKIPPED, PROP_WATER_SOLVER };
 
 static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
     "src", GST_PAD_SRC, GST_PAD_ALWAYS,
@@ -73,6 +75,7 @@ static void gst_caustic_src_set_property(GObject* object, guint id, const GValue
     case PROP_PREVIEW_DIVISOR: s.source.progressive.divisor = g_value_get_int(value); break;
     case PROP_PREVIEW_MESH: s.source.progressive.mesh = g_value_get_int(value); break;
     case PROP_STILL_INTERVAL_MS: s.still_interval = g_value_get_uint(value) * GST_MSECOND; break;
+    case PROP_WATER_SOLVER: s.source.water_solver = static_cast<caustic::gst::WaterSolver>(g_value_get_enum(value)); break;
     default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
 }
@@ -94,6 +97,7 @@ static void gst_caustic_src_get_property(GObject* object, guint id, GValue* valu
     case PROP_PREVIEW_MESH: g_value_set_int(value, s.source.progressive.mesh); break;
     case PROP_STILL_INTERVAL_MS: g_value_set_uint(value, static_cast<guint>(s.still_interval / GST_MSECOND)); break;
     case PROP_SKIPPED: g_value_set_uint64(value, s.skipped.load()); break;
+    case PROP_WATER_SOLVER: g_value_set_enum(value, static_cast<gint>(s.source.water_solver)); break;
     default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
 }
@@ -367,6 +371,10 @@ static void gst_caustic_src_class_init(GstCausticSrcClass* klass) {
       gobject, PROP_SKIPPED,
       g_param_spec_uint64("skipped", "Skipped", "Frames not sent because the picture was unchanged (still-interval-ms)",
                           0, G_MAXUINT64, 0, static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
+  g_object_class_install_property(
+      gobject, PROP_WATER_SOLVER,
+      g_param_spec_enum("water-solver", "Water solver", "Where a scene's water steps: auto, cpu or gl",
+                        caustic::gst::water_solver_type(), 0, rw));
   gst_element_class_set_static_metadata(element, "Caustic source", "Source/Video",
                                         "Renders the caustic of a refractive or reflective object, live",
                                         "causticd developers");

@@ -74,4 +74,17 @@ std::shared_ptr<ParamStore> param_store(GstElement* causticsrc) {
   return s->params;
 }
 
+GType water_solver_type() {
+  static GType type = 0;
+  if (g_once_init_enter(&type)) {
+    static const GEnumValue values[] = {
+        {static_cast<gint>(WaterSolver::automatic), "On the GL when the renderer is a GPU, else on the CPU", "auto"},
+        {static_cast<gint>(WaterSolver::cpu), "On the CPU", "cpu"},
+        {static_cast<gint>(WaterSolver::gl), "On the GL (compute shaders)", "gl"},
+        {0, nullptr, nullptr}};
+    g_once_init_leave(&type, g_enum_register_static("CausticWaterSolver", values));
+  }
+  return type;
+}
+
 }  // namespace caustic::gst

@@ -48,6 +48,10 @@ struct State {
 /// Gives the stream its water as it starts (causticsrc_api.cpp). Under s.lock.
 void start_water(State& s);
 
+/// The GEnum of the water-solver property: WaterSolver's values, by the
+/// nicks "auto", "cpu" and "gl" (causticsrc_api.cpp).
+GType water_solver_type();
+
 }  // namespace caustic::gst
 
 struct GstCausticSrc {

@@ -2,8 +2,10 @@
 #include "frame_source.hpp"
 
 #include "caustic/gst/frame_meta.hpp"
+#include "caustic/wave_gl.hpp"
 
 #include <cstring>
+#include <optional>
 
 GST_DEBUG_CATEGORY_EXTERN(caustic_src_debug);
 
@@ -37,6 +39,45 @@ WaterPacing& water_pacing(FrameSource& source) {
   const double budget = p.water_budget * std::chrono::duration<double, std::milli>(source.frame_interval).count();
   if (source.water_pacing.budget_ms() != budget) source.water_pacing = WaterPacing(budget, p.water_retry, p.water_retry_max);
   return source.water_pacing;
+}
+
+// The context, made on first use (current only while drawing, so that
+// stopping the element on another thread can free it).
+void ensure_context(FrameSource& source) {
+  if (source.context) return;
+  source.context = std::make_unique<GlContext>(egl_platform_from_environment());
+  source.engine = std::make_unique<Engine>();
+  source.context->release_current();
+}
+
+// Whether the water is to step on the GL, as source.water_solver and the
+// renderer say (no GL call: the context need not be current).
+bool water_wants_gl(const FrameSource& source) {
+  return !source.water_gl_failed &&
+         (source.water_solver == WaterSolver::gl ||
+          (source.water_solver == WaterSolver::automatic && !source.context->software()));
+}
+
+// Hands the water's steps to the GL, or takes them back; the context is
+// current. A GL that cannot step it (no compute shaders) leaves it on the
+// CPU for good.
+void place_water(FrameSource& source, bool gl) {
+  if (gl == source.water_on_gl) return;
+  if (!gl) {
+    source.pool->detach();
+    source.water_on_gl = false;
+    return;
+  }
+  try {
+    source.pool->attach([](const water::WaveParams& params, const water::WaveState& state) {
+      return std::make_unique<water::WaveSolverGl>(params, state);
+    });
+    source.water_on_gl = true;
+    GST_CAT_INFO(caustic_src_debug, "the water steps on the GL (%s)", source.context->renderer().c_str());
+  } catch (const std::exception& e) {
+    source.water_gl_failed = true;
+    GST_CAT_WARNING(caustic_src_debug, "the water steps on the CPU: the GL could not (%s)", e.what());
+  }
 }
 
 }  // namespace
@@ -79,6 +120,11 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
                         : since < source.frame_interval
                             ? since
                             : source.frame_interval * (since / source.frame_interval);
+      ensure_context(source);
+      const bool gl = water_wants_gl(source);
+      std::optional<Current> current;  // only for a stepper on the GL
+      if (gl || source.water_on_gl) current.emplace(*source.context);
+      place_water(source, gl);
       try {
         source.water_dirty =
             source.pool->advance(*source.seen_scene.water, std::chrono::duration<double>(step).count()) ||
@@ -106,12 +152,7 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
   const bool settling = source.engine && source.engine->dirty() && !water_moves;
   const bool changed = source.seen != source.rendered || want != source.rendered_level || settling || source.water_dirty;
   if (!changed && !source.readback_pending && source.picture) return gst_buffer_ref(source.picture);
-  if (!source.context) {
-    source.context = std::make_unique<GlContext>(egl_platform_from_environment());
-    source.engine = std::make_unique<Engine>();
-  }
-  // The context is current only while drawing, so that stopping the element
-  // on another thread can free it.
+  ensure_context(source);
   const Current current(*source.context);
 
   if (changed) {
@@ -226,6 +267,10 @@ void release(FrameSource& source) {
   source.picture = nullptr;
   if (source.context) {
     source.context->make_current();
+    // The pool outlives the element (a codec switch makes another): its
+    // water comes back to the CPU before the context that stepped it goes.
+    if (source.water_on_gl) source.pool->detach();
+    source.water_on_gl = false;
     source.engine.reset();
     source.context->release_current();
     source.context.reset();
@@ -238,6 +283,7 @@ void release(FrameSource& source) {
   source.water_clock = {};
   source.water_dirty = false;
   source.water_pacing = WaterPacing();
+  source.water_gl_failed = false;
 }
 
 }  // namespace caustic::gst

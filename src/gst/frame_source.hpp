@@ -55,6 +55,11 @@ struct SnapshotRequests {
   std::vector<Done> pending;
 };
 
+/// Where a pool's water steps (caustic/pool.hpp's Stepper): on the GL when
+/// the renderer is a GPU (a software renderer steps it faster on the CPU),
+/// or as set.
+enum class WaterSolver { automatic, cpu, gl };
+
 /// Fidelity levels in CausticFrameMeta.level.
 enum FrameLevel : std::uint32_t { full_quality = 0, preview = 1 };
 
@@ -87,6 +92,9 @@ struct FrameSource {
   /// from the streaming thread: the water moves on at these due times.
   std::atomic<std::chrono::steady_clock::rep> asked{0};
   bool water_dirty = false;                             // moved since last drawn
+  WaterSolver water_solver = WaterSolver::automatic;    // set before streaming
+  bool water_gl_failed = false;                         // the GL could not step it: the CPU does
+  bool water_on_gl = false;                             // this source's context steps the pool's water
   WaterPacing water_pacing;
   std::atomic<std::uint64_t> renders{0};  // caustic passes so far (read from any thread)
   std::atomic<std::uint64_t> picture_version{0};  // version of the newest finished picture, any thread

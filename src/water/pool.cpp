@@ -74,23 +74,48 @@ std::optional<std::uint64_t> Pool::post(const Drop& drop) {
   return ++posted_;
 }
 
+void Pool::attach(MakeStepper make) {
+  stepper_ = make(solver_.params(), solver_.state());
+  make_ = std::move(make);
+}
+
+void Pool::detach() {
+  stepper_.reset();  // its state is already here: each advance that moved it brought it back
+  make_ = nullptr;
+}
+
 bool Pool::advance(const WaveParams& params, double seconds) {
-  if (params != solver_.params()) solver_.retune(params);
+  if (params != solver_.params()) {
+    // Retuned here (new steps, rain or wind from the state as it is), then
+    // handed to a new stepper; nothing changes when the retune throws.
+    WaveSolver retuned = solver_;
+    retuned.retune(params);
+    std::unique_ptr<Stepper> next = stepper_ ? make_(retuned.params(), retuned.state()) : nullptr;
+    solver_ = std::move(retuned);
+    if (next) stepper_ = std::move(next);
+  }
   std::vector<Drop> falling;
   {
     std::lock_guard hold(lock_);
     falling.swap(queued_);
   }
-  for (const Drop& d : falling) solver_.drop(d.x, d.y, d.strength, d.radius);
+  for (const Drop& d : falling) {
+    if (stepper_) stepper_->drop(d.x, d.y, d.strength, d.radius);
+    else solver_.drop(d.x, d.y, d.strength, d.radius);
+  }
   drops_ += falling.size();
   bool moved = !falling.empty();
   if (!params.paused && std::isfinite(seconds) && seconds > 0) {
     owed_ += std::min(seconds, kMaxAdvance);
     const auto steps = static_cast<std::uint64_t>(std::floor(owed_ / solver_.time_step()));
-    for (std::uint64_t i = 0; i < steps; ++i) solver_.step();
+    for (std::uint64_t i = 0; i < steps; ++i) {
+      if (stepper_) stepper_->step();
+      else solver_.step();
+    }
     owed_ -= static_cast<double>(steps) * solver_.time_step();
     moved = moved || steps > 0;
   }
+  if (moved && stepper_) solver_.restore(stepper_->state());
   if (moved) mesh_.reset(), thinned_.reset();
   return moved;
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 namespace caustic::water {
@@ -43,6 +44,17 @@ void WaveSolver::retune(const WaveParams& params) {
     for (std::size_t k = 0; k < now_.size(); ++k) before_[k] = now_[k] - (now_[k] - before_[k]) * (dt_ / before);
   if (new_wind) set_waves(wind_waves(params_, dt_));
   if (new_rain) rain_ = Rain(params_, params_.seed ^ steps_, time_);
+}
+
+void WaveSolver::restore(WaveState state) {
+  if (state.before.size() != now_.size() || state.now.size() != now_.size())
+    throw std::invalid_argument("a wave state of another grid");
+  before_ = std::move(state.before);
+  now_ = std::move(state.now);
+  steps_ = state.steps;
+  raindrops_ = state.raindrops;
+  time_ = state.time;
+  rain_ = state.rain;
 }
 
 void WaveSolver::drop(double x, double y, double strength, double radius) {

@@ -35,6 +35,9 @@ class GlContext {
 
   /// GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
   const std::string& renderer() const;
+  /// Whether the renderer is Mesa's software one (llvmpipe, softpipe): the
+  /// "GPU" is the CPU, and work the CPU does better goes there.
+  bool software() const;
   /// GL_VERSION.
   const std::string& version() const;
 
@@ -42,6 +45,10 @@ class GlContext {
   struct State;
   std::unique_ptr<State> state_;
 };
+
+/// Whether a GL_RENDERER names Mesa's software renderers (llvmpipe,
+/// softpipe), which run on the CPU and on one thread for their geometry stage.
+bool is_software_renderer(const std::string& renderer);
 
 /// Reads CAUSTICD_EGL_PLATFORM (automatic|device|surfaceless); automatic when unset.
 EglPlatform egl_platform_from_environment();

@@ -11,6 +11,7 @@
 // Every call needs the same current GL 4.5 context (compute shaders).
 #pragma once
 
+#include "caustic/pool.hpp"
 #include "caustic/wave_solver.hpp"
 
 #include <cstdint>
@@ -19,19 +20,25 @@
 
 namespace caustic::water {
 
-class WaveSolverGl {
+class WaveSolverGl : public Stepper {
  public:
   /// Still water. Throws SceneError as validate() does, EngineError when the
   /// GL cannot build the solver.
   explicit WaveSolverGl(const WaveParams& params);
-  ~WaveSolverGl();
+  /// Water that goes on from `state` (a WaveSolver's with these parameters
+  /// and the wind's waves). Throws as above, or std::invalid_argument when
+  /// the state's heights are not grid x grid.
+  WaveSolverGl(const WaveParams& params, const WaveState& state);
+  ~WaveSolverGl() override;
   WaveSolverGl(const WaveSolverGl&) = delete;
   WaveSolverGl& operator=(const WaveSolverGl&) = delete;
 
   /// As WaveSolver::drop (throws as check_drop() does).
-  void drop(double x, double y, double strength, double radius);
+  void drop(double x, double y, double strength, double radius) override;
   /// One time step, rain and wind included.
-  void step();
+  void step() override;
+  /// The last two steps' heights read back, with the counts and the rain.
+  WaveState state() const override;
 
   const WaveParams& params() const;
   double time_step() const;

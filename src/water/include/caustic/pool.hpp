@@ -5,7 +5,8 @@
 // thread and fall at the next advance; viewers get a coarse copy of the
 // heights of each frame they are shown, to draw the surface in step with
 // the caustic. One lock guards the queue and the copies; the solver itself
-// is the render thread's alone.
+// is the render thread's alone. The render thread may hand the stepping to
+// the GL (attach()), keeping a copy of the state here.
 #pragma once
 
 #include "caustic/mesh.hpp"
@@ -14,6 +15,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -41,6 +43,24 @@ struct Proxy {
 /// The same surface on an `n` x `n` grid (bilinear, walls kept): what fits
 /// a datagram a relay passes on whole (16 x 16 is 512 bytes of heights).
 Proxy resample(const Proxy& proxy, int n);
+
+/// Steps the water elsewhere than the pool's own solver: on the GL
+/// (caustic/wave_gl.hpp), so that a GPU moves it. Made from the pool's
+/// state by the render thread, and used only with what it needs (a current
+/// GL context).
+class Stepper {
+ public:
+  virtual ~Stepper() = default;
+  /// As WaveSolver::drop (throws as check_drop() does).
+  virtual void drop(double x, double y, double strength, double radius) = 0;
+  /// One time step, rain and wind included.
+  virtual void step() = 0;
+  /// Its state, read back.
+  virtual WaveState state() const = 0;
+};
+
+/// Makes a stepper that goes on from `state` with `params`.
+using MakeStepper = std::function<std::unique_ptr<Stepper>(const WaveParams& params, const WaveState& state)>;
 
 /// The water after params.warmup_s of rain and wind from still water (the
 /// same seed, the same surface). Throws SceneError.
@@ -77,6 +97,16 @@ class Pool {
   /// params.paused. True when the surface changed.
   bool advance(const WaveParams& params, double seconds);
 
+  /// Render thread, with what `make`'s steppers need: the water steps on a
+  /// stepper from now on, starting from the state here (the same steps
+  /// follow, to the stepper's rounding). After each advance that moved it,
+  /// its state comes back here for the mesh, the proxies and detach().
+  /// Throws what `make` throws, and then stays as it was.
+  void attach(MakeStepper make);
+  /// Render thread, as attach(): the water steps here again.
+  void detach();
+  bool attached() const { return stepper_ != nullptr; }
+
   /// Render thread: the surface now, as the engine draws it; with `stride`
   /// above 1 thinned for a preview (water_mesh.hpp). Each is built once a
   /// surface.
@@ -93,6 +123,8 @@ class Pool {
 
  private:
   WaveSolver solver_;
+  std::unique_ptr<Stepper> stepper_;  // when attached: what steps the water, solver_ its copy
+  MakeStepper make_;
   const WaveParams shape_;  // as constructed: the grid and size drops are checked against
   double owed_ = 0;  // seconds simulated short of a whole step
   std::uint64_t drops_ = 0;

@@ -33,6 +33,15 @@ double scheme_energy(const WaveParams& params, double dt, const std::vector<doub
 /// The trapezoidal volume of a grid of heights, m^3 (WaveSolver::volume()).
 double trapezoidal_volume(const WaveParams& params, const std::vector<double>& heights);
 
+/// What a step depends on besides the parameters and the wind: the state
+/// another solver (the GL's, caustic/wave_gl.hpp) takes over and hands back.
+struct WaveState {
+  std::vector<double> before, now;  ///< the last two steps' heights
+  std::uint64_t steps = 0, raindrops = 0;
+  double time = 0;
+  Rain rain;  ///< the rain's schedule from `time` on
+};
+
 class WaveSolver {
  public:
   /// Still water. Throws as validate() does.
@@ -60,6 +69,12 @@ class WaveSolver {
   void retune(const WaveParams& params);
 
   const WaveParams& params() const { return params_; }
+  /// The state to go on from elsewhere.
+  WaveState state() const { return {before_, now_, steps_, raindrops_, time_, rain_}; }
+  /// Goes on from `state` (another solver's with these parameters and the
+  /// wind's waves): the same steps follow as if this solver had taken
+  /// them. Throws std::invalid_argument when its heights are not grid x grid.
+  void restore(WaveState state);
   /// Heights of the newest step, grid x grid, metres.
   const std::vector<double>& heights() const { return now_; }
   std::uint64_t steps() const { return steps_; }
