@@ -119,6 +119,22 @@ TEST(Coverage, APointFillsThePixelUnderItAndNothingOutsideCounts) {
     }
 }
 
+namespace {
+
+// Two triangles a cell of an nx x ny grid of vertices (row-major), one of each winding.
+std::vector<glm::uvec3> grid_triangles(int nx, int ny) {
+  std::vector<glm::uvec3> triangles;
+  for (int j = 0; j + 1 < ny; ++j)
+    for (int i = 0; i + 1 < nx; ++i) {
+      const unsigned v = j * nx + i, row = static_cast<unsigned>(nx);
+      triangles.push_back({v, v + 1, v + row + 1});
+      triangles.push_back({v, v + row + 1, v + row});
+    }
+  return triangles;
+}
+
+}  // namespace
+
 TEST(Coverage, AMeshWalksEachSharedEdgeOnceAndCoversAsItsTriangles) {
   // A 6 x 5 grid of vertices jittered hard enough to fold, with triangles of
   // each winding, some left out (their neighbours' shared edges then stand
@@ -126,13 +142,7 @@ TEST(Coverage, AMeshWalksEachSharedEdgeOnceAndCoversAsItsTriangles) {
   constexpr int kWidth = 23, kHeight = 19, kNx = 6, kNy = 5;
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> jitter(-2.5, 2.5), unit(0.0, 1.0);
-  std::vector<glm::uvec3> triangles;
-  for (int j = 0; j + 1 < kNy; ++j)
-    for (int i = 0; i + 1 < kNx; ++i) {
-      const unsigned v = j * kNx + i;
-      triangles.push_back({v, v + 1, v + kNx + 1});
-      triangles.push_back({v, v + kNx + 1, v + kNx});
-    }
+  const std::vector<glm::uvec3> triangles = grid_triangles(kNx, kNy);
   CoverageRaster raster;
   for (int frame = 0; frame < 2; ++frame)
     for (int channels : {1, 3}) {
@@ -172,13 +182,7 @@ TEST(Coverage, LayersAndFlushedPassesAddUpAsOneImage) {
   constexpr int kWidth = 21, kHeight = 17, kNx = 5, kNy = 4, kPasses = 3;
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> jitter(-2.0, 2.0), unit(0.0, 1.0);
-  std::vector<glm::uvec3> triangles;
-  for (int j = 0; j + 1 < kNy; ++j)
-    for (int i = 0; i + 1 < kNx; ++i) {
-      const unsigned v = j * kNx + i;
-      triangles.push_back({v, v + 1, v + kNx + 1});
-      triangles.push_back({v, v + kNx + 1, v + kNx});
-    }
+  const std::vector<glm::uvec3> triangles = grid_triangles(kNx, kNy);
   CoverageRaster raster;
   raster.reset(kWidth, kHeight, 3);
   std::vector<double> expected(static_cast<std::size_t>(kWidth) * kHeight * 3, 0.0);
