@@ -116,8 +116,9 @@ void PostPass::run(const PostParams& post, const gl::Texture& hdr, const gl::Ren
 
     const std::vector<double> weights = glow_weights(post.bloom_radius, shrink);
     const int radius = static_cast<int>(weights.size()) - 1;
-    set_cuts(blur_, glow_cuts(tiles, hdr.height(), shrink, bw, bh));
-    set_cuts(tonemap_, glow_cuts(tiles, hdr.height(), shrink, bw, bh));
+    const GlowCuts cuts = glow_cuts(tiles, hdr.height(), shrink, bw, bh);
+    set_cuts(blur_, cuts);
+    set_cuts(tonemap_, cuts);
     blur_.use();
     blur_.set("uSource", 0);
     blur_.set("uRadius", radius);
