@@ -26,12 +26,22 @@ double signed_area(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
 
 // A surface's rectangle and its atlas tile (pixels, origin bottom left as GL counts).
 // Its scale precomputed: a division per corner cost a tenth of the set-up.
+// A lathe's tile is its (u, v) square: `shape` gives the world area a unit
+// of it covers where a ray landed, and which landings lie on one piece.
 struct Tile {
   glm::dvec2 origin, size, centre, pixels_per_world;
-  Tile(glm::dvec2 half, glm::dvec2 origin, glm::dvec2 size)
-      : origin(origin), size(size), centre(origin + 0.5 * size), pixels_per_world(0.5 * size / half) {}
+  const ReceiverMesh* shape;
+  Tile(glm::dvec2 half, glm::dvec2 origin, glm::dvec2 size, const ReceiverMesh* shape)
+      : origin(origin), size(size), centre(origin + 0.5 * size), pixels_per_world(0.5 * size / half), shape(shape) {}
   glm::dvec2 to_pixels(glm::dvec2 local) const { return centre + local * pixels_per_world; }
   glm::dvec2 world_per_pixel() const { return 1.0 / pixels_per_world; }
+  double stretch(std::int32_t element) const { return shape && element >= 0 ? shape->stretch(element) : 1.0; }
+  // Three landings span a triangle of the atlas only on one continuous
+  // piece of it: not across a lathe's seam.
+  bool continuous(std::int32_t a, std::int32_t b, std::int32_t c) const {
+    return !shape || (a >= 0 && b >= 0 && c >= 0 && shape->touching(a, b) && shape->touching(b, c) &&
+                      shape->touching(a, c));
+  }
 };
 
 class Setup {
@@ -50,7 +60,8 @@ class Setup {
     for (std::size_t i = 0; i < surfaces.size(); ++i)
       tiles_.emplace_back(glm::dvec2(surfaces[i].width / 2, surfaces[i].height / 2),
                           glm::dvec2(layout[i].x, height - layout[i].y - layout[i].height),
-                          glm::dvec2(layout[i].width, layout[i].height));
+                          glm::dvec2(layout[i].width, layout[i].height),
+                          surfaces[i].lathe ? surfaces[i].lathe->mesh.get() : nullptr);
     reference_distance2_ = reference_distance2(scene, placement);
   }
 
@@ -59,12 +70,18 @@ class Setup {
     if (v0.valid * v1.valid * v2.valid < 0.5f) return count(&TriangleCounts::dropped);
     const double transmittance = (double(v0.transmittance) + v1.transmittance + v2.transmittance) / 3.0;
     const int surface = static_cast<int>(v0.surface);
-    const bool together = surface >= 0 && v1.surface == v0.surface && v2.surface == v0.surface;
     const Tile& tile = tiles_[std::max(surface, 0)];
+    const bool together = surface >= 0 && v1.surface == v0.surface && v2.surface == v0.surface &&
+                          tile.continuous(v0.element, v1.element, v2.element);
     const glm::dvec2 a = tile.to_pixels(v0.screen), b = tile.to_pixels(v1.screen), c = tile.to_pixels(v2.screen);
     const double signed_pixels = signed_area(a, b, c), area_pixels = std::abs(signed_pixels);
     const glm::dvec2 wpp = tile.world_per_pixel();
-    const double pixel_area = wpp.x * wpp.y, screen_area = area_pixels * pixel_area;
+    // On a lathe, the corners' triangles' mean stretch: exact when one
+    // triangle holds all three, else off by their difference.
+    const double stretch = together && tile.shape
+                               ? (tile.stretch(v0.element) + tile.stretch(v1.element) + tile.stretch(v2.element)) / 3.0
+                               : 1.0;
+    const double pixel_area = wpp.x * wpp.y * stretch, screen_area = area_pixels * pixel_area;
 
     double flux;
     if (scene_.render.intensity == IntensityMode::report) {
@@ -89,7 +106,7 @@ class Setup {
         const glm::dvec2 p = glm::min(t.to_pixels(v->screen), t.origin + t.size - 0.5);
         count(&TriangleCounts::collapsed);
         const glm::dvec2 w = t.world_per_pixel();
-        point(p, flux / 3.0 / (w.x * w.y), v->tint);
+        point(p, flux / 3.0 / (w.x * w.y * t.stretch(v->element)), v->tint);
       }
       return;
     }
@@ -153,6 +170,7 @@ std::vector<LandedVertex> land_vertices(const Scene& scene, const Placement& pla
     // corners that landed keep their shares.
     r.valid = hit.index >= 0 || surfaces.size() > 1 ? 1.0f : 0.0f;
     r.surface = static_cast<float>(hit.index);
+    r.element = hit.element;
     if (hit.index >= 0) r.screen = glm::vec2(hit.local);
     const double along = glm::dot(plane_center - exit.origin, screen.normal) / glm::dot(exit.direction, screen.normal);
     const glm::dvec3 on_plane = exit.origin + along * exit.direction - plane_center;

@@ -179,7 +179,7 @@ ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const Reference
         const auto x = static_cast<std::size_t>(region.x + static_cast<int>(u * region.width));
         const auto y = static_cast<std::size_t>(region.y + static_cast<int>(v * region.height));
         // Irradiance: flux over the world area of a pixel of this surface's tile.
-        ph.flux /= pixel_area[static_cast<std::size_t>(hit.index)];
+        ph.flux /= pixel_area[static_cast<std::size_t>(hit.index)] * surface_stretch(surface, hit.element);
         const std::size_t at = channels * (y * static_cast<std::size_t>(width) + x);
         for (std::size_t c = 0; c < channels; ++c) tile[at + c] += ph.flux * (channels == 3 ? ph.tint[c] : 1.0);
         ++mine;

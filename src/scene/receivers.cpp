@@ -26,6 +26,12 @@ std::vector<ScreenParams> receiving_surfaces(const Scene& scene) {
   return all;
 }
 
+bool has_shaped_receiver(const Scene& scene) {
+  for (const ScreenParams& r : scene.receivers)
+    if (r.lathe) return true;
+  return false;
+}
+
 ReceiverHit first_receiver(const Scene& scene, const glm::dvec3& origin, const glm::dvec3& dir) {
   ReceiverHit best;
   best.distance = std::numeric_limits<double>::infinity();
@@ -33,6 +39,11 @@ ReceiverHit first_receiver(const Scene& scene, const glm::dvec3& origin, const g
   // Called for every ray and photon: the surfaces are read in place, not gathered.
   for (std::size_t i = 0; i <= scene.receivers.size(); ++i) {
     const ScreenParams& r = i == 0 ? scene.screen : scene.receivers[i - 1];
+    if (r.lathe) {
+      if (const auto hit = r.lathe->mesh->intersect(origin, dir, best.distance))
+        best = {static_cast<int>(i), hit->uv - 0.5, hit->distance, hit->element};
+      continue;
+    }
     const double denom = glm::dot(dir, r.normal);
     if (!(std::abs(denom) > 1e-9)) continue;
     const double s = glm::dot(r.center - origin, r.normal) / denom;

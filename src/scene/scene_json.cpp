@@ -83,6 +83,30 @@ LightParams read_light(Reader r) {
   return l;
 }
 
+// A lathe's profile: (radius, height) points, at least one off the axis.
+Lathe read_lathe(Reader r) {
+  Lathe l;
+  const json* profile = r.get("profile");
+  if (!profile || !profile->is_array() || profile->size() < 2 || profile->size() > kMaxLatheProfile)
+    throw SceneError(r.key("profile"), "must be an array of 2 to " + std::to_string(kMaxLatheProfile) +
+                                           " [radius, height] points");
+  double widest = 0;
+  for (const json& point : *profile) {
+    const auto number = [](const json& x) { return x.is_number() && std::isfinite(x.get<double>()); };
+    if (!point.is_array() || point.size() != 2 || !number(point[0]) || !number(point[1]) ||
+        point[0].get<double>() < 0 || point[0].get<double>() > kMaxCoordinate ||
+        std::abs(point[1].get<double>()) > kMaxCoordinate)
+      throw SceneError(r.key("profile"), "each point must be [radius, height]: a radius from 0 to 1e6 and a height "
+                                         "of magnitude at most 1e6");
+    l.profile.emplace_back(point[0].get<double>(), point[1].get<double>());
+    widest = std::max(widest, l.profile.back().x);
+  }
+  if (!(widest > 0)) throw SceneError(r.key("profile"), "must leave the axis somewhere (a radius above 0)");
+  l.segments = r.integer("segments", l.segments, 3, kMaxLatheSegments);
+  r.reject_unknown();
+  return l;
+}
+
 ScreenParams read_screen(Reader r, const std::optional<double>& focus_distance, const ObjectParams& object,
                          const LightParams& light) {
   ScreenParams s;
@@ -110,8 +134,18 @@ ScreenParams read_screen(Reader r, const std::optional<double>& focus_distance, 
   } else {
     s.center = r.vec3("center", s.center);
   }
-  s.width = r.number("width", s.width, 0.0, kMaxCoordinate, true);
-  s.height = r.number("height", s.height, 0.0, kMaxCoordinate, true);
+  if (r.has("lathe")) {
+    // Its size is its profile: a width or height beside it would be ignored.
+    for (const char* k : {"width", "height"})
+      if (r.has(k)) throw SceneError(r.key(k), "a lathe's size is its profile: leave width and height out");
+    s.lathe = read_lathe(r.child("lathe"));
+    s.width = s.height = 1;
+    s.lathe->mesh = std::make_shared<const ReceiverMesh>(
+        make_lathe(s.lathe->profile, s.lathe->segments, s.center, s.normal, s.up));
+  } else {
+    s.width = r.number("width", s.width, 0.0, kMaxCoordinate, true);
+    s.height = r.number("height", s.height, 0.0, kMaxCoordinate, true);
+  }
   s.follow_light = r.boolean("follow_light", s.follow_light);
   r.reject_unknown();
   return s;
@@ -187,6 +221,7 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir) {
   }
   s.light = read_light(r.child("light"));
   s.screen = read_screen(r.child("screen"), s.focus_distance, s.object, s.light);
+  if (s.screen.lathe) throw SceneError("screen.lathe", "the screen is a rectangle; a lathe is one of the receivers");
   if (const json* list = r.get("receivers")) {
     if (!list->is_array() || list->size() > kMaxReceivers)
       throw SceneError("receivers", "must be an array of at most " + std::to_string(kMaxReceivers) + " rectangles");
@@ -206,8 +241,17 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir) {
 }
 
 static json screen_to_json(const ScreenParams& screen) {
-  return {{"center", vec(screen.center)}, {"normal", vec(screen.normal)},  {"up", vec(screen.up)},
-          {"width", screen.width},        {"height", screen.height},       {"follow_light", screen.follow_light}};
+  json out = {{"center", vec(screen.center)}, {"normal", vec(screen.normal)}, {"up", vec(screen.up)},
+              {"follow_light", screen.follow_light}};
+  if (screen.lathe) {
+    json profile = json::array();
+    for (const glm::dvec2& p : screen.lathe->profile) profile.push_back({p.x, p.y});
+    out["lathe"] = {{"profile", profile}, {"segments", screen.lathe->segments}};
+  } else {
+    out["width"] = screen.width;
+    out["height"] = screen.height;
+  }
+  return out;
 }
 
 json scene_to_json(const Scene& s) {

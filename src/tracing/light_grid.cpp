@@ -32,6 +32,7 @@ LandedVertex land(const Scene& scene, const Solid& solid, const glm::dvec3& star
       path.origin + (glm::dot(plane_centre - path.origin, screen.normal) / denom) * path.dir - plane_centre;
   v.screen = glm::vec2(hit.local);
   v.surface = static_cast<float>(hit.index);
+  v.element = hit.element;
   v.plane = glm::vec2(glm::dot(on_plane, right), glm::dot(on_plane, screen.up));
   v.transmittance = static_cast<float>(path.transmittance);
   v.tint = glm::vec3(path.tint);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The surfaces that catch the light: the screen and scene.receivers (a
-// floor, walls, a table), each a rectangle. A ray lands on the first one it
+// floor, walls, a table), each a rectangle, or a lathe (a vase: caustic/
+// receiver_mesh.hpp) whose tile is its (u, v) atlas. A ray lands on the first one it
 // meets, so one surface shades another. The picture is their atlas: each
 // surface's irradiance in its own tile, streamed as one video, which the
 // viewer cuts up again onto the surfaces in its room.
@@ -41,9 +42,20 @@ std::vector<ScreenParams> receiving_surfaces(const Scene& scene);
 
 struct ReceiverHit {
   int index = -1;             ///< into receiving_surfaces; -1: none
-  glm::dvec2 local{0.0};      ///< (right, up) from the surface's centre, world units
+  glm::dvec2 local{0.0};      ///< (right, up) from the surface's centre, world units; a lathe's (u, v) - 0.5
   double distance = 0;        ///< along the ray
+  int element = -1;           ///< a lathe's triangle hit (ReceiverMesh::stretch); -1 on a rectangle
 };
+
+/// World area per unit of `local` area where a ray landed on `surface`
+/// (triangle `element` of a lathe; 1 on a rectangle).
+inline double surface_stretch(const ScreenParams& surface, int element) {
+  return surface.lathe && element >= 0 ? surface.lathe->mesh->stretch(element) : 1.0;
+}
+
+/// Whether scene's receivers include a shape the GL's shaders cannot land
+/// on (a lathe): its rays then land and deposit on the CPU.
+bool has_shaped_receiver(const Scene& scene);
 
 /// The first surface the ray from `origin` along `dir` meets ahead of it.
 ReceiverHit first_receiver(const Scene& scene, const glm::dvec3& origin, const glm::dvec3& dir);

@@ -6,12 +6,14 @@
 
 #include "caustic/colour.hpp"
 #include "caustic/dispersion.hpp"
+#include "caustic/receiver_mesh.hpp"
 #include "caustic/water_params.hpp"
 
 #include <glm/glm.hpp>
 #include <nlohmann/json_fwd.hpp>
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -86,6 +88,16 @@ struct LightParams {
   bool operator==(const LightParams&) const = default;
 };
 
+/// A receiver shaped as a surface of revolution (caustic/receiver_mesh.hpp):
+/// a vase, a bowl, a column. Its mesh is built when the scene is read.
+struct Lathe {
+  std::vector<glm::dvec2> profile;  ///< (radius, height along up) from the centre of its base
+  int segments = 64;                ///< steps round the axis
+  std::shared_ptr<const ReceiverMesh> mesh;  ///< world space; follows from the rest
+
+  bool operator==(const Lathe& o) const { return profile == o.profile && segments == o.segments; }
+};
+
 struct ScreenParams {
   glm::dvec3 center{0, 0, -100};
   glm::dvec3 normal{0, 0, 1};  ///< unit, facing the object
@@ -95,6 +107,10 @@ struct ScreenParams {
   /// The rectangle slides in its plane to stay on the light's footprint
   /// (caustic/screen_follow.hpp); center then fixes only the plane.
   bool follow_light = false;
+  /// A receiver of this shape instead of a rectangle: center is its base,
+  /// up its axis, normal where its atlas starts; width and height are then
+  /// 1, its atlas's (u, v) square.
+  std::optional<Lathe> lathe;
 
   bool operator==(const ScreenParams&) const = default;
 };
@@ -150,6 +166,10 @@ inline constexpr int kPreviewWavelengths = 3;
 /// Receivers besides the screen (caustic/receivers.hpp): eight surfaces in
 /// all, the atlas's tiles.
 inline constexpr std::size_t kMaxReceivers = 7;
+/// A lathe's profile points and steps round its axis at the most: 32,768
+/// triangles, built in milliseconds each time a patch moves it.
+inline constexpr std::size_t kMaxLatheProfile = 64;
+inline constexpr int kMaxLatheSegments = 256;
 
 struct Scene {
   std::string name;

@@ -15,6 +15,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <vector>
 
 namespace caustic {
@@ -30,6 +31,7 @@ struct LandedVertex {
   glm::vec3 tint{1.0f};
   float share = 1;           ///< of its triangle's flux this vertex's triangle carries
   float surface = -1;        ///< the surface it landed on (caustic/receivers.hpp); -1: none
+  std::int32_t element = -1; ///< a lathe's triangle it landed on (ReceiverHit::element); not in the shaders
 };
 
 struct LandedGrid {

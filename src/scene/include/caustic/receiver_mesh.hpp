@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// A receiver with a shape (a vase, a bowl, a column): a triangle mesh in
+// world space with a (u, v) atlas in [0, 1]^2. Its light is drawn in (u, v),
+// the tile of the picture being that square, so each triangle records how
+// much world area a unit of (u, v) covers on it (its stretch): irradiance
+// is flux over world area, and a tile's pixel covers the same (u, v) area
+// everywhere but not the same world area. Rays find their triangle through
+// a bounding volume hierarchy, built once when the scene is read.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace caustic {
+
+struct SurfaceHit {
+  double distance = 0;  ///< along the ray (unit direction: world units)
+  int element = -1;     ///< the triangle hit
+  glm::dvec2 uv{0.0};   ///< its atlas coordinates there
+};
+
+class ReceiverMesh {
+ public:
+  /// Triangles of no world or no (u, v) area are kept out of the hierarchy:
+  /// they catch no light (a lathe's pole).
+  ReceiverMesh(std::vector<glm::dvec3> positions, std::vector<glm::dvec2> uvs, std::vector<glm::uvec3> triangles);
+
+  /// The nearest triangle the ray meets at a distance in (0, before).
+  std::optional<SurfaceHit> intersect(const glm::dvec3& origin, const glm::dvec3& dir, double before) const;
+
+  /// World area per unit of (u, v) area on triangle `element`.
+  double stretch(int element) const { return stretch_[static_cast<std::size_t>(element)]; }
+
+  /// Whether two triangles are one or share a corner of the atlas: light
+  /// landing on both lies on one continuous piece of (u, v). Across a seam
+  /// (the atlas cut open) they share positions but not corners.
+  bool touching(int a, int b) const;
+
+  glm::dvec3 lower() const { return lower_; }
+  glm::dvec3 upper() const { return upper_; }
+  std::size_t triangle_count() const { return triangles_.size(); }
+
+ private:
+  struct Node {
+    glm::dvec3 lo, hi;
+    std::uint32_t first = 0, count = 0;  ///< leaf: a range of order_; inner: count 0, children first, first + 1
+  };
+  void build(std::uint32_t node, std::uint32_t first, std::uint32_t count, int depth);
+
+  std::vector<glm::dvec3> positions_;
+  std::vector<glm::dvec2> uvs_;
+  std::vector<glm::uvec3> triangles_;
+  std::vector<double> stretch_;
+  std::vector<std::uint32_t> order_;  ///< the triangles of the hierarchy, leaf by leaf
+  std::vector<Node> nodes_;
+  glm::dvec3 lower_{0.0}, upper_{0.0};
+};
+
+/// A surface of revolution: `profile` points (radius >= 0, height along
+/// `up`) from `base`, swept round the axis in `segments` steps. (u, v) as
+/// three.js's LatheGeometry lays them, so the viewer's copy shows the same
+/// atlas: u = i / segments of the turn, starting along `normal` and turning
+/// toward up x normal; v = j / (points - 1) along the profile. Its seam,
+/// u = 0 = 1, cuts the atlas open.
+ReceiverMesh make_lathe(const std::vector<glm::dvec2>& profile, int segments, const glm::dvec3& base,
+                        const glm::dvec3& normal, const glm::dvec3& up);
+
+}  // namespace caustic
