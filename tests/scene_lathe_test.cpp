@@ -122,10 +122,13 @@ TEST(SceneLathe, ARayLandsOnTheCylinderWhereGeometrySays) {
   ASSERT_TRUE(left && right);
   EXPECT_LT(left->uv.x, 0.02);
   EXPECT_GT(right->uv.x, 0.98);
-  EXPECT_FALSE(c.touching(left->element, right->element));
+  EXPECT_FALSE(c.continuous(left->element, right->element));
   const auto next = c.intersect({100, 1.5, 7}, {-1, 0, 0}, 1e9);  // facet 1
   ASSERT_TRUE(next);
-  EXPECT_TRUE(c.touching(left->element, next->element));
+  EXPECT_TRUE(c.continuous(left->element, next->element));
+  const auto far = c.intersect({100, 3.5, 7}, {-1, 0, 0}, 1e9);  // facet 3: too far for one triangle of the atlas
+  ASSERT_TRUE(far);
+  EXPECT_FALSE(c.continuous(left->element, far->element));
 }
 
 TEST(SceneLathe, TheHierarchyFindsWhatEveryTriangleWouldGive) {
@@ -158,8 +161,8 @@ TEST(SceneLathe, TheHierarchyFindsWhatEveryTriangleWouldGive) {
     double nearest = std::numeric_limits<double>::infinity();
     for (int i = 0; i < n; ++i)
       for (std::size_t j = 0; j + 1 < profile.size(); ++j) {
-        nearest = std::min(nearest, meet(origin, dir, at(i, j), at(i + 1, j), at(i + 1, j + 1)));
-        nearest = std::min(nearest, meet(origin, dir, at(i, j), at(i + 1, j + 1), at(i, j + 1)));
+        nearest = std::min(nearest, meet(origin, dir, at(i, j), at(i + 1, j), at(i, j + 1)));
+        nearest = std::min(nearest, meet(origin, dir, at(i + 1, j + 1), at(i, j + 1), at(i + 1, j)));
       }
     const auto found = bowl.intersect(origin, dir, 1e9);
     ASSERT_EQ(found.has_value(), std::isfinite(nearest)) << k;

@@ -39,8 +39,8 @@ struct Tile {
   // Three landings span a triangle of the atlas only on one continuous
   // piece of it: not across a lathe's seam.
   bool continuous(std::int32_t a, std::int32_t b, std::int32_t c) const {
-    return !shape || (a >= 0 && b >= 0 && c >= 0 && shape->touching(a, b) && shape->touching(b, c) &&
-                      shape->touching(a, c));
+    return !shape || (a >= 0 && b >= 0 && c >= 0 && shape->continuous(a, b) && shape->continuous(b, c) &&
+                      shape->continuous(a, c));
   }
 };
 

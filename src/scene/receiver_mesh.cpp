@@ -38,8 +38,8 @@ bool meets(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& origin,
 }  // namespace
 
 ReceiverMesh::ReceiverMesh(std::vector<glm::dvec3> positions, std::vector<glm::dvec2> uvs,
-                           std::vector<glm::uvec3> triangles)
-    : positions_(std::move(positions)), uvs_(std::move(uvs)), triangles_(std::move(triangles)) {
+                           std::vector<glm::uvec3> triangles, int quad_rows)
+    : positions_(std::move(positions)), uvs_(std::move(uvs)), triangles_(std::move(triangles)), quad_rows_(quad_rows) {
   stretch_.resize(triangles_.size(), 0.0);
   lower_ = glm::dvec3(std::numeric_limits<double>::infinity());
   upper_ = -lower_;
@@ -129,8 +129,12 @@ std::optional<SurfaceHit> ReceiverMesh::intersect(const glm::dvec3& origin, cons
   return best;
 }
 
-bool ReceiverMesh::touching(int a, int b) const {
+bool ReceiverMesh::continuous(int a, int b) const {
   if (a == b) return true;
+  if (quad_rows_ > 0) {
+    const int qa = a / 2, qb = b / 2;
+    return std::abs(qa / quad_rows_ - qb / quad_rows_) <= 2 && std::abs(qa % quad_rows_ - qb % quad_rows_) <= 2;
+  }
   const glm::uvec3 x = triangles_[static_cast<std::size_t>(a)], y = triangles_[static_cast<std::size_t>(b)];
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
@@ -158,10 +162,10 @@ ReceiverMesh make_lathe(const std::vector<glm::dvec2>& profile, int segments, co
   for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(segments); ++i)
     for (std::uint32_t j = 0; j + 1 < rows; ++j) {
       const std::uint32_t a = i * rows + j, b = (i + 1) * rows + j, c = (i + 1) * rows + j + 1, d = i * rows + j + 1;
-      triangles.emplace_back(a, b, c);
-      triangles.emplace_back(a, c, d);
+      triangles.emplace_back(a, b, d);
+      triangles.emplace_back(c, d, b);
     }
-  return ReceiverMesh(std::move(positions), std::move(uvs), std::move(triangles));
+  return ReceiverMesh(std::move(positions), std::move(uvs), std::move(triangles), static_cast<int>(rows) - 1);
 }
 
 }  // namespace caustic

@@ -41,14 +41,14 @@ test('the gallery lists every scene with its rendered thumbnail', async () => {
     await until(page, () => [...document.images].every((i) => i.complete && i.naturalWidth === 256), 15, 'thumbnails');
     const ids = await page.$$eval('.card', (cards) => cards.map((c) => c.dataset.scene).sort());
     const builtIn = process.env.CAUSTIC_DESIGN_BUILT_IN === '1';
-    const want = ['biconvex', 'cylinder', 'lens', 'pool', 'pool-walls', 'prism', 'room', 'slab', 'wavy',
+    const want = ['biconvex', 'cylinder', 'lens', 'pool', 'pool-walls', 'prism', 'room', 'slab', 'vase', 'wavy',
                   ...(builtIn ? ['design-logo', 'design-text'] : [])];
     for (const id of want) assert.ok(ids.includes(id), id);
     // Designed objects first, under their own heading; the classics below.
     const designed = await page.$$eval('#designed .card[data-scene]', (cards) => cards.map((c) => c.dataset.scene));
     const classics = await page.$$eval('#classics .card', (cards) => cards.map((c) => c.dataset.scene).sort());
     assert.ok(designed.every((id) => id.startsWith('design-')) && designed.length >= (builtIn ? 2 : 0), designed.join());
-    assert.deepEqual(classics, ['biconvex', 'cylinder', 'lens', 'pool', 'pool-walls', 'prism', 'room', 'slab', 'wavy']);
+    assert.deepEqual(classics, ['biconvex', 'cylinder', 'lens', 'pool', 'pool-walls', 'prism', 'room', 'slab', 'vase', 'wavy']);
     assert.equal(await page.locator('#upload input[type=file]').count(), 1);
     mkdirSync(shots, { recursive: true });
     await page.setViewportSize({ width: 1280, height: 900 });
@@ -223,6 +223,28 @@ test('a scene with receivers lays each tile of the picture onto its own surface'
     await page.waitForTimeout(500);
     mkdirSync(shots, { recursive: true });
     await page.screenshot({ path: `${shots}/viewer-room.png` });
+    await page.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
+
+test('a lathe among the receivers wears its tile of the picture round its body', async () => {
+  const server = await startServer();
+  try {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}/viewer.html?scene=vase&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'live', 30, 'a live connection');
+    await until(page, () => window.caustic.shownVersion >= 1, 30, 'the first frame on screen');
+    // The table (the screen) shows the left half of the picture, the vase the right, wrapped round it.
+    const surfaces = await page.evaluate(() => window.caustic.surfaces());
+    assert.deepEqual(surfaces.map((s) => s.shape), ['PlaneGeometry', 'LatheGeometry']);
+    assert.deepEqual(surfaces.map((s) => s.repeat), [[0.5, 1], [0.5, 1]]);
+    assert.deepEqual(surfaces.map((s) => s.offset), [[0, 0], [0.5, 0]]);
+    assert.deepEqual(surfaces[1].centre, [17, 0, -30]);  // the foot of its axis
+    await page.waitForTimeout(500);
+    mkdirSync(shots, { recursive: true });
+    await page.screenshot({ path: `${shots}/viewer-vase.png` });
     await page.close();
   } finally {
     server.kill('SIGTERM');

@@ -6,6 +6,7 @@
 // (z along the light's fall); the group turns that z into three.js's y-up.
 import * as THREE from 'three';
 
+import { latheGeometry, latheKey, placeLathe, surfaceArea } from './lathe.js';
 import { furnish, glassMaterial, pixelRatio, Quality, setRoomQuality } from './room.js';
 
 const vec = (a) => new THREE.Vector3(a[0], a[1], a[2]);
@@ -140,32 +141,45 @@ export class CausticRoom {
     const { width, height } = params.render;
     const tiles = atlas && atlas.length === receivers.length + 1 ? atlas : [{ x: 0, y: 0, width, height }];
     showTile(this.lightmap.material.map, tiles[0], width, height);
-    while (this.receivers.length > receivers.length) {
+    // A receiver whose shape changed (a rectangle, a lathe of other points) is made anew.
+    const kind = (r) => (r.lathe ? latheKey(r.lathe) : 'rectangle');
+    const keep = this.receivers.findIndex((have, i) => i >= receivers.length || have.kind !== kind(receivers[i]));
+    while (keep >= 0 && this.receivers.length > keep) {
       const gone = this.receivers.pop();
       this.world.remove(gone.box, gone.lightmap);
       gone.lightmap.material.map.dispose();
+      if (gone.kind !== 'rectangle') gone.box.geometry.dispose();
     }
     while (this.receivers.length < receivers.length) {
-      const box = new THREE.Mesh(this.screenBox.geometry, this.screenBox.material);
+      const r = receivers[this.receivers.length];
+      const shape = r.lathe ? latheGeometry(r.lathe) : null;
+      const box = shape ? new THREE.Mesh(shape, new THREE.MeshStandardMaterial({
+        color: 0x8a8478, roughness: 0.7, side: THREE.DoubleSide })) : new THREE.Mesh(this.screenBox.geometry, this.screenBox.material);
       box.receiveShadow = true;
+      box.castShadow = !!shape;
       const map = new THREE.VideoTexture(this.video);
       map.colorSpace = THREE.SRGBColorSpace;
-      const lightmap = new THREE.Mesh(this.lightmap.geometry, new THREE.MeshBasicMaterial({
-        map, blending: THREE.AdditiveBlending, depthWrite: false, toneMapped: false }));
+      // On a lathe the light lies on its body: drawn over it, pulled toward the eye.
+      const lightmap = new THREE.Mesh(shape || this.lightmap.geometry, new THREE.MeshBasicMaterial({
+        map, blending: THREE.AdditiveBlending, depthWrite: false, toneMapped: false, side: THREE.DoubleSide,
+        polygonOffset: !!shape, polygonOffsetFactor: -1, polygonOffsetUnits: -4 }));
       lightmap.renderOrder = 1;
       this.world.add(box, lightmap);
-      this.receivers.push({ box, lightmap });
+      this.receivers.push({ box, lightmap, kind: kind(r) });
     }
     receivers.forEach((r, i) => {
-      placeRectangle(this.receivers[i].lightmap, this.receivers[i].box, r, 1.0);
-      showTile(this.receivers[i].lightmap.material.map, tiles[i + 1] || tiles[0], width, height);
+      const { box, lightmap } = this.receivers[i];
+      if (r.lathe) placeLathe([lightmap, box], r);
+      else placeRectangle(lightmap, box, r, 1.0);
+      showTile(lightmap.material.map, tiles[i + 1] || tiles[0], width, height);
     });
   }
 
-  // Each surface's lightmap: where it hangs and which part of the picture it shows.
+  // Each surface's lightmap: where it hangs, its shape and which part of the picture it shows.
   surfaceTiles() {
     return [this.lightmap, ...this.receivers.map((r) => r.lightmap)].map((m) => ({
       centre: m.position.toArray(), offset: m.material.map.offset.toArray(), repeat: m.material.map.repeat.toArray(),
+      shape: m.geometry.type,
     }));
   }
 
@@ -184,9 +198,11 @@ export class CausticRoom {
     const normal = new THREE.Vector3(), centre = new THREE.Vector3();
     let area = 0;
     for (const s of surfaces) {
-      normal.addScaledVector(toScene(vec(s.normal)).sub(toScene(new THREE.Vector3())), s.width * s.height);
-      centre.addScaledVector(toScene(vec(s.center)), s.width * s.height);
-      area += s.width * s.height;
+      const weight = surfaceArea(s);
+      // A lathe faces every way round its axis: it weighs in where, not which way.
+      if (!s.lathe) normal.addScaledVector(toScene(vec(s.normal)).sub(toScene(new THREE.Vector3())), weight);
+      centre.addScaledVector(toScene(vec(s.center)), weight);
+      area += weight;
     }
     // Surfaces that face each other cancel: then the screen's side.
     if (normal.length() < 1e-6 * area) normal.copy(toScene(vec(params.screen.normal)).sub(toScene(new THREE.Vector3())));

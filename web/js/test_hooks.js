@@ -32,7 +32,7 @@ export function installTestHooks(state, parts) {
     const { room } = parts();
     return room.pagePoint(what === 'light' ? room.lightMarker : room.handle);
   };
-  // The screen's and the receivers' lightmaps: centre, tile offset and repeat.
+  // The screen's and the receivers' lightmaps: centre, geometry type, tile offset and repeat.
   state.surfaces = () => parts().room.surfaceTiles();
   // Where the slab is drawn (scene coordinates of its centre).
   state.drawnProxy = () => parts().room.drawnCentre();

@@ -26,7 +26,10 @@ class ReceiverMesh {
  public:
   /// Triangles of no world or no (u, v) area are kept out of the hierarchy:
   /// they catch no light (a lathe's pole).
-  ReceiverMesh(std::vector<glm::dvec3> positions, std::vector<glm::dvec2> uvs, std::vector<glm::uvec3> triangles);
+  /// `quad_rows` > 0: the triangles are a grid of quads, two triangles
+  /// each, `quad_rows` quads a column (a lathe's).
+  ReceiverMesh(std::vector<glm::dvec3> positions, std::vector<glm::dvec2> uvs, std::vector<glm::uvec3> triangles,
+               int quad_rows = 0);
 
   /// The nearest triangle the ray meets at a distance in (0, before).
   std::optional<SurfaceHit> intersect(const glm::dvec3& origin, const glm::dvec3& dir, double before) const;
@@ -34,10 +37,13 @@ class ReceiverMesh {
   /// World area per unit of (u, v) area on triangle `element`.
   double stretch(int element) const { return stretch_[static_cast<std::size_t>(element)]; }
 
-  /// Whether two triangles are one or share a corner of the atlas: light
-  /// landing on both lies on one continuous piece of (u, v). Across a seam
-  /// (the atlas cut open) they share positions but not corners.
-  bool touching(int a, int b) const;
+  /// Whether light landing on triangles a and b lies on one continuous
+  /// piece of (u, v), close enough that the triangle of the atlas between
+  /// the landings stands for the surface between them: on a lathe's grid of
+  /// quads, within two quads of each other either way and not across the
+  /// seam (the atlas cut open); on any other mesh, one triangle or two
+  /// sharing a corner of the atlas.
+  bool continuous(int a, int b) const;
 
   glm::dvec3 lower() const { return lower_; }
   glm::dvec3 upper() const { return upper_; }
@@ -57,14 +63,16 @@ class ReceiverMesh {
   std::vector<std::uint32_t> order_;  ///< the triangles of the hierarchy, leaf by leaf
   std::vector<Node> nodes_;
   glm::dvec3 lower_{0.0}, upper_{0.0};
+  int quad_rows_ = 0;
 };
 
 /// A surface of revolution: `profile` points (radius >= 0, height along
 /// `up`) from `base`, swept round the axis in `segments` steps. (u, v) as
 /// three.js's LatheGeometry lays them, so the viewer's copy shows the same
 /// atlas: u = i / segments of the turn, starting along `normal` and turning
-/// toward up x normal; v = j / (points - 1) along the profile. Its seam,
-/// u = 0 = 1, cuts the atlas open.
+/// toward up x normal; v = j / (points - 1) along the profile; each quad
+/// split as LatheGeometry splits it, so that both draw the same affine map
+/// on each triangle. Its seam, u = 0 = 1, cuts the atlas open.
 ReceiverMesh make_lathe(const std::vector<glm::dvec2>& profile, int segments, const glm::dvec3& base,
                         const glm::dvec3& normal, const glm::dvec3& up);
 
