@@ -177,6 +177,11 @@ TEST_F(Rest, PatchErrorsLeaveTheParametersUnchanged) {
       {R"({"render": {"light_grid": 4}})", patch_type, bearer(s), 422, "render.light_grid"},
       {R"({"receivers": [{"width": 0}]})", patch_type, bearer(s), 422, "receivers[0].width"},
       {R"({"receivers": [{"center": [0, 0, 1]}]})", patch_type, bearer(s), 422, "receivers[0].center"},  // through the slab
+      {R"({"receivers": [{"lathe": {"profile": [[0, 0], [0, 5]]}}]})", patch_type, bearer(s), 422,
+       "receivers[0].lathe.profile"},
+      {R"({"receivers": [{"center": [0, 0, -5], "normal": [1, 0, 0], "up": [0, 0, 1], "lathe": {"profile": [[3, 0], [3, 9]]}}]})",
+       patch_type, bearer(s), 422,
+       "receivers[0].lathe"},  // reaching up into the slab
       {R"({"render": {"fidelity": "best"}})", patch_type, bearer(s), 422, "render.fidelity"},
       {R"({"render": {"accuracy_target": 0}})", patch_type, bearer(s), 422, "render.accuracy_target"},
       {R"({"render": {"fidelity": "manual", "mesh_resolution": 999}})", patch_type, bearer(s), 422,
@@ -192,6 +197,13 @@ TEST_F(Rest, PatchErrorsLeaveTheParametersUnchanged) {
     expect_problem(http("PATCH", url, c.body, c.type, c.headers), c.status, c.key);
     EXPECT_EQ(http("GET", url, "", "", bearer(s)).json(), before);
   }
+  // A lathe that stands clear is taken: two surfaces, two tiles.
+  const Response lathe = http("PATCH", url, R"({"receivers": [{"center": [0, 0, -40], "lathe": {"profile": [[3, 0], [3, 9]]}}]})",
+                              patch_type, bearer(s));
+  ASSERT_EQ(lathe.status, 200u) << lathe.body;
+  const json now = http("GET", url, "", "", bearer(s)).json();
+  EXPECT_EQ(now["params"]["receivers"][0]["lathe"]["segments"], 64);
+  EXPECT_EQ(now["atlas"].size(), 2u);
   // An unknown session answers exactly as a wrong token does.
   const Response unknown = http("PATCH", server_.url() + "/api/v1/sessions/0123456789abcdef0123456789abcdef/params",
                                 R"({"object": {"ior": 1.6}})", patch_type, bearer(s));
