@@ -20,10 +20,10 @@ double uv_area(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
   return 0.5 * std::abs(e1.x * e2.y - e1.y * e2.x);
 }
 
-// Whether the ray meets the box before `before` (slabs; an axis the ray runs
-// along gives infinities that compare correctly).
-bool meets(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& origin, const glm::dvec3& inverse,
-           double before) {
+// Where the ray enters the box, if it does before `before` (slabs; an axis
+// the ray runs along gives infinities that compare correctly); else infinity.
+double entry(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& origin, const glm::dvec3& inverse,
+             double before) {
   double near = 0, far = before;
   for (int k = 0; k < 3; ++k) {
     double t0 = (lo[k] - origin[k]) * inverse[k], t1 = (hi[k] - origin[k]) * inverse[k];
@@ -32,7 +32,7 @@ bool meets(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& origin,
     near = std::max(near, t0);
     far = std::min(far, t1);
   }
-  return near <= far;
+  return near <= far ? near : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace
@@ -95,15 +95,24 @@ std::optional<SurfaceHit> ReceiverMesh::intersect(const glm::dvec3& origin, cons
   if (nodes_.empty()) return std::nullopt;
   const glm::dvec3 inverse = 1.0 / dir;
   std::optional<SurfaceHit> best;
-  std::uint32_t stack[64];
+  struct Pending {
+    std::uint32_t node;
+    double entry;  // where the ray enters its box: skipped once a hit lies nearer
+  };
+  Pending stack[64];
   int top = 0;
-  stack[top++] = 0;
+  stack[top++] = {0, entry(nodes_[0].lo, nodes_[0].hi, origin, inverse, before)};
   while (top > 0) {
-    const Node& n = nodes_[stack[--top]];
-    if (!meets(n.lo, n.hi, origin, inverse, before)) continue;
+    const Pending p = stack[--top];
+    if (!(p.entry < before)) continue;
+    const Node& n = nodes_[p.node];
     if (n.count == 0) {
-      stack[top++] = n.first;
-      stack[top++] = n.first + 1;
+      // The nearer child on top: its hit shortens the search of the other.
+      const double ta = entry(nodes_[n.first].lo, nodes_[n.first].hi, origin, inverse, before);
+      const double tb = entry(nodes_[n.first + 1].lo, nodes_[n.first + 1].hi, origin, inverse, before);
+      const Pending a{n.first, ta}, b{n.first + 1, tb};
+      stack[top++] = ta <= tb ? b : a;
+      stack[top++] = ta <= tb ? a : b;
       continue;
     }
     for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
