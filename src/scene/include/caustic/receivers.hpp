@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The surfaces that catch the light: the screen and scene.receivers (a
-// floor, walls, a table), each a rectangle, or a lathe (a vase: caustic/
-// receiver_mesh.hpp) whose tile is its (u, v) atlas. A ray lands on the first one it
-// meets, so one surface shades another. The picture is their atlas: each
-// surface's irradiance in its own tile, streamed as one video, which the
-// viewer cuts up again onto the surfaces in its room.
+// floor, walls, a table), each a rectangle, or a lathe (a vase,
+// caustic/receiver_mesh.hpp) whose tile is its (u, v) atlas. A ray lands
+// on the first one it meets, so one surface shades another. The picture is
+// their atlas: each surface's irradiance in its own tile, streamed as one
+// video, which the viewer cuts up again onto the surfaces in its room.
 //
 // Alone, the screen keeps its old meaning, the whole plane: light that
 // lands beside the rectangle is simply outside the picture. With receivers
