@@ -131,11 +131,7 @@ TEST_F(EngineLathe, TheReferenceTracerAgrees) {
   ReferenceOptions options;
   options.photons = 16'000'000;
   const HdrImage reference = trace_reference(s, *fine, options).image;
-  double diff = 0, sum = 0;
-  for (std::size_t i = 0; i < engine.pixels.size(); ++i) {
-    diff += std::abs(engine.pixels[i] - reference.pixels[i]);
-    sum += reference.pixels[i];
-  }
-  std::printf("cylinder and floor: relative L1 engine vs reference %.4f\n", diff / sum);
-  EXPECT_LT(diff / sum, 0.01);
+  const double l1 = relative_l1(engine, reference);
+  std::printf("cylinder and floor: relative L1 engine vs reference %.4f\n", l1);
+  EXPECT_LT(l1, 0.01);
 }

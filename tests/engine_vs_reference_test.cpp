@@ -18,15 +18,6 @@ using namespace caustic::testing;
 
 namespace {
 
-double relative_l1(const HdrImage& a, const HdrImage& b) {
-  double diff = 0, sum = 0;
-  for (std::size_t i = 0; i < a.pixels.size(); ++i) {
-    diff += std::abs(a.pixels[i] - b.pixels[i]);
-    sum += std::abs(b.pixels[i]);
-  }
-  return diff / sum;
-}
-
 // The reference every comparison here uses: 16 M photons, where its own
 // noise is well below the bounds (docs/accuracy.md).
 ReferenceResult reference_for(const Scene& scene, const Mesh& mesh) {

@@ -72,6 +72,16 @@ inline double total_flux(const HdrImage& img, const ScreenParams& screen) {
   return sum * (screen.width / img.width) * (screen.height / img.height);
 }
 
+/// Sum of |a - b| over the sum of |b|: an image against its reference.
+inline double relative_l1(const HdrImage& a, const HdrImage& b) {
+  double diff = 0, sum = 0;
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+    diff += std::abs(a.pixels[i] - b.pixels[i]);
+    sum += std::abs(b.pixels[i]);
+  }
+  return diff / sum;
+}
+
 inline bool all_finite(const HdrImage& img) {
   for (float v : img.pixels)
     if (!std::isfinite(v) || v < 0) return false;

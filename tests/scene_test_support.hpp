@@ -3,6 +3,7 @@
 // tests.
 #pragma once
 
+#include "caustic/mesh.hpp"
 #include "caustic/scene.hpp"
 
 #include <gtest/gtest.h>
@@ -24,6 +25,17 @@ inline void expect_rejected(const json& doc, const std::string& key) {
   } catch (const SceneError& e) {
     EXPECT_EQ(e.key(), key) << e.what();
     EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+  }
+}
+
+// Expects the scene, posed over `face`, to be refused by check_geometry
+// naming `key`.
+inline void expect_geometry_refused(const Scene& scene, const Mesh& face, const std::string& key) {
+  try {
+    check_geometry(scene, face, place_object(scene.object, face));
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), key) << e.what();
   }
 }
 
