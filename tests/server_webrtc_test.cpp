@@ -37,6 +37,12 @@ TEST_P(WebRtc, ViewerReceivesTheStreamAndSeesAPatch) {
   ASSERT_TRUE(peer.wait_for_frames(10, 60.0)) << "decoded " << peer.decoded() << "; " << peer.error();
   EXPECT_EQ(peer.width(), 320);
   EXPECT_EQ(peer.height(), 240);
+  // No playout delay at the viewer: offered, and asked on every packet.
+  EXPECT_NE(peer.offer().find(" http://www.webrtc.org/experiments/rtp-hdrext/playout-delay\r\n"), std::string::npos)
+      << peer.offer();
+  const int packets = peer.rtp_packets(), zero_delay = peer.zero_playout_delay_packets();
+  EXPECT_GT(zero_delay, 0);
+  EXPECT_NEAR(zero_delay, packets, 1) << "a packet without the extension, or with a delay";
   const auto before = peer.last_picture();
 
   const auto auth = bearer(s);

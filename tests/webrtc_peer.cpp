@@ -3,6 +3,7 @@
 
 #define GST_USE_UNSTABLE_API
 #include <gst/app/gstappsink.h>
+#include <gst/rtp/rtp.h>
 #include <gst/sdp/sdp.h>
 #include <gst/webrtc/webrtc.h>
 
@@ -44,6 +45,7 @@ WebRtcPeer::WebRtcPeer(const std::string& codec, const std::string& ws_url)
   g_signal_connect(webrtc_, "pad-added", G_CALLBACK(+[](GstElement*, GstPad* pad, gpointer data) {
                      auto* self = static_cast<WebRtcPeer*>(data);
                      if (GST_PAD_DIRECTION(pad) != GST_PAD_SRC) return;
+                     gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_BUFFER, &WebRtcPeer::on_rtp, self, nullptr);
                      const std::string decode = self->codec_ == "vp8"
                                                     ? "rtpvp8depay ! vp8dec"
                                                     : "rtph264depay ! h264parse ! avdec_h264";
@@ -127,6 +129,29 @@ void WebRtcPeer::post_to_main(nlohmann::json m) {
       job, [](gpointer data) { delete static_cast<std::pair<WebRtcPeer*, nlohmann::json>*>(data); });
 }
 
+std::string WebRtcPeer::offer() {
+  std::lock_guard lock(lock_);
+  return offer_;
+}
+
+GstPadProbeReturn WebRtcPeer::on_rtp(GstPad*, GstPadProbeInfo* info, gpointer data) {
+  auto* self = static_cast<WebRtcPeer*>(data);
+  GstRTPBuffer rtp = GST_RTP_BUFFER_INIT;
+  if (!gst_rtp_buffer_map(GST_PAD_PROBE_INFO_BUFFER(info), GST_MAP_READ, &rtp)) return GST_PAD_PROBE_OK;
+  ++self->rtp_packets_;
+  gpointer ext = nullptr;
+  guint size = 0;
+  const int id = self->playout_delay_id_.load();
+  if (id > 0 && gst_rtp_buffer_get_extension_onebyte_header(&rtp, static_cast<guint8>(id), 0, &ext, &size) &&
+      size == 3) {
+    const auto* b = static_cast<const guint8*>(ext);
+    const int min = (b[0] << 4) | (b[1] >> 4), max = ((b[1] & 0x0f) << 8) | b[2];
+    if (min == 0 && max == 0) ++self->zero_delay_packets_;
+  }
+  gst_rtp_buffer_unmap(&rtp);
+  return GST_PAD_PROBE_OK;
+}
+
 void WebRtcPeer::send(const nlohmann::json& m) {
   if (socket_ && soup_websocket_connection_get_state(socket_) == SOUP_WEBSOCKET_STATE_OPEN)
     soup_websocket_connection_send_text(socket_, m.dump().c_str());
@@ -136,6 +161,18 @@ void WebRtcPeer::on_message(const nlohmann::json& m) {
   if (!m.is_object()) return;
   const std::string type = m.value("type", "");
   if (type == "offer") {
+    const std::string text = m["sdp"].get<std::string>();
+    {
+      std::lock_guard lock(lock_);
+      offer_ = text;
+    }
+    // a=extmap:<id>[/direction] <uri>
+    const std::string uri = " http://www.webrtc.org/experiments/rtp-hdrext/playout-delay";
+    for (std::size_t at = text.find("a=extmap:"); at != std::string::npos; at = text.find("a=extmap:", at + 1)) {
+      const std::string line = text.substr(at, text.find_first_of("\r\n", at) - at);
+      if (line.size() >= uri.size() && line.compare(line.size() - uri.size(), uri.size(), uri) == 0)
+        playout_delay_id_ = std::atoi(line.c_str() + 9);
+    }
     GstSDPMessage* sdp = nullptr;
     gst_sdp_message_new_from_text(m["sdp"].get<std::string>().c_str(), &sdp);
     GstWebRTCSessionDescription* offer = gst_webrtc_session_description_new(GST_WEBRTC_SDP_TYPE_OFFER, sdp);

@@ -49,11 +49,19 @@ class WebRtcPeer {
   /// Iterates the main loop until a frame shows `drops` posted drops or
   /// `seconds` passed; returns whether one did.
   bool wait_for_drops(std::uint64_t drops, double seconds);
+  /// The server's offer (SDP text; empty before it came).
+  std::string offer();
+  /// RTP packets received, and of them those whose playout-delay header
+  /// extension (the id the offer gave its URI) asks for no delay: minimum
+  /// and maximum 0.
+  int rtp_packets() const { return rtp_packets_.load(); }
+  int zero_playout_delay_packets() const { return zero_delay_packets_.load(); }
   /// Closes the signalling socket (the server then ends the session).
   void hang_up();
 
  private:
   static void on_socket(GObject* source, GAsyncResult* result, gpointer self);
+  static GstPadProbeReturn on_rtp(GstPad* pad, GstPadProbeInfo* info, gpointer self);
   void on_message(const nlohmann::json& m);
   void send(const nlohmann::json& m);
   void post_to_main(nlohmann::json m);
@@ -73,6 +81,9 @@ class WebRtcPeer {
   void on_water(const nlohmann::json& m);
   bool wait_until(const std::atomic<std::uint64_t>& seen, std::uint64_t value, double seconds);
   std::atomic<int> frame_messages_{0};
+  std::atomic<int> rtp_packets_{0}, zero_delay_packets_{0};
+  std::atomic<int> playout_delay_id_{0};  // from the offer's a=extmap; 0: none
+  std::string offer_;                     // under lock_
   std::mutex lock_;
   std::vector<guint8> picture_;
   int width_ = 0, height_ = 0;

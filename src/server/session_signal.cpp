@@ -2,6 +2,7 @@
 // The WebRTC side of a one-viewer session: webrtcbin's set-up, the offer,
 // and the signalling WebSocket that carries it to the viewer's browser.
 #include "ice_setup.hpp"
+#include "playout_delay.hpp"
 #include "session.hpp"
 #include "signal_message.hpp"
 
@@ -19,6 +20,12 @@ using Ref = std::weak_ptr<Session>;
 void Session::setup_webrtc() {
   const ServerConfig& c = *options_.config;
   webrtc_ = gst_bin_get_by_name(GST_BIN(pipeline_), "webrtc");
+  // No playout delay at the viewer (playout_delay.hpp); a broadcast's
+  // viewers negotiate with Janus instead, so only a session's own peer.
+  GstElement* pay = gst_bin_get_by_name(GST_BIN(pipeline_), "pay");
+  if (!add_playout_delay(pay))
+    log(Level::warning, "session " + id_ + ": no payloader named pay; the viewer keeps its playout delay");
+  if (pay) gst_object_unref(pay);
   // Every RTCP packet from the viewer's receiver (receiver reports arrive
   // about once a second from any WebRTC peer) proves it is still there.
   if (GstElement* rtpbin = gst_bin_get_by_name(GST_BIN(webrtc_), "rtpbin")) {

@@ -105,6 +105,9 @@ for (const codec of ['vp8', 'h264']) {
       const size = await page.evaluate(() => [document.getElementById('video').videoWidth,
                                               document.getElementById('video').videoHeight]);
       assert.deepEqual(size, [320, 240]);
+      // The browser took the server's "no playout delay" (RTP header extension).
+      const answer = await page.evaluate(() => window.caustic.peer.currentLocalDescription.sdp);
+      assert.match(answer, /a=extmap:\d+ http:\/\/www\.webrtc\.org\/experiments\/rtp-hdrext\/playout-delay\r\n/);
       await until(page, () => window.caustic.shownVersion === 1, 20, 'frame version 1 on screen');
       // The scene's name, in the page and its title.
       assert.equal(await page.textContent('#title'), 'Wavy window');
