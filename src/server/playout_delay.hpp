@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The playout-delay RTP header extension, sent as "no delay": a receiver
-// that negotiates it (Chrome, Firefox) shows each frame as soon as it is
+// that negotiates it (Chromium does) shows each frame as soon as it is
 // decoded instead of holding it in a jitter buffer sized for smoothness.
 // A viewer dragging a light wants the caustic to follow the hand, and the
 // frames here arrive on a loopback or LAN path with little jitter. The page
