@@ -10,26 +10,16 @@
 //
 //   CAUSTICD=build/bin/causticd CAUSTIC_NODE_MODULES=build/npm/node_modules CAUSTIC_JANUS_DIR=janus \
 //     tests/janus/in_namespace.sh node bench/broadcast_bench.mjs [counts, e.g. 1,2,4,8] [seconds] [size]
-import { readFileSync } from 'node:fs';
 import os from 'node:os';
 
 import { launchChromium } from '../tests/browser/chromium.mjs';
 import { until } from '../tests/browser/harness.mjs';
 import { api, Janus, sentFrames, videoStat } from '../tests/browser/janus_harness.mjs';
+import { cpuSeconds, rssMiB } from './proc_stats.mjs';
 
 const counts = (process.argv[2] ?? '1,2,4,8').split(',').map(Number);
 const seconds = Number(process.argv[3] ?? 10);
 const size = Number(process.argv[4] ?? 1024);
-
-// utime + stime in seconds, and resident memory in MiB, of process `pid`.
-function cpuSeconds(pid) {
-  const fields = readFileSync(`/proc/${pid}/stat`, 'utf8').split(') ')[1].split(' ');
-  return (Number(fields[11]) + Number(fields[12])) / 100;  // USER_HZ is 100 on Linux
-}
-function rssMiB(pid) {
-  const line = readFileSync(`/proc/${pid}/status`, 'utf8').split('\n').find((l) => l.startsWith('VmRSS:'));
-  return Number(line.split(/\s+/)[1]) / 1024;
-}
 
 const janus = await Janus.start();
 const server = await janus.startServer([], { width: size, height: size });
