@@ -47,6 +47,8 @@ constexpr double kVertical = 1e-7;
 
 // Rows per band at the least: a thread costs more than a thin band saves.
 constexpr int kMinBandRows = 64;
+// Edges per share of a clear at the least, likewise.
+constexpr int kMinClearEdges = 16384;
 
 }  // namespace
 
@@ -263,10 +265,18 @@ void CoverageRaster::flush() {
     Layer& layer = layers_[static_cast<std::size_t>(k)];
     negative_ = negative_ || layer.negative;
     layer.negative = false;
-    std::fill(layer.edge_values.begin(), layer.edge_values.end(), glm::dvec3(0));
     layer.clean = true;
     layer.points.clear();
   }
+  // The values walked, cleared for the next pass: a share of the edges a
+  // core (24 bytes an edge a layer: megabytes a pass at a 256² mesh).
+  if (!mesh_in_use_) return;
+  in_bands(static_cast<int>(edges_.size()), kMinClearEdges, [this](int lo, int hi) {
+    for (int k = 0; k < layers_in_use_; ++k) {
+      auto& values = layers_[static_cast<std::size_t>(k)].edge_values;
+      std::fill(values.begin() + lo, values.begin() + hi, glm::dvec3(0));
+    }
+  });
 }
 
 const std::vector<float>& CoverageRaster::resolve(bool rgba) {
