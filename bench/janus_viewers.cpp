@@ -18,6 +18,8 @@
 #include <libsoup/soup.h>
 #include <nlohmann/json.hpp>
 
+#include "webrtc_answer.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
@@ -226,37 +228,14 @@ void Viewer::on_message(const json& m) {
 }
 
 void Viewer::answer(const std::string& offer_text) {
-  GstSDPMessage* sdp = nullptr;
-  gst_sdp_message_new_from_text(offer_text.c_str(), &sdp);
-  GstWebRTCSessionDescription* offer = gst_webrtc_session_description_new(GST_WEBRTC_SDP_TYPE_OFFER, sdp);
-  GstPromise* set = gst_promise_new();
-  g_signal_emit_by_name(webrtc_, "set-remote-description", offer, set);
-  gst_promise_wait(set);
-  gst_promise_unref(set);
-  gst_webrtc_session_description_free(offer);
-  GstPromise* promise = gst_promise_new_with_change_func(
-      [](GstPromise* p, gpointer self) {
-        auto* me = static_cast<Viewer*>(self);
-        const GstStructure* reply = gst_promise_get_reply(p);
-        GstWebRTCSessionDescription* answer = nullptr;
-        if (reply) gst_structure_get(reply, "answer", GST_TYPE_WEBRTC_SESSION_DESCRIPTION, &answer, nullptr);
-        gst_promise_unref(p);
-        if (!answer) return on_main([me] { me->error_ = "no answer"; });
-        GstPromise* done = gst_promise_new();
-        g_signal_emit_by_name(me->webrtc_, "set-local-description", answer, done);
-        gst_promise_unref(done);
-        gchar* text = gst_sdp_message_as_text(answer->sdp);
-        const std::string sdp_text = text;
-        g_free(text);
-        gst_webrtc_session_description_free(answer);
-        on_main([me, sdp_text] {
-          me->request({{"janus", "message"}, {"session_id", me->session_}, {"handle_id", me->handle_},
-                       {"body", {{"request", "start"}}}, {"jsep", {{"type", "answer"}, {"sdp", sdp_text}}}},
-                      [](const json&) {});
-        });
-      },
-      this, nullptr);
-  g_signal_emit_by_name(webrtc_, "create-answer", nullptr, promise);
+  caustic::testing::answer_offer(webrtc_, offer_text, [this](std::string sdp_text) {
+    if (sdp_text.empty()) return on_main([this] { error_ = "no answer"; });
+    on_main([this, sdp_text] {
+      request({{"janus", "message"}, {"session_id", session_}, {"handle_id", handle_},
+               {"body", {{"request", "start"}}}, {"jsep", {{"type", "answer"}, {"sdp", sdp_text}}}},
+              [](const json&) {});
+    });
+  });
 }
 
 // A frame is the packets of one RTP timestamp.

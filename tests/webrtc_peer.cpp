@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "webrtc_peer.hpp"
 
+#include "webrtc_answer.hpp"
+
 #define GST_USE_UNSTABLE_API
 #include <gst/app/gstappsink.h>
 #include <gst/rtp/rtp.h>
@@ -173,36 +175,14 @@ void WebRtcPeer::on_message(const nlohmann::json& m) {
       if (line.size() >= uri.size() && line.compare(line.size() - uri.size(), uri.size(), uri) == 0)
         playout_delay_id_ = std::atoi(line.c_str() + 9);
     }
-    GstSDPMessage* sdp = nullptr;
-    gst_sdp_message_new_from_text(m["sdp"].get<std::string>().c_str(), &sdp);
-    GstWebRTCSessionDescription* offer = gst_webrtc_session_description_new(GST_WEBRTC_SDP_TYPE_OFFER, sdp);
-    GstPromise* set = gst_promise_new();
-    g_signal_emit_by_name(webrtc_, "set-remote-description", offer, set);
-    gst_promise_wait(set);
-    gst_promise_unref(set);
-    gst_webrtc_session_description_free(offer);
-    GstPromise* promise = gst_promise_new_with_change_func(
-        [](GstPromise* p, gpointer data) {
-          auto* self = static_cast<WebRtcPeer*>(data);
-          const GstStructure* reply = gst_promise_get_reply(p);
-          GstWebRTCSessionDescription* answer = nullptr;
-          if (reply) gst_structure_get(reply, "answer", GST_TYPE_WEBRTC_SESSION_DESCRIPTION, &answer, nullptr);
-          gst_promise_unref(p);
-          if (!answer) {
-            std::lock_guard lock(self->lock_);
-            self->error_ = "no answer";
-            return;
-          }
-          GstPromise* done = gst_promise_new();
-          g_signal_emit_by_name(self->webrtc_, "set-local-description", answer, done);
-          gst_promise_unref(done);
-          gchar* text = gst_sdp_message_as_text(answer->sdp);
-          self->post_to_main({{"type", "answer"}, {"sdp", text}});
-          g_free(text);
-          gst_webrtc_session_description_free(answer);
-        },
-        this, nullptr);
-    g_signal_emit_by_name(webrtc_, "create-answer", nullptr, promise);
+    answer_offer(webrtc_, text, [this](std::string answer) {
+      if (answer.empty()) {
+        std::lock_guard lock(lock_);
+        error_ = "no answer";
+        return;
+      }
+      post_to_main({{"type", "answer"}, {"sdp", answer}});
+    });
   } else if (type == "ice") {
     g_signal_emit_by_name(webrtc_, "add-ice-candidate", m["sdpMLineIndex"].get<guint>(),
                           m["candidate"].get<std::string>().c_str());
