@@ -24,7 +24,6 @@
 #include <atomic>
 #include <cstdio>
 #include <functional>
-#include <iostream>
 #include <map>
 #include <memory>
 #include <string>
