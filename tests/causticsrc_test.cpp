@@ -265,6 +265,70 @@ TEST_F(CausticSrc, AChangeIsSentAtOnceNotAtTheNextKeepAlive) {
   EXPECT_NE(next.pixels, first.pixels);
 }
 
+// early-frames: a picture drawn while the stream stands still leaves when
+// it is ready, not at the next frame time, yet never within an interval of
+// the frame before. At 2 frames a second a change made 50 ms after a frame
+// time would wait 450 ms for the next one; whether its drawing is done well
+// before then depends on the machine's load, so each try checks only when
+// it was (picture-version says when).
+TEST_F(CausticSrc, AChangeAfterAStillSpellLeavesWhenDrawnNotAtTheNextFrameTime) {
+  start("causticsrc name=src scene=" + scene("slab") +
+        " width=32 height=32 framerate=2/1 progressive=false still-interval-ms=60000 ! appsink name=sink sync=false");
+  auto params = caustic::gst::param_store(src_);
+  ASSERT_TRUE(params);
+  GstClock* clock = gst_element_get_clock(pipeline_.get());
+  ASSERT_NE(clock, nullptr);
+  const GstClockTime base = gst_element_get_base_time(pipeline_.get());
+  auto running_time = [&] { return gst_clock_get_time(clock) - base; };
+  constexpr GstClockTime interval = GST_SECOND / 2;
+  Frame last = take(pull());
+  int checked = 0;
+  for (int k = 0; k < 20 && checked < 3; ++k) {
+    // Just past the frame time after `last`, which left nothing (unchanged).
+    while (running_time() < last.pts + interval + 50 * GST_MSECOND) g_usleep(2000);
+    const std::uint64_t version = params->apply_patch({{"light", {{"direction", {0.01 * (k + 1), 0.0, -1.0}}}}});
+    const GstClockTime next_time = last.pts + 2 * interval;
+    guint64 drawn = 0;
+    while (running_time() < next_time) {
+      g_object_get(src_, "picture-version", &drawn, nullptr);
+      if (drawn >= version) break;
+      g_usleep(1000);
+    }
+    const bool in_time = drawn >= version && running_time() + 100 * GST_MSECOND < next_time;
+    GstSample* sample = pull();
+    ASSERT_NE(sample, nullptr) << k;
+    const Frame next = take(sample);
+    EXPECT_GE(next.pts, last.pts + interval) << k;  // never within an interval of the last frame
+    last = next;
+    if (!in_time) continue;
+    EXPECT_EQ(next.version, version) << k;
+    EXPECT_LT(next.pts, next_time) << k;  // it did not wait for the frame time
+    ++checked;
+  }
+  gst_object_unref(clock);
+  EXPECT_EQ(checked, 3);
+}
+
+// While changes keep coming, frames keep the frame rate: none leaves within
+// an interval of the one before, however soon a picture is ready.
+TEST_F(CausticSrc, FramesNeverComeCloserThanTheFrameInterval) {
+  start("causticsrc name=src scene=" + scene("slab") +
+        " width=32 height=32 framerate=10/1 still-interval-ms=60000 ! appsink name=sink sync=false");
+  auto params = caustic::gst::param_store(src_);
+  ASSERT_TRUE(params);
+  std::vector<Frame> frames{take(pull())};
+  for (int k = 0; k < 40; ++k) {
+    params->apply_patch({{"light", {{"direction", {0.005 * (k % 7), 0.0, -1.0}}}}});
+    g_usleep(((k % 5) * 20 + 15) * 1000);  // 15 to 95 ms apart: some inside an interval, some past it
+    GstSample* sample = gst_app_sink_try_pull_sample(GST_APP_SINK(sink_), 0);
+    if (sample) frames.push_back(take(sample));
+  }
+  for (GstSample* sample; (sample = gst_app_sink_try_pull_sample(GST_APP_SINK(sink_), 0));)
+    frames.push_back(take(sample));
+  ASSERT_GE(frames.size(), 4u);
+  for (std::size_t i = 1; i < frames.size(); ++i) EXPECT_GE(frames[i].pts - frames[i - 1].pts, GST_SECOND / 10) << i;
+}
+
 TEST_F(CausticSrc, AKeyFrameRequestSendsTheUnchangedPictureAtOnce) {
   start("causticsrc name=src scene=" + scene("slab") +
         " width=32 height=32 framerate=30/1 still-interval-ms=20000 ! appsink name=sink");

@@ -9,7 +9,8 @@
  * renders again only when the parameters changed and otherwise re-sends the
  * last picture, at the frame rate or, with still-interval-ms, only that
  * often (a force-key-unit event from downstream sends the next frame at
- * once, so that an encoder can answer it); every buffer carries a CausticFrameMeta with the parameter
+ * once, so that an encoder can answer it, and with early-frames a change
+ * after a still spell leaves as soon as it is drawn); every buffer carries a CausticFrameMeta with the parameter
  * version it shows and its fidelity level. While the parameters keep
  * changing (progressive=true), frames are previews (level 1: a coarser mesh
  * level, the caustic at 1/preview-divisor of the size, no bloom); once they
@@ -49,7 +50,7 @@ G_DEFINE_TYPE(GstCausticSrc, gst_caustic_src, GST_TYPE_PUSH_SRC)
 
 enum { PROP_0, PROP_SCENE, PROP_WIDTH, PROP_HEIGHT, PROP_FRAMERATE, PROP_RENDERS, PROP_OVERRUNS, PROP_PROGRESSIVE, PROP_SETTLE_MS,
        PROP_PREVIEW_DIVISOR, PROP_PREVIEW_MESH, PROP_PICTURE_VERSION,
-       PROP_STILL_INTERVAL_MS, PROP_SKIPPED, PROP_WATER_SOLVER };
+       PROP_STILL_INTERVAL_MS, PROP_SKIPPED, PROP_WATER_SOLVER, PROP_EARLY_FRAMES };
 
 static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
     "src", GST_PAD_SRC, GST_PAD_ALWAYS,
@@ -76,6 +77,7 @@ static void gst_caustic_src_set_property(GObject* object, guint id, const GValue
     case PROP_PREVIEW_MESH: s.source.progressive.mesh = g_value_get_int(value); break;
     case PROP_STILL_INTERVAL_MS: s.still_interval = g_value_get_uint(value) * GST_MSECOND; break;
     case PROP_WATER_SOLVER: s.source.water_solver = static_cast<caustic::gst::WaterSolver>(g_value_get_enum(value)); break;
+    case PROP_EARLY_FRAMES: s.early_frames = g_value_get_boolean(value) != FALSE; break;
     default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
 }
@@ -98,6 +100,7 @@ static void gst_caustic_src_get_property(GObject* object, guint id, GValue* valu
     case PROP_STILL_INTERVAL_MS: g_value_set_uint(value, static_cast<guint>(s.still_interval / GST_MSECOND)); break;
     case PROP_SKIPPED: g_value_set_uint64(value, s.skipped.load()); break;
     case PROP_WATER_SOLVER: g_value_set_enum(value, static_cast<gint>(s.source.water_solver)); break;
+    case PROP_EARLY_FRAMES: g_value_set_boolean(value, s.early_frames.load()); break;
     default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
 }
@@ -145,7 +148,7 @@ static gboolean gst_caustic_src_set_caps(GstBaseSrc* src, GstCaps* caps) {
 static gboolean gst_caustic_src_start(GstBaseSrc* src) {
   State& s = state_of(src);
   std::lock_guard lock(s.lock);
-  s.frame_index = 0;
+  s.frame_index = s.first_index = 0;
   s.first_due = 0;
   if (s.params && s.meshes) {
     start_water(s);
@@ -239,40 +242,16 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
   }
   const gint n = GST_VIDEO_INFO_FPS_N(&s.info), d = GST_VIDEO_INFO_FPS_D(&s.info);
   const int width = GST_VIDEO_INFO_WIDTH(&s.info), height = GST_VIDEO_INFO_HEIGHT(&s.info);
-  // Frame 0 is stamped when its picture is ready and the rest follow at the
-  // frame rate, so that a frame's timestamp is when it leaves: GstBaseSrc
-  // then waits for exactly that time (its start-up offset stays near zero).
   GstClockTime due = 0;
   GstBuffer* picture = nullptr;
   try {
     if (!s.worker || s.worker->width() != width || s.worker->height() != height) {
       s.worker.reset();
-      s.worker = std::make_unique<caustic::gst::FrameWorker>(s.source, params, meshes, width, height, &s.heartbeat);
+      s.worker = std::make_unique<caustic::gst::FrameWorker>(s.source, params, meshes, width, height, &s.heartbeat,
+                                                             [&s] { s.due_wait.interrupt(); });
     }
-    // An unchanged picture waits for the next due frame that shows a new
-    // one, or for its keep-alive, or for a key frame request: a still scene
-    // then costs the encoder (nearly) nothing.
-    for (;; ++s.frame_index) {
-      due = s.first_due + gst_util_uint64_scale(s.frame_index * GST_SECOND, d, n);
-      if (s.frame_index > 0)
-        if (const GstFlowReturn r = s.due_wait.wait(GST_ELEMENT(push), due); r != GST_FLOW_OK) return r;
-      picture = s.worker->latest(std::chrono::nanoseconds(gst_util_uint64_scale(GST_SECOND, d, n)));
-      if (s.frame_index == 0) due = s.first_due = caustic::gst::running_time_now(GST_ELEMENT(push));
-      if (s.still_interval == 0 || picture != s.last_sent || due >= s.last_sent_due + s.still_interval)
-        break;
-      if (s.send_next.exchange(false)) {
-        GST_DEBUG_OBJECT(push, "frame %" G_GUINT64_FORMAT ": sent unchanged for a key frame request", s.frame_index);
-        break;
-      }
-      gst_buffer_unref(picture);
-      picture = nullptr;
-      ++s.skipped;
-    }
-    if (s.still_interval > 0 && picture != s.last_sent) {
-      if (s.last_sent) gst_buffer_unref(s.last_sent);
-      s.last_sent = gst_buffer_ref(picture);
-    }
-    s.last_sent_due = due;
+    if (const GstFlowReturn r = caustic::gst::next_frame(s, GST_ELEMENT(push), &picture, &due); r != GST_FLOW_OK)
+      return r;
     const CausticFrameMeta* meta = caustic_buffer_get_frame_meta(picture);
     const std::uint64_t renders = s.source.renders;
     if (renders != s.renders_logged)
@@ -375,6 +354,12 @@ static void gst_caustic_src_class_init(GstCausticSrcClass* klass) {
       gobject, PROP_WATER_SOLVER,
       g_param_spec_enum("water-solver", "Water solver", "Where a scene's water steps: auto, cpu or gl",
                         caustic::gst::water_solver_type(), 0, rw));
+  g_object_class_install_property(
+      gobject, PROP_EARLY_FRAMES,
+      g_param_spec_boolean("early-frames", "Early frames",
+                           "A picture finished while the stream stands still (still-interval-ms) leaves at once, "
+                           "not at the next frame time, once an interval has passed since the last frame",
+                           TRUE, rw));
   gst_element_class_set_static_metadata(element, "Caustic source", "Source/Video",
                                         "Renders the caustic of a refractive or reflective object, live",
                                         "causticd developers");

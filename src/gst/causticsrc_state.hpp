@@ -23,6 +23,7 @@ struct State {
   int width = 0, height = 0;  // 0: the scene's render size
   int fps_n = 30, fps_d = 1;
   GstClockTime still_interval = 0;  // re-send an unchanged picture this often; 0: every frame
+  std::atomic<bool> early_frames{true};  // a change after a still spell leaves when drawn (causticsrc_pacing.cpp)
   std::shared_ptr<caustic::ParamStore> params;
   std::shared_ptr<const caustic::MeshLevels> meshes;
   std::shared_ptr<caustic::water::Pool> pool;  // the stream's water: source.pool, for other threads
@@ -35,7 +36,8 @@ struct State {
   std::uint64_t overruns_told = 0, renders_logged = 0;
   std::atomic<std::uint64_t> overruns{0};  // read from any thread
   std::atomic<std::int64_t> heartbeat{0};  // the render thread's, read from any thread
-  GstClockTime first_due = 0;  // running time of frame 0: when it was ready
+  GstClockTime first_due = 0;  // running time of frame first_index: the grid's start
+  guint64 first_index = 0;      // frame 0, or the last frame that left early
   // The picture last pushed, held so that its address stays its own: the
   // worker hands back the very same buffer while nothing changed.
   GstBuffer* last_sent = nullptr;
@@ -44,6 +46,11 @@ struct State {
   std::atomic<std::uint64_t> skipped{0};      // unchanged frames not sent (still-interval-ms), any thread
   caustic::gst::DueWait due_wait;
 };
+
+/// Waits for the next frame to send and takes its picture, a reference
+/// (causticsrc_pacing.cpp): GST_FLOW_OK with *picture and *due (its running
+/// time) set, or the flow that ended the wait. Streaming thread.
+GstFlowReturn next_frame(State& s, GstElement* element, GstBuffer** picture, GstClockTime* due);
 
 /// Gives the stream its water as it starts (causticsrc_api.cpp). Under s.lock.
 void start_water(State& s);

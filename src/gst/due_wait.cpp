@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "due_wait.hpp"
 
+#include <utility>
+
 namespace caustic::gst {
 
 GstClockTime running_time_now(GstElement* element) {
@@ -22,13 +24,21 @@ GstFlowReturn DueWait::wait(GstElement* element, GstClockTime due) {
   bool wait = false;
   {
     std::lock_guard lock(lock_);
-    if ((wait = !flushing_)) pending_ = id;
+    if ((wait = !flushing_ && !interrupted_)) pending_ = id;
   }
   if (wait) gst_clock_id_wait(id, nullptr);
   std::lock_guard lock(lock_);
   pending_ = nullptr;
   gst_clock_id_unref(id);
-  return flushing_ ? GST_FLOW_FLUSHING : GST_FLOW_OK;
+  if (flushing_) return GST_FLOW_FLUSHING;
+  const bool early = std::exchange(interrupted_, false);
+  return early ? GST_FLOW_CUSTOM_SUCCESS : GST_FLOW_OK;
+}
+
+void DueWait::interrupt() {
+  std::lock_guard lock(lock_);
+  interrupted_ = true;
+  if (pending_) gst_clock_id_unschedule(pending_);
 }
 
 void DueWait::unlock() {

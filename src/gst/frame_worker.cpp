@@ -5,9 +5,9 @@ namespace caustic::gst {
 
 FrameWorker::FrameWorker(FrameSource& source, std::shared_ptr<const ParamStore> params,
                          std::shared_ptr<const MeshLevels> meshes, int width, int height,
-                         std::atomic<std::int64_t>* heartbeat)
+                         std::atomic<std::int64_t>* heartbeat, std::function<void()> on_picture)
     : source_(source), params_(std::move(params)), meshes_(std::move(meshes)), width_(width), height_(height),
-      heartbeat_(heartbeat), thread_([this] { run(); }) {}
+      heartbeat_(heartbeat), on_picture_(std::move(on_picture)), thread_([this] { run(); }) {}
 
 FrameWorker::~FrameWorker() {
   {
@@ -42,6 +42,7 @@ void FrameWorker::run() {
       if (picture_) gst_buffer_unref(picture_);
       picture_ = picture;
       ready_.notify_all();
+      if (on_picture_) on_picture_();
     }
     if (!error.empty()) {
       error_ = error;

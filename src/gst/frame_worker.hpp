@@ -8,6 +8,7 @@
 #include "frame_source.hpp"
 
 #include <condition_variable>
+#include <functional>
 #include <mutex>
 #include <thread>
 
@@ -19,8 +20,10 @@ class FrameWorker {
   /// by it from now on (its GL context is made and freed on that thread).
   /// `heartbeat` (steady-clock ticks, 0: not running) is set each time the
   /// thread comes round its loop: proof, for a watchdog, that it is not stuck.
+  /// `on_picture` (may be empty) is called on the thread each time a new
+  /// picture is finished, so that it need not wait for the next frame time.
   FrameWorker(FrameSource& source, std::shared_ptr<const ParamStore> params, std::shared_ptr<const MeshLevels> meshes,
-              int width, int height, std::atomic<std::int64_t>* heartbeat);
+              int width, int height, std::atomic<std::int64_t>* heartbeat, std::function<void()> on_picture = {});
   /// Stops and joins the thread.
   ~FrameWorker();
   FrameWorker(const FrameWorker&) = delete;
@@ -51,6 +54,7 @@ class FrameWorker {
   std::atomic<std::int64_t> busy_since_{0};  // steady-clock ticks when the current render began; 0: idle
   std::atomic<std::uint64_t> overruns_{0};
   std::atomic<std::int64_t>* heartbeat_;
+  std::function<void()> on_picture_;
   std::thread thread_;
 };
 
