@@ -15,6 +15,8 @@
 # Too slow for CI: on two cores about 0.6 s a cycle under ASan and 6 s
 # under TSan, plus a minute or two to start and to check for leaks.
 # Environment: CAUSTIC_SANITIZE_JOBS (build jobs, default nproc),
+# CAUSTIC_TSAN_SYNC=0 (a TSan run without tools/tsan_glib_sync.cpp, to see
+# what TSan reports when GLib's locks are hidden from it),
 # CAUSTICD_DATA_DIR (data folder; default: build/share/causticd of the
 # normal build, else the sanitized build's own, without calibrations).
 set -uo pipefail
@@ -73,6 +75,20 @@ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAUSTICD_BUILD_
   { cat "$logs/configure.log"; exit 1; }
 cmake --build "$build" -j "$jobs" --target causticd session_cycles >"$logs/build.log" 2>&1 ||
   { tail -n 40 "$logs/build.log"; exit 1; }
+if [[ $kind == tsan && ${CAUSTIC_TSAN_SYNC:-1} != 0 ]]; then
+  # GLib's locks and GStreamer's reference counts, made visible to TSan
+  # (tools/tsan_glib_sync.cpp), preloaded.
+  sync_lib="$build/lib/libtsan_glib_sync.so"
+  mkdir -p "$build/lib"
+  # shellcheck disable=SC2046 # pkg-config's flags are words
+  "${CXX:-c++}" -std=c++20 -shared -fPIC -O2 -g $(pkg-config --cflags glib-2.0) \
+    "$here/tools/tsan_glib_sync.cpp" -o "$sync_lib" -l:libtsan.so.2 -ldl >>"$logs/build.log" 2>&1 ||
+    { tail -n 20 "$logs/build.log"; exit 1; }
+  # Into the server alone: the bench is built without a sanitizer.
+  server="$build/bin/causticd-glib-sync"
+  printf '#!/bin/sh\nLD_PRELOAD=%q exec %q "$@"\n' "$sync_lib" "$build/bin/causticd" >"$server"
+  chmod +x "$server"
+fi
 # The data (meshes, calibrations, web files) does not depend on the
 # sanitizer: the normal build's is used when there is one; otherwise the
 # meshes and web files are made here, without calibrations, which would
@@ -88,7 +104,7 @@ stamp="$(date +%Y%m%d-%H%M%S)"
 server_log="$logs/server-$stamp.log"
 report="$logs/cycles-$stamp.json"
 echo "== $cycles cycles under $kind; server log $server_log"
-"$build/bin/session_cycles" --causticd "$build/bin/causticd" --cycles "$cycles" --report "$report" \
+"$build/bin/session_cycles" --causticd "${server:-$build/bin/causticd}" --cycles "$cycles" --report "$report" \
   --sanitizer-exit-status "$sanitizer_status" "${timeouts[@]}" 2>"$server_log"
 bench=$?
 
@@ -114,10 +130,14 @@ if [[ $kind == asan ]]; then
   echo "== LSan: $known known GLib quark-table block(s) allowed; project-relevant reports: $counted"
 else
   # GLib's GMutex and GCond are futexes TSan cannot see, so every buffer or
-  # message handed between GStreamer threads can read as a race. A report
-  # counts when one of its two accesses runs in the project's own sources
-  # (src/): those are listed, the rest (GLib, GStreamer, Mesa, libnice,
-  # OpenSSL among themselves) only counted.
+  # message handed between GStreamer threads can read as a race
+  # (tools/tsan_glib_sync.cpp shows TSan most of them, not those inside
+  # GLib itself). A race counts when one of its two accesses is made by the
+  # project's own code (src/): its innermost frame is there, or it is a C
+  # library call TSan intercepts (malloc, free, memcpy) made from there. A
+  # race between two accesses that a library makes to its own memory
+  # (GLib's queue links, GIO's sockets) under our calls is the library's.
+  # Any other kind of report counts with a frame in src/ anywhere.
   awk -v src="$here/src/" -v out="$project" '
     /^WARNING: ThreadSanitizer/ { block = $0; ours = 0; access = 0; inrep = 1; race = /data race/; next }
     inrep && /^SUMMARY: ThreadSanitizer/ {
@@ -127,8 +147,10 @@ else
     }
     inrep {
       block = block "\n" $0
-      if ($0 ~ /^  [A-Z]/) access = ($0 ~ /^  (Previous )?(atomic )?([Rr]ead|[Ww]rite) of size/)
-      if (index($0, src) && (access || !race)) ours = 1
+      if ($0 ~ /^  [A-Z]/) { access = ($0 ~ /^  (Previous )?(atomic )?([Rr]ead|[Ww]rite) of size/); via_libc = 0 }
+      if (!race) { if (index($0, src)) ours = 1; next }
+      if (access && $0 ~ /^    #0 /) { if (index($0, src)) ours = 1; via_libc = ($0 ~ /libsanitizer|libtsan/) }
+      else if (access && via_libc && $0 ~ /^    #1 /) { if (index($0, src)) ours = 1; via_libc = 0 }
     }
     END { printf "%d %d\n", counted + 0, other + 0 }' "$server_log" >"$logs/counts"
   read -r counted known <"$logs/counts"
