@@ -76,6 +76,34 @@ TEST(Hardening, AnOversizedBodyIsRefusedBeforeItIsSent) {
   EXPECT_TRUE(closed);
 }
 
+// A client that sends its body after the 413 (most do, without Expect:
+// 100-continue) must be able to: a server that closes with the body still
+// arriving answers it with a reset, which a client can see before the 413
+// ("broken pipe" while sending). The server reads and drops it instead.
+TEST(Hardening, AnUploadRefusedWith413MaySendItsBodyWithoutAReset) {
+  ServerProcess server;
+  const int fd = raw_connect(server.port());
+  ASSERT_GE(fd, 0);
+  const std::size_t length = std::size_t{1} << 20;
+  ASSERT_TRUE(raw_send(fd, "POST /api/v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+                           "Content-Length: " + std::to_string(length) + "\r\n\r\n"));
+  pollfd answered{fd, POLLIN, 0};
+  ASSERT_EQ(::poll(&answered, 1, 10000), 1) << "no answer to the head";
+  const std::string chunk(64 * 1024, 'x');
+  std::size_t sent = 0;
+  for (; sent < length; sent += chunk.size()) {
+    if (!raw_send(fd, chunk)) break;
+    g_usleep(2000);  // a reset, had the server closed, arrives between two chunks
+  }
+  EXPECT_EQ(sent, length) << "sending the body failed: " << g_strerror(errno);
+  ::shutdown(fd, SHUT_WR);
+  bool closed = false;
+  const std::string answer = raw_read_all(fd, 10000, &closed);
+  ::close(fd);
+  expect_problem_answer(answer, 413);
+  EXPECT_TRUE(closed);
+}
+
 TEST(Hardening, ChunkedAndAmbiguousBodyLengthsAreRefused) {
   ServerProcess server;
   const std::string post = "POST /api/v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n";

@@ -188,13 +188,15 @@ void Listener::accept_some() {
   }
 }
 
-void Listener::refuse(GSocket* socket, unsigned status, const std::string& detail, const std::string& headers) {
+void Listener::refuse(GSocket* socket, unsigned status, const std::string& detail, const std::string& headers,
+                      bool linger) {
   ++metrics_.http_errors;
   ++metrics_.connections_refused;
   const std::string answer = canned_problem(status, detail, headers);
   const int fd = g_socket_get_fd(socket);
   (void)::send(fd, answer.data(), answer.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
   ::shutdown(fd, SHUT_WR);
+  if (linger && lingering_.take(fd)) return;
   // Read what the client already sent, so closing sends a FIN after the
   // answer rather than a reset that could destroy it in flight.
   char sink[4096];
@@ -251,7 +253,7 @@ void Listener::peek(std::uint64_t id) {
     const RequestHead head = scan_request_head(buffer, limits_.head);
     if (head.state == RequestHead::State::complete) return hand_over(id, head);
     if (head.state == RequestHead::State::refused) {
-      refuse(c.socket, head.status, head.detail);
+      refuse(c.socket, head.status, head.detail, "", head.status == 413);
       return drop(id);
     }
   }

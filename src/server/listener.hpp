@@ -10,6 +10,7 @@
 // the library through a guarded stream (guard_stream.hpp).
 #pragma once
 
+#include "lingering_close.hpp"
 #include "metrics.hpp"
 #include "request_head.hpp"
 
@@ -61,7 +62,9 @@ class Listener {
   void accept_some();
   void admit(GSocket* socket);
   void peek(std::uint64_t id);
-  void refuse(GSocket* socket, unsigned status, const std::string& detail, const std::string& headers = "");
+  // `linger`: the client may still be sending a body (LingeringClose).
+  void refuse(GSocket* socket, unsigned status, const std::string& detail, const std::string& headers = "",
+              bool linger = false);
   void hand_over(std::uint64_t id, const RequestHead& head);
   void drop(std::uint64_t id);
   static void socket_gone(gpointer data, GObject* where);
@@ -76,6 +79,8 @@ class Listener {
   std::map<std::uint64_t, std::unique_ptr<Connection>> connections_;
   std::map<std::string, int> per_address_;
   std::uint64_t next_id_ = 1;
+  // Refused uploads: 32 at once, each for at most 1 s and 4 MiB.
+  LingeringClose lingering_{32, std::chrono::milliseconds(1000), std::size_t{4} << 20};
   std::shared_ptr<Listener*> alive_;  // callbacks hold a weak copy
 };
 
