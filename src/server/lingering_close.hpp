@@ -29,7 +29,6 @@ class LingeringClose {
   /// Takes a duplicate of `fd`, so the caller closes its own as usual; false
   /// (nothing taken) when `max_sockets` linger already or dup() fails.
   bool take(int fd);
-  std::size_t lingering() const { return entries_.size(); }
 
  private:
   struct Entry {
