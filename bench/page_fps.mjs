@@ -2,7 +2,10 @@
 // The viewer's frame rate in headless Debian chromium (software WebGL), as
 // requestAnimationFrame counts it, still and while the light is dragged
 // (a scripted light move every 100 ms, the path a drag takes), for each
-// room quality. Prints one line per case with the machine.
+// room quality; beside it, over the same window, the stream's frames the
+// browser decoded (WebRTC stats) and the video frames it presented
+// (requestVideoFrameCallback): what reaches the page, apart from what the
+// page's own drawing keeps up with. Prints one line per case with the machine.
 //
 //   CAUSTICD=build/bin/causticd CAUSTIC_NODE_MODULES=build/npm/node_modules \
 //     node bench/page_fps.mjs [scene] [seconds] [stream size]
@@ -15,21 +18,38 @@ const scene = process.argv[2] ?? 'wavy';
 const seconds = Number(process.argv[3] ?? 5);
 const streamSize = Number(process.argv[4] ?? 1024);
 
-// Frames the page draws in `ms` (while the light moves, with `drag`),
-// counted by its own requestAnimationFrame.
+// Frames a second in `ms` (while the light moves, with `drag`): the page's
+// own requestAnimationFrame, the video frames presented, and the frames
+// decoded.
 const countFrames = ([ms, drag]) => new Promise((resolve) => {
-  const timer = drag ? setInterval(() => window.caustic.moveLight(0.3, 0, 0), 100) : null;
-  let frames = 0;
-  const start = performance.now();
-  const tick = (now) => {
-    if (now - start >= ms) {
+  const decoded = () => window.caustic.peer.getStats().then((report) => {
+    let n = 0;
+    report.forEach((r) => { if (r.type === 'inbound-rtp' && r.kind === 'video') n = r.framesDecoded; });
+    return n;
+  });
+  const video = document.getElementById('video');
+  decoded().then((decodedBefore) => {
+    const timer = drag ? setInterval(() => window.caustic.moveLight(0.3, 0, 0), 100) : null;
+    let frames = 0, presented = 0, done = false;
+    const start = performance.now();
+    const onVideo = () => {
+      ++presented;
+      if (!done) video.requestVideoFrameCallback(onVideo);
+    };
+    video.requestVideoFrameCallback(onVideo);
+    const tick = (now) => {
+      if (now - start < ms) {
+        ++frames;
+        return requestAnimationFrame(tick);
+      }
+      done = true;
       clearInterval(timer);
-      return resolve((1000 * frames) / (now - start));
-    }
-    ++frames;
+      const per = (n) => (1000 * n) / (now - start);
+      decoded().then((decodedAfter) =>
+        resolve({ page: per(frames), presented: per(presented), decoded: per(decodedAfter - decodedBefore) }));
+    };
     requestAnimationFrame(tick);
-  };
-  requestAnimationFrame(tick);
+  });
 });
 
 const server = await startServer([], { width: streamSize, height: streamSize });
@@ -43,7 +63,8 @@ try {
     await page.waitForTimeout(1500);
     const still = await page.evaluate(countFrames, [seconds * 1000, false]);
     const drag = await page.evaluate(countFrames, [seconds * 1000, true]);
-    console.log(`${scene} room ${quality}: ${still.toFixed(1)} fps still, ${drag.toFixed(1)} fps during a light drag`);
+    const rates = (r) => `page ${r.page.toFixed(1)} fps, video presented ${r.presented.toFixed(1)}, decoded ${r.decoded.toFixed(1)}`;
+    console.log(`${scene} room ${quality}: still ${rates(still)}; during a light drag ${rates(drag)}`);
     await page.close();
   }
 } finally {

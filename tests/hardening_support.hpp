@@ -37,6 +37,17 @@ inline void expect_problem_answer(const std::string& answer, int status) {
   EXPECT_TRUE(body["detail"].is_string());
 }
 
+/// Reads what the server sends on `fd` until it closes (at most
+/// `timeout_ms`), closes `fd`, and expects a problem answer of `status`
+/// followed by the server's close.
+inline void expect_problem_then_close(int fd, int status, int timeout_ms = 10000) {
+  bool closed = false;
+  const std::string answer = raw_read_all(fd, timeout_ms, &closed);
+  ::close(fd);
+  expect_problem_answer(answer, status);
+  EXPECT_TRUE(closed) << "the server kept the connection open";
+}
+
 inline int sessions_now(const ServerProcess& server) {
   return http("GET", server.url() + "/api/v1/health").json()["sessions"].get<int>();
 }

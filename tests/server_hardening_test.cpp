@@ -69,11 +69,7 @@ TEST(Hardening, AnOversizedBodyIsRefusedBeforeItIsSent) {
   // Only the head: the answer must come without a byte of the body.
   raw_send(fd, "POST /api/v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
                "Content-Length: 134217728\r\n\r\n");
-  bool closed = false;
-  const std::string answer = raw_read_all(fd, 10000, &closed);
-  ::close(fd);
-  expect_problem_answer(answer, 413);
-  EXPECT_TRUE(closed);
+  expect_problem_then_close(fd, 413);
 }
 
 // A client that sends its body after the 413 (most do, without Expect:
@@ -97,11 +93,7 @@ TEST(Hardening, AnUploadRefusedWith413MaySendItsBodyWithoutAReset) {
   }
   EXPECT_EQ(sent, length) << "sending the body failed: " << g_strerror(errno);
   ::shutdown(fd, SHUT_WR);
-  bool closed = false;
-  const std::string answer = raw_read_all(fd, 10000, &closed);
-  ::close(fd);
-  expect_problem_answer(answer, 413);
-  EXPECT_TRUE(closed);
+  expect_problem_then_close(fd, 413);
 }
 
 TEST(Hardening, ChunkedAndAmbiguousBodyLengthsAreRefused) {
@@ -311,11 +303,7 @@ TEST(Hardening, AHeadCutShortByTheClientIsAnsweredAtOnce) {
   ASSERT_GE(fd, 0);
   raw_send(fd, "GET /api/v1/health HTTP/1.1\r\nHost: x\r\n");
   ::shutdown(fd, SHUT_WR);
-  bool closed = false;
-  const std::string answer = raw_read_all(fd, 30000, &closed);
-  ::close(fd);
-  expect_problem_answer(answer, 400);
-  EXPECT_TRUE(closed);
+  expect_problem_then_close(fd, 400, 30000);
 }
 
 TEST(Hardening, ANullHigherUpCannotResetTheFixedKeys) {
