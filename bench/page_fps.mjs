@@ -8,7 +8,11 @@
 // page's own drawing keeps up with. Prints one line per case with the machine.
 //
 //   CAUSTICD=build/bin/causticd CAUSTIC_NODE_MODULES=build/npm/node_modules \
-//     node bench/page_fps.mjs [scene] [seconds] [stream size]
+//     node bench/page_fps.mjs [scene] [seconds] [stream size] [causticd serve options...]
+//
+// For example `slab 10 1024 --set still_interval_ms=0`: a still scene sent
+// at 30 fps, which the server encodes but does not render, leaves the
+// cores to the page: what the page draws when the server is elsewhere.
 import os from 'node:os';
 
 import { launchChromium } from '../tests/browser/chromium.mjs';
@@ -17,6 +21,7 @@ import { startServer, until } from '../tests/browser/harness.mjs';
 const scene = process.argv[2] ?? 'wavy';
 const seconds = Number(process.argv[3] ?? 5);
 const streamSize = Number(process.argv[4] ?? 1024);
+const serverOptions = process.argv.slice(5);
 
 // Frames a second in `ms` (while the light moves, with `drag`): the page's
 // own requestAnimationFrame, the video frames presented, and the frames
@@ -52,10 +57,10 @@ const countFrames = ([ms, drag]) => new Promise((resolve) => {
   });
 });
 
-const server = await startServer([], { width: streamSize, height: streamSize });
+const server = await startServer(serverOptions, { width: streamSize, height: streamSize });
 const browser = await launchChromium();
 try {
-  console.log(`machine: ${os.cpus()[0].model}, ${os.cpus().length} cores; chromium software WebGL; stream ${streamSize}x${streamSize} VP8; page 1280x800`);
+  console.log(`machine: ${os.cpus()[0].model}, ${os.cpus().length} cores; chromium software WebGL; stream ${streamSize}x${streamSize} VP8; page 1280x800; server ${serverOptions.join(' ') || 'defaults'}`);
   for (const quality of ['high', 'low']) {
     const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
     await page.goto(`${server.url}/viewer.html?scene=${scene}&codec=vp8&quality=${quality}`);
