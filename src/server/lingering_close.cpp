@@ -11,11 +11,13 @@
 namespace caustic::server {
 
 LingeringClose::~LingeringClose() {
-  for (auto& [fd, e] : entries_) {
-    if (e->io) g_source_remove(e->io);
-    if (e->timer) g_source_remove(e->timer);
-    ::close(fd);
-  }
+  for (auto& entry : entries_) release(*entry.second);
+}
+
+void LingeringClose::release(Entry& e) {
+  if (e.io) g_source_remove(e.io);
+  if (e.timer) g_source_remove(e.timer);
+  ::close(e.fd);
 }
 
 bool LingeringClose::take(int fd) {
@@ -57,10 +59,8 @@ gboolean LingeringClose::expired(gpointer data) {
 }
 
 void LingeringClose::finish(Entry& e) {
-  if (e.io) g_source_remove(e.io);
-  if (e.timer) g_source_remove(e.timer);
   const int fd = e.fd;
-  ::close(fd);
+  release(e);
   entries_.erase(fd);  // frees e
 }
 

@@ -39,7 +39,8 @@ class LingeringClose {
   };
   static gboolean readable(gint fd, GIOCondition, gpointer data);
   static gboolean expired(gpointer data);
-  void finish(Entry& e);
+  static void release(Entry& e);  // its sources removed, its socket closed
+  void finish(Entry& e);          // released and forgotten
 
   std::size_t max_sockets_;
   std::chrono::milliseconds time_;
