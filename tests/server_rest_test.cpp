@@ -182,6 +182,9 @@ TEST_F(Rest, PatchErrorsLeaveTheParametersUnchanged) {
       {R"({"receivers": [{"center": [0, 0, -5], "normal": [1, 0, 0], "up": [0, 0, 1], "lathe": {"profile": [[3, 0], [3, 9]]}}]})",
        patch_type, bearer(s), 422,
        "receivers[0].lathe"},  // reaching up into the slab
+      {R"({"receivers": [{"center": [0, 0, -40], "mesh": "cloth"}]})", patch_type, bearer(s), 422,
+       "receivers[0].mesh"},  // this scene brings no shapes
+      {R"({"receiver_meshes": {"x": "/etc/passwd"}})", patch_type, bearer(s), 422, "receiver_meshes"},
       {R"({"render": {"fidelity": "best"}})", patch_type, bearer(s), 422, "render.fidelity"},
       {R"({"render": {"accuracy_target": 0}})", patch_type, bearer(s), 422, "render.accuracy_target"},
       {R"({"render": {"fidelity": "manual", "mesh_resolution": 999}})", patch_type, bearer(s), 422,

@@ -61,7 +61,7 @@ class Setup {
       tiles_.emplace_back(glm::dvec2(surfaces[i].width / 2, surfaces[i].height / 2),
                           glm::dvec2(layout[i].x, height - layout[i].y - layout[i].height),
                           glm::dvec2(layout[i].width, layout[i].height),
-                          surfaces[i].lathe ? surfaces[i].lathe->mesh.get() : nullptr);
+                          surfaces[i].body());
     reference_distance2_ = reference_distance2(scene, placement);
   }
 

@@ -129,7 +129,7 @@ bool Engine::render() {
     const int wavelengths = s.divisor > 1 ? std::min(s.scene->render.wavelengths, kPreviewWavelengths)
                                           : s.scene->render.wavelengths;
     const auto passes = spectral_passes(*s.scene, wavelengths);
-    // A lathe's triangles are not in the shaders: its scenes land on the CPU whatever the setup.
+    // A lathe's or mesh's triangles are not in the shaders: its scenes land on the CPU whatever the setup.
     const bool on_cpu = s.setup == TriangleSetup::cpu || (s.setup == TriangleSetup::automatic && s.software) ||
                         has_shaped_receiver(*s.scene);
     s.stats.cpu_setup = on_cpu;

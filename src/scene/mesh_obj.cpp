@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <sstream>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -78,6 +79,8 @@ void check_numbers(std::string text, const std::string& label) {
   }
 }
 
+Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool atlas);
+
 }  // namespace
 
 std::vector<glm::vec3> smooth_normals(const std::vector<glm::vec3>& positions,
@@ -129,7 +132,14 @@ void validate_mesh(const Mesh& mesh, const MeshLimits& limits) {
         throw SceneError("mesh", "triangle " + std::to_string(i + 1) + " refers to a vertex that does not exist");
 }
 
-Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits) {
+Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits) { return read_obj(file, limits, false); }
+
+Mesh load_atlas_obj(const std::filesystem::path& file, const MeshLimits& limits) { return read_obj(file, limits, true); }
+
+namespace {
+
+// `atlas`: keep each corner's vt (Mesh::uvs), a vertex per (position, normal, vt).
+Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool atlas) {
   std::error_code ec;
   const auto bytes = std::filesystem::file_size(file, ec);
   // Messages name the file by its base name only: the full path of a
@@ -164,7 +174,7 @@ Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits) {
 
   Mesh mesh;
   bool all_normals = true;
-  std::map<std::pair<int, int>, unsigned> unified;  // (position, normal) -> vertex
+  std::map<std::tuple<int, int, int>, unsigned> unified;  // (position, normal, vt) -> vertex
   for (const auto& shape : shapes) {
     if (!shape.lines.indices.empty() || !shape.points.indices.empty())
       throw SceneError("mesh", "mesh file " + label + " holds lines or points; only triangles are allowed");
@@ -183,7 +193,11 @@ Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits) {
         if (idx.normal_index < 0) all_normals = false;
         if (idx.normal_index >= 0 && static_cast<std::size_t>(idx.normal_index) >= attrib.normals.size() / 3)
           throw SceneError("mesh", "mesh file " + label + ": a face refers to a normal that does not exist");
-        const auto key = std::make_pair(idx.vertex_index, idx.normal_index);
+        if (atlas && (idx.texcoord_index < 0 || static_cast<std::size_t>(idx.texcoord_index) >= attrib.texcoords.size() / 2))
+          throw SceneError("mesh", "mesh file " + label + ": face " + std::to_string(f + 1) + " of \"" + shape.name +
+                                       "\" has a corner without a texture coordinate (vt); a receiver's shape needs "
+                                       "its atlas on every corner");
+        const auto key = std::make_tuple(idx.vertex_index, idx.normal_index, atlas ? idx.texcoord_index : -1);
         auto [it, inserted] = unified.try_emplace(key, static_cast<unsigned>(mesh.positions.size()));
         if (inserted) {
           const float* p = &attrib.vertices[3 * idx.vertex_index];
@@ -202,6 +216,13 @@ Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits) {
             mesh.normals.push_back(normal / len);
           } else {
             mesh.normals.emplace_back(0.0f);
+          }
+          if (atlas) {
+            const glm::vec2 uv(attrib.texcoords[2 * idx.texcoord_index], attrib.texcoords[2 * idx.texcoord_index + 1]);
+            if (!(uv.x >= 0 && uv.x <= 1 && uv.y >= 0 && uv.y <= 1))
+              throw SceneError("mesh", "mesh file " + label + ": texture coordinate " +
+                                           std::to_string(idx.texcoord_index + 1) + " lies outside [0, 1]");
+            mesh.uvs.push_back(uv);
           }
           if (mesh.positions.size() > limits.max_vertices)
             throw SceneError("mesh", "mesh file " + label + " has more than " + std::to_string(limits.max_vertices) +
@@ -224,10 +245,13 @@ Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits) {
   return mesh;
 }
 
+}  // namespace
+
 void write_obj(const Mesh& mesh, const std::filesystem::path& file) {
   std::unique_ptr<FILE, int (*)(FILE*)> out(std::fopen(file.string().c_str(), "w"), &std::fclose);
   if (!out) throw std::runtime_error("cannot write " + file.string());
-  std::fprintf(out.get(), "# caustic face, %zu vertices, %zu triangles\n", mesh.positions.size(), mesh.triangles.size());
+  std::fprintf(out.get(), "# %s, %zu vertices, %zu triangles\n", mesh.uvs.empty() ? "caustic face" : "receiver shape",
+               mesh.positions.size(), mesh.triangles.size());
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
     const auto& p = mesh.positions[i];
     if (tinted(mesh)) {
@@ -238,8 +262,15 @@ void write_obj(const Mesh& mesh, const std::filesystem::path& file) {
     }
   }
   for (const auto& n : mesh.normals) std::fprintf(out.get(), "vn %.7g %.7g %.7g\n", n.x, n.y, n.z);
-  for (const auto& t : mesh.triangles)
-    std::fprintf(out.get(), "f %u//%u %u//%u %u//%u\n", t.x + 1, t.x + 1, t.y + 1, t.y + 1, t.z + 1, t.z + 1);
+  for (const auto& uv : mesh.uvs) std::fprintf(out.get(), "vt %.9g %.9g\n", uv.x, uv.y);
+  const bool atlas = !mesh.uvs.empty();
+  for (const auto& t : mesh.triangles) {
+    if (atlas)
+      std::fprintf(out.get(), "f %u/%u/%u %u/%u/%u %u/%u/%u\n", t.x + 1, t.x + 1, t.x + 1, t.y + 1, t.y + 1, t.y + 1,
+                   t.z + 1, t.z + 1, t.z + 1);
+    else
+      std::fprintf(out.get(), "f %u//%u %u//%u %u//%u\n", t.x + 1, t.x + 1, t.y + 1, t.y + 1, t.z + 1, t.z + 1);
+  }
   if (std::ferror(out.get())) throw std::runtime_error("error while writing " + file.string());
 }
 

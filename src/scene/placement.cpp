@@ -102,13 +102,14 @@ void check_point_light(const Scene& scene, const Placement& placement) {
 void check_receivers(const Scene& scene, const Placement& placement) {
   for (std::size_t i = 0; i < scene.receivers.size(); ++i) {
     const auto& r = scene.receivers[i];
-    if (r.lathe) {  // boxes apart: the lathe's and the object's (axis-aligned; a near miss is refused too)
+    if (const ReceiverMesh* body = r.body()) {  // boxes apart: its and the object's (axis-aligned; a near miss is refused too)
       glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
       for (const glm::dvec3& q : placement.box) lo = glm::min(lo, q), hi = glm::max(hi, q);
-      const glm::dvec3 a = r.lathe->mesh->lower(), b = r.lathe->mesh->upper();
+      const glm::dvec3 a = body->lower(), b = body->upper();
+      const char* kind = r.lathe ? "lathe" : "mesh";
       if (glm::all(glm::lessThan(a, hi)) && glm::all(glm::lessThan(lo, b)))
-        throw SceneError("receivers[" + std::to_string(i) + "].lathe",
-                         "the lathe reaches into the object's bounding box");
+        throw SceneError("receivers[" + std::to_string(i) + "]." + kind,
+                         std::string("the ") + kind + " reaches into the object's bounding box");
       continue;
     }
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;

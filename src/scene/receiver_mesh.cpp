@@ -55,6 +55,34 @@ ReceiverMesh::ReceiverMesh(std::vector<glm::dvec3> positions, std::vector<glm::d
       upper_ = glm::max(upper_, positions_[v[k]]);
     }
   }
+  if (quad_rows_ == 0) {  // the triangles round each vertex, for continuous()
+    corner_start_.assign(positions_.size() + 1, 0);
+    for (const glm::uvec3& v : triangles_)
+      for (int k = 0; k < 3; ++k) ++corner_start_[v[k] + 1];
+    for (std::size_t i = 1; i < corner_start_.size(); ++i) corner_start_[i] += corner_start_[i - 1];
+    corner_triangles_.resize(corner_start_.back());
+    std::vector<std::uint32_t> filled(corner_start_.begin(), corner_start_.end() - 1);
+    for (std::uint32_t t = 0; t < triangles_.size(); ++t)
+      for (int k = 0; k < 3; ++k) corner_triangles_[filled[triangles_[t][k]]++] = t;
+    // Pieces: vertices joined by triangles (union-find, halving paths).
+    std::vector<std::uint32_t> parent(positions_.size());
+    for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    const auto root = [&](std::uint32_t i) {
+      while (parent[i] != i) i = parent[i] = parent[parent[i]];
+      return i;
+    };
+    for (const glm::uvec3& v : triangles_) {
+      parent[root(v.y)] = root(v.x);
+      parent[root(v.z)] = root(v.x);
+    }
+    piece_.resize(triangles_.size());
+    uv_centroid_.resize(triangles_.size());
+    for (std::size_t t = 0; t < triangles_.size(); ++t) {
+      const glm::uvec3 v = triangles_[t];
+      piece_[t] = root(v.x);
+      uv_centroid_[t] = (uvs_[v.x] + uvs_[v.y] + uvs_[v.z]) / 3.0;
+    }
+  }
   if (order_.empty()) return;
   nodes_.reserve(2 * order_.size() / kLeafSize + 2);
   nodes_.resize(1);
@@ -144,11 +172,19 @@ bool ReceiverMesh::continuous(int a, int b) const {
     const int qa = a / 2, qb = b / 2;
     return std::abs(qa / quad_rows_ - qb / quad_rows_) <= 2 && std::abs(qa % quad_rows_ - qb % quad_rows_) <= 2;
   }
+  const auto touches = [](const glm::uvec3& x, const glm::uvec3& y) {
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (x[i] == y[j]) return true;
+    return false;
+  };
   const glm::uvec3 x = triangles_[static_cast<std::size_t>(a)], y = triangles_[static_cast<std::size_t>(b)];
+  if (touches(x, y)) return true;
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      if (x[i] == y[j]) return true;
-  return false;
+    for (std::uint32_t k = corner_start_[x[i]]; k < corner_start_[x[i] + 1]; ++k)
+      if (touches(triangles_[corner_triangles_[k]], y)) return true;
+  const auto i = static_cast<std::size_t>(a), j = static_cast<std::size_t>(b);
+  return piece_[i] == piece_[j] && glm::length(uv_centroid_[i] - uv_centroid_[j]) <= kAtlasSpan;
 }
 
 ReceiverMesh make_lathe(const std::vector<glm::dvec2>& profile, int segments, const glm::dvec3& base,

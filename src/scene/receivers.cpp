@@ -28,7 +28,7 @@ std::vector<ScreenParams> receiving_surfaces(const Scene& scene) {
 
 bool has_shaped_receiver(const Scene& scene) {
   for (const ScreenParams& r : scene.receivers)
-    if (r.lathe) return true;
+    if (r.body()) return true;
   return false;
 }
 
@@ -39,8 +39,8 @@ ReceiverHit first_receiver(const Scene& scene, const glm::dvec3& origin, const g
   // Called for every ray and photon: the surfaces are read in place, not gathered.
   for (std::size_t i = 0; i <= scene.receivers.size(); ++i) {
     const ScreenParams& r = i == 0 ? scene.screen : scene.receivers[i - 1];
-    if (r.lathe) {
-      if (const auto hit = r.lathe->mesh->intersect(origin, dir, best.distance))
+    if (const ReceiverMesh* body = r.body()) {
+      if (const auto hit = body->intersect(origin, dir, best.distance))
         best = {static_cast<int>(i), hit->uv - 0.5, hit->distance, hit->element};
       continue;
     }

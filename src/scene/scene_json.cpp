@@ -8,6 +8,7 @@
 #include "glass_json.hpp"
 #include "json_reader.hpp"
 #include "water_json.hpp"
+#include "caustic/receiver_meshes.hpp"
 #include "caustic/screen_follow.hpp"
 
 #include <nlohmann/json.hpp>
@@ -107,8 +108,22 @@ Lathe read_lathe(Reader r) {
   return l;
 }
 
+// The receiver's shape `name` from the scene's table, placed at s.
+ShapedMesh read_shape(Reader& r, const ScreenParams& s, const ReceiverMeshTable* shapes) {
+  const std::string name = r.string("mesh", "", 64);
+  if (shapes)
+    if (const auto it = shapes->meshes.find(name); it != shapes->meshes.end())
+      return {name, std::make_shared<const ReceiverMesh>(place_receiver_mesh(it->second, s.center, s.normal, s.up))};
+  // The names are public (a viewer draws the shapes); what was sent is not repeated.
+  std::string names;
+  if (shapes)
+    for (const auto& [n, file] : shapes->files) names += (names.empty() ? "" : ", ") + n;
+  throw SceneError(r.key("mesh"), names.empty() ? "names a shape, and this scene's receiver_meshes lists none"
+                                                : "must be one of this scene's receiver_meshes: " + names);
+}
+
 ScreenParams read_screen(Reader r, const std::optional<double>& focus_distance, const ObjectParams& object,
-                         const LightParams& light) {
+                         const LightParams& light, const ReceiverMeshTable* shapes) {
   ScreenParams s;
   // A mirror focused by focus_distance: the screen goes where the reflection goes.
   if (const auto n = reflected_screen_normal(object, light); n && focus_distance && !r.has("normal") && !r.has("center")) {
@@ -134,7 +149,13 @@ ScreenParams read_screen(Reader r, const std::optional<double>& focus_distance, 
   } else {
     s.center = r.vec3("center", s.center);
   }
-  if (r.has("lathe")) {
+  if (r.has("lathe") && r.has("mesh")) throw SceneError(r.key("mesh"), "a receiver is a lathe or a mesh, not both");
+  if (r.has("mesh")) {
+    for (const char* k : {"width", "height"})
+      if (r.has(k)) throw SceneError(r.key(k), "a mesh's size is its own: leave width and height out");
+    s.shaped = read_shape(r, s, shapes);
+    s.width = s.height = 1;
+  } else if (r.has("lathe")) {
     // Its size is its profile: a width or height beside it would be ignored.
     for (const char* k : {"width", "height"})
       if (r.has(k)) throw SceneError(r.key(k), "a lathe's size is its profile: leave width and height out");
@@ -198,7 +219,8 @@ json opt(const std::optional<T>& v) { return v ? json(*v) : json(nullptr); }
 
 }  // namespace
 
-Scene scene_from_json(const json& j, const std::filesystem::path& base_dir) {
+Scene scene_from_json(const json& j, const std::filesystem::path& base_dir,
+                      std::shared_ptr<const ReceiverMeshTable> loaded) {
   Reader r(j, "");
   Scene s;
   s.base_dir = base_dir;
@@ -220,14 +242,22 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir) {
     if (s.object.fit_size) throw SceneError("object.fit_size", "water's size is water.size: leave fit_size out");
   }
   s.light = read_light(r.child("light"));
-  s.screen = read_screen(r.child("screen"), s.focus_distance, s.object, s.light);
+  // Read before the receivers that name them; a patch's are the ones already read.
+  if (const json* table = r.get("receiver_meshes")) {
+    if (loaded && *table != json(loaded->files))
+      throw SceneError("receiver_meshes", "is the scene file's: it cannot change here");
+    s.receiver_meshes = loaded ? loaded : std::make_shared<const ReceiverMeshTable>(load_receiver_meshes(*table, base_dir));
+  }
+  s.screen = read_screen(r.child("screen"), s.focus_distance, s.object, s.light, s.receiver_meshes.get());
   if (s.screen.lathe) throw SceneError("screen.lathe", "the screen is a rectangle; a lathe is one of the receivers");
+  if (s.screen.shaped) throw SceneError("screen.mesh", "the screen is a rectangle; a mesh is one of the receivers");
   if (const json* list = r.get("receivers")) {
     if (!list->is_array() || list->size() > kMaxReceivers)
       throw SceneError("receivers", "must be an array of at most " + std::to_string(kMaxReceivers) + " rectangles");
     for (std::size_t i = 0; i < list->size(); ++i) {
       const std::string where = "receivers[" + std::to_string(i) + "]";
-      s.receivers.push_back(read_screen(Reader((*list)[i], where), std::nullopt, s.object, s.light));
+      s.receivers.push_back(read_screen(Reader((*list)[i], where), std::nullopt, s.object, s.light,
+                                        s.receiver_meshes.get()));
       if (s.receivers.back().follow_light) throw SceneError(where + ".follow_light", "only the screen follows the light");
     }
   }
@@ -243,7 +273,9 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir) {
 static json screen_to_json(const ScreenParams& screen) {
   json out = {{"center", vec(screen.center)}, {"normal", vec(screen.normal)}, {"up", vec(screen.up)},
               {"follow_light", screen.follow_light}};
-  if (screen.lathe) {
+  if (screen.shaped) {
+    out["mesh"] = screen.shaped->name;
+  } else if (screen.lathe) {
     json profile = json::array();
     for (const glm::dvec2& p : screen.lathe->profile) profile.push_back({p.x, p.y});
     out["lathe"] = {{"profile", profile}, {"segments", screen.lathe->segments}};
@@ -263,6 +295,7 @@ json scene_to_json(const Scene& s) {
       {"name", s.name},
       {"description", s.description},
       {"mesh", s.mesh},
+      {"receiver_meshes", s.receiver_meshes ? json(s.receiver_meshes->files) : json(nullptr)},
       {"focus_distance", opt(s.focus_distance)},
       {"object",
        {{"material", name_of(o.material, Names<Material>(kMaterials))},
@@ -310,7 +343,7 @@ json scene_to_json(const Scene& s) {
 }
 
 void validate_scene(const Scene& scene) {
-  scene_from_json(scene_to_json(scene), scene.base_dir);
+  scene_from_json(scene_to_json(scene), scene.base_dir, scene.receiver_meshes);
   // Parsing normalises vectors; a scene built in code must already be normal.
   auto unit = [](const glm::dvec3& v) { return std::abs(glm::length(v) - 1.0) < 1e-9; };
   if (!unit(scene.object.flat_face_normal)) throw SceneError("object.flat_face_normal", "must be a unit vector");

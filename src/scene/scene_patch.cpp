@@ -35,6 +35,9 @@ json nulls_to_origin(const json& patch, const json* origin) {
 
 Scene apply_merge_patch(const Scene& scene, const json& patch, const Scene* origin) {
   if (!patch.is_object()) throw SceneError("", "a parameter patch must be a JSON object");
+  // Files are the scene file's to name: a patch that could would open them.
+  if (patch.contains("receiver_meshes"))
+    throw SceneError("receiver_meshes", "belongs to the scene file; a patch may use its shapes, not list files");
   if (origin) {
     const json origin_doc = scene_to_json(*origin);
     return apply_merge_patch(scene, nulls_to_origin(patch, &origin_doc));
@@ -45,7 +48,7 @@ Scene apply_merge_patch(const Scene& scene, const json& patch, const Scene* orig
   if (patch.contains("focus_distance") && !(patch.contains("screen") && patch["screen"].contains("center")))
     doc["screen"].erase("center");
   doc.merge_patch(patch);
-  return scene_from_json(doc, scene.base_dir);
+  return scene_from_json(doc, scene.base_dir, scene.receiver_meshes);
 }
 
 json patch_from_assignment(const std::string& assignment) {

@@ -6,6 +6,7 @@
 #include "caustic/image_io.hpp"
 #include "caustic/json_text.hpp"
 #include "caustic/pool.hpp"
+#include "caustic/receiver_meshes.hpp"
 #include "caustic/water_mesh.hpp"
 #include "caustic/resample.hpp"
 #include "caustic/screen_follow.hpp"
@@ -73,6 +74,8 @@ std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, cons
   const Scene placed = follow_light(entry->scene, entry->levels->place(entry->scene.object));
   entry->calibration = load_calibration(calibration_path(file), scene_fingerprint(placed, *entry->mesh));
   entry->scene = resolve_for(*entry, entry->scene);
+  if (const auto& table = entry->scene.receiver_meshes)
+    for (const auto& [name, shape] : table->meshes) entry->shapes[name] = receiver_mesh_json(shape);
   // A value the scene file writes for a key that fidelity "auto" decides, or
   // that another setting overrides: say so rather than ignore it.
   if (std::ifstream in{file}) {

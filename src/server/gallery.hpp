@@ -33,6 +33,9 @@ struct GalleryEntry {
   std::optional<Calibration> calibration;     ///< from <id>.calibration.json when it matches
   std::vector<unsigned char> thumbnail_png;
   nlohmann::json proxy;  ///< outline, thickness, pose: never the mesh itself
+  /// The shapes its receivers may take (receiver_meshes), name -> geometry:
+  /// scenery a viewer draws the light on, made once. Null when none.
+  nlohmann::json shapes;
   bool designed = false;  ///< made by the designer from a picture (listed first), not an optics classic
 };
 

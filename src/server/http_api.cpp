@@ -70,8 +70,11 @@ void scenes(ServerState& s, SoupServerMessage* msg) {
 // A visitor's design answers from what its job keeps: its scene need not be
 // in memory for this.
 void scene(ServerState& s, SoupServerMessage* msg, const std::string& id) {
-  if (const auto it = s.gallery->entries.find(id); it != s.gallery->entries.end())
-    return reply_json(msg, SOUP_STATUS_OK, describe(*it->second));
+  if (const auto it = s.gallery->entries.find(id); it != s.gallery->entries.end()) {
+    nlohmann::json body = describe(*it->second);
+    if (!it->second->shapes.is_null()) body["receiver_meshes"] = it->second->shapes;  // here only: not in the list
+    return reply_json(msg, SOUP_STATUS_OK, body);
+  }
   if (const auto info = s.designs ? s.designs->scene_info(id) : std::nullopt) return reply_json(msg, SOUP_STATUS_OK, *info);
   reply_problem(msg, s.metrics, SOUP_STATUS_NOT_FOUND, "no such scene");
 }
@@ -223,6 +226,7 @@ nlohmann::json public_params(Session& session, nlohmann::json extra) {
   const ParamStore::Snapshot snap = session.params().snapshot();
   nlohmann::json params = scene_to_json(snap.scene);
   params.erase("mesh");  // a protected mesh is not even named
+  params.erase("receiver_meshes");  // file paths; the shapes' names are in the receivers, their geometry in the scene's
   nlohmann::json warnings = std::move(extra);
   for (const auto& w : light_warnings(snap.scene, session.entry().levels->place(snap.scene.object)))
     warnings.push_back({{"key", w.key}, {"detail", w.detail}});

@@ -232,27 +232,30 @@ test('a scene with receivers lays each tile of the picture onto its own surface'
   }
 });
 
-test('a lathe among the receivers wears its tile of the picture round its body', async () => {
-  const server = await startServer();
-  try {
-    const page = await browser.newPage();
-    await page.goto(`${server.url}/viewer.html?scene=vase&codec=vp8`);
-    await until(page, () => window.caustic.connection === 'live', 30, 'a live connection');
-    await until(page, () => window.caustic.shownVersion >= 1, 30, 'the first frame on screen');
-    // The table (the screen) shows the left half of the picture, the vase the right, wrapped round it.
-    const surfaces = await page.evaluate(() => window.caustic.surfaces());
-    assert.deepEqual(surfaces.map((s) => s.shape), ['PlaneGeometry', 'LatheGeometry']);
-    assert.deepEqual(surfaces.map((s) => s.repeat), [[0.5, 1], [0.5, 1]]);
-    assert.deepEqual(surfaces.map((s) => s.offset), [[0, 0], [0.5, 0]]);
-    assert.deepEqual(surfaces[1].centre, [17, 0, -30]);  // the foot of its axis
-    await page.waitForTimeout(500);
-    mkdirSync(shots, { recursive: true });
-    await page.screenshot({ path: `${shots}/viewer-vase.png` });
-    await page.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
-});
+// A lathe (the vase) and a mesh the scene brings (the cloth): each wears its tile round its body.
+for (const [scene, shape, foot] of [['vase', 'LatheGeometry', [17, 0, -30]], ['cloth', 'BufferGeometry', [15, 0, -29.99]]]) {
+  test(`the ${scene} among the receivers wears its tile of the picture on its body`, async () => {
+    const server = await startServer();
+    try {
+      const page = await browser.newPage();
+      await page.goto(`${server.url}/viewer.html?scene=${scene}&codec=vp8`);
+      await until(page, () => window.caustic.connection === 'live', 30, 'a live connection');
+      await until(page, () => window.caustic.shownVersion >= 1, 30, 'the first frame on screen');
+      // The table (the screen) shows the left half of the picture, the shape the right.
+      const surfaces = await page.evaluate(() => window.caustic.surfaces());
+      assert.deepEqual(surfaces.map((s) => s.shape), ['PlaneGeometry', shape]);
+      assert.deepEqual(surfaces.map((s) => s.repeat), [[0.5, 1], [0.5, 1]]);
+      assert.deepEqual(surfaces.map((s) => s.offset), [[0, 0], [0.5, 0]]);
+      assert.deepEqual(surfaces[1].centre, foot);  // its frame's origin: a lathe's foot, a mesh's centre
+      await page.waitForTimeout(500);
+      mkdirSync(shots, { recursive: true });
+      await page.screenshot({ path: `${shots}/viewer-${scene}.png` });
+      await page.close();
+    } finally {
+      server.kill('SIGTERM');
+    }
+  });
+}
 
 test('dragging the gizmos with the pointer moves the light and moves and turns the object on the server', async () => {
   const server = await startServer();

@@ -26,7 +26,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto text = caustic::dump_json(caustic::scene_to_json(scene));
     const auto reparsed = caustic::parse_json_text(text);
     FUZZ_CHECK(reparsed.has_value());
-    caustic::scene_from_json(*reparsed, scene.base_dir);
+    caustic::scene_from_json(*reparsed, scene.base_dir, scene.receiver_meshes);
   } catch (const caustic::SceneError& e) {
     std::fprintf(stderr, "accepted scene does not validate: %s\n", e.what());
     FUZZ_CHECK(!"an accepted scene validates");

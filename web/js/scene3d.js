@@ -6,7 +6,7 @@
 // (z along the light's fall); the group turns that z into three.js's y-up.
 import * as THREE from 'three';
 
-import { latheGeometry, latheKey, placeLathe, surfaceArea } from './lathe.js';
+import { placeShape, shapeGeometry, shapeKey, surfaceArea } from './shapes.js';
 import { furnish, glassMaterial, pixelRatio, Quality, setRoomQuality } from './room.js';
 
 const vec = (a) => new THREE.Vector3(a[0], a[1], a[2]);
@@ -37,7 +37,9 @@ function showTile(map, tile, width, height) {
 }
 
 export class CausticRoom {
-  constructor(container, video, proxy, quality = Quality.high) {
+  // `shapes`: the meshes the scene's receivers may take (receiver_meshes).
+  constructor(container, video, proxy, quality = Quality.high, shapes = {}) {
+    this.shapes = shapes;
     this.renderer = new THREE.WebGLRenderer({ antialias: quality === Quality.high, preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(pixelRatio(quality));
     container.append(this.renderer.domElement);
@@ -141,8 +143,8 @@ export class CausticRoom {
     const { width, height } = params.render;
     const tiles = atlas && atlas.length === receivers.length + 1 ? atlas : [{ x: 0, y: 0, width, height }];
     showTile(this.lightmap.material.map, tiles[0], width, height);
-    // A receiver whose shape changed (a rectangle, a lathe of other points) is made anew.
-    const kind = (r) => (r.lathe ? latheKey(r.lathe) : 'rectangle');
+    // A receiver whose shape changed (a rectangle, a lathe of other points, a mesh) is made anew.
+    const kind = shapeKey;
     const keep = this.receivers.findIndex((have, i) => i >= receivers.length || have.kind !== kind(receivers[i]));
     while (keep >= 0 && this.receivers.length > keep) {
       const gone = this.receivers.pop();
@@ -152,14 +154,14 @@ export class CausticRoom {
     }
     while (this.receivers.length < receivers.length) {
       const r = receivers[this.receivers.length];
-      const shape = r.lathe ? latheGeometry(r.lathe) : null;
+      const shape = shapeGeometry(r, this.shapes);
       const box = shape ? new THREE.Mesh(shape, new THREE.MeshStandardMaterial({
         color: 0x8a8478, roughness: 0.7, side: THREE.DoubleSide })) : new THREE.Mesh(this.screenBox.geometry, this.screenBox.material);
       box.receiveShadow = true;
       box.castShadow = !!shape;
       const map = new THREE.VideoTexture(this.video);
       map.colorSpace = THREE.SRGBColorSpace;
-      // On a lathe the light lies on its body: drawn over it, pulled toward the eye.
+      // On a shape the light lies on its body: drawn over it, pulled toward the eye.
       const lightmap = new THREE.Mesh(shape || this.lightmap.geometry, new THREE.MeshBasicMaterial({
         map, blending: THREE.AdditiveBlending, depthWrite: false, toneMapped: false, side: THREE.DoubleSide,
         polygonOffset: !!shape, polygonOffsetFactor: -1, polygonOffsetUnits: -4 }));
@@ -169,8 +171,10 @@ export class CausticRoom {
     }
     receivers.forEach((r, i) => {
       const { box, lightmap } = this.receivers[i];
-      if (r.lathe) placeLathe([lightmap, box], r);
-      else placeRectangle(lightmap, box, r, 1.0);
+      const shaped = box.geometry !== this.screenBox.geometry;
+      if (shaped) placeShape([lightmap, box], r);
+      else if (r.width) placeRectangle(lightmap, box, r, 1.0);
+      box.visible = lightmap.visible = shaped || !r.mesh;  // a mesh the scene did not bring: not drawn
       showTile(lightmap.material.map, tiles[i + 1] || tiles[0], width, height);
     });
   }
@@ -198,7 +202,7 @@ export class CausticRoom {
     const normal = new THREE.Vector3(), centre = new THREE.Vector3();
     let area = 0;
     for (const s of surfaces) {
-      const weight = surfaceArea(s);
+      const weight = surfaceArea(s, this.shapes);
       // A lathe faces every way round its axis: it weighs in where, not which way.
       if (!s.lathe) normal.addScaledVector(toScene(vec(s.normal)).sub(toScene(new THREE.Vector3())), weight);
       centre.addScaledVector(toScene(vec(s.center)), weight);

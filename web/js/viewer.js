@@ -144,9 +144,10 @@ async function connect() {
     // One scene by id: a visitor's design is not in the public list. The
     // list, fetched alongside, names the glasses the panel offers.
     const glasses = fetch(`${home}/api/v1/scenes`).then((r) => r.json()).then((j) => j.glasses ?? []).catch(() => []);
-    const { proxy } = await (await fetch(`${home}/api/v1/scenes/${encodeURIComponent(sceneId)}`)).json();
+    const { proxy, receiver_meshes: shapes } =
+      await (await fetch(`${home}/api/v1/scenes/${encodeURIComponent(sceneId)}`)).json();
     state.glasses = await glasses;
-    room = new CausticRoom(document.getElementById('stage'), video, proxy, firstQuality);
+    room = new CausticRoom(document.getElementById('stage'), video, proxy, firstQuality, shapes);
     state.quality = room.quality;
     controls = new ControlModes(room, {
       onLightMoved: () => channel.set({ light: room.lightFromMarker(state.params.light.type) }),

@@ -75,7 +75,7 @@ async function placeRoom(params, version) {
     const scene = await described;
     if (!scene?.proxy || room) return;
     room = new CausticRoom(document.getElementById('stage'), video, scene.proxy,
-                           softwareWebGL() ? Quality.low : Quality.high);
+                           softwareWebGL() ? Quality.low : Quality.high, scene.receiver_meshes);
     room.apply(whole(state.params));  // frames the first view
     orbit = new OrbitControls(room.camera, room.renderer.domElement);
     orbit.target.copy(room.target);

@@ -25,6 +25,9 @@ struct Mesh {
   /// the mean of its corners (the exact mean of the linear interpolation).
   /// Empty: clear glass, and a grey frame unless the glass disperses.
   std::vector<glm::vec3> colours;
+  /// A receiver's atlas (load_atlas_obj): one (u, v) in [0, 1]^2 per
+  /// position, from the file's `vt`. Empty on a caustic face.
+  std::vector<glm::vec2> uvs;
 };
 
 /// Whether the face filters light by colour, so frames of it are RGB.
@@ -46,6 +49,12 @@ struct MeshLimits {
 /// with a message that names the problem (and the line for syntax errors).
 Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits = {});
 
+/// Loads an OBJ whose faces carry an atlas (`f v/vt/vn` or `f v/vt`): a
+/// receiver's shape (caustic/receiver_meshes.hpp). As load_obj, and every
+/// face corner must name a `vt` in [0, 1]^2; corners that share a position
+/// but not a `vt` (a seam of the atlas) become separate vertices.
+Mesh load_atlas_obj(const std::filesystem::path& file, const MeshLimits& limits = {});
+
 /// Checks the invariants every consumer relies on (finite values, unit
 /// normals, indices in range, at least one triangle). Throws SceneError.
 void validate_mesh(const Mesh& mesh, const MeshLimits& limits = {});
@@ -63,7 +72,7 @@ std::vector<glm::vec3> smooth_normals(const std::vector<glm::vec3>& positions,
                                       const std::vector<glm::uvec3>& triangles);
 
 /// Writes a mesh as OBJ with `v` (with its colour when tinted), `vn` and
-/// `f v//vn` lines.
+/// `f v//vn` lines; with an atlas (Mesh::uvs), `vt` and `f v/vt/vn`.
 void write_obj(const Mesh& mesh, const std::filesystem::path& file);
 
 /// The object's pose resolved against its mesh: everything a renderer needs

@@ -41,9 +41,17 @@ class ReceiverMesh {
   /// piece of (u, v), close enough that the triangle of the atlas between
   /// the landings stands for the surface between them: on a lathe's grid of
   /// quads, within two quads of each other either way and not across the
-  /// seam (the atlas cut open); on any other mesh, one triangle or two
-  /// sharing a corner of the atlas.
+  /// seam (the atlas cut open); on any other mesh, one triangle, two
+  /// sharing a corner of the atlas, two that a third touches corner to
+  /// corner, or two of one piece of the atlas (triangles joined corner to
+  /// corner) whose (u, v) centroids lie within kAtlasSpan: a seam of the
+  /// atlas splits its corners, so it parts them.
   bool continuous(int a, int b) const;
+  /// How far apart in (u, v) two landings on one piece of a mesh's atlas
+  /// may lie and still span a triangle of it: an eighth of the atlas, the
+  /// width of a ray cell meeting a fine mesh at a grazing angle (on the
+  /// gallery's cloth, 0.31 mm of light across 1.5 mm of a far flank).
+  static constexpr double kAtlasSpan = 0.125;
 
   glm::dvec3 lower() const { return lower_; }
   glm::dvec3 upper() const { return upper_; }
@@ -62,6 +70,9 @@ class ReceiverMesh {
   std::vector<double> stretch_;
   std::vector<std::uint32_t> order_;  ///< the triangles of the hierarchy, leaf by leaf
   std::vector<Node> nodes_;
+  std::vector<std::uint32_t> corner_start_, corner_triangles_;  ///< vertex -> its triangles (not on a lathe)
+  std::vector<std::uint32_t> piece_;  ///< triangle -> its piece of the atlas (not on a lathe)
+  std::vector<glm::dvec2> uv_centroid_;  ///< triangle -> its (u, v) centroid (not on a lathe)
   glm::dvec3 lower_{0.0}, upper_{0.0};
   int quad_rows_ = 0;
 };

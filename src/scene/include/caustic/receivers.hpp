@@ -42,19 +42,19 @@ std::vector<ScreenParams> receiving_surfaces(const Scene& scene);
 
 struct ReceiverHit {
   int index = -1;             ///< into receiving_surfaces; -1: none
-  glm::dvec2 local{0.0};      ///< (right, up) from the surface's centre, world units; a lathe's (u, v) - 0.5
+  glm::dvec2 local{0.0};      ///< (right, up) from the surface's centre, world units; a lathe's or mesh's (u, v) - 0.5
   double distance = 0;        ///< along the ray
-  int element = -1;           ///< a lathe's triangle hit (ReceiverMesh::stretch); -1 on a rectangle
+  int element = -1;           ///< a lathe's or mesh's triangle hit (ReceiverMesh::stretch); -1 on a rectangle
 };
 
 /// World area per unit of `local` area where a ray landed on `surface`
-/// (triangle `element` of a lathe; 1 on a rectangle).
+/// (triangle `element` of a lathe or mesh; 1 on a rectangle).
 inline double surface_stretch(const ScreenParams& surface, int element) {
-  return surface.lathe && element >= 0 ? surface.lathe->mesh->stretch(element) : 1.0;
+  return surface.body() && element >= 0 ? surface.body()->stretch(element) : 1.0;
 }
 
 /// Whether scene's receivers include a shape the GL's shaders cannot land
-/// on (a lathe): its rays then land and deposit on the CPU.
+/// on (a lathe, a mesh): its rays then land and deposit on the CPU.
 bool has_shaped_receiver(const Scene& scene);
 
 /// The first surface the ray from `origin` along `dir` meets ahead of it.

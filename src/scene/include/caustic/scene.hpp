@@ -98,6 +98,15 @@ struct Lathe {
   bool operator==(const Lathe& o) const { return profile == o.profile && segments == o.segments; }
 };
 
+/// A receiver of a shape its scene file brings (caustic/receiver_meshes.hpp),
+/// by name; placed as a lathe is.
+struct ShapedMesh {
+  std::string name;                          ///< one of the scene's receiver_meshes
+  std::shared_ptr<const ReceiverMesh> mesh;  ///< world space; follows from the rest
+
+  bool operator==(const ShapedMesh& o) const { return name == o.name; }
+};
+
 struct ScreenParams {
   glm::dvec3 center{0, 0, -100};
   glm::dvec3 normal{0, 0, 1};  ///< unit, facing the object
@@ -111,7 +120,13 @@ struct ScreenParams {
   /// up its axis, normal where its atlas starts; width and height are then
   /// 1, its atlas's (u, v) square.
   std::optional<Lathe> lathe;
+  /// Or a shape of the scene file's, placed the same way.
+  std::optional<ShapedMesh> shaped;
 
+  /// A lathe's or a shape's triangles, in the world; null on a rectangle.
+  const ReceiverMesh* body() const {
+    return lathe ? lathe->mesh.get() : shaped ? shaped->mesh.get() : nullptr;
+  }
   bool operator==(const ScreenParams&) const = default;
 };
 
@@ -171,6 +186,8 @@ inline constexpr std::size_t kMaxReceivers = 7;
 inline constexpr std::size_t kMaxLatheProfile = 64;
 inline constexpr int kMaxLatheSegments = 256;
 
+struct ReceiverMeshTable;
+
 struct Scene {
   std::string name;
   std::string description;
@@ -185,6 +202,9 @@ struct Scene {
   /// gets its own tile of the picture (caustic/receivers.hpp). Their
   /// follow_light is false.
   std::vector<ScreenParams> receivers;
+  /// The shapes receivers may take (the scene file's receiver_meshes), read
+  /// with the file and shared by every scene patched from it; null: none.
+  std::shared_ptr<const ReceiverMeshTable> receiver_meshes;
   RenderParams render;
   PostParams post;
   /// A pool whose surface is the caustic face (object.shape "surface"):
@@ -197,8 +217,11 @@ struct Scene {
 };
 
 /// Parses and validates a scene; every key is checked, unknown keys are
-/// rejected. Throws SceneError naming the key.
-Scene scene_from_json(const nlohmann::json& j, const std::filesystem::path& base_dir);
+/// rejected. Throws SceneError naming the key. `loaded`: the receiver
+/// meshes already read for this scene (a patch's); its "receiver_meshes"
+/// must then list the same files, and no file is opened.
+Scene scene_from_json(const nlohmann::json& j, const std::filesystem::path& base_dir,
+                      std::shared_ptr<const ReceiverMeshTable> loaded = nullptr);
 
 /// The complete JSON form of a scene (every key, defaults filled in).
 nlohmann::json scene_to_json(const Scene& scene);

@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// A receiver shaped by a mesh the scene brings (the gallery's cloth), over
+// REST: its geometry comes with the scene for the viewer to draw, its file
+// never; a session moves or adds receivers of that shape and can neither
+// name another nor list a file, and every refusal leaves the parameters.
+#include "rest_fixture.hpp"
+
+using caustic::testing::bearer;
+using caustic::testing::expect_problem;
+using caustic::testing::http;
+using caustic::testing::Response;
+using caustic::testing::Rest;
+using nlohmann::json;
+
+TEST_F(Rest, AShapedReceiverComesWithItsSceneAndNeverItsFile) {
+  const Response scene = http("GET", server_.url() + "/api/v1/scenes/cloth");
+  ASSERT_EQ(scene.status, 200u) << scene.body;
+  EXPECT_EQ(scene.body.find(".obj"), std::string::npos) << "a file name leaked";
+  const json cloth = scene.json()["receiver_meshes"]["cloth"];
+  const auto vertices = cloth["positions"].size() / 3;
+  ASSERT_GT(vertices, 3u);
+  EXPECT_EQ(cloth["positions"].size(), 3 * vertices);
+  EXPECT_EQ(cloth["uvs"].size(), 2 * vertices);
+  EXPECT_EQ(cloth["indices"].size() % 3, 0u);
+  for (const json& i : cloth["indices"]) ASSERT_LT(i.get<std::size_t>(), vertices);
+  for (const json& t : cloth["uvs"]) ASSERT_TRUE(t.get<double>() >= 0 && t.get<double>() <= 1);
+  // The list stays light: shapes come with one scene at a time.
+  EXPECT_EQ(http("GET", server_.url() + "/api/v1/scenes").body.find("receiver_meshes"), std::string::npos);
+
+  const json s = create("cloth");
+  const std::string url = session_url(s) + "/params";
+  const Response got = http("GET", url, "", "", bearer(s));
+  EXPECT_EQ(got.body.find(".obj"), std::string::npos) << "a file name leaked";
+  const json before = got.json();
+  EXPECT_FALSE(before["params"].contains("receiver_meshes"));
+  ASSERT_EQ(before["params"]["receivers"].size(), 1u);
+  EXPECT_EQ(before["params"]["receivers"][0]["mesh"], "cloth");
+
+  const std::string patch_type = "application/merge-patch+json";
+  json receivers = before["params"]["receivers"];
+  receivers[0]["mesh"] = "bowl";
+  const Response other = http("PATCH", url, json{{"receivers", receivers}}.dump(), patch_type, bearer(s));
+  expect_problem(other, 422, "receivers[0].mesh");
+  EXPECT_NE(other.body.find("receiver_meshes: cloth"), std::string::npos) << other.body;
+  EXPECT_EQ(other.body.find("bowl"), std::string::npos) << "what was sent came back: " << other.body;
+  for (const char* files : {R"({"receiver_meshes": {"x": "/etc/passwd"}})", R"({"receiver_meshes": null})",
+                            R"({"receiver_meshes": {"cloth": "../meshes/cloth.obj"}})"})
+    expect_problem(http("PATCH", url, files, patch_type, bearer(s)), 422, "receiver_meshes");
+  EXPECT_EQ(http("GET", url, "", "", bearer(s)).json(), before);
+
+  // Moved along the table, and a second one beside it: three surfaces, three tiles.
+  receivers[0]["mesh"] = "cloth";
+  receivers[0]["center"] = {16, 0, -29.99};
+  receivers.push_back(receivers[0]);
+  receivers[1]["center"] = {16, 18, -29.99};
+  const Response moved = http("PATCH", url, json{{"receivers", receivers}}.dump(), patch_type, bearer(s));
+  ASSERT_EQ(moved.status, 200u) << moved.body;
+  const json now = http("GET", url, "", "", bearer(s)).json();
+  EXPECT_EQ(now["params"]["receivers"][1]["mesh"], "cloth");
+  EXPECT_EQ(now["atlas"].size(), 3u);
+}
