@@ -41,14 +41,14 @@ test('the gallery lists every scene with its rendered thumbnail', async () => {
     await until(page, () => [...document.images].every((i) => i.complete && i.naturalWidth === 256), 15, 'thumbnails');
     const ids = await page.$$eval('.card', (cards) => cards.map((c) => c.dataset.scene).sort());
     const builtIn = process.env.CAUSTIC_DESIGN_BUILT_IN === '1';
-    const want = ['biconvex', 'cylinder', 'lens', 'pool', 'pool-walls', 'prism', 'room', 'slab', 'vase', 'wavy',
+    const want = ['biconvex', 'cloth', 'cylinder', 'lens', 'pool', 'pool-walls', 'prism', 'room', 'slab', 'vase', 'wavy',
                   ...(builtIn ? ['design-logo', 'design-text'] : [])];
     for (const id of want) assert.ok(ids.includes(id), id);
     // Designed objects first, under their own heading; the classics below.
     const designed = await page.$$eval('#designed .card[data-scene]', (cards) => cards.map((c) => c.dataset.scene));
     const classics = await page.$$eval('#classics .card', (cards) => cards.map((c) => c.dataset.scene).sort());
     assert.ok(designed.every((id) => id.startsWith('design-')) && designed.length >= (builtIn ? 2 : 0), designed.join());
-    assert.deepEqual(classics, ['biconvex', 'cylinder', 'lens', 'pool', 'pool-walls', 'prism', 'room', 'slab', 'vase', 'wavy']);
+    assert.deepEqual(classics, ['biconvex', 'cloth', 'cylinder', 'lens', 'pool', 'pool-walls', 'prism', 'room', 'slab', 'vase', 'wavy']);
     assert.equal(await page.locator('#upload input[type=file]').count(), 1);
     mkdirSync(shots, { recursive: true });
     await page.setViewportSize({ width: 1280, height: 900 });
