@@ -51,13 +51,6 @@ Scene cylinder_scene(int pixels) {
 // the length, 1 / n of the atlas across.
 double facet_stretch() { return 2 * kRadius * std::sin(std::numbers::pi / kSegments) * kLength * kSegments; }
 
-double tile_sum(const HdrImage& img, const AtlasTile& t) {
-  double sum = 0;
-  for (int y = t.y; y < t.y + t.height; ++y)
-    for (int x = t.x; x < t.x + t.width; ++x) sum += img.pixels[static_cast<std::size_t>(y) * img.width + x];
-  return sum;
-}
-
 }  // namespace
 
 class EngineLathe : public GlTest {};

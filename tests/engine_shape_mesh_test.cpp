@@ -68,13 +68,6 @@ Scene plate_scene(int pixels) {
   return s;
 }
 
-double tile_sum(const HdrImage& img, const AtlasTile& t) {
-  double sum = 0;
-  for (int y = t.y; y < t.y + t.height; ++y)
-    for (int x = t.x; x < t.x + t.width; ++x) sum += img.pixels[static_cast<std::size_t>(y) * img.width + x];
-  return sum;
-}
-
 }  // namespace
 
 class EngineShapeMesh : public GlTest {};

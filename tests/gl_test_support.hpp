@@ -5,6 +5,7 @@
 
 #include "caustic/engine.hpp"
 #include "caustic/gl_context.hpp"
+#include "caustic/receivers.hpp"
 #include "caustic/surfaces.hpp"
 #include "caustic/vertex_rays.hpp"
 
@@ -70,6 +71,14 @@ inline double total_flux(const HdrImage& img, const ScreenParams& screen) {
   double sum = 0;
   for (float v : img.pixels) sum += v;
   return sum * (screen.width / img.width) * (screen.height / img.height);
+}
+
+/// The sum of the pixels of one tile of an atlas (caustic/receivers.hpp).
+inline double tile_sum(const HdrImage& img, const AtlasTile& t) {
+  double sum = 0;
+  for (int y = t.y; y < t.y + t.height; ++y)
+    for (int x = t.x; x < t.x + t.width; ++x) sum += img.pixels[static_cast<std::size_t>(y) * img.width + x];
+  return sum;
 }
 
 /// Sum of |a - b| over the sum of |b|: an image against its reference.
