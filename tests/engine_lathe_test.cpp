@@ -20,18 +20,9 @@ namespace {
 constexpr double kRadius = 8, kLength = 16;
 constexpr int kSegments = 32;
 
-// A 20 x 20 mm flat slab, its flat face at z = 1; 0.31 mm between rays.
-std::shared_ptr<const Mesh> slab() {
-  static const auto mesh = shared(grid_mesh(flat_face(10), 65, 65));
-  return mesh;
-}
-
-// Straight down, Fresnel off, the screen parked where no light goes; a
-// cylinder along y, its axis 30 mm below the slab, its seam (u = 0) on top
-// facing the light; a floor under both.
+// A cylinder along y, its axis 30 mm below the slab, its seam (u = 0) on
+// top facing the light.
 Scene cylinder_scene(int pixels) {
-  Scene s = straight_down_scene(1, 50, 10, pixels);
-  s.screen.center = {0, 300, -50};
   ScreenParams c;
   c.center = {0, 0, -30};
   c.up = {0, 1, 0};
@@ -40,11 +31,7 @@ Scene cylinder_scene(int pixels) {
   c.lathe = Lathe{{{kRadius, -kLength / 2}, {kRadius, kLength / 2}}, kSegments, nullptr};
   c.lathe->mesh = std::make_shared<const ReceiverMesh>(
       make_lathe(c.lathe->profile, kSegments, c.center, c.normal, c.up));
-  ScreenParams floor;
-  floor.center = {0, 0, -50};
-  floor.width = floor.height = 40;
-  s.receivers = {c, floor};
-  return s;
+  return over_a_floor(pixels, c);
 }
 
 // World area per (u, v) area on every facet: a facet is 2 R sin(pi / n) by
@@ -57,7 +44,7 @@ class EngineLathe : public GlTest {};
 
 TEST_F(EngineLathe, EachFacetFollowsTheCosineLawAndTheFluxAddsUp) {
   const Scene s = cylinder_scene(512);
-  const HdrImage img = render(s, slab());
+  const HdrImage img = render(s, fine_slab());
   EXPECT_TRUE(engine_->stats().cpu_setup);  // a lathe lands on the CPU whatever the renderer
   const auto tiles = atlas_layout(512, 512, 3);
   const AtlasTile t = tiles[1];
@@ -94,7 +81,7 @@ TEST_F(EngineLathe, TheSeamCutsTheAtlasOpen) {
   // atlas they would smear light across the whole tile; the back half of
   // the cylinder, u from 0.3 to 0.7, is in the dark.
   const Scene s = cylinder_scene(256);
-  const HdrImage img = render(s, slab());
+  const HdrImage img = render(s, fine_slab());
   const AtlasTile t = atlas_layout(256, 256, 3)[1];
   double back = 0, front = 0;
   for (int y = t.y; y < t.y + t.height; ++y)

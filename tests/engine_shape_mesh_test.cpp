@@ -39,21 +39,11 @@ Mesh plate() {
   return m;
 }
 
-// A 20 x 20 mm flat slab, its flat face at z = 1; 0.31 mm between rays.
-std::shared_ptr<const Mesh> slab() {
-  static const auto mesh = shared(grid_mesh(flat_face(10), 65, 65));
-  return mesh;
-}
-
-// Straight down, Fresnel off, the screen parked where no light goes; the
-// plate 30 mm below the slab turned about y; a floor under both.
+// The plate 30 mm below the slab turned about y.
 Scene plate_scene(int pixels) {
-  Scene s = straight_down_scene(1, 50, 10, pixels);
-  s.screen.center = {0, 300, -50};
   auto table = std::make_shared<ReceiverMeshTable>();
   table->files = {{"plate", "plate.obj"}};
   table->meshes = {{"plate", plate()}};
-  s.receiver_meshes = table;
   ScreenParams p;
   p.center = {0.0123, 0, -30};  // off the rays' grid: no ray exactly on a triangle's edge
   p.normal = {std::sin(kTilt), 0, std::cos(kTilt)};
@@ -61,10 +51,8 @@ Scene plate_scene(int pixels) {
   p.width = p.height = 1;
   p.shaped = ShapedMesh{"plate", std::make_shared<const ReceiverMesh>(
                                      place_receiver_mesh(table->meshes.at("plate"), p.center, p.normal, p.up))};
-  ScreenParams floor;
-  floor.center = {0, 0, -50};
-  floor.width = floor.height = 40;
-  s.receivers = {p, floor};
+  Scene s = over_a_floor(pixels, p);
+  s.receiver_meshes = table;
   return s;
 }
 
@@ -74,7 +62,7 @@ class EngineShapeMesh : public GlTest {};
 
 TEST_F(EngineShapeMesh, ThePlateFollowsTheCosineLawAndTheFluxAddsUp) {
   const Scene s = plate_scene(512);
-  const HdrImage img = render(s, slab());
+  const HdrImage img = render(s, fine_slab());
   EXPECT_TRUE(engine_->stats().cpu_setup);  // a mesh lands on the CPU whatever the renderer
   const AtlasTile t = atlas_layout(512, 512, 3)[1];
   // Every pixel of the plate's tile but a rim as wide as a ray cell (0.31

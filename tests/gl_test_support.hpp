@@ -61,6 +61,25 @@ inline Scene straight_down_scene(double flat_offset, double distance, double scr
 
 inline std::shared_ptr<const Mesh> shared(Mesh m) { return std::make_shared<const Mesh>(std::move(m)); }
 
+/// A 20 x 20 mm flat slab, its flat face at z = 1; 0.31 mm between rays.
+inline std::shared_ptr<const Mesh> fine_slab() {
+  static const auto mesh = shared(grid_mesh(flat_face(10), 65, 65));
+  return mesh;
+}
+
+/// A shaped receiver 30 mm under fine_slab()'s straight-down light (Fresnel
+/// off) with a 40 x 40 mm floor 50 mm down under both, the screen parked
+/// 300 mm aside where no light goes: the receivers' oracles' set-up.
+inline Scene over_a_floor(int pixels, const ScreenParams& shape) {
+  Scene s = straight_down_scene(1, 50, 10, pixels);
+  s.screen.center = {0, 300, -50};
+  ScreenParams floor;
+  floor.center = {0, 0, -50};
+  floor.width = floor.height = 40;
+  s.receivers = {shape, floor};
+  return s;
+}
+
 /// Screen position (right, up) of a pixel centre: row 0 is the top.
 inline glm::dvec2 pixel_centre(const ScreenParams& screen, int width, int height, int x, int y) {
   return {(x + 0.5) / width * screen.width - 0.5 * screen.width,

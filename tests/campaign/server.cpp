@@ -232,6 +232,21 @@ std::map<std::string, int> ServerProcess::descriptor_kinds() const {
   return out;
 }
 
+std::map<std::string, int> ServerProcess::thread_names() const {
+  std::map<std::string, int> out;
+  const std::string folder = "/proc/" + std::to_string(pid_) + "/task";
+  DIR* d = opendir(folder.c_str());
+  if (!d) return out;
+  while (const dirent* e = readdir(d)) {
+    if (e->d_name[0] == '.') continue;
+    std::string name = read_file(folder + "/" + e->d_name + "/comm");
+    while (!name.empty() && name.back() == '\n') name.pop_back();
+    ++out[name.empty() ? "?" : name];
+  }
+  closedir(d);
+  return out;
+}
+
 std::string descriptor_growth(const std::map<std::string, int>& before, const std::map<std::string, int>& after) {
   std::string out;
   for (const auto& [kind, n] : after) {

@@ -36,6 +36,9 @@ class ServerProcess {
   // "anon_inode:[eventfd]", a file's path), counted: a leak check that
   // fails says what was left behind, not only how many.
   std::map<std::string, int> descriptor_kinds() const;
+  // The threads by name (/proc/PID/task/*/comm), counted: whose thread a
+  // leak kept, or that none was kept.
+  std::map<std::string, int> thread_names() const;
   std::string log_tail(size_t bytes = 2000) const;
 
  private:
@@ -50,7 +53,8 @@ class ServerProcess {
   std::vector<std::string> refused_keys_;  // learnt on the first start
 };
 
-// "tcp CLOSE_WAIT +3, anon_inode:[eventfd] +2": the kinds `after` holds more of.
+// "tcp CLOSE_WAIT +3, anon_inode:[eventfd] +2": the kinds `after` holds more
+// of (descriptors or threads alike).
 std::string descriptor_growth(const std::map<std::string, int>& before, const std::map<std::string, int>& after);
 
 // Raises RLIMIT_NOFILE to its hard limit (inherited by the server too).

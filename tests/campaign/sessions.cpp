@@ -79,6 +79,7 @@ void run_sessions(const Options& opt, KindReport& rep) {
   std::this_thread::sleep_for(std::chrono::seconds(1));
   const int fds_base = server.descriptors(), threads_base = server.threads();
   const auto kinds_base = server.descriptor_kinds();
+  const auto names_base = server.thread_names();
 
   // 1. create + delete cycles, spread over addresses to stay under the rate limit.
   const int cycles = opt.short_mode ? 20 : 100;
@@ -209,9 +210,12 @@ void run_sessions(const Options& opt, KindReport& rep) {
   rep.check("no sessions left at the end", sessions == 0, "  health says " + std::to_string(sessions));
   rep.check("descriptors back near baseline (+4)", fds <= fds_base + 4,
             "  baseline " + std::to_string(fds_base) + ", after " + std::to_string(fds) +
-                "; grew: " + descriptor_growth(kinds_base, server.descriptor_kinds()));
+                "; grew: " + descriptor_growth(kinds_base, server.descriptor_kinds()) +
+                "; threads grew: " + descriptor_growth(names_base, server.thread_names()) +
+                "\n  log: " + escape(server.log_tail(1500)));
   rep.check("threads back near baseline (+2)", threads <= threads_base + 2,
-            "  baseline " + std::to_string(threads_base) + ", after " + std::to_string(threads));
+            "  baseline " + std::to_string(threads_base) + ", after " + std::to_string(threads) +
+                "; grew: " + descriptor_growth(names_base, server.thread_names()));
 }
 
 }  // namespace campaign
