@@ -210,3 +210,49 @@ TEST(Coverage, LayersAndFlushedPassesAddUpAsOneImage) {
   const std::vector<float>& image = raster.resolve();
   for (std::size_t n = 0; n < expected.size(); ++n) ASSERT_NEAR(image[n], expected[n], 1e-5) << "value " << n;
 }
+
+TEST(Coverage, ARasterReusedOverFramesAndMeshesKeepsNothingOfTheLast) {
+  // Frames as the caustic pass makes them: contiguous shares of the
+  // triangles in layers (a walk and a clear cover each layer's share of the
+  // edges only), the last pass resolved without a flush, then the next frame
+  // on the same grid, on another grid of another size, and back. Every frame
+  // must hold its own triangles' coverage and nothing left from before.
+  constexpr int kWidth = 19, kHeight = 17;
+  struct Frame {
+    int nx, ny, layers, channels;
+    bool flush_first;
+  };
+  const Frame frames[] = {{6, 5, 2, 3, false}, {6, 5, 2, 3, true}, {4, 4, 3, 1, true},
+                          {6, 5, 1, 3, false}, {6, 5, 2, 1, false}, {4, 4, 2, 3, false}};
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> jitter(-1.5, 1.5), unit(0.1, 1.0);
+  CoverageRaster raster;
+  for (std::size_t f = 0; f < std::size(frames); ++f) {
+    const Frame& fr = frames[f];
+    const std::vector<glm::uvec3> triangles = grid_triangles(fr.nx, fr.ny);
+    std::vector<double> expected(static_cast<std::size_t>(kWidth) * kHeight * fr.channels, 0.0);
+    raster.reset(kWidth, kHeight, fr.channels);
+    for (int pass = 0; pass < (fr.flush_first ? 2 : 1); ++pass) {
+      if (pass > 0) raster.flush();
+      std::vector<glm::dvec2> at(static_cast<std::size_t>(fr.nx * fr.ny));
+      const double sx = (kWidth - 2.0) / (fr.nx - 1), sy = (kHeight - 2.0) / (fr.ny - 1);
+      for (int j = 0; j < fr.ny; ++j)
+        for (int i = 0; i < fr.nx; ++i) at[j * fr.nx + i] = {1.0 + sx * i + jitter(rng), 1.0 + sy * j + jitter(rng)};
+      raster.use_mesh(triangles, fr.layers);
+      for (int layer = 0; layer < fr.layers; ++layer)
+        for (std::size_t t = triangles.size() * layer / fr.layers; t < triangles.size() * (layer + 1) / fr.layers; ++t) {
+          const glm::dvec3 value(unit(rng), unit(rng), unit(rng));
+          const glm::uvec3 c = triangles[t];
+          raster.mesh_triangle(t, at[c.x], at[c.y], at[c.z], value, layer);
+          for (int j = 0; j < kHeight; ++j)
+            for (int i = 0; i < kWidth; ++i)
+              for (int k = 0; k < fr.channels; ++k)
+                expected[(static_cast<std::size_t>(j) * kWidth + i) * fr.channels + k] +=
+                    value[k] * covered(at[c.x], at[c.y], at[c.z], i, j);
+        }
+    }
+    const std::vector<float>& image = raster.resolve();
+    for (std::size_t n = 0; n < expected.size(); ++n)
+      ASSERT_NEAR(image[n], expected[n], 1e-5) << "frame " << f << ", value " << n;
+  }
+}

@@ -106,14 +106,37 @@ void CoverageRaster::use_mesh(const std::vector<glm::uvec3>& triangles, int laye
   for (int k = 0; k < layers_in_use_; ++k) {
     Layer& layer = layers_[static_cast<std::size_t>(k)];
     layer.corners.resize(vertices_);
-    // A flush leaves the values it walked at 0: only a new table or a layer
-    // filled without one needs them cleared.
-    if (layer.edge_values.size() != edges_.size() || !layer.clean)
+    if (layer.edge_values.size() != edges_.size()) {
       layer.edge_values.assign(edges_.size(), glm::dvec3(0));
-    layer.clean = false;
+      layer.dirty_lo = layer.dirty_hi = 0;
+    }
     if (k > 0) layer.points.clear(), layer.negative = false;  // layer 0's may hold what triangle() added
   }
+  // A flush leaves the values it walked at 0: only a layer resolved without
+  // one (the last of a frame) still holds them.
+  clear_edge_values();
   mesh_in_use_ = true;
+}
+
+void CoverageRaster::clear_edge_values() {
+  std::size_t dirty = 0;
+  for (Layer& layer : layers_) {
+    // A layer left from another edge table is emptied (use_mesh() sizes it
+    // again when it comes into use): no range of it outlives its table.
+    if (layer.edge_values.size() != edges_.size()) layer.edge_values.clear(), layer.dirty_lo = layer.dirty_hi = 0;
+    dirty += layer.dirty_hi - layer.dirty_lo;
+  }
+  if (dirty == 0) return;
+  // A share of the edges a core (24 bytes an edge a layer: megabytes a
+  // pass at a 256² mesh).
+  in_bands(static_cast<int>(edges_.size()), kMinClearEdges, [this](int lo, int hi) {
+    for (Layer& layer : layers_) {
+      const std::size_t from = std::max<std::size_t>(layer.dirty_lo, lo), to = std::min<std::size_t>(layer.dirty_hi, hi);
+      if (from < to)
+        std::fill(layer.edge_values.begin() + from, layer.edge_values.begin() + to, glm::dvec3(0));
+    }
+  });
+  for (Layer& layer : layers_) layer.dirty_lo = layer.dirty_hi = 0;
 }
 
 void CoverageRaster::mesh_triangle(std::size_t t, glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec3 value,
@@ -125,11 +148,16 @@ void CoverageRaster::mesh_triangle(std::size_t t, glm::dvec2 a, glm::dvec2 b, gl
   Layer& l = layers_[static_cast<std::size_t>(layer)];
   l.negative = l.negative || glm::any(glm::lessThan(value, glm::dvec3(0)));
   l.corners[corners.x] = a, l.corners[corners.y] = b, l.corners[corners.z] = c;
+  std::size_t lo = l.dirty_lo, hi = l.dirty_hi;
+  if (lo == hi) lo = std::numeric_limits<std::size_t>::max(), hi = 0;
   for (std::size_t k = 0; k < 3; ++k) {
     const std::int32_t e = side_edge_[3 * t + k];
-    if (e >= 0) l.edge_values[e] += signed_value;
-    else l.edge_values[~e] -= signed_value;
+    const std::size_t index = static_cast<std::size_t>(e >= 0 ? e : ~e);
+    if (e >= 0) l.edge_values[index] += signed_value;
+    else l.edge_values[index] -= signed_value;
+    lo = std::min(lo, index), hi = std::max(hi, index + 1);
   }
+  l.dirty_lo = lo, l.dirty_hi = hi;
 }
 
 void CoverageRaster::triangle(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec3 value) {
@@ -218,7 +246,7 @@ void CoverageRaster::band(int lo, int hi, bool sum, int out_channels) {
   for (int k = 0; k < layers_in_use_; ++k) {
     const Layer& layer = layers_[static_cast<std::size_t>(k)];
     if (mesh_in_use_)
-      for (std::size_t e = 0; e < edges_.size(); ++e) {
+      for (std::size_t e = layer.dirty_lo; e < layer.dirty_hi; ++e) {
         const glm::dvec3& value = layer.edge_values[e];
         if (value == glm::dvec3(0)) continue;  // no triangle of the layer beside it, or two that cancel
         const glm::dvec2 p = layer.corners[edges_[e].x], q = layer.corners[edges_[e].y];
@@ -265,18 +293,10 @@ void CoverageRaster::flush() {
     Layer& layer = layers_[static_cast<std::size_t>(k)];
     negative_ = negative_ || layer.negative;
     layer.negative = false;
-    layer.clean = true;
     layer.points.clear();
   }
-  // The values walked, cleared for the next pass: a share of the edges a
-  // core (24 bytes an edge a layer: megabytes a pass at a 256² mesh).
-  if (!mesh_in_use_) return;
-  in_bands(static_cast<int>(edges_.size()), kMinClearEdges, [this](int lo, int hi) {
-    for (int k = 0; k < layers_in_use_; ++k) {
-      auto& values = layers_[static_cast<std::size_t>(k)].edge_values;
-      std::fill(values.begin() + lo, values.begin() + hi, glm::dvec3(0));
-    }
-  });
+  // The values walked, cleared for the next pass.
+  if (mesh_in_use_) clear_edge_values();
 }
 
 const std::vector<float>& CoverageRaster::resolve(bool rgba) {

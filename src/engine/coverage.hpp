@@ -86,11 +86,17 @@ class CoverageRaster {
     std::vector<glm::dvec3> edge_values;
     std::vector<Point> points;
     bool negative = false;  // a value below 0 was added (a spectral weight)
-    bool clean = false;     // every edge value 0 (flushed since filled)
+    // Every edge value outside [dirty_lo, dirty_hi) is 0: a band walks and
+    // a flush clears only that range. A share of a grid's triangles in
+    // order touches about its share of the edges (numbered by their lower
+    // vertex), so each layer's walk and clear is its share, not the whole.
+    std::size_t dirty_lo = 0, dirty_hi = 0;
   };
   // Rows [lo, hi): cleared when nothing was flushed yet, what was added
   // deposited, then, when `sum`, summed along each row into the image.
   void band(int lo, int hi, bool sum, int out_channels);
+  // Every layer's dirty range back to 0, on the machine's cores.
+  void clear_edge_values();
 
   int width_ = 0, height_ = 0, channels_ = 1;
   std::vector<Triangle> triangles_;
