@@ -158,6 +158,7 @@ class Session : public std::enable_shared_from_this<Session> {
   std::unique_ptr<FrameDatagrams> frames_out_;  // a broadcast's frame messages
   // What a broadcast last told its viewers of the scene (streaming thread only).
   std::uint64_t params_told_ = 0;
+  bool room_oversize_said_ = false;
   std::chrono::steady_clock::time_point params_told_at_;
 };
 

@@ -3,7 +3,8 @@
 // decode what the server sends, a late joiner gets its first frame at once
 // (Janus keeps the last key frame), the holder's PATCH reaches every viewer,
 // and after a Janus restart the mountpoint is back and viewers rejoin; a
-// pool's viewer draws the water of the frame it shows.
+// scene's receivers each wear their tile; a pool's viewer draws the water
+// of the frame it shows.
 // Run by tests/janus/broadcast_test.sh inside a network namespace (Janus
 // needs a non-loopback interface for ICE: JANUS_ICE_INTERFACE). Every wait
 // is bounded.
@@ -161,6 +162,34 @@ test('an H.264 broadcast plays', async () => {
     report.forEach((r) => { if (r.type === 'inbound-rtp' && r.kind === 'video') now = r.framesDecoded; });
     return now > n;
   }), 30, 'more decoded H.264 frames', decoded);
+  await page.close();
+  assert.equal((await api('DELETE', session.url, null, session.token)).status, 204);
+});
+
+// A scene with receivers (the vase, a lathe): a viewer cuts the picture
+// into the tiles the holder's params name and lays each on its surface,
+// the vase's round its body, from the room's and receivers' messages.
+test('a broadcast of the vase: each tile of the picture on its own surface', async () => {
+  const created = await api('POST', '/api/v1/sessions', { scene: 'vase', mode: 'broadcast' });
+  assert.equal(created.status, 201, JSON.stringify(created.body));
+  const session = created.body;
+  const holder = (await api('GET', `${session.url}/params`, null, session.token)).body;
+  assert.equal(holder.atlas.length, 2);
+  const link = (await api('POST', session.viewers_url, null, session.token)).body;
+  const page = await openViewer(link, { view: 'room' });
+  await until(page, () => window.caustic.room() && window.caustic.receivers() === 1, 30, 'the receivers placed');
+  const surfaces = await page.evaluate(() => window.caustic.room().surfaceTiles());
+  const { width, height } = holder.params.render;
+  assert.deepEqual(surfaces.map((t) => t.repeat), holder.atlas.map((t) => [t.width / width, t.height / height]));
+  assert.deepEqual(surfaces.map((t) => t.offset),
+                   holder.atlas.map((t) => [t.x / width, 1 - (t.y + t.height) / height]));
+  assert.equal(surfaces[1].shape, 'LatheGeometry');
+  const foot = holder.params.receivers[0].center;
+  assert.ok(surfaces[1].centre.every((v, i) => Math.abs(v - foot[i]) < 0.01), surfaces[1].centre.join());
+  await page.waitForTimeout(1500);  // a few rendered frames of the video in the room
+  mkdirSync(shots, { recursive: true });
+  await page.screenshot({ path: `${shots}/broadcast-vase.png` });
+  assert.deepEqual(page.errors, []);
   await page.close();
   assert.equal((await api('DELETE', session.url, null, session.token)).status, 204);
 });

@@ -8,8 +8,8 @@
 const KEEPALIVE_MS = 25000;  // Janus ends a session silent for 60 s
 
 export class JanusStream {
-  constructor({ url, mountpoint, pin, token }, video, { onState, onVersion, onParams, onFrame }) {
-    Object.assign(this, { url, mountpoint, pin, token, video, onState, onVersion, onParams, onFrame });
+  constructor({ url, mountpoint, pin, token }, video, { onState, onVersion, onParams, onReceiver, onFrame }) {
+    Object.assign(this, { url, mountpoint, pin, token, video, onState, onVersion, onParams, onReceiver, onFrame });
     this.pending = new Map();  // transaction -> { resolve, reject }
     this.next = 0;
     this.closed = false;
@@ -54,15 +54,18 @@ export class JanusStream {
   }
 
   // Frame messages: {"rtp_timestamp", "version", "level"} of the newest
-  // picture sent (with "water" for a pool), also passed whole to onFrame,
-  // and {"params", "version"}: what places the room (screen, light, the
-  // object's pose, a pool's size), on each change and each second.
+  // picture sent (with "water" for a pool), also passed whole to onFrame;
+  // {"params", "version"}: what places the room (screen, light, the
+  // object's pose, a pool's size, the picture's size and the screen's tile
+  // of it), and {"receiver", "version"}: each receiver with its tile, on
+  // each change and each second.
   listen(channel) {
     this.channels = (this.channels ?? 0) + 1;
     channel.binaryType = 'arraybuffer';
     channel.onmessage = ({ data }) => {
       const message = JSON.parse(typeof data === 'string' ? data : new TextDecoder().decode(data));
       if (message.params) this.onParams?.(message.params, message.version);
+      else if (message.receiver) this.onReceiver?.(message.receiver, message.version);
       else {
         this.onVersion(message.version, message.level);
         this.onFrame?.(message);

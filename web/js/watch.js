@@ -61,28 +61,55 @@ described.then((scene) => {
   document.title = `${scene.name} (broadcast)`;
 });
 
-// The room message carries no atlas: the whole picture is the screen's
-// lightmap, whatever its size (which only scales an atlas's tiles).
-const whole = (params) => ({ ...params, render: { width: 1, height: 1 } });
+// Receivers come one message each after their version's room message.
+// Until a version's are all in, the last complete set stands if it has as
+// many; with none, the whole picture is the screen's lightmap.
+const receivers = { version: -1, list: [], shown: null };
+function takeReceiver(receiver, version) {
+  if (version < receivers.version || !(receiver.count >= 1 && receiver.count <= 16)) return;
+  if (version > receivers.version) Object.assign(receivers, { version, list: new Array(receiver.count).fill(null) });
+  if (receiver.count !== receivers.list.length || !(receiver.index >= 0 && receiver.index < receiver.count)) return;
+  receivers.list[receiver.index] = receiver;
+  if (receivers.list.every(Boolean)) {
+    receivers.shown = receivers.list;
+    if (state.params) placeRoom(state.params, state.paramsVersion);
+  }
+}
 
-let room = null, orbit = null, water = null;
+// The room's params with their receivers, and the atlas that cuts the
+// picture onto the surfaces.
+function surfaces(params) {
+  const set = receivers.shown;
+  if (!params.receiver_count || set?.length !== params.receiver_count || !params.render || !params.tile) {
+    return { params: { ...params, receivers: [], render: { width: 1, height: 1 } }, atlas: null };
+  }
+  return { params: { ...params, receivers: set.map((r) => r.surface) }, atlas: [params.tile, ...set.map((r) => r.tile)] };
+}
+state.receivers = () => receivers.shown?.length ?? 0;
+
+let room = null, orbit = null, water = null, waited = 0;
 async function placeRoom(params, version) {
   if (version < state.paramsVersion) return;  // an older message, overtaken
   state.params = params;
   state.paramsVersion = version;
   if (flat) return;
   if (!room) {
+    // The first view frames every surface: wait for the receivers, but
+    // not beyond the next room message (one a second) if one went missing.
+    if (params.receiver_count && surfaces(params).atlas === null && (waited += 1) <= 2) return;
     const scene = await described;
     if (!scene?.proxy || room) return;
     room = new CausticRoom(document.getElementById('stage'), video, scene.proxy,
                            softwareWebGL() ? Quality.low : Quality.high, scene.receiver_meshes);
-    room.apply(whole(state.params));  // frames the first view
+    const { params: placed, atlas } = surfaces(state.params);
+    room.apply(placed, atlas);  // frames the first view
     orbit = new OrbitControls(room.camera, room.renderer.domElement);
     orbit.target.copy(room.target);
     orbit.update();
     frames.watch();
   } else {
-    room.apply(whole(state.params));
+    const { params: placed, atlas } = surfaces(state.params);
+    room.apply(placed, atlas);
   }
   // A pool: its surface in place of the slab, at the size the room message names.
   if (state.params.water && !water) {
@@ -175,6 +202,7 @@ const stream = new JanusStream({
     versionLabel.textContent = `frame version ${version}${level ? ' (preview)' : ''}`;
   },
   onParams: (params, version) => { placeRoom(params, version); },
+  onReceiver: takeReceiver,
   onFrame: (message) => { if (!flat && message.water) frames.add(message); },  // a pool's
 });
 state.peer = () => stream.pc;
