@@ -2,6 +2,7 @@
 #include "session.hpp"
 
 #include "caustic/gst/causticsrc.hpp"
+#include "caustic/gst/stop_pipeline.hpp"
 #include "caustic/server/data_files.hpp"
 #include "frame_probes.hpp"
 #include "room_messages.hpp"
@@ -276,10 +277,19 @@ void Session::close(const std::string& reason) {
       soup_websocket_connection_close(socket_, SOUP_WEBSOCKET_CLOSE_NORMAL, reason.c_str());
     }
   }
-  if (pipeline_) gst_element_set_state(pipeline_, GST_STATE_NULL);
+  stop();
   std::lock_guard lock(channel_lock_);
   if (channel_) g_object_unref(channel_);
   channel_ = nullptr;
+}
+
+void Session::stop() {
+  if (!pipeline_) return;
+  // What the pipeline's own stop left running (stop_pipeline.hpp), said:
+  // each would have kept an ICE agent's sockets for good.
+  if (const int left = gst::stop_pipeline(pipeline_))
+    log(Level::warning, "session " + id_ + ": " + std::to_string(left) +
+                            " elements still ran after the pipeline stopped; stopped them", log_context());
 }
 
 void Session::teardown_pipeline() {
@@ -290,7 +300,7 @@ void Session::teardown_pipeline() {
   }
   if (bus_watch_) g_source_remove(bus_watch_);
   bus_watch_ = 0;
-  if (pipeline_) gst_element_set_state(pipeline_, GST_STATE_NULL);
+  stop();
   if (webrtc_) gst_object_unref(webrtc_);
   if (pipeline_) gst_object_unref(pipeline_);
   webrtc_ = nullptr;

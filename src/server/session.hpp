@@ -126,6 +126,7 @@ class Session : public std::enable_shared_from_this<Session> {
  private:
   Session(std::string id, std::shared_ptr<const GalleryEntry> scene, SessionOptions options);
   void build();
+  void stop();  // the pipeline to NULL, with anything it left running
   void teardown_pipeline();
   void setup_webrtc();
   void send(const nlohmann::json& message);
