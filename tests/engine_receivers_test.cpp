@@ -4,9 +4,9 @@
 // on a tilted plane, flux conserved over a floor and a wall, nothing on a
 // surface another one shades; the photon reference agrees.
 #include "gl_test_support.hpp"
+#include "reference_l1.hpp"
 
 #include "caustic/receivers.hpp"
-#include "caustic/reference.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -114,12 +114,7 @@ TEST_F(EngineReceivers, TheReferenceTracerAgreesOnTheFloorAndTheWall) {
   s.render.fresnel = true;
   const auto fine = shared(grid_mesh(flat_face(10), 257, 257));
   const HdrImage engine = render(s, fine);
-  ReferenceOptions options;
-  options.photons = 16'000'000;
-  const HdrImage reference = trace_reference(s, *fine, options).image;
-  const double l1 = relative_l1(engine, reference);
-  std::printf("floor and wall: relative L1 engine vs reference %.4f\n", l1);
-  EXPECT_LT(l1, 0.01);
+  EXPECT_LT(reference_l1(s, *fine, engine, "floor and wall"), 0.01);
 }
 
 TEST_F(EngineReceivers, ASolidLightsThemToo) {

@@ -5,10 +5,10 @@
 // whole plate, the flux it intercepts (its silhouette times E0), the floor's
 // share (the rest, its shadow dark); the photon reference agrees.
 #include "gl_test_support.hpp"
+#include "reference_l1.hpp"
 
 #include "caustic/receiver_meshes.hpp"
 #include "caustic/receivers.hpp"
-#include "caustic/reference.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -95,10 +95,5 @@ TEST_F(EngineShapeMesh, TheReferenceTracerAgrees) {
   s.render.fresnel = true;
   const auto fine = shared(grid_mesh(flat_face(10), 513, 513));
   const HdrImage engine = render(s, fine);
-  ReferenceOptions options;
-  options.photons = 16'000'000;
-  const HdrImage reference = trace_reference(s, *fine, options).image;
-  const double l1 = relative_l1(engine, reference);
-  std::printf("tilted plate and floor: relative L1 engine vs reference %.4f\n", l1);
-  EXPECT_LT(l1, 0.01);
+  EXPECT_LT(reference_l1(s, *fine, engine, "tilted plate and floor"), 0.01);
 }
