@@ -8,29 +8,13 @@ import { after, before, test } from 'node:test';
 
 import { launchChromium } from './chromium.mjs';
 import { shots, startServer, until } from './harness.mjs';
+import { dragGizmo, framesDecoded, videoPixels } from './viewer_probes.mjs';
 
 let browser;
 before(async () => {
   browser = await launchChromium();
 });
 after(async () => { await browser?.close(); });
-
-const framesDecoded = () => window.caustic.peer?.getStats().then((report) => {
-  let n = 0;
-  report.forEach((r) => { if (r.type === 'inbound-rtp' && r.kind === 'video') n = r.framesDecoded; });
-  return n;
-});
-
-// The current video frame as an array of grey levels.
-const videoPixels = () => {
-  const v = document.getElementById('video');
-  const c = document.createElement('canvas');
-  c.width = v.videoWidth;
-  c.height = v.videoHeight;
-  const g = c.getContext('2d');
-  g.drawImage(v, 0, 0);
-  return Array.from(g.getImageData(0, 0, c.width, c.height).data.filter((_, i) => i % 4 === 0));
-};
 
 test('the gallery lists every scene with its rendered thumbnail', async () => {
   const server = await startServer();
@@ -184,26 +168,6 @@ for (const codec of ['vp8', 'h264']) {
       server.kill('SIGTERM');
     }
   });
-}
-
-// Switches the viewer to a control mode (its key), grabs the gizmo's centre
-// on `what` ('light' or 'object') with the mouse, drags it by (dx, dy) pixels
-// and waits for the resulting parameter version on screen. Returns where it
-// grabbed.
-async function dragGizmo(page, key, what, dx, dy) {
-  const version = await page.evaluate(() => window.caustic.version);
-  await page.keyboard.press(key);
-  await page.waitForTimeout(200);
-  const [x, y] = await page.evaluate((w) => window.caustic.pagePoint(w), what);
-  const { width, height } = page.viewportSize();
-  assert.ok(x > 0 && x < width && y > 0 && y < height, `the ${what} is off the page at ${x}, ${y}`);
-  await page.mouse.move(x, y);
-  await page.mouse.down();
-  await page.mouse.move(x + dx, y + dy, { steps: 8 });
-  await page.mouse.up();
-  await until(page, (v) => window.caustic.version > v && window.caustic.shownVersion >= window.caustic.version,
-              30, `the dragged ${what} on screen`, version);
-  return [x, y];
 }
 
 test('a scene with receivers lays each tile of the picture onto its own surface', async () => {

@@ -9,6 +9,7 @@ import { LoadingSteps } from './loading.js';
 import { FrameRate, Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
 import { changedParams, sharedParams, sharedView, writeAddress } from './share.js';
+import { fidelityText, showStats } from './stats_overlay.js';
 import { Stream } from './stream.js';
 import { installTestHooks } from './test_hooks.js';
 import { PoolWater } from './water.js';
@@ -327,41 +328,8 @@ function buildGui() {
   view.add({ stats: false }, 'stats').name('stats overlay').onChange((on) => { statsPanel.hidden = !on; });
 }
 
-// What the server renders and how far from the reference it is expected to be.
-function fidelityText(f) {
-  if (!f) return '';
-  const mesh = f.mesh_resolution ? `${f.mesh_resolution}\u00b2 mesh` : 'mesh as loaded';
-  let text = `fidelity ${f.mode}: ${mesh} (${f.vertices} vertices), ${f.point_model} point model, Fresnel ${f.fresnel ? 'on' : 'off'}`;
-  if (f.expected_relative_l1 === null) return `${text}; not calibrated`;
-  text += `; expected L1 ${(100 * f.expected_relative_l1).toFixed(2)}% (target ${(100 * f.accuracy_target).toFixed(1)}%)`;
-  if (!f.calibration_matches_parameters) text += ', calibrated before the scene was changed';
-  return text;
-}
 state.fidelityText = () => fidelityText(state.fidelity);
-
-// Stats overlay: what the browser measures, once a second.
-let lastBytes = 0, lastTime = 0;
-setInterval(async () => {
-  if (statsPanel.hidden || !stream?.pc) return;
-  const report = await stream.pc.getStats();
-  let text = '';
-  report.forEach((r) => {
-    if (r.type === 'inbound-rtp' && r.kind === 'video') {
-      const kbps = lastTime ? (8 * (r.bytesReceived - lastBytes)) / (r.timestamp - lastTime) : 0;
-      lastBytes = r.bytesReceived;
-      lastTime = r.timestamp;
-      text += `fps ${r.framesPerSecond ?? 0}  bitrate ${kbps.toFixed(0)} kbit/s  jitter ${(1000 * r.jitter).toFixed(1)} ms  dropped ${r.framesDropped ?? 0}\n`;
-    }
-    if (r.type === 'candidate-pair' && r.nominated && r.currentRoundTripTime !== undefined)
-      text += `round trip ${(1000 * r.currentRoundTripTime).toFixed(1)} ms\n`;
-  });
-  const l = [...state.latencies].sort((a, b) => a - b);
-  if (l.length) text += `PATCH to frame: median ${l[l.length >> 1].toFixed(0)} ms over ${l.length}\n`;
-  text += `parameter version ${state.version}, on screen ${state.shownVersion}`;
-  text += state.shownLevel === 1 ? ' (preview while moving)\n' : ' (full quality)\n';
-  text += fidelityText(state.fidelity);
-  statsPanel.textContent = text;
-}, 1000);
+showStats(statsPanel, () => stream?.pc, state);
 
 // Help (?) and fullscreen (F): buttons for pointers and touch, keys for keyboards.
 const helpPanel = document.getElementById('help');
