@@ -82,7 +82,9 @@ Case CaseGenerator::method_case() {
   const std::string body = rng_() % 2 ? "{}" : "";
   c.bytes = make_request(method, target, headers, body);
   c.head = method == "HEAD";
-  c.broken = method.empty() || method.find_first_of(" \t\xff\xfe\xe9") != std::string::npos || method.size() > 1000;
+  // Longer than the 32 characters any method needs: refused at the head
+  // (400) before a route or a token is looked at, whatever the target.
+  c.broken = method.empty() || method.find_first_of(" \t\xff\xfe\xe9") != std::string::npos || method.size() > 32;
   c.state = (target.find(victim_.id) != std::string::npos || method != "GET") ? 1 : 0;
   // CONNECT takes an authority, not a path: a 400 for it is right.
   const bool session_route = target.find("/api/v1/sessions/" + victim_.id) == 0 &&
