@@ -12,14 +12,15 @@ export const framesDecoded = () => window.caustic.peer?.getStats().then((report)
   return n;
 });
 
-// The current video frame as an array of grey levels.
-export const videoPixels = () => {
-  const v = document.getElementById('video');
+// The grey levels (red channel) of what the element `selector` shows now:
+// the video's current frame or a canvas's last drawing.
+export const greyLevels = (selector) => {
+  const e = document.querySelector(selector);
   const c = document.createElement('canvas');
-  c.width = v.videoWidth;
-  c.height = v.videoHeight;
+  c.width = e.videoWidth ?? e.width;
+  c.height = e.videoHeight ?? e.height;
   const g = c.getContext('2d');
-  g.drawImage(v, 0, 0);
+  g.drawImage(e, 0, 0);
   return Array.from(g.getImageData(0, 0, c.width, c.height).data.filter((_, i) => i % 4 === 0));
 };
 
