@@ -12,6 +12,8 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <memory>
+#include <vector>
 
 namespace caustic::app {
 namespace {
@@ -30,45 +32,58 @@ double process_cpu_ms() {
 int run_spectral_bench(const PerfOptions& opt) {
   std::filesystem::create_directories(opt.out);
   GlContext context(egl_platform_from_environment());
-  Engine engine;
   std::ofstream csv(opt.out / "spectral.csv");
   csv << "mesh,pixels,wavelengths,ray_ms,post_ms,frame_ms,ratio_to_grey,cpu_ms,cpu_ratio_to_grey\n";
   std::printf("renderer: %s; median of %d frames per row\n", context.renderer().c_str(), opt.frames);
+  const std::vector<int> counts{1, kPreviewWavelengths, 8, 16};  // 1: the grey frame, no glass
   for (int n : opt.meshes) {
     const auto mesh = bench_lens_mesh(n);
     for (int size : opt.sizes) {
-      double grey_ms = 0, grey_cpu = 0;
-      for (int k : {1, kPreviewWavelengths, 8, 16}) {
+      // An engine each, their frames taken in turn: this machine's speed
+      // swings by a quarter within minutes, and rows timed one after the
+      // other compared different minutes, not different frames.
+      std::vector<std::unique_ptr<Engine>> engines;
+      std::vector<Scene> scenes;
+      for (int k : counts) {
         Scene s = bench_lens_scene(size);
-        if (k > 1) {  // k = 1: the grey frame, no glass
+        if (k > 1) {
           s.object.glass = Glass{"bk7", optics::find_material("bk7")->law};
           s.object.ior = s.object.glass->index(optics::kLineD);
           s.render.wavelengths = k;
         }
-        std::vector<double> ray, post, frame, cpu;
-        for (int f = 0; f < opt.frames + 1; ++f) {
-          engine.set_scene(s, std::make_shared<const Mesh>(*mesh));  // a new handle: a full frame
+        scenes.push_back(s);
+        engines.push_back(std::make_unique<Engine>());
+      }
+      std::vector<std::vector<double>> ray(counts.size()), post(counts.size()), frame(counts.size()),
+          cpu(counts.size());
+      for (int f = 0; f < opt.frames + 1; ++f)
+        for (std::size_t c = 0; c < counts.size(); ++c) {
+          Engine& e = *engines[c];
+          e.set_scene(scenes[c], std::make_shared<const Mesh>(*mesh));  // a new handle: a full frame
           const double cpu_before = process_cpu_ms();
-          engine.render();
+          e.render();
           if (f == 0) continue;  // warm-up
-          cpu.push_back(process_cpu_ms() - cpu_before);
-          ray.push_back(engine.stats().ray_ms);
-          post.push_back(engine.stats().post_ms);
-          frame.push_back(engine.stats().ray_ms + engine.stats().post_ms);
+          cpu[c].push_back(process_cpu_ms() - cpu_before);
+          ray[c].push_back(e.stats().ray_ms);
+          post[c].push_back(e.stats().post_ms);
+          frame[c].push_back(e.stats().ray_ms + e.stats().post_ms);
         }
-        const double ms = middle_sample(frame), cpu_ms = middle_sample(cpu);
-        if (k == 1) grey_ms = ms, grey_cpu = cpu_ms;
-        csv << n << ',' << size << ',' << k << ',' << middle_sample(ray) << ',' << middle_sample(post) << ',' << ms
-            << ',' << ms / grey_ms << ',' << cpu_ms << ',' << cpu_ms / grey_cpu << '\n';
+      const double grey_ms = middle_sample(frame[0]), grey_cpu = middle_sample(cpu[0]);
+      for (std::size_t c = 0; c < counts.size(); ++c) {
+        const int k = counts[c];
+        const double ms = middle_sample(frame[c]), cpu_ms = middle_sample(cpu[c]);
+        csv << n << ',' << size << ',' << k << ',' << middle_sample(ray[c]) << ',' << middle_sample(post[c]) << ','
+            << ms << ',' << ms / grey_ms << ',' << cpu_ms << ',' << cpu_ms / grey_cpu << '\n';
         std::printf("mesh %4d^2, %4d^2 px, %2d wavelength%s: caustic %7.1f ms  post %6.1f ms  frame %7.1f ms  "
                     "%.2fx grey  (CPU %7.1f ms, %.2fx grey)\n",
-                    n, size, k, k == 1 ? " " : "s", middle_sample(ray), middle_sample(post), ms, ms / grey_ms, cpu_ms,
-                    cpu_ms / grey_cpu);
-        std::fflush(stdout);
+                    n, size, k, k == 1 ? " " : "s", middle_sample(ray[c]), middle_sample(post[c]), ms, ms / grey_ms,
+                    cpu_ms, cpu_ms / grey_cpu);
       }
+      std::fflush(stdout);
     }
   }
   csv.close();
+  Engine engine;
   run_spectral_accuracy(opt.out, opt.frames, opt.photons, engine);
   std::printf("wrote %s/spectral.csv, spectral_accuracy.csv, spectral_accuracy.png/.svg\n", opt.out.string().c_str());
   return 0;

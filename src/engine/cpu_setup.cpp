@@ -47,13 +47,13 @@ struct Tile {
 class Setup {
  public:
   Setup(const Scene& scene, const Placement& placement, glm::dvec3 weight, CoverageRaster* raster, int layer,
-        TriangleCounts* counts)
+        bool counting)
       : scene_(scene),
         resolution_(raster->width(), raster->height()),
         weight_(weight),
         raster_(raster),
         layer_(layer),
-        counts_(counts) {
+        counting_(counting) {
     const int width = raster->width(), height = raster->height();
     const auto surfaces = receiving_surfaces(scene);
     const auto layout = atlas_layout(width, height, surfaces.size());
@@ -127,9 +127,11 @@ class Setup {
     raster_->mesh_triangle(t, a, b, c, flux / screen_area * glm::dvec3(tint) * weight_, layer_);
   }
 
+  const TriangleCounts& counted() const { return counted_; }
+
  private:
   void count(std::uint32_t TriangleCounts::*which) {
-    if (counts_) ++(counts_->*which);
+    if (counting_) ++(counted_.*which);
   }
 
   // All of `irradiance` (flux per pixel area) into the pixel under `at`.
@@ -142,7 +144,10 @@ class Setup {
   glm::dvec3 weight_;
   CoverageRaster* raster_;
   int layer_;
-  TriangleCounts* counts_;
+  // Counted here, on the thread's own stack: the threads' counts side by
+  // side in one vector shared a cache line that every triangle wrote.
+  bool counting_;
+  TriangleCounts counted_;
   std::vector<Tile> tiles_;
   double reference_distance2_ = 0;
 };
@@ -191,9 +196,10 @@ void deposit_on_cpu(const std::vector<LandedVertex>& rays, const std::vector<glm
   raster->use_mesh(triangles, shares);
   std::vector<TriangleCounts> counted(static_cast<std::size_t>(shares));
   const auto share = [&](int k) {
-    Setup setup(scene, placement, weight, raster, k, counts ? &counted[static_cast<std::size_t>(k)] : nullptr);
+    Setup setup(scene, placement, weight, raster, k, counts != nullptr);
     const std::size_t lo = triangles.size() * k / shares, hi = triangles.size() * (k + 1) / shares;
     for (std::size_t t = lo; t < hi; ++t) setup.triangle(t, rays[triangles[t].x], rays[triangles[t].y], rays[triangles[t].z]);
+    counted[static_cast<std::size_t>(k)] = setup.counted();
   };
   if (shares == 1) share(0);
   else band_crew().run(shares, share);
