@@ -47,12 +47,13 @@ struct Tile {
 class Setup {
  public:
   Setup(const Scene& scene, const Placement& placement, glm::dvec3 weight, CoverageRaster* raster, int layer,
-        bool counting)
+        bool counting, const PartedRays* parted)
       : scene_(scene),
         resolution_(raster->width(), raster->height()),
         weight_(weight),
         raster_(raster),
         layer_(layer),
+        parted_(parted),
         counting_(counting) {
     const int width = raster->width(), height = raster->height();
     const auto surfaces = receiving_surfaces(scene);
@@ -98,6 +99,7 @@ class Setup {
     flux *= (double(v0.share) + v1.share + v2.share) / 3.0;
     if (!together) {  // parted among the surfaces: each corner that landed takes a third
       if (!(flux > 0.0) || std::isinf(flux)) return;
+      if (parted_) return sampled(t, flux, transmittance);
       for (const LandedVertex* v : {&v0, &v1, &v2}) {
         const int own = static_cast<int>(v->surface);
         if (own < 0) continue;
@@ -134,6 +136,23 @@ class Setup {
     if (counting_) ++(counted_.*which);
   }
 
+  // A parted triangle's flux by its samples: each a sixteenth of it, times
+  // its own Fresnel weight against the corners' mean, where it landed.
+  void sampled(std::size_t t, double flux, double transmittance) {
+    const auto at = parted_samples();
+    for (const glm::dvec2 uv : at) {
+      const LandedVertex s = (*parted_)(t, uv);
+      const int own = static_cast<int>(s.surface);
+      if (s.valid < 0.5f || own < 0) continue;
+      const Tile& tile = tiles_[static_cast<std::size_t>(own)];
+      const glm::dvec2 p = glm::min(tile.to_pixels(s.screen), tile.origin + tile.size - 0.5);
+      const glm::dvec2 w = tile.world_per_pixel();
+      const double share = flux / kPartedSamples * s.transmittance / transmittance;
+      count(&TriangleCounts::collapsed);
+      point(p, share / (w.x * w.y * tile.stretch(s.element)), s.tint);
+    }
+  }
+
   // All of `irradiance` (flux per pixel area) into the pixel under `at`.
   void point(glm::dvec2 at, double irradiance, glm::vec3 tint) {
     raster_->point(at, irradiance * glm::dvec3(tint) * weight_, layer_);
@@ -144,6 +163,7 @@ class Setup {
   glm::dvec3 weight_;
   CoverageRaster* raster_;
   int layer_;
+  const PartedRays* parted_;
   // Counted here, on the thread's own stack: the threads' counts side by
   // side in one vector shared a cache line that every triangle wrote.
   bool counting_;
@@ -154,49 +174,92 @@ class Setup {
 
 }  // namespace
 
-std::vector<LandedVertex> land_vertices(const Scene& scene, const Placement& placement, const Mesh& mesh, double ior) {
-  const auto surfaces = receiving_surfaces(scene);
-  const ScreenParams& screen = scene.screen;
-  const glm::dvec3 right = screen_right(screen);
-  const glm::dvec3 plane_center = screen.center - scene.render.report_plane_distance * screen.normal;
-  const bool tinted_mesh = tinted(mesh);
-  std::vector<LandedVertex> rays(mesh.positions.size());
-  const auto land = [&](std::size_t i) {
-    const glm::dvec3 v = glm::dvec3(placement.model * glm::dvec4(glm::dvec3(mesh.positions[i]), 1.0));
-    const glm::dvec3 n = glm::normalize(placement.rotation * glm::dvec3(mesh.normals[i]));
-    const ExitRay exit = exit_ray(scene, placement, ior, v, n);
-    LandedVertex& r = rays[i];
+namespace {
+
+// One ray of the per-vertex method, from a point of the face (world) with
+// its normal, landed on the first receiver it meets.
+class VertexLanding {
+ public:
+  VertexLanding(const Scene& scene, const Placement& placement, double ior)
+      : scene_(scene),
+        placement_(placement),
+        ior_(ior),
+        several_(receiving_surfaces(scene).size() > 1),
+        right_(screen_right(scene.screen)),
+        plane_center_(scene.screen.center - scene.render.report_plane_distance * scene.screen.normal) {}
+
+  LandedVertex land(const glm::dvec3& v, const glm::dvec3& n, glm::vec3 tint) const {
+    const ScreenParams& screen = scene_.screen;
+    const ExitRay exit = exit_ray(scene_, placement_, ior_, v, n);
+    LandedVertex r;
     r.footprint = glm::vec3(exit.footprint);
     r.transmittance = static_cast<float>(exit.transmittance);
-    if (tinted_mesh) r.tint = mesh.colours[i];
-    if (!exit.valid) return;
-    const ReceiverHit hit = first_receiver(scene, exit.origin, exit.direction);
+    r.tint = tint;
+    if (!exit.valid) return r;
+    const ReceiverHit hit = first_receiver(scene_, exit.origin, exit.direction);
     // Alone, a screen the ray misses drops its triangles; among receivers the
     // corners that landed keep their shares.
-    r.valid = hit.index >= 0 || surfaces.size() > 1 ? 1.0f : 0.0f;
+    r.valid = hit.index >= 0 || several_ ? 1.0f : 0.0f;
     r.surface = static_cast<float>(hit.index);
     r.element = hit.element;
     if (hit.index >= 0) r.screen = glm::vec2(hit.local);
-    const double along = glm::dot(plane_center - exit.origin, screen.normal) / glm::dot(exit.direction, screen.normal);
-    const glm::dvec3 on_plane = exit.origin + along * exit.direction - plane_center;
-    r.plane = glm::vec2(glm::dot(on_plane, right), glm::dot(on_plane, screen.up));
-  };
+    const double along = glm::dot(plane_center_ - exit.origin, screen.normal) / glm::dot(exit.direction, screen.normal);
+    const glm::dvec3 on_plane = exit.origin + along * exit.direction - plane_center_;
+    r.plane = glm::vec2(glm::dot(on_plane, right_), glm::dot(on_plane, screen.up));
+    return r;
+  }
+
+  // The face's point and normal from the mesh's (model space) ones.
+  glm::dvec3 place(const glm::dvec3& p) const { return glm::dvec3(placement_.model * glm::dvec4(p, 1.0)); }
+  glm::dvec3 turn(const glm::dvec3& n) const { return glm::normalize(placement_.rotation * n); }
+
+ private:
+  const Scene& scene_;
+  const Placement& placement_;
+  double ior_;
+  bool several_;
+  glm::dvec3 right_, plane_center_;
+};
+
+}  // namespace
+
+std::vector<LandedVertex> land_vertices(const Scene& scene, const Placement& placement, const Mesh& mesh, double ior) {
+  const VertexLanding landing(scene, placement, ior);
+  const bool tinted_mesh = tinted(mesh);
+  std::vector<LandedVertex> rays(mesh.positions.size());
   // Each vertex's ray is its own: a share of them a core.
   in_bands(static_cast<int>(rays.size()), static_cast<int>(kMinShare), [&](int lo, int hi) {
-    for (int i = lo; i < hi; ++i) land(static_cast<std::size_t>(i));
+    for (int i = lo; i < hi; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      rays[k] = landing.land(landing.place(glm::dvec3(mesh.positions[k])), landing.turn(glm::dvec3(mesh.normals[k])),
+                             tinted_mesh ? mesh.colours[k] : glm::vec3(1.0f));
+    }
   });
   return rays;
 }
 
+PartedRays parted_rays(const Scene& scene, const Placement& placement, const Mesh& mesh, double ior) {
+  const bool tinted_mesh = tinted(mesh);
+  return [landing = VertexLanding(scene, placement, ior), &mesh, tinted_mesh](std::size_t t, glm::dvec2 uv) {
+    const glm::uvec3 c = mesh.triangles[t];
+    const auto mix = [&](const auto& values) {
+      using V = glm::dvec3;
+      return (1.0 - uv.x - uv.y) * V(values[c.x]) + uv.x * V(values[c.y]) + uv.y * V(values[c.z]);
+    };
+    return landing.land(landing.place(mix(mesh.positions)), landing.turn(mix(mesh.normals)),
+                        tinted_mesh ? glm::vec3(mix(mesh.colours)) : glm::vec3(1.0f));
+  };
+}
+
 void deposit_on_cpu(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
                     const Scene& scene, const Placement& placement, glm::dvec3 weight, CoverageRaster* raster,
-                    TriangleCounts* counts) {
+                    TriangleCounts* counts, const PartedRays* parted) {
   // A share of the triangles a core, each into its own layer of the raster.
   const int shares = static_cast<int>(std::clamp<std::size_t>(triangles.size() / kMinShare, 1, band_cores()));
   raster->use_mesh(triangles, shares);
   std::vector<TriangleCounts> counted(static_cast<std::size_t>(shares));
   const auto share = [&](int k) {
-    Setup setup(scene, placement, weight, raster, k, counts != nullptr);
+    Setup setup(scene, placement, weight, raster, k, counts != nullptr, parted);
     const std::size_t lo = triangles.size() * k / shares, hi = triangles.size() * (k + 1) / shares;
     for (std::size_t t = lo; t < hi; ++t) setup.triangle(t, rays[triangles[t].x], rays[triangles[t].y], rays[triangles[t].z]);
     counted[static_cast<std::size_t>(k)] = setup.counted();

@@ -15,6 +15,7 @@
 #include "caustic/receivers.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace caustic {
@@ -28,14 +29,28 @@ struct TriangleCounts {
 /// tracer lands its rays (caustic/light_grid.hpp).
 std::vector<LandedVertex> land_vertices(const Scene& scene, const Placement& placement, const Mesh& mesh, double ior);
 
+/// The ray through the point of triangle `t` at barycentric weights `uv`
+/// of its second and third corners, landed as its corners were.
+using PartedRays = std::function<LandedVertex(std::size_t t, glm::dvec2 uv)>;
+
+/// The per-vertex method's rays inside `mesh`'s triangles: position, normal
+/// and tint interpolated between the corners, as the method models the
+/// face between its vertices. Holds references to its arguments.
+PartedRays parted_rays(const Scene& scene, const Placement& placement, const Mesh& mesh, double ior);
+
 /// Sets up the triangles over `rays` as caustic.geom does and adds their
 /// irradiance times `weight` (and their tint when `raster` has three
 /// channels) into `raster`, whose size is the target's, as caustic.frag
 /// does; counts the triangles into `counts` when it is not null. A share of
 /// the triangles a core, each into a layer of its own (it sets the
-/// raster's mesh); the caller flushes or resolves the raster.
+/// raster's mesh); the caller flushes or resolves the raster. A triangle
+/// whose corners parted among the surfaces (an occluder's outline, a
+/// lathe's silhouette or seam) leaves a third of its flux at each corner
+/// that landed, as caustic.geom does; with `parted`, it is sampled by
+/// parted_samples()' 16 rays instead, each leaving a sixteenth where it
+/// lands, so the outline's error shrinks with the square of the spacing.
 void deposit_on_cpu(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
                     const Scene& scene, const Placement& placement, glm::dvec3 weight, CoverageRaster* raster,
-                    TriangleCounts* counts);
+                    TriangleCounts* counts, const PartedRays* parted = nullptr);
 
 }  // namespace caustic

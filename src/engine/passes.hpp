@@ -61,7 +61,7 @@ class RayPass {
   // on the CPU, the first with `clear`.
   void draw_deposited(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
                       const Scene& scene, const Placement& placement, const gl::RenderTarget& target,
-                      glm::vec3 weight, bool clear, bool count);
+                      glm::vec3 weight, bool clear, bool count, const PartedRays* parted = nullptr);
 
   // A pass on the GL: what the CPU left is uploaded first when the pass adds to it.
   void on_the_gl(bool clear);

@@ -130,13 +130,17 @@ void RayPass::draw(const Scene& scene, const Placement& placement, const gl::Ren
 
 void RayPass::draw_on_cpu(const Scene& scene, const Placement& placement, const Mesh& mesh,
                           const gl::RenderTarget& target, double ior, glm::vec3 weight, bool clear, bool count) {
+  // A scene with a shaped receiver lands here whatever the renderer, so
+  // its parted triangles can be sampled finer than caustic.geom's corners;
+  // a scene of rectangles keeps the corners, drawing what the GL draws.
+  const PartedRays parted = has_shaped_receiver(scene) ? parted_rays(scene, placement, mesh, ior) : nullptr;
   draw_deposited(land_vertices(scene, placement, mesh, ior), mesh.triangles, scene, placement, target, weight, clear,
-                 count);
+                 count, parted ? &parted : nullptr);
 }
 
 void RayPass::draw_deposited(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
                              const Scene& scene, const Placement& placement, const gl::RenderTarget& target,
-                             glm::vec3 weight, bool clear, bool count) {
+                             glm::vec3 weight, bool clear, bool count, const PartedRays* parted) {
   if (clear) {
     raster_.reset(target.texture.width(), target.texture.height(), target.texture.format() == GL_R32F ? 1 : 3);
     raster_texture_ = target.texture.id();
@@ -146,7 +150,8 @@ void RayPass::draw_deposited(const std::vector<LandedVertex>& rays, const std::v
     raster_.flush();  // the passes before, deposited: the next may set other triangles up
   }
   whole_image_ = nullptr;
-  deposit_on_cpu(rays, triangles, scene, placement, glm::dvec3(weight), &raster_, count ? &cpu_counts_ : nullptr);
+  deposit_on_cpu(rays, triangles, scene, placement, glm::dvec3(weight), &raster_, count ? &cpu_counts_ : nullptr,
+                 parted);
   if (count) counted_on_cpu_ = true;
   raster_pending_ = true;
 }

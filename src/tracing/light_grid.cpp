@@ -42,6 +42,21 @@ LandedVertex land(const Scene& scene, const Solid& solid, const glm::dvec3& star
 
 }  // namespace
 
+std::array<glm::dvec2, kPartedSamples> parted_samples() {
+  constexpr int kSplit = 4;
+  static_assert(kSplit * kSplit == kPartedSamples);
+  std::array<glm::dvec2, kPartedSamples> at{};
+  int k = 0;
+  // Sub-triangle centroids in barycentric steps of 1/kSplit: upright ones
+  // at (a + 1/3, b + 1/3), inverted ones at (a + 2/3, b + 2/3).
+  for (int u = 0; u < kSplit; ++u)
+    for (int v = 0; u + v < kSplit; ++v)
+      for (int flip = 0; flip < 2 && (flip == 0 || u + v + 1 < kSplit); ++flip)
+        at[static_cast<std::size_t>(k++)] = {(u + (flip ? 2.0 : 1.0) / 3.0) / kSplit,
+                                             (v + (flip ? 2.0 : 1.0) / 3.0) / kSplit};
+  return at;
+}
+
 LandedGrid trace_light_grid(const Scene& scene, const Solid& solid, double ior, int n, int threads) {
   n = std::max(n, 2);
   const Launch launch = launch_rectangle(scene, solid.centre(), solid.points());
@@ -67,7 +82,7 @@ LandedGrid trace_light_grid(const Scene& scene, const Solid& solid, double ior, 
 
   // Triangles whose corners took one branch are spread whole; the others
   // (a crease, the rim, TIR on some corners) are sampled finer: the centroids
-  // of a kSplit x kSplit subdivision, each its own ray and its own point.
+  // of their subdivision (parted_samples()), each its own ray and its own point.
   auto index = [n](int i, int j) { return static_cast<unsigned>(j * n + i); };
   struct Parted {
     glm::dvec2 corner[3];  // grid coordinates (i, j)
@@ -93,23 +108,19 @@ LandedGrid trace_light_grid(const Scene& scene, const Solid& solid, double ior, 
       }
     }
   grid.split = parted.size();
-  constexpr int kSplit = 4, kSamples = kSplit * kSplit;
+  constexpr int kSamples = kPartedSamples;
+  const auto centroid = parted_samples();
   std::vector<LandedVertex> samples(parted.size() * kSamples);
   auto sample_rows = [&](int first) {
     std::uint64_t ignored = 0;
     for (std::size_t p = static_cast<std::size_t>(first); p < parted.size(); p += static_cast<std::size_t>(workers)) {
       const auto& c = parted[p];
-      int k = 0;
-      // Sub-triangle centroids in barycentric steps of 1/kSplit: upright
-      // ones at (a + 1/3, b + 1/3), inverted ones at (a + 2/3, b + 2/3).
-      for (int u = 0; u < kSplit; ++u)
-        for (int v = 0; u + v < kSplit; ++v)
-          for (int flip = 0; flip < 2 && (flip == 0 || u + v + 1 < kSplit); ++flip) {
-            const double bu = (u + (flip ? 2.0 : 1.0) / 3.0) / kSplit, bv = (v + (flip ? 2.0 : 1.0) / 3.0) / kSplit;
-            const glm::dvec2 g = c.corner[0] + bu * (c.corner[1] - c.corner[0]) + bv * (c.corner[2] - c.corner[0]);
-            const glm::dvec3 start = launch.origin + (g.x / (n - 1)) * launch.a + (g.y / (n - 1)) * launch.b;
-            samples[p * kSamples + static_cast<std::size_t>(k++)] = land(scene, solid, start, ior, &ignored);
-          }
+      for (int k = 0; k < kSamples; ++k) {
+        const glm::dvec2 b = centroid[static_cast<std::size_t>(k)];
+        const glm::dvec2 g = c.corner[0] + b.x * (c.corner[1] - c.corner[0]) + b.y * (c.corner[2] - c.corner[0]);
+        const glm::dvec3 start = launch.origin + (g.x / (n - 1)) * launch.a + (g.y / (n - 1)) * launch.b;
+        samples[p * kSamples + static_cast<std::size_t>(k)] = land(scene, solid, start, ior, &ignored);
+      }
     }
   };
   pool.clear();

@@ -15,6 +15,7 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -40,6 +41,12 @@ struct LandedGrid {
   std::size_t split = 0;  ///< grid triangles whose corners took different branches
   std::size_t rays = 0;   ///< rays traced, the parted triangles' samples included
 };
+
+/// Rays a parted triangle is sampled by: the centroids of its subdivision
+/// into 4 x 4 equal triangles, each as barycentric weights (u, v) of its
+/// second and third corners. Each carries a sixteenth of the flux.
+constexpr int kPartedSamples = 16;
+std::array<glm::dvec2, kPartedSamples> parted_samples();
 
 /// Traces an n x n grid (n >= 2) over the launch rectangle of `solid`
 /// through index `ior`, on `threads` threads (0: all cores).
