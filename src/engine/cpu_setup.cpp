@@ -97,7 +97,7 @@ class Setup {
       flux = transmittance * std::abs(glm::dot(area_vector, scene_.light.direction));
     }
     flux *= (double(v0.share) + v1.share + v2.share) / 3.0;
-    if (!together) {  // parted among the surfaces: each corner that landed takes a third
+    if (!together) {  // parted among the surfaces: sampled, or a third to each corner that landed
       if (!(flux > 0.0) || std::isinf(flux)) return;
       if (parted_) return sampled(t, flux, transmittance);
       for (const LandedVertex* v : {&v0, &v1, &v2}) {
@@ -171,10 +171,6 @@ class Setup {
   std::vector<Tile> tiles_;
   double reference_distance2_ = 0;
 };
-
-}  // namespace
-
-namespace {
 
 // One ray of the per-vertex method, from a point of the face (world) with
 // its normal, landed on the first receiver it meets.
