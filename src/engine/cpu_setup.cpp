@@ -100,16 +100,7 @@ class Setup {
     if (!together) {  // parted among the surfaces: sampled, or a third to each corner that landed
       if (!(flux > 0.0) || std::isinf(flux)) return;
       if (parted_) return sampled(t, flux, transmittance);
-      for (const LandedVertex* v : {&v0, &v1, &v2}) {
-        const int own = static_cast<int>(v->surface);
-        if (own < 0) continue;
-        const Tile& t = tiles_[own];
-        // A corner on its rectangle's far edge belongs to the tile's last pixel.
-        const glm::dvec2 p = glm::min(t.to_pixels(v->screen), t.origin + t.size - 0.5);
-        count(&TriangleCounts::collapsed);
-        const glm::dvec2 w = t.world_per_pixel();
-        point(p, flux / 3.0 / (w.x * w.y * t.stretch(v->element)), v->tint);
-      }
+      for (const LandedVertex* v : {&v0, &v1, &v2}) landed_point(*v, flux / 3.0);
       return;
     }
     const glm::dvec2 lo = glm::min(glm::min(a, b), c), hi = glm::max(glm::max(a, b), c);
@@ -139,18 +130,23 @@ class Setup {
   // A parted triangle's flux by its samples: each a sixteenth of it, times
   // its own Fresnel weight against the corners' mean, where it landed.
   void sampled(std::size_t t, double flux, double transmittance) {
-    const auto at = parted_samples();
-    for (const glm::dvec2 uv : at) {
+    for (const glm::dvec2 uv : parted_samples()) {
       const LandedVertex s = (*parted_)(t, uv);
-      const int own = static_cast<int>(s.surface);
-      if (s.valid < 0.5f || own < 0) continue;
-      const Tile& tile = tiles_[static_cast<std::size_t>(own)];
-      const glm::dvec2 p = glm::min(tile.to_pixels(s.screen), tile.origin + tile.size - 0.5);
-      const glm::dvec2 w = tile.world_per_pixel();
-      const double share = flux / kPartedSamples * s.transmittance / transmittance;
-      count(&TriangleCounts::collapsed);
-      point(p, share / (w.x * w.y * tile.stretch(s.element)), s.tint);
+      if (s.valid < 0.5f) continue;
+      landed_point(s, flux / kPartedSamples * s.transmittance / transmittance);
     }
+  }
+
+  // `flux` of a parted triangle into the pixel where `v` landed, if it did.
+  void landed_point(const LandedVertex& v, double flux) {
+    const int own = static_cast<int>(v.surface);
+    if (own < 0) return;
+    const Tile& t = tiles_[static_cast<std::size_t>(own)];
+    // A landing on its rectangle's far edge belongs to the tile's last pixel.
+    const glm::dvec2 p = glm::min(t.to_pixels(v.screen), t.origin + t.size - 0.5);
+    count(&TriangleCounts::collapsed);
+    const glm::dvec2 w = t.world_per_pixel();
+    point(p, flux / (w.x * w.y * t.stretch(v.element)), v.tint);
   }
 
   // All of `irradiance` (flux per pixel area) into the pixel under `at`.
