@@ -130,7 +130,8 @@ class Setup {
   // A parted triangle's flux by its samples: each a sixteenth of it, times
   // its own Fresnel weight against the corners' mean, where it landed.
   void sampled(std::size_t t, double flux, double transmittance) {
-    for (const glm::dvec2 uv : parted_samples()) {
+    static const auto at = parted_samples();  // once, not per parted triangle
+    for (const glm::dvec2 uv : at) {
       const LandedVertex s = (*parted_)(t, uv);
       if (s.valid < 0.5f) continue;
       landed_point(s, flux / kPartedSamples * s.transmittance / transmittance);
