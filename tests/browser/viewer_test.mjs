@@ -357,3 +357,35 @@ test('a lost network shows reconnecting and the page recovers', async () => {
     server.kill('SIGTERM');
   }
 });
+
+test('a browser the video cannot reach says so, keeps trying, and goes live once the path opens', async () => {
+  const server = await startServer();
+  try {
+    const context = await browser.newContext();
+    const page = await context.newPage();
+    // Signalling passes but no ICE candidate does, either way: what a
+    // firewall that drops WebRTC's UDP leaves of a session.
+    let blocked = true;
+    const isCandidate = (m) => typeof m === 'string' && JSON.parse(m).type === 'ice';
+    await page.routeWebSocket(() => true, (ws) => {
+      const server = ws.connectToServer();
+      ws.onMessage((m) => { if (!(blocked && isCandidate(m))) server.send(m); });
+      server.onMessage((m) => { if (!(blocked && isCandidate(m))) ws.send(m); });
+    });
+    const said = [];
+    await page.exposeFunction('noteState', (text) => said.push(text));
+    await page.addInitScript(() => {
+      new MutationObserver(() => window.noteState(document.getElementById('state').textContent))
+        .observe(document, { subtree: true, childList: true, characterData: true });
+    });
+    await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(page, () => /^reconnecting: the video could not reach this browser.*retrying in \d+ s/
+      .test(document.getElementById('state').textContent), 45, 'the unreachable video named, with a retry');
+    assert.ok(!said.some((s) => /connection was lost/.test(s)), `a path that never opened was called lost: ${said}`);
+    blocked = false;
+    await until(page, () => window.caustic.connection === 'live', 60, 'live once candidates pass');
+    await context.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});

@@ -5,6 +5,8 @@
 // video, and the "frames" data channel that announces parameter versions
 // (and, for a pool, the surface each frame shows).
 
+import { watchIce } from './ice_watch.js';
+
 const KEEPALIVE_MS = 25000;  // Janus ends a session silent for 60 s
 
 export class JanusStream {
@@ -38,10 +40,7 @@ export class JanusStream {
       this.send({ janus: 'trickle', session_id: this.session, handle_id: this.handle,
                   candidate: candidate ? candidate.toJSON() : { completed: true } });
     };
-    this.pc.onconnectionstatechange = () => {
-      if (this.pc.connectionState === 'connected') this.onState('live');
-      if (this.pc.connectionState === 'failed') this.fail('the connection was lost');
-    };
+    this.ice = watchIce(this.pc, { onLive: () => this.onState('live'), onFail: (why) => this.fail(why) });
     const watched = await this.message({ request: 'watch', id: this.mountpoint, pin: this.pin });
     if (!watched.jsep) throw new Error(watched.plugindata?.data?.error ?? 'the broadcast refused this link');
     await this.pc.setRemoteDescription(watched.jsep);
@@ -51,6 +50,7 @@ export class JanusStream {
     const answer = await this.pc.createAnswer();
     await this.pc.setLocalDescription(answer);
     await this.message({ request: 'start' }, { type: answer.type, sdp: answer.sdp });
+    this.ice.arm();
   }
 
   // Frame messages: {"rtp_timestamp", "version", "level"} of the newest
@@ -113,6 +113,7 @@ export class JanusStream {
   close() {
     this.closed = true;
     clearInterval(this.keepalive);
+    this.ice?.stop();
     if (this.session) this.send({ janus: 'destroy', session_id: this.session });
     this.socket?.close();
     this.pc?.close();

@@ -3,6 +3,8 @@
 // the "frames" data channel that says which parameter version each RTP
 // timestamp shows (and, for a scene with water, the surface it shows).
 
+import { watchIce } from './ice_watch.js';
+
 const PING_INTERVAL_MS = 5000;
 
 export class Stream {
@@ -41,11 +43,10 @@ export class Stream {
     this.pc.onicecandidate = ({ candidate }) => {
       if (candidate) this.send({ type: 'ice', candidate: candidate.candidate, sdpMLineIndex: candidate.sdpMLineIndex });
     };
-    this.pc.onconnectionstatechange = () => {
-      const state = this.pc.connectionState;
-      if (state === 'connected') this.onState('live');
-      if (state === 'failed' || state === 'disconnected') this.fail('the connection was lost');
-    };
+    // Chromium says "disconnected" when a path stops answering (a dead
+    // server, a dropped network): soon enough to try again at once.
+    this.ice = watchIce(this.pc, { onLive: () => this.onState('live'), onFail: (why) => this.fail(why),
+                                   failOn: ['failed', 'disconnected'] });
     this.socket.onmessage = (event) => this.onSignal(JSON.parse(event.data));
     // The server ends a session whose viewer shows no sign of life; the
     // video's RTCP reports usually suffice, this covers the time before.
@@ -68,6 +69,7 @@ export class Stream {
       const answer = await this.pc.createAnswer();
       await this.pc.setLocalDescription(answer);
       this.send({ type: 'answer', sdp: answer.sdp });
+      this.ice.arm();
     } else if (message.type === 'ice' && message.candidate) {
       await this.pc.addIceCandidate({ candidate: message.candidate, sdpMLineIndex: message.sdpMLineIndex });
     } else if (message.type === 'bye') {
@@ -101,6 +103,7 @@ export class Stream {
   close() {
     this.closed = true;
     clearInterval(this.pinger);
+    this.ice?.stop();
     this.socket?.close();
     this.pc?.close();
   }
