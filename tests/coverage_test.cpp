@@ -176,7 +176,7 @@ TEST(Coverage, AMeshWalksEachSharedEdgeOnceAndCoversAsItsTriangles) {
 TEST(Coverage, LayersAndFlushedPassesAddUpAsOneImage) {
   // Three passes over one grid at different positions (a wavelength each),
   // each pass's triangles dealt between two layers as two threads fill
-  // them, a point in each, flushed between passes and resolved once: the
+  // them, a point and a loose triangle in each, flushed between passes and resolved once: the
   // image is every pass's coverage summed. The middle channel's values run
   // below 0 too (a spectral weight): its sums stand where they are negative.
   constexpr int kWidth = 21, kHeight = 17, kNx = 5, kNy = 4, kPasses = 3;
@@ -202,6 +202,14 @@ TEST(Coverage, LayersAndFlushedPassesAddUpAsOneImage) {
             expected[(static_cast<std::size_t>(j) * kWidth + i) * 3 + k] +=
                 value[k] * covered(at[c.x], at[c.y], at[c.z], i, j);
     }
+    // A piece cut from a triangle, beside the mesh's in a layer.
+    const glm::dvec2 la(jitter(rng) + 10, jitter(rng) + 8), lb = la + glm::dvec2(6.5, 1.5), lc = la + glm::dvec2(2, 5.25);
+    const glm::dvec3 loose(1.5, unit(rng), 0.25);
+    raster.loose_triangle(la, lb, lc, loose, 1 - pass % 2);
+    for (int j = 0; j < kHeight; ++j)
+      for (int i = 0; i < kWidth; ++i)
+        for (int k = 0; k < 3; ++k)
+          expected[(static_cast<std::size_t>(j) * kWidth + i) * 3 + k] += loose[k] * covered(la, lb, lc, i, j);
     const glm::dvec3 point(0.5 + pass, 1.0, 2.0);
     raster.point({3.5 + 4 * pass, 7.25}, point, pass % 2);
     for (int k = 0; k < 3; ++k) expected[(7 * static_cast<std::size_t>(kWidth) + 3 + 4 * pass) * 3 + k] += point[k];

@@ -61,6 +61,7 @@ void CoverageRaster::reset(int width, int height, int channels) {
   if (layers_.empty()) layers_.resize(1);
   layers_in_use_ = 1;
   layers_[0].points.clear();
+  layers_[0].loose.clear();
   layers_[0].negative = false;
   mesh_in_use_ = false;
   flushed_ = negative_ = false;
@@ -110,7 +111,7 @@ void CoverageRaster::use_mesh(const std::vector<glm::uvec3>& triangles, int laye
       layer.edge_values.assign(edges_.size(), glm::dvec3(0));
       layer.dirty_lo = layer.dirty_hi = 0;
     }
-    if (k > 0) layer.points.clear(), layer.negative = false;  // layer 0's may hold what triangle() added
+    if (k > 0) layer.points.clear(), layer.loose.clear(), layer.negative = false;  // layer 0's may hold what point() added
   }
   // A flush leaves the values it walked at 0: only a layer resolved without
   // one (the last of a frame) still holds them.
@@ -167,6 +168,14 @@ void CoverageRaster::triangle(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dve
   const double twice_area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
   triangles_.push_back({a, b, c, twice_area > 0 ? -value : value});
   negative_ = negative_ || glm::any(glm::lessThan(value, glm::dvec3(0)));
+}
+
+void CoverageRaster::loose_triangle(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec3 value, int layer) {
+  if (!usable(a) || !usable(b) || !usable(c) || width_ == 0 || height_ == 0) return;
+  const double twice_area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  Layer& l = layers_[static_cast<std::size_t>(layer)];
+  l.loose.push_back({a, b, c, twice_area > 0 ? -value : value});
+  l.negative = l.negative || glm::any(glm::lessThan(value, glm::dvec3(0)));
 }
 
 void CoverageRaster::point(glm::dvec2 at, glm::dvec3 value, int layer) {
@@ -235,16 +244,20 @@ void CoverageRaster::edge(glm::dvec2 p, glm::dvec2 q, const glm::dvec3& value, i
 void CoverageRaster::band(int lo, int hi, bool sum, int out_channels) {
   const std::size_t row = static_cast<std::size_t>(width_) * channels_;
   if (!flushed_) std::fill(changes_.begin() + lo * row, changes_.begin() + hi * row, 0.0);
-  for (const Triangle& t : triangles_) {
-    if (std::max({t.a.y, t.b.y, t.c.y}) <= lo || std::min({t.a.y, t.b.y, t.c.y}) >= hi) continue;  // another band's
-    if (channels_ == 1) {
-      edge<1>(t.a, t.b, t.value, lo, hi), edge<1>(t.b, t.c, t.value, lo, hi), edge<1>(t.c, t.a, t.value, lo, hi);
-    } else {
-      edge<3>(t.a, t.b, t.value, lo, hi), edge<3>(t.b, t.c, t.value, lo, hi), edge<3>(t.c, t.a, t.value, lo, hi);
+  const auto walk = [&](const std::vector<Triangle>& triangles) {
+    for (const Triangle& t : triangles) {
+      if (std::max({t.a.y, t.b.y, t.c.y}) <= lo || std::min({t.a.y, t.b.y, t.c.y}) >= hi) continue;  // another band's
+      if (channels_ == 1) {
+        edge<1>(t.a, t.b, t.value, lo, hi), edge<1>(t.b, t.c, t.value, lo, hi), edge<1>(t.c, t.a, t.value, lo, hi);
+      } else {
+        edge<3>(t.a, t.b, t.value, lo, hi), edge<3>(t.b, t.c, t.value, lo, hi), edge<3>(t.c, t.a, t.value, lo, hi);
+      }
     }
-  }
+  };
+  walk(triangles_);
   for (int k = 0; k < layers_in_use_; ++k) {
     const Layer& layer = layers_[static_cast<std::size_t>(k)];
+    walk(layer.loose);
     if (mesh_in_use_)
       for (std::size_t e = layer.dirty_lo; e < layer.dirty_hi; ++e) {
         const glm::dvec3& value = layer.edge_values[e];
@@ -294,6 +307,7 @@ void CoverageRaster::flush() {
     negative_ = negative_ || layer.negative;
     layer.negative = false;
     layer.points.clear();
+    layer.loose.clear();
   }
   // The values walked, cleared for the next pass.
   if (mesh_in_use_) clear_edge_values();

@@ -46,6 +46,11 @@ class CoverageRaster {
   /// the layer's triangles share must come at one position from each.
   void mesh_triangle(std::size_t t, glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec3 value, int layer = 0);
 
+  /// A triangle outside the mesh in use, as triangle(), into `layer`: a
+  /// piece of a mesh triangle that was cut up, filled beside the layer's
+  /// mesh triangles by the same thread.
+  void loose_triangle(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec3 value, int layer = 0);
+
   /// Adds `value` to the pixel holding `at` (nothing when it is outside),
   /// with `layer`'s triangles (another thread's layer may be filled at once).
   void point(glm::dvec2 at, glm::dvec3 value, int layer = 0);
@@ -88,6 +93,7 @@ class CoverageRaster {
     std::vector<glm::dvec2> corners;
     std::vector<glm::dvec3> edge_values;
     std::vector<Point> points;
+    std::vector<Triangle> loose;  // loose_triangle()'s
     bool negative = false;  // a value below 0 was added (a spectral weight)
     // Every edge value outside [dirty_lo, dirty_hi) is 0: a band walks and
     // a flush clears only that range. A share of a grid's triangles in

@@ -6,6 +6,7 @@
 #include "caustic/vertex_rays.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace caustic {
@@ -68,11 +69,34 @@ class Setup {
 
   // Triangle `t` of the mesh the raster uses.
   void triangle(std::size_t t, const LandedVertex& v0, const LandedVertex& v1, const LandedVertex& v2) {
-    if (v0.valid * v1.valid * v2.valid < 0.5f) return count(&TriangleCounts::dropped);
-    const double transmittance = (double(v0.transmittance) + v1.transmittance + v2.transmittance) / 3.0;
+    piece(t, v0, v1, v2, nullptr, 0);
+  }
+
+  const TriangleCounts& counted() const { return counted_; }
+
+ private:
+  // Where a piece's corners lie in its mesh triangle: barycentric weights
+  // of the triangle's second and third corners.
+  using Corners = std::array<glm::dvec2, 3>;
+  // A parted triangle is cut in four this many times where its pieces still
+  // part: 16 pieces at the most, as parted_samples()' 16 rays.
+  static constexpr int kCuts = 2;
+
+  // Triangle `t`, or at `depth` > 0 its piece with corners at `uv`.
+  void piece(std::size_t t, const LandedVertex& v0, const LandedVertex& v1, const LandedVertex& v2, const Corners* uv,
+             int depth) {
+    const bool whole = depth == 0, valid = v0.valid * v1.valid * v2.valid >= 0.5f;
+    if (whole && !valid) return count(&TriangleCounts::dropped);
+    // A piece's corner may be lost inside the glass (its ray reflected
+    // whole): the piece parts, its Fresnel weight the landed corners'.
+    const double landed = double(v0.valid) + v1.valid + v2.valid;
+    const double transmittance =
+        landed > 0 ? (double(v0.valid) * v0.transmittance + double(v1.valid) * v1.transmittance +
+                      double(v2.valid) * v2.transmittance) / landed
+                   : 0.0;
     const int surface = static_cast<int>(v0.surface);
     const Tile& tile = tiles_[std::max(surface, 0)];
-    const bool together = surface >= 0 && v1.surface == v0.surface && v2.surface == v0.surface &&
+    const bool together = valid && surface >= 0 && v1.surface == v0.surface && v2.surface == v0.surface &&
                           tile.continuous(v0.element, v1.element, v2.element);
     const glm::dvec2 a = tile.to_pixels(v0.screen), b = tile.to_pixels(v1.screen), c = tile.to_pixels(v2.screen);
     const double signed_pixels = signed_area(a, b, c), area_pixels = std::abs(signed_pixels);
@@ -97,9 +121,13 @@ class Setup {
       flux = transmittance * std::abs(glm::dot(area_vector, scene_.light.direction));
     }
     flux *= (double(v0.share) + v1.share + v2.share) / 3.0;
-    if (!together) {  // parted among the surfaces: sampled, or a third to each corner that landed
+    if (!together) {  // parted among the surfaces: cut up, or a third to each corner that landed
       if (!(flux > 0.0) || std::isinf(flux)) return;
-      if (parted_) return sampled(t, flux, transmittance);
+      if (parted_) {
+        static const Corners kWhole{glm::dvec2(0, 0), glm::dvec2(1, 0), glm::dvec2(0, 1)};
+        const Corners& at = uv ? *uv : kWhole;
+        return depth < kCuts ? cut(t, v0, v1, v2, at, depth) : parted_piece(t, at, flux, transmittance);
+      }
       for (const LandedVertex* v : {&v0, &v1, &v2}) landed_point(*v, flux / 3.0);
       return;
     }
@@ -107,35 +135,50 @@ class Setup {
     const bool offscreen = glm::any(glm::greaterThan(lo, resolution_)) || glm::any(glm::lessThan(hi, glm::dvec2(0.0)));
     const bool huge = glm::any(glm::greaterThan(hi - lo, 64.0 * resolution_));  // precision, not physics
     if (!(flux > 0.0) || std::isinf(flux) || offscreen || huge) {
-      if (!(flux == 0.0) && !offscreen) count(&TriangleCounts::dropped);
+      if (!(flux == 0.0) && !offscreen && whole) count(&TriangleCounts::dropped);
       return;
     }
-    count(&TriangleCounts::drawn);
-    count(signed_pixels >= 0.0 ? &TriangleCounts::positive : &TriangleCounts::negative);
     const glm::vec3 tint = (v0.tint + v1.tint + v2.tint) / 3.0f;
+    if (whole) {
+      count(&TriangleCounts::drawn);
+      count(signed_pixels >= 0.0 ? &TriangleCounts::positive : &TriangleCounts::negative);
+    }
     if (area_pixels < kCollapsed) {
       count(&TriangleCounts::collapsed);
       return point((a + b + c) / 3.0, flux / pixel_area, tint);
     }
-    raster_->mesh_triangle(t, a, b, c, flux / screen_area * glm::dvec3(tint) * weight_, layer_);
+    const glm::dvec3 value = flux / screen_area * glm::dvec3(tint) * weight_;
+    if (whole) raster_->mesh_triangle(t, a, b, c, value, layer_);
+    else raster_->loose_triangle(a, b, c, value, layer_);
   }
 
-  const TriangleCounts& counted() const { return counted_; }
+  // A parted triangle or piece in four, at its sides' midpoints, each
+  // piece landed by its own rays: the pieces whose corners land together
+  // are spread whole (the outline's light a continuous area, not points),
+  // the rest cut again.
+  void cut(std::size_t t, const LandedVertex& v0, const LandedVertex& v1, const LandedVertex& v2, const Corners& uv,
+           int depth) {
+    const Corners mid{0.5 * (uv[0] + uv[1]), 0.5 * (uv[1] + uv[2]), 0.5 * (uv[2] + uv[0])};
+    const LandedVertex m01 = (*parted_)(t, mid[0]), m12 = (*parted_)(t, mid[1]), m20 = (*parted_)(t, mid[2]);
+    const Corners pieces[4] = {{uv[0], mid[0], mid[2]}, {mid[0], uv[1], mid[1]}, {mid[2], mid[1], uv[2]},
+                               {mid[0], mid[1], mid[2]}};
+    piece(t, v0, m01, m20, &pieces[0], depth + 1);
+    piece(t, m01, v1, m12, &pieces[1], depth + 1);
+    piece(t, m20, m12, v2, &pieces[2], depth + 1);
+    piece(t, m01, m12, m20, &pieces[3], depth + 1);
+  }
 
- private:
+  // The smallest piece that still parts: its flux where the ray through its
+  // centroid lands, with that ray's Fresnel weight in place of its corners'
+  // (`transmittance`, a factor of `flux`).
+  void parted_piece(std::size_t t, const Corners& uv, double flux, double transmittance) {
+    const LandedVertex s = (*parted_)(t, (uv[0] + uv[1] + uv[2]) / 3.0);
+    if (s.valid < 0.5f || !(flux > 0.0) || !(transmittance > 0.0)) return;
+    landed_point(s, flux * s.transmittance / transmittance);
+  }
+
   void count(std::uint32_t TriangleCounts::*which) {
     if (counting_) ++(counted_.*which);
-  }
-
-  // A parted triangle's flux by its samples: each a sixteenth of it, times
-  // its own Fresnel weight against the corners' mean, where it landed.
-  void sampled(std::size_t t, double flux, double transmittance) {
-    static const auto at = parted_samples();  // once, not per parted triangle
-    for (const glm::dvec2 uv : at) {
-      const LandedVertex s = (*parted_)(t, uv);
-      if (s.valid < 0.5f) continue;
-      landed_point(s, flux / kPartedSamples * s.transmittance / transmittance);
-    }
   }
 
   // `flux` of a parted triangle into the pixel where `v` landed, if it did.

@@ -46,9 +46,11 @@ PartedRays parted_rays(const Scene& scene, const Placement& placement, const Mes
 /// raster's mesh); the caller flushes or resolves the raster. A triangle
 /// whose corners parted among the surfaces (an occluder's outline, a
 /// lathe's silhouette or seam) leaves a third of its flux at each corner
-/// that landed, as caustic.geom does; with `parted`, it is sampled by
-/// parted_samples()' 16 rays instead, each leaving a sixteenth where it
-/// lands, so the outline's error shrinks with the square of the spacing.
+/// that landed, as caustic.geom does; with `parted`, it is cut into four,
+/// twice where its pieces still part, each piece whose corners land
+/// together spread whole and each smallest one that parts left where the
+/// ray through its centroid lands, so the outline's error shrinks with the
+/// pieces' size and no dots are left between them.
 void deposit_on_cpu(const std::vector<LandedVertex>& rays, const std::vector<glm::uvec3>& triangles,
                     const Scene& scene, const Placement& placement, glm::dvec3 weight, CoverageRaster* raster,
                     TriangleCounts* counts, const PartedRays* parted = nullptr);
