@@ -6,10 +6,16 @@
 import { watchIce } from './ice_watch.js';
 
 const PING_INTERVAL_MS = 5000;
+// From a connected path to the first picture: a second or two, more on a
+// loaded server. A path that connects and carries no picture (a codec the
+// browser cannot decode, a middlebox that passes the handshake and drops
+// the media) would otherwise say "live" over an empty stage for ever.
+export const FIRST_FRAME_TIMEOUT_MS = 20000;
 
 export class Stream {
-  constructor(session, video, { onState, onFrameVersion }) {
+  constructor(session, video, { onState, onFrameVersion, codec = 'the video' }) {
     this.session = session;
+    this.codec = codec;
     this.video = video;
     this.onState = onState;
     this.onFrameVersion = onFrameVersion;
@@ -45,7 +51,7 @@ export class Stream {
     };
     // Chromium says "disconnected" when a path stops answering (a dead
     // server, a dropped network): soon enough to try again at once.
-    this.ice = watchIce(this.pc, { onLive: () => this.onState('live'), onFail: (why) => this.fail(why),
+    this.ice = watchIce(this.pc, { onLive: () => this.onLive(), onFail: (why) => this.fail(why),
                                    failOn: ['failed', 'disconnected'] });
     this.socket.onmessage = (event) => this.onSignal(JSON.parse(event.data));
     // The server ends a session whose viewer shows no sign of life; the
@@ -57,6 +63,25 @@ export class Stream {
       this.socketClosed = true;  // the server ends a session whose signalling closes
       this.fail('the signalling connection closed');
     };
+  }
+
+  // Live, and the first picture is due. Counted by what arrived rather
+  // than what was drawn: a page in a background tab draws nothing.
+  onLive() {
+    this.onState('live');
+    if (this.firstFrameTimer !== undefined) return;
+    this.firstFrameTimer = setTimeout(async () => {
+      if (this.closed || await this.framesReceived() > 0) return;
+      this.fail(`connected, but no picture came: this browser may not decode ${this.codec} (try the other codec)`);
+    }, FIRST_FRAME_TIMEOUT_MS);
+  }
+
+  async framesReceived() {
+    let frames = 0;
+    (await this.pc.getStats()).forEach((r) => {
+      if (r.type === 'inbound-rtp' && r.kind === 'video') frames += (r.framesReceived ?? 0) + (r.framesDecoded ?? 0);
+    });
+    return frames;
   }
 
   send(message) {
@@ -103,6 +128,7 @@ export class Stream {
   close() {
     this.closed = true;
     clearInterval(this.pinger);
+    clearTimeout(this.firstFrameTimer);
     this.ice?.stop();
     this.socket?.close();
     this.pc?.close();

@@ -196,6 +196,7 @@ async function connect() {
       if (s === 'lost') { setConnection('reconnecting', reason); scheduleRetry(reason); }
     },
     onFrameVersion,
+    codec: state.codec.toUpperCase(),
   });
   stream.start();
   state.peer = stream.pc;

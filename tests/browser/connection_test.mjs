@@ -1,0 +1,157 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// How the viewer meets a server or a network that lets it down, in Debian's
+// chromium against a real `causticd serve` on 127.0.0.1: a full server, an
+// unknown scene, a restart, a lost network, a video path that never opens
+// and one that opens and carries no picture. Each says what happened and,
+// where trying again can help, comes back live. Every wait is bounded.
+import assert from 'node:assert/strict';
+import { after, before, test } from 'node:test';
+
+import { launchChromium } from './chromium.mjs';
+import { startServer, until } from './harness.mjs';
+
+let browser;
+before(async () => {
+  browser = await launchChromium();
+});
+after(async () => { await browser?.close(); });
+
+test('a full server is shown as such and the page recovers when a place frees up', async () => {
+  const server = await startServer(['--max-sessions', '1']);
+  try {
+    const first = await browser.newPage();
+    await first.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(first, () => window.caustic.connection === 'live', 30, 'the first viewer live');
+    const second = await browser.newPage();
+    await second.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(second, () => window.caustic.connection === 'full', 20, 'the second viewer told the server is full');
+    await first.close({ runBeforeUnload: true });  // its pagehide deletes its session
+    await until(second, () => window.caustic.connection === 'live', 40, 'the second viewer live after retrying');
+    await second.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
+
+test('an unknown scene is a permanent error: the page says what to do and does not ask again', async () => {
+  const server = await startServer();
+  try {
+    const page = await browser.newPage();
+    let creates = 0;
+    page.on('request', (r) => { if (r.method() === 'POST' && r.url().endsWith('/api/v1/sessions')) creates += 1; });
+    await page.goto(`${server.url}/viewer.html?scene=no-such-scene&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'error', 20, 'the error shown');
+    assert.match(await page.textContent('#state'), /Pick a scene in the gallery/);
+    await page.waitForTimeout(3000);
+    assert.equal(creates, 1, 'the page asked again for a scene that does not exist');
+    assert.equal(await page.evaluate(() => window.caustic.connection), 'error');
+    await page.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
+
+test('a server restart shows reconnecting and the page comes back live', async () => {
+  let server = await startServer();
+  const port = new URL(server.url).port;
+  try {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'live', 30, 'live');
+    const exited = new Promise((resolve) => server.once('exit', resolve));
+    server.kill('SIGTERM');
+    await exited;
+    await until(page, () => ['reconnecting', 'error'].includes(window.caustic.connection), 20, 'the loss noticed');
+    // A transient failure says so and counts down to the next try.
+    await until(page, () => /the server does not answer; retrying in \d+ s/.test(document.getElementById('state').textContent),
+                30, 'the countdown to the next try');
+    server = await startServer(['--port', port]);
+    await until(page, () => window.caustic.connection === 'live', 60, 'live again after the restart');
+    await page.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
+
+test('a lost network shows reconnecting and the page recovers', async () => {
+  const server = await startServer();
+  try {
+    const context = await browser.newContext();
+    const page = await context.newPage();
+    await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'live', 30, 'live');
+    await page.evaluate(() => window.caustic.dropSignalling());  // what a dead network does to the socket
+    await context.setOffline(true);
+    await until(page, () => ['reconnecting', 'error'].includes(window.caustic.connection), 20, 'the loss noticed');
+    await page.waitForTimeout(1500);
+    await context.setOffline(false);
+    await until(page, () => window.caustic.connection === 'live', 60, 'live again');
+    await context.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
+
+test('a browser the video cannot reach says so, keeps trying, and goes live once the path opens', async () => {
+  const server = await startServer();
+  try {
+    const context = await browser.newContext();
+    const page = await context.newPage();
+    // Signalling passes but no ICE candidate does, either way: what a
+    // firewall that drops WebRTC's UDP leaves of a session.
+    let blocked = true;
+    const isCandidate = (m) => typeof m === 'string' && JSON.parse(m).type === 'ice';
+    await page.routeWebSocket(() => true, (ws) => {
+      const server = ws.connectToServer();
+      ws.onMessage((m) => { if (!(blocked && isCandidate(m))) server.send(m); });
+      server.onMessage((m) => { if (!(blocked && isCandidate(m))) ws.send(m); });
+    });
+    const said = [];
+    await page.exposeFunction('noteState', (text) => said.push(text));
+    await page.addInitScript(() => {
+      new MutationObserver(() => window.noteState(document.getElementById('state').textContent))
+        .observe(document, { subtree: true, childList: true, characterData: true });
+    });
+    await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(page, () => /^reconnecting: the video could not reach this browser.*retrying in \d+ s/
+      .test(document.getElementById('state').textContent), 45, 'the unreachable video named, with a retry');
+    assert.ok(!said.some((s) => /connection was lost/.test(s)), `a path that never opened was called lost: ${said}`);
+    blocked = false;
+    await until(page, () => window.caustic.connection === 'live', 60, 'live once candidates pass');
+    await context.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
+
+test('a path that connects but carries no picture says so instead of staying live over an empty stage', async () => {
+  const server = await startServer();
+  try {
+    const context = await browser.newContext();
+    const page = await context.newPage();
+    // The server's offer turned inactive on the way: the path connects
+    // (its data channel) and no video comes, as with a codec the browser
+    // cannot decode or a middlebox that drops the media.
+    let starved = true;
+    await page.routeWebSocket(() => true, (ws) => {
+      const server = ws.connectToServer();
+      ws.onMessage((m) => server.send(m));
+      server.onMessage((m) => {
+        const message = JSON.parse(m);
+        if (!starved || message.type !== 'offer') return ws.send(m);
+        ws.send(JSON.stringify({ ...message, sdp: message.sdp.replace(/a=sendonly/g, 'a=inactive') }));
+      });
+    });
+    await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'live', 30, 'live without a picture');
+    assert.equal(await page.evaluate(() => window.caustic.framesShown), 0);
+    await until(page, () => /^reconnecting: connected, but no picture came: this browser may not decode VP8/
+      .test(document.getElementById('state').textContent), 45, 'the missing picture named');
+    starved = false;
+    await until(page, () => window.caustic.connection === 'live' && window.caustic.framesShown > 0, 60,
+                'pictures once the offer passes whole');
+    await context.close();
+  } finally {
+    server.kill('SIGTERM');
+  }
+});
