@@ -2,7 +2,8 @@
 // A broadcast through Janus to several headless Chromium viewers: they all
 // decode what the server sends, a late joiner gets its first frame at once
 // (Janus keeps the last key frame), the holder's PATCH reaches every viewer,
-// and after a Janus restart the mountpoint is back and viewers rejoin; a
+// and after a Janus restart the mountpoint is back and viewers rejoin (an
+// open page by itself); a
 // scene's receivers each wear their tile; a pool's viewer draws the water
 // of the frame it shows.
 // Run by tests/janus/broadcast_test.sh inside a network namespace (Janus
@@ -126,9 +127,13 @@ test('viewers of one broadcast all see it, a late joiner at once, and the holder
   assert.ok(wait < 3000, `the late joiner waited ${wait} ms`);  // the goal, 500 ms, is a benchmark figure
   pages.push(late);
 
-  // Janus restarts: the mountpoint comes back and a viewer can rejoin with the same link.
+  // Janus restarts: the mountpoint comes back, a page left open comes back
+  // live by itself, and a viewer can join anew with the same link.
   await janus.stop();
+  await until(late, () => window.caustic.connection === 'reconnecting', 30, 'the restart noticed');
   await janus.run();
+  await until(late, () => window.caustic.connection === 'live', 120, 'the open page live again by itself');
+  await until(late, framesDecoded, 30, 'a decoded frame after the restart');
   const again = await openViewer(link, { retry: true });
   assert.ok((await again.evaluate(framesDecoded)) > 0);
   for (const p of [...pages, again]) await p.close();

@@ -8,6 +8,7 @@
 import { watchIce } from './ice_watch.js';
 
 const KEEPALIVE_MS = 25000;  // Janus ends a session silent for 60 s
+const NO_SUCH_MOUNTPOINT = 455;  // the streaming plugin's error code
 
 export class JanusStream {
   constructor({ url, mountpoint, pin, token }, video, { onState, onVersion, onParams, onReceiver, onFrame }) {
@@ -23,7 +24,7 @@ export class JanusStream {
     this.socket.onclose = () => this.fail('the connection to the broadcast server closed');
     await new Promise((resolve, reject) => {
       this.socket.onopen = resolve;
-      this.socket.onerror = () => reject(new Error('the broadcast server does not answer'));
+      this.socket.onerror = () => reject(Object.assign(new Error('the broadcast server does not answer'), { transient: true }));
     });
     this.session = (await this.request({ janus: 'create' })).data.id;
     this.keepalive = setInterval(() => this.send({ janus: 'keepalive', session_id: this.session }), KEEPALIVE_MS);
@@ -42,7 +43,13 @@ export class JanusStream {
     };
     this.ice = watchIce(this.pc, { onLive: () => this.onState('live'), onFail: (why) => this.fail(why) });
     const watched = await this.message({ request: 'watch', id: this.mountpoint, pin: this.pin });
-    if (!watched.jsep) throw new Error(watched.plugindata?.data?.error ?? 'the broadcast refused this link');
+    if (!watched.jsep) {
+      const refusal = watched.plugindata?.data ?? {};
+      // 455, no such mountpoint: after a restart of Janus, until the server
+      // has made it again; anything else (a pin, a token) stays refused.
+      throw Object.assign(new Error(refusal.error ?? 'the broadcast refused this link'),
+                          { transient: refusal.error_code === NO_SUCH_MOUNTPOINT });
+    }
     await this.pc.setRemoteDescription(watched.jsep);
     // Janus relays the mountpoint's data once the page has a channel of
     // its own (which sets up the SCTP association); it may answer on it.

@@ -189,30 +189,62 @@ const frames = new FrameMessages(video, (message) => water?.show(message.water))
 state.framesPaired = () => frames.paired;
 state.waterHeights = () => water?.surface.drawnHeights() ?? null;
 
-const stream = new JanusStream({
+const broadcast = {
   url: new URL(link.get('janus') ?? '', location.href).href.replace(/^http/, 'ws'),
   mountpoint: Number(link.get('mountpoint')),
   pin: link.get('pin') ?? '',
   token: link.get('token') ?? '',
-}, video, {
-  onState: setConnection,
-  onVersion: (version, level) => {
-    state.version = version;
-    state.level = level;
-    versionLabel.textContent = `frame version ${version}${level ? ' (preview)' : ''}`;
-  },
-  onParams: (params, version) => { placeRoom(params, version); },
-  onReceiver: takeReceiver,
-  onFrame: (message) => { if (!flat && message.water) frames.add(message); },  // a pool's
-});
-state.peer = () => stream.pc;
-state.stream = stream;
+};
+let stream = null;
+let retry = 0;
+state.peer = () => stream?.pc;
 state.room = () => room;
 if ('requestVideoFrameCallback' in video) {
   video.requestVideoFrameCallback((now) => { state.firstFrameAt = now; });
 }
-stream.start().catch((error) => setConnection('error', error.message));
-addEventListener('pagehide', () => stream.close());
+
+// Watches the broadcast; a lost connection, a server that does not answer
+// or a mountpoint not there yet (Janus restarted, the server making it
+// again) is tried again after a backoff, a refused link is not.
+function watch() {
+  const mine = stream = new JanusStream(broadcast, video, {
+    onState: (s, why) => {
+      if (stream !== mine) return;
+      if (s === 'live') retry = 0;
+      if (s === 'lost') scheduleRetry(why);
+      else setConnection(s, why);
+    },
+    onVersion: (version, level) => {
+      state.version = version;
+      state.level = level;
+      versionLabel.textContent = `frame version ${version}${level ? ' (preview)' : ''}`;
+    },
+    onParams: (params, version) => { placeRoom(params, version); },
+    onReceiver: takeReceiver,
+    onFrame: (message) => { if (!flat && message.water) frames.add(message); },  // a pool's
+  });
+  state.stream = stream;
+  stream.start().catch((error) => {
+    if (stream !== mine || mine.closed) return;  // lost already, and being tried again
+    mine.close();
+    if (error.transient) scheduleRetry(error.message);
+    else setConnection('error', error.message);
+  });
+}
+
+function scheduleRetry(why) {
+  const due = performance.now() + Math.min(10000, 500 * 2 ** retry++);
+  const tick = () => {
+    const left = Math.ceil((due - performance.now()) / 1000);
+    if (left <= 0) return watch();
+    setConnection('reconnecting', `${why}; retrying in ${left} s`);
+    setTimeout(tick, Math.min(1000, due - performance.now()));
+  };
+  tick();
+}
+
+watch();
+addEventListener('pagehide', () => stream?.close());
 
 const frameRate = new FrameRate();
 function frame(now) {
