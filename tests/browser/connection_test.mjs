@@ -16,6 +16,20 @@ before(async () => {
 });
 after(async () => { await browser?.close(); });
 
+/// The page's signalling relayed through `edit(message, toServer)`, which
+/// returns what goes on (the message, changed or not) or null to drop it.
+function relaySignalling(page, edit) {
+  return page.routeWebSocket(() => true, (ws) => {
+    const server = ws.connectToServer();
+    const pass = (to, toServer) => (m) => {
+      const out = edit(m, toServer);
+      if (out !== null) to.send(out);
+    };
+    ws.onMessage(pass(server, true));
+    server.onMessage(pass(ws, false));
+  });
+}
+
 test('a full server is shown as such and the page recovers when a place frees up', async () => {
   const server = await startServer(['--max-sessions', '1']);
   try {
@@ -100,12 +114,7 @@ test('a browser the video cannot reach says so, keeps trying, and goes live once
     // Signalling passes but no ICE candidate does, either way: what a
     // firewall that drops WebRTC's UDP leaves of a session.
     let blocked = true;
-    const isCandidate = (m) => typeof m === 'string' && JSON.parse(m).type === 'ice';
-    await page.routeWebSocket(() => true, (ws) => {
-      const server = ws.connectToServer();
-      ws.onMessage((m) => { if (!(blocked && isCandidate(m))) server.send(m); });
-      server.onMessage((m) => { if (!(blocked && isCandidate(m))) ws.send(m); });
-    });
+    await relaySignalling(page, (m) => (blocked && JSON.parse(m).type === 'ice' ? null : m));
     const said = [];
     await page.exposeFunction('noteState', (text) => said.push(text));
     await page.addInitScript(() => {
@@ -133,14 +142,10 @@ test('a path that connects but carries no picture says so instead of staying liv
     // (its data channel) and no video comes, as with a codec the browser
     // cannot decode or a middlebox that drops the media.
     let starved = true;
-    await page.routeWebSocket(() => true, (ws) => {
-      const server = ws.connectToServer();
-      ws.onMessage((m) => server.send(m));
-      server.onMessage((m) => {
-        const message = JSON.parse(m);
-        if (!starved || message.type !== 'offer') return ws.send(m);
-        ws.send(JSON.stringify({ ...message, sdp: message.sdp.replace(/a=sendonly/g, 'a=inactive') }));
-      });
+    await relaySignalling(page, (m, toServer) => {
+      const message = JSON.parse(m);
+      if (toServer || !starved || message.type !== 'offer') return m;
+      return JSON.stringify({ ...message, sdp: message.sdp.replace(/a=sendonly/g, 'a=inactive') });
     });
     await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
     await until(page, () => window.caustic.connection === 'live', 30, 'live without a picture');
