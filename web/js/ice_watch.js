@@ -19,7 +19,7 @@ export const LOST = 'the connection was lost';
 /// armed with arm() after the answer is sent, when CONNECT_TIMEOUT_MS pass
 /// without a connection. `failOn` names the states that count as failed.
 /// Returns { arm, stop }; stop() ends the timer (on close).
-export function watchIce(pc, { onLive, onFail, failOn = ['failed'], timeoutMs = CONNECT_TIMEOUT_MS }) {
+export function watchIce(pc, { onLive, onFail, failOn = ['failed'] }) {
   let connected = false;
   let timer = null;
   const stop = () => { clearTimeout(timer); timer = null; };
@@ -36,7 +36,7 @@ export function watchIce(pc, { onLive, onFail, failOn = ['failed'], timeoutMs = 
   });
   const arm = () => {
     if (connected || timer) return;
-    timer = setTimeout(() => { timer = null; if (!connected) onFail(UNREACHABLE); }, timeoutMs);
+    timer = setTimeout(() => { timer = null; if (!connected) onFail(UNREACHABLE); }, CONNECT_TIMEOUT_MS);
   };
   return { arm, stop };
 }

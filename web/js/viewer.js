@@ -6,6 +6,7 @@ import GUI from 'lil-gui';
 import { createSession, deleteSession, ParamChannel, Refused, ServerFull } from './api.js';
 import { ControlModes } from './controls.js';
 import { LoadingSteps } from './loading.js';
+import { retryAfter } from './retry.js';
 import { FrameRate, Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
 import { changedParams, sharedParams, sharedView, writeAddress } from './share.js';
@@ -212,14 +213,7 @@ function scheduleRetry(why = '') {
   const release = old && !oldStream?.socketClosed ? deleteSession(old) : Promise.resolve();
   release.finally(() => oldStream?.close());
   session = null;
-  const due = performance.now() + Math.min(10000, 500 * 2 ** retry++);
-  const tick = () => {
-    const left = Math.ceil((due - performance.now()) / 1000);
-    if (left <= 0) return connect();
-    if (why) setConnection(state.connection, `${why}; retrying in ${left} s`);
-    setTimeout(tick, Math.min(1000, due - performance.now()));
-  };
-  tick();
+  retryAfter(retry++, (left) => { if (why) setConnection(state.connection, `${why}; retrying in ${left} s`); }, connect);
 }
 
 // A refused patch: the settings of a shared link are said to be refused

@@ -12,6 +12,7 @@
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { JanusStream } from './janus_stream.js';
+import { retryAfter } from './retry.js';
 import { FrameRate, Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
 import { ShownWater } from './water.js';
@@ -233,14 +234,7 @@ function watch() {
 }
 
 function scheduleRetry(why) {
-  const due = performance.now() + Math.min(10000, 500 * 2 ** retry++);
-  const tick = () => {
-    const left = Math.ceil((due - performance.now()) / 1000);
-    if (left <= 0) return watch();
-    setConnection('reconnecting', `${why}; retrying in ${left} s`);
-    setTimeout(tick, Math.min(1000, due - performance.now()));
-  };
-  tick();
+  retryAfter(retry++, (left) => setConnection('reconnecting', `${why}; retrying in ${left} s`), watch);
 }
 
 watch();
