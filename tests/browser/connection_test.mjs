@@ -8,7 +8,7 @@ import assert from 'node:assert/strict';
 import { after, before, test } from 'node:test';
 
 import { launchChromium } from './chromium.mjs';
-import { startServer, until } from './harness.mjs';
+import { startServer, until, withServer } from './harness.mjs';
 
 let browser;
 before(async () => {
@@ -31,8 +31,7 @@ function relaySignalling(page, edit) {
 }
 
 test('a full server is shown as such and the page recovers when a place frees up', async () => {
-  const server = await startServer(['--max-sessions', '1']);
-  try {
+  await withServer(['--max-sessions', '1'], async (server) => {
     const first = await browser.newPage();
     await first.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
     await until(first, () => window.caustic.connection === 'live', 30, 'the first viewer live');
@@ -42,14 +41,11 @@ test('a full server is shown as such and the page recovers when a place frees up
     await first.close({ runBeforeUnload: true });  // its pagehide deletes its session
     await until(second, () => window.caustic.connection === 'live', 40, 'the second viewer live after retrying');
     await second.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });
 
 test('an unknown scene is a permanent error: the page says what to do and does not ask again', async () => {
-  const server = await startServer();
-  try {
+  await withServer(async (server) => {
     const page = await browser.newPage();
     let creates = 0;
     page.on('request', (r) => { if (r.method() === 'POST' && r.url().endsWith('/api/v1/sessions')) creates += 1; });
@@ -60,9 +56,7 @@ test('an unknown scene is a permanent error: the page says what to do and does n
     assert.equal(creates, 1, 'the page asked again for a scene that does not exist');
     assert.equal(await page.evaluate(() => window.caustic.connection), 'error');
     await page.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });
 
 test('a server restart shows reconnecting and the page comes back live', async () => {
@@ -88,8 +82,7 @@ test('a server restart shows reconnecting and the page comes back live', async (
 });
 
 test('a lost network shows reconnecting and the page recovers', async () => {
-  const server = await startServer();
-  try {
+  await withServer(async (server) => {
     const context = await browser.newContext();
     const page = await context.newPage();
     await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
@@ -101,14 +94,11 @@ test('a lost network shows reconnecting and the page recovers', async () => {
     await context.setOffline(false);
     await until(page, () => window.caustic.connection === 'live', 60, 'live again');
     await context.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });
 
 test('a browser the video cannot reach says so, keeps trying, and goes live once the path opens', async () => {
-  const server = await startServer();
-  try {
+  await withServer(async (server) => {
     const context = await browser.newContext();
     const page = await context.newPage();
     // Signalling passes but no ICE candidate does, either way: what a
@@ -128,14 +118,11 @@ test('a browser the video cannot reach says so, keeps trying, and goes live once
     blocked = false;
     await until(page, () => window.caustic.connection === 'live', 60, 'live once candidates pass');
     await context.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });
 
 test('a path that connects but carries no picture says so instead of staying live over an empty stage', async () => {
-  const server = await startServer();
-  try {
+  await withServer(async (server) => {
     const context = await browser.newContext();
     const page = await context.newPage();
     // The server's offer turned inactive on the way: the path connects
@@ -156,7 +143,5 @@ test('a path that connects but carries no picture says so instead of staying liv
     await until(page, () => window.caustic.connection === 'live' && window.caustic.framesShown > 0, 60,
                 'pictures once the offer passes whole');
     await context.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });

@@ -25,6 +25,19 @@ export async function startServer(extra = [], { width = 320, height = 240 } = {}
   return server;
 }
 
+/// Runs `fn(server)` against a fresh startServer(...args) (the arguments
+/// before `fn`) and stops the server however `fn` ends, so that a failed
+/// assertion never leaves a server behind for the next test.
+export async function withServer(...args) {
+  const fn = args.pop();
+  const server = await startServer(...args);
+  try {
+    return await fn(server);
+  } finally {
+    server.kill('SIGTERM');
+  }
+}
+
 /// Polls `fn` in the page until it returns a truthy value or `seconds` pass.
 export async function until(page, fn, seconds, what, arg) {
   for (let waited = 0; waited < seconds * 1000; waited += 250) {

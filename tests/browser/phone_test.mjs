@@ -8,7 +8,7 @@ import { mkdirSync } from 'node:fs';
 import { after, before, test } from 'node:test';
 
 import { launchChromium } from './chromium.mjs';
-import { shots, startServer, until } from './harness.mjs';
+import { shots, until, withServer } from './harness.mjs';
 
 let browser;
 before(async () => { browser = await launchChromium(); });
@@ -33,8 +33,7 @@ async function touchDrag(page, paths, steps = 10) {
 
 test('on a phone the panel starts folded, the toolbar picks the mode, a touch drag turns the light and a pinch zooms',
      async () => {
-  const server = await startServer();
-  try {
+  await withServer(async (server) => {
     const context = await browser.newContext(phone);
     const page = await context.newPage();
     await page.goto(`${server.url}/viewer.html?scene=wavy&codec=vp8`);
@@ -71,14 +70,11 @@ test('on a phone the panel starts folded, the toolbar picks the mode, a touch dr
     const near = await page.evaluate(distance);
     assert.ok(near < 0.9 * far, `a pinch left the camera at ${near.toFixed(1)} (from ${far.toFixed(1)})`);
     await context.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });
 
 test('a shared link restores the scene, the codec, the visitor\'s settings and the view', async () => {
-  const server = await startServer();
-  try {
+  await withServer(async (server) => {
     const context = await browser.newContext({ viewport: { width: 1000, height: 700 } });
     const page = await context.newPage();
     await page.goto(`${server.url}/viewer.html?scene=lens&codec=h264`);
@@ -119,15 +115,12 @@ test('a shared link restores the scene, the codec, the visitor\'s settings and t
     assert.match(await bad.textContent('#warnings'), /link's settings were refused: .*object\.ior/);
     assert.ok(!new URL(await bad.evaluate(() => location.href)).searchParams.has('p'), 'the refused settings stay in the address');
     await context.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });
 
 test('loading shows its steps with their times, and a codec switch and a reconnect leave no errors in the console',
      async () => {
-  const server = await startServer();
-  try {
+  await withServer(async (server) => {
     const page = await browser.newPage();
     const problems = [];
     page.on('console', (m) => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
@@ -155,7 +148,5 @@ test('loading shows its steps with their times, and a codec switch and a reconne
                 'live again', shown);
     assert.deepEqual(problems, []);
     await page.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });

@@ -7,7 +7,7 @@ import { mkdirSync } from 'node:fs';
 import { after, before, test } from 'node:test';
 
 import { launchChromium } from './chromium.mjs';
-import { shots, startServer, until } from './harness.mjs';
+import { shots, until, withServer } from './harness.mjs';
 import { dragGizmo, framesDecoded, greyLevels } from './viewer_probes.mjs';
 
 let browser;
@@ -17,8 +17,7 @@ before(async () => {
 after(async () => { await browser?.close(); });
 
 test('the gallery lists every scene with its rendered thumbnail', async () => {
-  const server = await startServer();
-  try {
+  await withServer(async (server) => {
     const page = await browser.newPage();
     await page.goto(`${server.url}/`);
     await page.waitForSelector('.card img', { timeout: 15000 });
@@ -40,15 +39,12 @@ test('the gallery lists every scene with its rendered thumbnail', async () => {
     await page.click('.card[data-scene="lens"]');
     await page.waitForURL(/viewer\.html\?scene=lens&codec=vp8/, { timeout: 10000 });
     await page.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });
 
 test('a picture uploaded on the gallery page becomes a live streamed scene', async (t) => {
   if (process.env.CAUSTIC_DESIGN_BUILT_IN !== '1') return t.skip('built without the designer');
-  const server = await startServer(['--set', 'design_resolution=128']);
-  try {
+  await withServer(['--set', 'design_resolution=128'], async (server) => {
     const page = await browser.newPage();
     await page.goto(`${server.url}/`);
     await page.waitForSelector('#upload input[type=file]', { timeout: 15000 });
@@ -67,15 +63,12 @@ test('a picture uploaded on the gallery page becomes a live streamed scene', asy
     mkdirSync(shots, { recursive: true });
     await page.screenshot({ path: `${shots}/viewer-upload.png` });
     await page.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });
 
 for (const codec of ['vp8', 'h264']) {
   test(`the viewer shows live ${codec} video and follows the light`, async () => {
-    const server = await startServer();
-    try {
+    await withServer(async (server) => {
       const page = await browser.newPage();
       await page.goto(`${server.url}/viewer.html?scene=wavy&codec=${codec}`);
       await until(page, () => window.caustic.connection === 'live', 30, 'a live connection');
@@ -153,15 +146,12 @@ for (const codec of ['vp8', 'h264']) {
         await until(page, () => window.caustic.params.object.glass === null, 10, 'the glass taken away');
       }
       await page.close();
-    } finally {
-      server.kill('SIGTERM');
-    }
+    });
   });
 }
 
 test('a scene with receivers lays each tile of the picture onto its own surface', async () => {
-  const server = await startServer();
-  try {
+  await withServer(async (server) => {
     const page = await browser.newPage();
     await page.goto(`${server.url}/viewer.html?scene=room&codec=vp8`);
     await until(page, () => window.caustic.connection === 'live', 30, 'a live connection');
@@ -180,16 +170,13 @@ test('a scene with receivers lays each tile of the picture onto its own surface'
     mkdirSync(shots, { recursive: true });
     await page.screenshot({ path: `${shots}/viewer-room.png` });
     await page.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });
 
 // A lathe (the vase) and a mesh the scene brings (the cloth): each wears its tile round its body.
 for (const [scene, shape, foot] of [['vase', 'LatheGeometry', [17, 0, -30]], ['cloth', 'BufferGeometry', [15, 0, -29.99]]]) {
   test(`the ${scene} among the receivers wears its tile of the picture on its body`, async () => {
-    const server = await startServer();
-    try {
+    await withServer(async (server) => {
       const page = await browser.newPage();
       await page.goto(`${server.url}/viewer.html?scene=${scene}&codec=vp8`);
       await until(page, () => window.caustic.connection === 'live', 30, 'a live connection');
@@ -204,15 +191,12 @@ for (const [scene, shape, foot] of [['vase', 'LatheGeometry', [17, 0, -30]], ['c
       mkdirSync(shots, { recursive: true });
       await page.screenshot({ path: `${shots}/viewer-${scene}.png` });
       await page.close();
-    } finally {
-      server.kill('SIGTERM');
-    }
+    });
   });
 }
 
 test('dragging the gizmos with the pointer moves the light and moves and turns the object on the server', async () => {
-  const server = await startServer();
-  try {
+  await withServer(async (server) => {
     const page = await browser.newPage();
     await page.setViewportSize({ width: 1000, height: 700 });
     await page.goto(`${server.url}/viewer.html?scene=wavy&codec=vp8`);
@@ -241,14 +225,11 @@ test('dragging the gizmos with the pointer moves the light and moves and turns t
     const turnedTo = await page.evaluate(() => window.caustic.params.object.rotation_deg);
     assert.ok(Math.max(...turnedTo.map((a, i) => Math.abs(a - pose[i]))) > 1, `the object kept its rotation ${turnedTo}`);
     await page.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });
 
 test('the synchronous pose holds the drawn slab until its frame arrives', async () => {
-  const server = await startServer();
-  try {
+  await withServer(async (server) => {
     const page = await browser.newPage();
     await page.goto(`${server.url}/viewer.html?scene=lens&codec=vp8`);
     await until(page, () => window.caustic.connection === 'live' && window.caustic.shownVersion === 1, 30, 'live');
@@ -277,7 +258,5 @@ test('the synchronous pose holds the drawn slab until its frame arrives', async 
     assert.ok(Math.abs(from(turned, origin) - from(moved, origin)) < 1e-6, `turned ${turned}, origin ${origin}`);
     assert.ok(from(turned, moved) > 0.5, `the middle stayed at ${turned}: turned about itself`);
     await page.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });

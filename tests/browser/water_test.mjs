@@ -10,7 +10,7 @@ import { mkdirSync } from 'node:fs';
 import { after, before, test } from 'node:test';
 
 import { launchChromium } from './chromium.mjs';
-import { shots, startServer, until } from './harness.mjs';
+import { shots, until, withServer } from './harness.mjs';
 
 let browser;
 before(async () => {
@@ -37,8 +37,7 @@ async function stepsOver(page, frames, seconds, what) {
 }
 
 test('the pool: the shown frames\' water is drawn and moves; a click drops a stone; the panel pauses the water', async () => {
-  const server = await startServer();
-  try {
+  await withServer(async (server) => {
     const page = await browser.newPage();
     await page.setViewportSize({ width: 1280, height: 800 });
     const errors = [];
@@ -134,14 +133,11 @@ test('the pool: the shown frames\' water is drawn and moves; a click drops a sto
     await page.screenshot({ path: `${shots}/viewer-pool.png` });
     assert.deepEqual(errors, []);
     await page.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });
 
 test('a scene without water draws none and offers no water controls', async () => {
-  const server = await startServer();
-  try {
+  await withServer(async (server) => {
     const page = await browser.newPage();
     const errors = [];
     page.on('pageerror', (e) => errors.push(e.message));
@@ -155,7 +151,5 @@ test('a scene without water draws none and offers no water controls', async () =
     await until(page, () => window.caustic.version >= 2, 10, 'the reset answered');
     assert.deepEqual(errors, []);
     await page.close();
-  } finally {
-    server.kill('SIGTERM');
-  }
+  });
 });
