@@ -13,9 +13,12 @@
 #include "caustic/gl_context.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 using namespace caustic::testing;
@@ -344,4 +347,36 @@ TEST_F(CausticSrc, AKeyFrameRequestSendsTheUnchangedPictureAtOnce) {
   const Frame next = take(sample);
   EXPECT_LT(next.pts - first.pts, 20 * GST_SECOND);
   EXPECT_EQ(next.pixels, first.pixels);
+}
+
+TEST_F(CausticSrc, ASpectralPictureLeftStandingIsDrawnOnceMoreWithItsStillWavelengths) {
+  // The prism traces 16 wavelengths a frame; half a second after its last
+  // change the stream draws it once more at render.still_wavelengths (32),
+  // then nothing more while it stands; a change starts over.
+  std::mutex lock;
+  std::vector<int> wavelengths;  // each change of the count drawn (exposure easing redraws the tone map alone)
+  start("causticsrc name=src scene=" + scene("prism") + " width=64 height=64 framerate=30/1 ! appsink name=sink",
+        [&](const caustic::FrameStats& stats, std::uint64_t) {
+          std::lock_guard hold(lock);
+          if (wavelengths.empty() || wavelengths.back() != stats.wavelengths) wavelengths.push_back(stats.wavelengths);
+        });
+  const auto drawn = [&] {
+    std::lock_guard hold(lock);
+    return wavelengths;
+  };
+  // Pulls frames for `seconds` of wall time, or until `done` holds.
+  const auto stream_for = [&](double seconds, const std::function<bool()>& done) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (std::chrono::steady_clock::now() < until && !done()) gst_sample_unref(pull());
+  };
+  stream_for(30, [&] { return drawn().size() >= 2; });
+  ASSERT_EQ(drawn(), (std::vector<int>{16, 32}));
+  const std::uint64_t passes = renders();
+  stream_for(1.5, [] { return false; });
+  EXPECT_EQ(renders(), passes) << "a picture standing is drawn once more, not again and again";
+  caustic::gst::param_store(src_)->apply_patch({{"light", {{"direction", {0.02, 0.0, -1.0}}}}});
+  stream_for(30, [&] { return drawn().size() >= 4; });
+  ASSERT_EQ(drawn().size(), 4u);
+  EXPECT_EQ(drawn()[2], 16) << "a lone change is drawn in full at once";
+  EXPECT_EQ(drawn()[3], 32);
 }

@@ -7,7 +7,9 @@
 
 #include "caustic/spectral.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 using namespace caustic;
 using namespace caustic::testing;
@@ -160,4 +162,92 @@ TEST_F(Spectral, WithoutAGlassTheFrameIsMonochrome) {
   EXPECT_NEAR(img.pixels[centre], 1.0f, 1e-5);
   EXPECT_EQ(img.pixels[centre], img.pixels[centre + 1]);
   EXPECT_EQ(img.pixels[centre], img.pixels[centre + 2]);
+}
+
+namespace {
+
+// Columns of `img` (luminance summed down each) strictly between its first
+// and last lit ones that get no light at all: gaps between the spots of a
+// spectrum sampled too coarsely for the beam's width.
+int dark_columns_inside(const RgbHdrImage& img) {
+  std::vector<double> column(static_cast<std::size_t>(img.width), 0.0);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const float* p = &img.pixels[3 * (static_cast<std::size_t>(y) * img.width + x)];
+      column[static_cast<std::size_t>(x)] += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+    }
+  const double peak = *std::max_element(column.begin(), column.end());
+  int first = -1, last = -1, dark = 0;
+  for (int x = 0; x < img.width; ++x)
+    if (column[static_cast<std::size_t>(x)] > 1e-9 * peak) (first < 0 ? first : last) = x, last = x;
+  for (int x = first + 1; x < last; ++x) dark += column[static_cast<std::size_t>(x)] <= 1e-9 * peak;
+  return dark;
+}
+
+}  // namespace
+
+TEST_F(Spectral, APictureLeftStandingSamplesItsStillWavelengths) {
+  // A narrow beam through a wedge: Snell's law fans the visible spectrum
+  // over about a millimetre 100 mm down, a continuous band of colour. Eight
+  // wavelengths land eight separate images of the 0.1 mm beam, further
+  // apart in the blue than the beam is wide; thirty-two land closer than
+  // that everywhere, and the band closes.
+  const double alpha = 0.35, distance = 100.0, half_width = 0.05;
+  const auto prism = shared(grid_mesh(wedge(alpha, half_width, 2.0), 16, 16));
+  Scene s = bk7(straight_down_scene(5.0, distance, 1.6, 512), 8);
+  s.screen.center.x = -distance * std::tan(wedge_deviation(1.52, alpha));
+  s.render.still_wavelengths = 32;
+  // The analytic spacing of each sampling's neighbouring images against the beam's width.
+  const auto widest_gap = [&](int k) {
+    const auto passes = spectral_passes(s, k);
+    double widest = 0;
+    for (std::size_t i = 1; i < passes.size(); ++i) {
+      const auto x = [&](double nm) {
+        return distance * std::tan(wedge_deviation(optics::index(optics::find_material("bk7")->law, nm), alpha));
+      };
+      widest = std::max(widest, std::abs(x(passes[i].nm) - x(passes[i - 1].nm)));
+    }
+    return widest;
+  };
+  const double beam = 2 * half_width * (1 - std::tan(alpha) * std::tan(wedge_deviation(1.52, alpha)));
+  ASSERT_GT(widest_gap(8), 1.5 * beam);
+  ASSERT_LT(widest_gap(32), 0.9 * beam);
+
+  const RgbHdrImage moving = render_rgb(s, prism);
+  EXPECT_EQ(engine_->stats().wavelengths, 8);
+  EXPECT_GT(dark_columns_inside(moving), 20) << "eight wavelengths leave gaps in the spectrum";
+
+  engine_->set_still(true);
+  ASSERT_TRUE(engine_->dirty());
+  engine_->render();
+  EXPECT_EQ(engine_->stats().wavelengths, 32);
+  const RgbHdrImage still = engine_->read_hdr_rgb();
+  EXPECT_EQ(dark_columns_inside(still), 0) << "the spectrum left standing is one band";
+  // The same light, only finer in wavelength: the luminance's total is kept.
+  EXPECT_NEAR(total_flux(luminance(still), s.screen), total_flux(luminance(moving), s.screen),
+              1e-3 * total_flux(luminance(moving), s.screen));
+
+  // A preview while standing is still a preview; letting go draws the full frame's count again.
+  engine_->set_preview_divisor(2);
+  engine_->render();
+  EXPECT_EQ(engine_->stats().wavelengths, kPreviewWavelengths);
+  engine_->set_preview_divisor(1);
+  engine_->set_still(false);
+  engine_->render();
+  EXPECT_EQ(engine_->stats().wavelengths, 8);
+}
+
+TEST_F(Spectral, StandingStillAddsNothingWhereThereIsNothingToAdd) {
+  const auto slab = shared(grid_mesh(flat_face(10.0), 16, 16));
+  Scene s = bk7(straight_down_scene(3.0, 50.0, 25.6, 128), 16);
+  s.render.still_wavelengths = 8;  // fewer than a full frame's: the full frame's count stands
+  render_rgb(s, slab);
+  engine_->set_still(true);
+  EXPECT_FALSE(engine_->dirty());
+  Scene grey = straight_down_scene(3.0, 50.0, 25.6, 128);  // no glass: one grey pass, standing or not
+  render_rgb(grey, slab);
+  engine_->set_still(false);
+  EXPECT_FALSE(engine_->dirty());
+  engine_->set_still(true);
+  EXPECT_FALSE(engine_->dirty());
 }

@@ -28,6 +28,13 @@ bool same_caustic(const Scene& a, const Scene& b) {
          a.render == b.render;
 }
 
+// The wavelengths a frame samples: a preview's few while the scene moves,
+// render.wavelengths for a full frame, more for a picture left standing.
+int frame_wavelengths(const RenderParams& r, int divisor, bool still) {
+  if (divisor > 1) return std::min(r.wavelengths, kPreviewWavelengths);
+  return still ? std::max(r.wavelengths, r.still_wavelengths) : r.wavelengths;
+}
+
 // Mesa's software rasterisers run the geometry stage on one thread.
 bool software_renderer() {
   const auto* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
@@ -56,6 +63,7 @@ struct Engine::Impl {
   double target_exposure = 1, shown_exposure = 1;
   std::chrono::steady_clock::time_point last_post{};
   int divisor = 1;  // preview: caustic at 1/divisor of the output size
+  bool still = false;  // left standing: full spectral frames take render.still_wavelengths
   const bool software = software_renderer();
   TriangleSetup setup = TriangleSetup::automatic;
   FrameStats stats;
@@ -111,6 +119,16 @@ void Engine::set_preview_divisor(int divisor) {
   if (s.scene) set_scene(*s.scene, s.mesh);  // new caustic target size, dirty frame
 }
 
+void Engine::set_still(bool still) {
+  auto& s = *impl_;
+  if (still == s.still) return;
+  const bool changes = s.scene && spectral(*s.scene) &&
+                       frame_wavelengths(s.scene->render, s.divisor, still) !=
+                           frame_wavelengths(s.scene->render, s.divisor, s.still);
+  s.still = still;
+  if (changes) s.ray_dirty = s.post_dirty = s.prepare_dirty = true;
+}
+
 void Engine::set_triangle_setup(TriangleSetup setup) {
   auto& s = *impl_;
   if (setup == s.setup) return;
@@ -126,9 +144,7 @@ bool Engine::render() {
   if (s.ray_dirty) {
     const auto start = std::chrono::steady_clock::now();
     s.stats.trace_ms = 0;
-    const int wavelengths = s.divisor > 1 ? std::min(s.scene->render.wavelengths, kPreviewWavelengths)
-                                          : s.scene->render.wavelengths;
-    const auto passes = spectral_passes(*s.scene, wavelengths);
+    const auto passes = spectral_passes(*s.scene, frame_wavelengths(s.scene->render, s.divisor, s.still));
     // A lathe's or mesh's triangles are not in the shaders: its scenes land on the CPU whatever the setup.
     const bool on_cpu = s.setup == TriangleSetup::cpu || (s.setup == TriangleSetup::automatic && s.software) ||
                         has_shaped_receiver(*s.scene);

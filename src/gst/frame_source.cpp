@@ -2,6 +2,7 @@
 #include "frame_source.hpp"
 
 #include "caustic/gst/frame_meta.hpp"
+#include "caustic/spectral.hpp"
 #include "caustic/wave_gl.hpp"
 
 #include <cstring>
@@ -150,7 +151,13 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
   // between its frames would only take time from the frames and the encoder.
   const bool water_moves = water && !source.seen_scene.water->paused;
   const bool settling = source.engine && source.engine->dirty() && !water_moves;
-  const bool changed = source.seen != source.rendered || want != source.rendered_level || settling || source.water_dirty;
+  // Left standing, a spectral scene's full frame samples more wavelengths.
+  const Scene& seen = source.seen_scene;
+  const bool still = want == full_quality && source.progressive.enabled && source.picture && !water_moves &&
+                     spectral(seen) && seen.render.still_wavelengths > seen.render.wavelengths &&
+                     now - source.changed_at >= source.progressive.still;
+  const bool changed = source.seen != source.rendered || want != source.rendered_level ||
+                       still != source.rendered_still || settling || source.water_dirty;
   if (!changed && !source.readback_pending && source.picture) return gst_buffer_ref(source.picture);
   ensure_context(source);
   const Current current(*source.context);
@@ -162,9 +169,11 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     scene.render.height = height;
     const std::uint64_t version = source.rendered = source.seen;
     source.rendered_level = want;
+    source.rendered_still = still;
     try {
       const int divisor = want == preview ? source.progressive.divisor : 1;
       source.engine->set_preview_divisor(divisor);
+      source.engine->set_still(still);
       // Water's surface is its own: a preview thins it as it shrinks the picture.
       source.engine->set_scene(scene,
                                water             ? source.pool->mesh(divisor)

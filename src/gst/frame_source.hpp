@@ -32,6 +32,10 @@ struct Progressive {
   bool enabled = true;
   std::chrono::milliseconds settle{40};
   std::chrono::milliseconds lone{250};
+  /// A spectral scene left standing for `still` after its last change is
+  /// drawn once more at render.still_wavelengths (Engine::set_still): a
+  /// slower frame, worth it only once a visitor has let go.
+  std::chrono::milliseconds still{500};
   int divisor = 2;   ///< preview caustic at 1/divisor of the output size per side
   int mesh = 32;     ///< preview mesh level, when it is coarser than the scene's
   /// Water moves every frame, so it is never still: its frames are full
@@ -71,6 +75,7 @@ struct FrameSource {
   GstBuffer* picture = nullptr;  // in `format`; its CausticFrameMeta says the version and level it shows
   std::uint64_t rendered = 0;    // version last drawn (its read-back may still be on the way)
   std::uint32_t rendered_level = full_quality;
+  bool rendered_still = false;   // ... drawn as a picture left standing (Progressive::still)
   std::uint64_t seen = 0;        // newest version noticed (one snapshot each)
   Scene seen_scene;              // its scene: what the next render draws
   std::chrono::steady_clock::time_point changed_at;  // when the caustic last changed (not post-processing)

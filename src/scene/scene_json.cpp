@@ -184,6 +184,7 @@ RenderParams read_render(Reader r) {
   p.mesh_resolution = r.integer("mesh_resolution", p.mesh_resolution, 0, 2048);
   if (p.mesh_resolution == 1) throw SceneError(r.key("mesh_resolution"), "must be 0 (the mesh as loaded) or at least 2");
   p.wavelengths = r.integer("wavelengths", p.wavelengths, 1, optics::kMaxWavelengths);
+  p.still_wavelengths = r.integer("still_wavelengths", p.still_wavelengths, 1, optics::kMaxWavelengths);
   p.light_grid = r.integer("light_grid", p.light_grid, 16, 2048);
   r.reject_unknown();
   return p;
@@ -326,6 +327,7 @@ json scene_to_json(const Scene& s) {
         {"accuracy_target", s.render.accuracy_target},
         {"mesh_resolution", s.render.mesh_resolution},
         {"wavelengths", s.render.wavelengths},
+        {"still_wavelengths", s.render.still_wavelengths},
         {"light_grid", s.render.light_grid}}},
       {"water", s.water ? detail::water_to_json(*s.water) : json(nullptr)},
       {"post",

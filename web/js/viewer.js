@@ -299,6 +299,7 @@ function buildGui() {
     .onChange((n) => channel.set({ render: { mesh_resolution: Number(n) } }));
   quality.add(p.render, 'fresnel').name('Fresnel (manual)').onChange(send('render', 'fresnel'));
   quality.add(p.render, 'wavelengths', 1, 32, 1).name('wavelengths (glass)').onChange(send('render', 'wavelengths'));
+  quality.add(p.render, 'still_wavelengths', 1, 32, 1).name('… when still').onChange(send('render', 'still_wavelengths'));
   const post = gui.addFolder('Post-processing');
   post.add(p.post, 'exposure_mode', ['auto', 'manual']).name('exposure').onChange(send('post', 'exposure_mode'));
   // In "auto" the value is exposure compensation (1 = as metered): a log slider would suit,

@@ -74,6 +74,12 @@ class Engine {
   /// 1 (the default) is full quality. Marks the frame dirty when it changes.
   void set_preview_divisor(int divisor);
 
+  /// The picture is left standing (progressive fidelity's last step): full
+  /// frames of a spectral scene sample render.still_wavelengths rather than
+  /// render.wavelengths, where that is more; previews are unaffected. Off by
+  /// default. Marks the frame dirty when that changes the wavelengths drawn.
+  void set_still(bool still);
+
   /// Where the caustic pass sets up its triangles (automatic by default).
   /// Marks the frame dirty when it changes.
   void set_triangle_setup(TriangleSetup setup);

@@ -145,6 +145,10 @@ struct RenderParams {
   /// Wavelength samples of a spectral frame (object.glass set); previews
   /// while the scene moves use at most kPreviewWavelengths.
   int wavelengths = 8;
+  /// Wavelength samples of a spectral picture left standing (the stream
+  /// draws it once more after a moment's stillness); at most
+  /// optics::kMaxWavelengths, and a count at or below `wavelengths` adds none.
+  int still_wavelengths = 32;
   /// Rays per side of the light's grid that the multipass tracer follows
   /// through a solid (object.shape "solid"); previews use a coarser grid.
   int light_grid = 256;
