@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The spectral keys: object.glass by name or coefficients, light.spectrum
-// and temperature_k, render.wavelengths; bad values named, the overridden
+// and temperature_k, render.wavelengths and still_wavelengths; bad values named, the overridden
 // ones warned about, and the passes a frame traces.
 #include "caustic/spectral.hpp"
 #include "scene_test_support.hpp"
@@ -61,6 +61,27 @@ TEST(SceneSpectral, BadGlassesAreNamed) {
   expect_rejected(with("light", "temperature_k", 500), "light.temperature_k");
   expect_rejected(with("render", "wavelengths", 0), "render.wavelengths");
   expect_rejected(with("render", "wavelengths", 33), "render.wavelengths");
+  expect_rejected(with("render", "still_wavelengths", 0), "render.still_wavelengths");
+  expect_rejected(with("render", "still_wavelengths", 33), "render.still_wavelengths");
+  expect_rejected(with("render", "still_wavelengths", 12.5), "render.still_wavelengths");
+  // Beyond 64 bits signed: said as written, not wrapped to -1.
+  try {  // the message quotes the number as written
+    scene_from_json(with("render", "still_wavelengths", 18446744073709551615ull), ".");
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), "render.still_wavelengths");
+    EXPECT_NE(std::string(e.what()).find("got 18446744073709551615"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SceneSpectral, StillWavelengthsRoundTrip) {
+  json doc = with("object", "glass", "bk7");
+  doc["render"]["still_wavelengths"] = 12;
+  const Scene s = scene_from_json(doc, ".");
+  EXPECT_EQ(s.render.still_wavelengths, 12);
+  EXPECT_EQ(scene_to_json(s)["render"]["still_wavelengths"], 12);
+  EXPECT_EQ(scene_from_json(scene_to_json(s), "."), s);
+  EXPECT_EQ(scene_from_json(minimal(), ".").render.still_wavelengths, 32);  // the most a frame may sample
 }
 
 TEST(SceneSpectral, PassesFollowTheGlassAndTheLight) {
@@ -104,10 +125,46 @@ TEST(SceneSpectral, KeysThatAnotherSettingOverridesAreWarnedAbout) {
   EXPECT_EQ(moot[0].first, "render.wavelengths");
   EXPECT_EQ(moot[1].first, "light.spectrum");
   EXPECT_TRUE(spectral_overrides(scene_to_json(scene_from_json(minimal(), ".")), scene_from_json(minimal(), ".")).empty());
+  const json grey_still = {{"mesh", "m.obj"}, {"render", {{"still_wavelengths", 16}}}};
+  const auto moot_still = spectral_overrides(grey_still, scene_from_json(grey_still, "."));
+  ASSERT_EQ(moot_still.size(), 1u);
+  EXPECT_EQ(moot_still[0].first, "render.still_wavelengths");
+  // Fewer when still than when not: the picture left standing keeps the more.
+  json fewer = with("object", "glass", "bk7");
+  fewer["render"] = {{"wavelengths", 16}, {"still_wavelengths", 8}};
+  const auto kept = spectral_overrides(fewer, scene_from_json(fewer, "."));
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_EQ(kept[0].first, "render.still_wavelengths");
+  EXPECT_NE(kept[0].second.find("(16)"), std::string::npos) << kept[0].second;
   // A complete scene file, as scene_to_json writes it, says nothing twice.
   const Scene glass = scene_from_json(with("object", "glass", "bk7"), ".");
   EXPECT_TRUE(spectral_overrides(scene_to_json(glass), glass).empty());
   // Written where it counts, nothing to say.
   const json fine = {{"mesh", "m.obj"}, {"object", {{"glass", "water"}}}, {"light", {{"spectrum", "blackbody"}, {"temperature_k", 3000}}}};
   EXPECT_TRUE(spectral_overrides(fine, scene_from_json(fine, ".")).empty());
+}
+
+TEST(SceneSpectral, KeysTheirOwnSectionLeavesUnusedAreWarnedAbout) {
+  const auto keys = [](const json& doc) {
+    std::vector<std::string> out;
+    for (const auto& [key, detail] : setting_overrides(doc, scene_from_json(doc, "."))) out.push_back(key);
+    return out;
+  };
+  json doc = minimal();
+  doc["render"] = {{"report_plane_distance", 2.0}, {"fidelity", "manual"}, {"accuracy_target", 0.1}};
+  doc["post"] = {{"local_strength", 0.9}, {"exposure_mode", "manual"}, {"auto_percentile", 0.9},
+                 {"exposure_adapt_s", 2.0}};
+  doc["focus_distance"] = 50;
+  doc["screen"] = {{"center", {0, 0, -70}}};
+  EXPECT_EQ(keys(doc), (std::vector<std::string>{"render.report_plane_distance", "render.accuracy_target",
+                                                 "post.local_strength", "post.auto_percentile",
+                                                 "post.exposure_adapt_s", "focus_distance"}));
+  // Where each is used, nothing to say; nor for defaults written out.
+  json used = minimal();
+  used["render"] = {{"intensity", "report"}, {"report_plane_distance", 2.0}, {"accuracy_target", 0.1}};
+  used["post"] = {{"tone_map", "local"}, {"local_strength", 0.9}, {"auto_percentile", 0.9}, {"exposure_adapt_s", 2.0}};
+  used["focus_distance"] = 50;
+  EXPECT_TRUE(keys(used).empty());
+  const Scene plain = scene_from_json(minimal(), ".");
+  EXPECT_TRUE(setting_overrides(scene_to_json(plain), plain).empty());
 }

@@ -116,4 +116,14 @@ TEST_F(Rest, TheScreenFollowsATurnedLight) {
       http("PATCH", url, R"({"screen": {"follow_light": false, "center": [5, 5, -70]}})", type, bearer(s));
   EXPECT_EQ(fixed.json()["params"]["screen"]["center"], json({5.0, 5.0, -70.0})) << fixed.body;
   EXPECT_EQ(fixed.json()["warnings"].size(), 1u) << "the light now misses most of the screen: " << fixed.body;
+
+  // A key its own section leaves unused is said too, and still stored.
+  const Response unused = http("PATCH", url, R"({"post": {"exposure_mode": "manual", "auto_percentile": 0.9}})", type,
+                               bearer(s));
+  ASSERT_EQ(unused.status, 200u) << unused.body;
+  const json answer = unused.json();
+  bool said = false;
+  for (const auto& w : answer["warnings"]) said = said || w["key"] == "post.auto_percentile";
+  EXPECT_TRUE(said) << unused.body;
+  EXPECT_EQ(answer["params"]["post"]["auto_percentile"], 0.9);
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "commands.hpp"
 
+#include "caustic/json_text.hpp"
 #include "caustic/pool.hpp"
 #include "caustic/resample.hpp"
 #include "caustic/screen_follow.hpp"
@@ -9,10 +10,41 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <set>
 
 #include <iostream>
 
 namespace caustic::app {
+
+namespace {
+
+// What the scene file and the assignments write that is not what renders:
+// a key another setting overrides or leaves unused, and a key assigned
+// twice (a --set, then --width). Said once each, never silently dropped.
+void warn_overrides(const char* command, const std::filesystem::path& file,
+                    const std::vector<std::string>& assignments, const Scene& scene) {
+  std::vector<nlohmann::json> written;
+  if (std::ifstream in{file}) {
+    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    if (auto doc = parse_json_text(text)) written.push_back(std::move(*doc));
+  }
+  for (const auto& a : assignments) written.push_back(patch_from_assignment(a));
+  std::set<std::string> said;
+  for (const auto& w : written)
+    for (const auto& [key, detail] : scene_overrides(w, scene))
+      if (said.insert(key).second) std::cerr << "causticd " << command << ": warning: " << detail << "\n";
+  for (std::size_t i = 0; i < assignments.size(); ++i)
+    for (std::size_t j = i + 1; j < assignments.size(); ++j) {
+      const std::string key = assignments[i].substr(0, assignments[i].find('='));
+      if (key == assignments[j].substr(0, assignments[j].find('=')) && assignments[i] != assignments[j])
+        std::cerr << "causticd " << command << ": warning: " << key << ": " << assignments[i] << " is overridden by "
+                  << assignments[j] << " (the later one is used)\n";
+    }
+}
+
+}  // namespace
 
 bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
                          const std::vector<std::string>& assignments, Scene* scene, Mesh* mesh) {
@@ -20,11 +52,20 @@ bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
     *scene = load_scene(file);
     for (const auto& a : assignments) *scene = apply_merge_patch(*scene, patch_from_assignment(a));
     *mesh = water::load_scene_mesh(*scene);
+    warn_overrides(command, file, assignments, *scene);
     return true;
   } catch (const SceneError& e) {
     std::cerr << "causticd " << command << ": " << file.string() << ": " << e.what() << "\n";
     return false;
   }
+}
+
+bool output_folder_exists(const char* command, const std::filesystem::path& out) {
+  const auto dir = std::filesystem::absolute(out).parent_path();
+  if (std::filesystem::is_directory(dir)) return true;
+  std::cerr << "causticd " << command << ": --output " << out.string() << ": folder " << dir.string()
+            << " does not exist\n";
+  return false;
 }
 
 int run_reporting(const char* command, const std::filesystem::path& scene, const std::function<void()>& body,

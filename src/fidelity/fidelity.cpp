@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/fidelity.hpp"
+#include "caustic/screen_follow.hpp"
+#include "caustic/spectral.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -180,6 +182,15 @@ std::vector<std::pair<std::string, std::string>> fidelity_overrides(const nlohma
     out.emplace_back(name, name + " is chosen by render.fidelity \"auto\", which overrides the value written; set "
                                   "render.fidelity to \"manual\" to use it");
   }
+  return out;
+}
+
+std::vector<std::pair<std::string, std::string>> scene_overrides(const nlohmann::json& written, const Scene& scene) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (auto&& part : {fidelity_overrides(written, scene), follow_overrides(written, scene),
+                      spectral_overrides(written, scene), shape_overrides(written, scene),
+                      setting_overrides(written, scene)})
+    out.insert(out.end(), part.begin(), part.end());
   return out;
 }
 

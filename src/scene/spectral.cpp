@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <optional>
+#include <string>
 
 namespace caustic {
 namespace {
@@ -57,6 +58,15 @@ std::vector<std::pair<std::string, std::string>> spectral_overrides(const nlohma
   if (!spectral(scene) && wavelengths && *wavelengths != RenderParams{}.wavelengths)
     out.emplace_back("render.wavelengths", "render.wavelengths counts the wavelengths of a spectral frame; without "
                                            "object.glass the frame is traced once, in grey");
+  const auto still = written_number(written, "render", "still_wavelengths");
+  if (!spectral(scene) && still && *still != RenderParams{}.still_wavelengths)
+    out.emplace_back("render.still_wavelengths", "render.still_wavelengths counts the wavelengths of a spectral "
+                                                 "picture left standing; without object.glass the frame is grey");
+  if (spectral(scene) && still && scene.render.still_wavelengths < scene.render.wavelengths)
+    out.emplace_back("render.still_wavelengths",
+                     "render.still_wavelengths (" + std::to_string(scene.render.still_wavelengths) +
+                         ") is below render.wavelengths (" + std::to_string(scene.render.wavelengths) +
+                         "), which a picture left standing keeps");
   if (!spectral(scene) && writes(written, "light", "spectrum") && scene.light.spectrum.kind != optics::Illuminant::d65)
     out.emplace_back("light.spectrum", "light.spectrum shapes the colours a glass fans out; without object.glass "
                                        "the frame is grey and white-balanced to any light");
@@ -80,6 +90,36 @@ std::vector<std::pair<std::string, std::string>> shape_overrides(const nlohmann:
   if (!solid && grid && *grid != RenderParams{}.light_grid)
     out.emplace_back("render.light_grid", "render.light_grid sizes the light's grid for a solid (object.shape "
                                           "\"solid\"); a slab traces one ray per vertex of its face instead");
+  return out;
+}
+
+std::vector<std::pair<std::string, std::string>> setting_overrides(const nlohmann::json& written, const Scene& scene) {
+  std::vector<std::pair<std::string, std::string>> out;
+  // A key another setting of its own section leaves unused; only a value
+  // other than the default is said (a complete scene file writes them all).
+  const auto unused = [&](const char* group, const char* key, double fallback, bool used, const char* why) {
+    const auto value = written_number(written, group, key);
+    if (!used && value && *value != fallback) out.emplace_back(std::string(group) + "." + key, why);
+  };
+  const RenderParams render;
+  const PostParams post;
+  unused("render", "report_plane_distance", render.report_plane_distance,
+         scene.render.intensity == IntensityMode::report,
+         "render.report_plane_distance is used only by render.intensity \"report\"; it is ignored for \"energy\"");
+  unused("render", "accuracy_target", render.accuracy_target, scene.render.fidelity == Fidelity::automatic,
+         "render.accuracy_target is what render.fidelity \"auto\" aims at; with \"manual\" it is ignored");
+  unused("post", "local_strength", post.local_strength, scene.post.tone_map == ToneMap::local,
+         "post.local_strength is used only by post.tone_map \"local\"; it is ignored for \"global\"");
+  const bool metered = scene.post.exposure_mode == ExposureMode::automatic;
+  unused("post", "auto_percentile", post.auto_percentile, metered,
+         "post.auto_percentile meters post.exposure_mode \"auto\"; with \"manual\" it is ignored");
+  unused("post", "exposure_adapt_s", post.exposure_adapt_s, metered,
+         "post.exposure_adapt_s eases post.exposure_mode \"auto\"; with \"manual\" it is ignored");
+  // focus_distance places the screen only where no centre is written.
+  if (written.is_object() && written.contains("focus_distance") && !written["focus_distance"].is_null() &&
+      writes(written, "screen", "center"))
+    out.emplace_back("focus_distance", "focus_distance places the screen when screen.center is absent; "
+                                       "screen.center, written too, places it");
   return out;
 }
 

@@ -81,10 +81,8 @@ std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, cons
   if (std::ifstream in{file}) {
     const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
     if (const auto written = parse_json_text(text))
-      for (const auto& overrides : {fidelity_overrides(*written, entry->scene), follow_overrides(*written, entry->scene),
-                                    spectral_overrides(*written, entry->scene),
-                                    shape_overrides(*written, entry->scene)})
-        for (const auto& [key, detail] : overrides) log(Level::warning, "scene " + id + ": " + detail);
+      for (const auto& [key, detail] : scene_overrides(*written, entry->scene))
+        log(Level::warning, "scene " + id + ": " + detail);
   }
   // A manual scene may name a level not on offer: at() throws then.
   const auto rendered = entry->levels->at(entry->scene.render.mesh_resolution);

@@ -118,10 +118,7 @@ void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
   ++s.metrics.parameter_updates;
   nlohmann::json overridden = nlohmann::json::array();
   const Scene now = session.params().snapshot().scene;
-  for (const auto& overrides :
-       {fidelity_overrides(patch, now), follow_overrides(patch, now), spectral_overrides(patch, now),
-        shape_overrides(patch, now)})
-    for (const auto& [key, detail] : overrides) overridden.push_back({{"key", key}, {"detail", detail}});
+  for (const auto& [key, detail] : scene_overrides(patch, now)) overridden.push_back({{"key", key}, {"detail", detail}});
   reply_json(msg, SOUP_STATUS_OK, public_params(session, std::move(overridden)));
 }
 

@@ -103,6 +103,13 @@ inline constexpr int kCalibratedLightGrids[] = {64, 128, 256};
 /// patch) sets while `scene` renders with fidelity "auto": (key, message).
 std::vector<std::pair<std::string, std::string>> fidelity_overrides(const nlohmann::json& written, const Scene& scene);
 
+/// Every key that `written` sets but another setting of `scene` overrides
+/// or leaves unused: fidelity_overrides, follow_overrides,
+/// spectral_overrides, shape_overrides and setting_overrides in turn. What
+/// the server warns about for a scene file or a patch, and the command line
+/// for a scene it renders.
+std::vector<std::pair<std::string, std::string>> scene_overrides(const nlohmann::json& written, const Scene& scene);
+
 /// `scene` with the choice written into mesh_resolution, point_model,
 /// fresnel and (a solid's, when chosen) light_grid when its fidelity is
 /// "auto"; unchanged when "manual".

@@ -44,4 +44,11 @@ std::vector<std::pair<std::string, std::string>> spectral_overrides(const nlohma
 /// at its vertices.
 std::vector<std::pair<std::string, std::string>> shape_overrides(const nlohmann::json& written, const Scene& scene);
 
+/// The same for keys that a setting of their own section leaves unused:
+/// render.report_plane_distance without intensity "report",
+/// render.accuracy_target with fidelity "manual", post.local_strength with
+/// the global tone map, post.auto_percentile and exposure_adapt_s with a
+/// manual exposure, and focus_distance beside a written screen.center.
+std::vector<std::pair<std::string, std::string>> setting_overrides(const nlohmann::json& written, const Scene& scene);
+
 }  // namespace caustic
