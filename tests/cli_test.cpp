@@ -114,6 +114,29 @@ TEST_F(Cli, RejectsBadInputWithAMessage) {
   std::ofstream(dir_ / "quad.json") << R"({"mesh": "quad.obj"})";
   expect_rejected("render --scene " + (dir_ / "quad.json").string() + out, "only triangles");
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+  // A folder that is not there is found before the work, not after it.
+  const std::string nowhere = (dir_ / "missing-folder" / "x").string();
+  expect_rejected("render --scene " + scene("lens") + " -o " + nowhere + ".png", "--output " + nowhere + ".png: folder");
+  expect_rejected("reference --scene " + scene("slab") + " -o " + nowhere + ".exr", "--output " + nowhere + ".exr: folder");
+  expect_rejected("calibrate --scene " + scene("slab") + " -o " + nowhere + ".json", "--output " + nowhere + ".json: folder");
+}
+
+TEST_F(Cli, KeysThatAreNotUsedAsWrittenAreWarnedAbout) {
+  // A key its section leaves unused (the tone map is global), and a width
+  // set twice (--set, then --width): both said, the render still made.
+  const fs::path png = dir_ / "w.png";
+  const CommandResult r = causticd("render --scene " + scene("slab") + " -o " + png.string() +
+                                   " --set post.local_strength=0.9 --set render.width=32 --width 64 --height 64");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: post.local_strength is used only by post.tone_map \"local\""), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("warning: render.width: render.width=32 is overridden by render.width=64"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(caustic::read_hdr_image(png).width, 64);
+  // The built-in scenes write nothing that is not used.
+  const CommandResult clean = causticd("render --scene " + scene("lens") + " -o " + png.string() + " --width 64 --height 64");
+  ASSERT_EQ(clean.status, 0) << clean.output;
+  EXPECT_EQ(clean.output.find("warning"), std::string::npos) << clean.output;
 }
 
 TEST_F(Cli, EglPlatformChoiceIsCheckedAndExplained) {

@@ -150,6 +150,12 @@ TEST_F(DesignCli, RejectsBadTargetsAndFlags) {
   expect_rejected(t + " --focus -5", "--focus");
   expect_rejected(t + " --ior 0.5", "--ior");
   expect_rejected(t + " --black-floor 0", "--black-floor");
+  // Two outputs at one path: refused before anything is written, not the second's content under the first's name.
+  expect_rejected(t + " --report " + (dir_ / "face.json").string(), "--report " + (dir_ / "face.json").string() +
+                                                                        ": the same file as --scene-out");
+  expect_rejected(t + " --solid " + (dir_ / "face.obj").string(), "the same file as --output");
+  expect_rejected(t + " --scene-out " + (dir_ / "x.json").string() + " --report " + (dir_ / "." / "x.json").string(),
+                  "--report");
 }
 
 TEST_F(DesignCli, WritesTheGivenNameAndDescriptionIntoTheScene) {

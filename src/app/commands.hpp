@@ -26,6 +26,10 @@ enum Exit : int { ok = 0, runtime_failure = 1, bad_input = 2 };
 bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
                          const std::vector<std::string>& assignments, Scene* scene, Mesh* mesh);
 
+/// Whether the folder `out` (an --output) goes in exists; when it does not,
+/// says so as "causticd <command>: --output <out>: ..." before any work.
+bool output_folder_exists(const char* command, const std::filesystem::path& out);
+
 /// Runs `body` and turns what it throws into the exit status: a SceneError
 /// is bad input (the message names `scene`), anything else a runtime failure.
 /// The message goes to stderr as "causticd <command>: ...", after `prefix`

@@ -91,10 +91,22 @@ int check_flags(DesignCommandOptions& o) {
     return bad("--side-by-side " + o.side_by_side.string() + ": must end in .png");
   if (o.no_check && (o.verify || !o.side_by_side.empty()))
     return bad("--no-check: cannot be combined with --verify or --side-by-side");
-  for (const auto* p : {&o.face, &o.scene, &o.solid, &o.report, &o.side_by_side}) {
+  // Each file once: two outputs at one path would leave the second's
+  // content under the first's name.
+  const std::pair<const char*, const std::filesystem::path*> outputs[] = {
+      {"--output", &o.face}, {"--scene-out", &o.scene}, {"--solid", &o.solid},
+      {"--report", &o.report}, {"--side-by-side", &o.side_by_side}};
+  for (std::size_t i = 0; i < std::size(outputs); ++i) {
+    const auto& [flag, p] = outputs[i];
     if (p->empty()) continue;
     const auto dir = std::filesystem::absolute(*p).parent_path();
     if (!std::filesystem::is_directory(dir)) return bad(p->string() + ": folder " + dir.string() + " does not exist");
+    const auto same = [](const std::filesystem::path& a, const std::filesystem::path& b) {
+      return std::filesystem::absolute(a).lexically_normal() == std::filesystem::absolute(b).lexically_normal();
+    };
+    for (std::size_t j = 0; j < i; ++j)
+      if (!outputs[j].second->empty() && same(*outputs[j].second, *p))
+        return bad(std::string(flag) + " " + p->string() + ": the same file as " + outputs[j].first);
   }
   return ok;
 }

@@ -35,15 +35,16 @@ int run_render(const RenderOptions& opt) {
   std::vector<std::string> assignments = opt.assignments;
   if (opt.width) assignments.push_back("render.width=" + std::to_string(opt.width));
   if (opt.height) assignments.push_back("render.height=" + std::to_string(opt.height));
-  if (!load_scene_levels("render", opt.scene, assignments, &scene, &levels)) return bad_input;
-  const auto mesh = levels.levels.at(scene.render.mesh_resolution);
   for (const auto& out : opt.outputs) {
     const auto ext = out.extension().string();
     if (ext != ".exr" && ext != ".png") {
       std::cerr << "causticd render: --output " << out.string() << ": the file must end in .exr or .png\n";
       return bad_input;
     }
+    if (!output_folder_exists("render", out)) return bad_input;
   }
+  if (!load_scene_levels("render", opt.scene, assignments, &scene, &levels)) return bad_input;
+  const auto mesh = levels.levels.at(scene.render.mesh_resolution);
   return run_reporting("render", opt.scene, [&] {
     GlContext context(egl_platform_from_environment());
     Engine engine;

@@ -64,6 +64,7 @@ int run_serve(const ServeOptions& opt) {
   server::ServerConfig config;
   try {
     config = read_config(opt);
+    server::check_config(config, server::data_dir());  // the folders, before minutes of loading
   } catch (const server::ConfigError& e) {
     std::cerr << "causticd serve: " << e.what() << "\n";
     return bad_input;
