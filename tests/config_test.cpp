@@ -79,6 +79,15 @@ TEST(Config, BadFileNamesFileLineAndKeyAndChangesNothing) {
   EXPECT_THROW(load_config_file(c, write_config("causticd_nokey.conf", "just words\n")), ConfigError);
   EXPECT_THROW(load_config_file(c, write_config("causticd_unknown.conf", "colour = red\n")), ConfigError);
   EXPECT_THROW(load_config_file(c, "/nonexistent/causticd.conf"), ConfigError);
+  // A folder is no file, and an endless one is not read to the end.
+  EXPECT_THROW(load_config_file(c, std::filesystem::temp_directory_path()), ConfigError);
+  try {
+    load_config_file(c, "/dev/zero");
+    ADD_FAILURE() << "/dev/zero accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("larger than 1 MiB"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(c.port, 8080);
 }
 
 TEST(Config, ValuesAreCheckedAndNamed) {
@@ -94,6 +103,10 @@ TEST(Config, ValuesAreCheckedAndNamed) {
   expect_error(c, "max_sessions", "0", "max_sessions");
   expect_error(c, "codec", "av1", "codec");
   expect_error(c, "bind_address", "example.com; rm", "bind_address");
+  expect_error(c, "bind_address", "999.1.1.1", "bind_address");  // the shape of one, not an address
+  expect_error(c, "bind_address", "256.0.0.1", "bind_address");
+  expect_error(c, "bind_address", "1::2::3", "bind_address");
+  expect_error(c, "trusted_proxies", "10.0.0.300", "10.0.0.300");
   expect_error(c, "ice_addresses", "127.0.0.1, eth0", "eth0");
   expect_error(c, "stun_server", "http://x", "stun_server");
   expect_error(c, "stun_server", "stun://a b", "stun_server");
@@ -119,6 +132,16 @@ TEST(Config, EnvironmentOverridesAndIsChecked) {
   EXPECT_EQ(c.port, 9100);
   unsetenv("CAUSTICD_PORT");
   unsetenv("CAUSTICD_MAX_SESSIONS");
+  // A misspelt variable is said, naming it; the ones read elsewhere are not.
+  ServerConfig spelt;
+  setenv("CAUSTICD_PROT", "9000", 1);
+  setenv("CAUSTICD_DATA_DIR", "/usr/share/causticd", 1);
+  load_config_environment(spelt);
+  unsetenv("CAUSTICD_PROT");
+  unsetenv("CAUSTICD_DATA_DIR");
+  ASSERT_EQ(spelt.warnings.size(), 1u);
+  EXPECT_NE(spelt.warnings[0].find("CAUSTICD_PROT"), std::string::npos) << spelt.warnings[0];
+  EXPECT_EQ(spelt.port, 8080);
 }
 
 // A value an operator chose and a later layer replaces is said, naming the

@@ -318,7 +318,8 @@ TEST(CheckConfig, AcceptsTheShippedFileAndNamesTheKeyOfABrokenOne) {
   fs::create_directories(dir);
   const std::pair<const char*, const char*> broken[] = {
       {"port = 80800", "port"}, {"codec = av1", "codec"}, {"scenes_dir = /nonexistent", "scenes_dir"},
-      {"colour = red", "colour: unknown key"}, {"log_level = loud", "log_level"}, {"port", "expected key = value"}};
+      {"colour = red", "colour: unknown key"}, {"log_level = loud", "log_level"}, {"port", "expected key = value"},
+      {"bind_address = 256.0.0.1", "bind_address"}};
   for (const auto& [line, named] : broken) {
     std::ofstream(dir / "broken.conf") << "# a comment\n" << line << "\n";
     EXPECT_EQ(run((dir / "broken.conf").string(), &output), 2) << line;
@@ -354,6 +355,25 @@ TEST(Serve, AGpuThatIsNotThereIsAConfigurationErrorThatNamesIt) {
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << args << ": " << output;
     EXPECT_NE(output.find("egl_device: GPU 9 not found"), std::string::npos) << output;
     EXPECT_EQ(output.find("no usable scene"), std::string::npos) << output;
+  }
+}
+
+TEST(Serve, FoldersAndAddressesAreCheckedAsCheckConfigChecksThem) {
+  // Before the gallery loads, exit 2 naming the key: what check-config says.
+  const std::pair<const char*, const char*> bad[] = {{"--web-dir /nonexistent", "web_dir: /nonexistent is not a folder"},
+                                                     {"--scenes-dir /nonexistent", "scenes_dir"},
+                                                     {"--bind 999.1.1.1", "bind_address: must be an IP address"}};
+  for (const auto& [args, named] : bad) {
+    gchar *out = nullptr, *err = nullptr;
+    gint status = 0;
+    const std::string command = std::string("timeout 120 ") + CAUSTICD_BINARY + " serve --port 0 " + args;
+    ASSERT_TRUE(g_spawn_command_line_sync(command.c_str(), &out, &err, &status, nullptr));
+    const std::string output = std::string(out ? out : "") + (err ? err : "");
+    g_free(out);
+    g_free(err);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << args << ": " << output;
+    EXPECT_NE(output.find(named), std::string::npos) << output;
+    EXPECT_EQ(output.find("listening"), std::string::npos) << output;
   }
 }
 

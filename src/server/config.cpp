@@ -9,7 +9,9 @@
 #include <cstdlib>
 #include <fstream>
 #include <regex>
+#include <sstream>
 
+#include <arpa/inet.h>
 #include <unistd.h>
 
 extern char** environ;
@@ -39,14 +41,19 @@ void check_uri(const std::string& key, const std::string& value, const char* sch
 }
 
 // A comma-separated list of IP addresses; empty items are skipped.
+// A numeric IPv4 or IPv6 address, each part in range (999.1.1.1 is not one).
+bool ip_address(const std::string& text) {
+  unsigned char bytes[16];
+  return inet_pton(AF_INET, text.c_str(), bytes) == 1 || inet_pton(AF_INET6, text.c_str(), bytes) == 1;
+}
+
 std::vector<std::string> address_list(const std::string& key, const std::string& value) {
   std::vector<std::string> list;
-  static const std::regex address("^[0-9.]+$|^[0-9a-fA-F:]+$");
   for (std::size_t start = 0; start <= value.size();) {
     const auto comma = std::min(value.find(',', start), value.size());
     const std::string item = trim(value.substr(start, comma - start));
     if (!item.empty()) {
-      if (!std::regex_match(item, address)) throw ConfigError(key + ": \"" + item + "\" is not an IP address");
+      if (!ip_address(item)) throw ConfigError(key + ": \"" + item + "\" is not an IP address");
       list.push_back(item);
     }
     start = comma + 1;
@@ -127,8 +134,7 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
       return;
     }
   if (key == "bind_address") {
-    static const std::regex address("^[0-9.]+$|^[0-9a-fA-F:]+$|^localhost$");
-    if (!std::regex_match(value, address)) throw ConfigError(key + ": must be an IP address, got \"" + value + "\"");
+    if (value != "localhost" && !ip_address(value)) throw ConfigError(key + ": must be an IP address, got \"" + value + "\"");
     c.bind_address = value;
   } else if (key == "codec") {
     if (value != "vp8" && value != "h264") throw ConfigError(key + ": must be vp8 or h264, got \"" + value + "\"");
@@ -221,8 +227,18 @@ void ConfigSources::set(ServerConfig& config, const std::string& key, const std:
 }
 
 void load_config_file(ServerConfig& config, const std::filesystem::path& file, ConfigSources* sources) {
-  std::ifstream in(file);
-  if (!in) throw ConfigError("cannot read config file " + file.string());
+  // Read whole but bounded: a config is a few hundred bytes, and a device
+  // or a runaway file must not take the memory (a pipe still reads).
+  constexpr std::size_t kMaxBytes = 1 << 20;
+  std::error_code error;
+  if (std::filesystem::is_directory(file, error)) throw ConfigError("config file " + file.string() + " is a folder");
+  std::ifstream file_in(file, std::ios::binary);
+  if (!file_in) throw ConfigError("cannot read config file " + file.string());
+  std::string text(kMaxBytes + 1, '\0');
+  file_in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(file_in.gcount()));
+  if (text.size() > kMaxBytes) throw ConfigError("config file " + file.string() + " is larger than 1 MiB");
+  std::istringstream in(text);
   ServerConfig next = config;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
@@ -291,7 +307,14 @@ void load_config_environment(ServerConfig& config, ConfigSources* sources) {
     const auto eq = entry.find('=');
     std::string key = entry.substr(9, eq - 9);
     std::transform(key.begin(), key.end(), key.begin(), [](unsigned char ch) { return std::tolower(ch); });
-    if (std::find(config_keys().begin(), config_keys().end(), key) == config_keys().end()) continue;
+    if (std::find(config_keys().begin(), config_keys().end(), key) == config_keys().end()) {
+      // Read where they are used, not settings: anything else is a misspelling.
+      static const std::string kRead[] = {"data_dir", "egl_device", "egl_platform"};
+      if (std::find(std::begin(kRead), std::end(kRead), key) == std::end(kRead))
+        next.warnings.push_back("environment " + printable_name(entry.substr(0, eq)) +
+                                ": not a setting (CAUSTICD_ and a key of the config file), ignored");
+      continue;
+    }
     try {
       set_config_value(next, key, entry.substr(eq + 1));
       if (sources) sources->set(next, key, entry.substr(eq + 1), "environment " + entry.substr(0, eq));

@@ -69,7 +69,7 @@ std::shared_ptr<const Gallery> load_checked_gallery(const std::filesystem::path&
                                                    const std::atomic<bool>* cancel = nullptr) {
   auto gallery = std::make_shared<Gallery>(load_gallery(dir, 256, cancel));
   for (const auto& problem : gallery->problems) log(Level::warning, "scene skipped: " + problem);
-  if (gallery->entries.empty()) throw std::runtime_error("no usable scene in " + dir.string());
+  if (gallery->entries.empty()) throw ConfigError("scenes_dir: no usable scene in " + dir.string());
   return gallery;
 }
 
