@@ -76,5 +76,21 @@ TEST(PictureHeader, AnythingElseIsUnknown) {
   EXPECT_EQ(sniff(png).width, 0u);
 }
 
+TEST(PictureHeader, APictureCutShortIsSeenFromItsEnd) {
+  const auto png_vec = encode_png(Rgba8Image{37, 21, std::vector<std::uint8_t>(37 * 21 * 4, 200)});
+  const std::string png(png_vec.begin(), png_vec.end()), jpeg = jpeg_bytes(64, 48, false);
+  const auto complete = [](const std::string& bytes, PictureHeader::Format f) {
+    return picture_complete(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), f);
+  };
+  EXPECT_TRUE(complete(png, PictureHeader::Format::png));
+  EXPECT_TRUE(complete(jpeg, PictureHeader::Format::jpeg));
+  EXPECT_TRUE(complete(jpeg + "trailing", PictureHeader::Format::jpeg));  // bytes after the end marker are common
+  for (const std::size_t keep : {std::size_t{0}, std::size_t{12}, png.size() / 2, png.size() - 1})
+    EXPECT_FALSE(complete(png.substr(0, keep), PictureHeader::Format::png)) << keep;
+  for (const std::size_t keep : {std::size_t{0}, std::size_t{2}, jpeg.size() / 2, jpeg.size() - 1})
+    EXPECT_FALSE(complete(jpeg.substr(0, keep), PictureHeader::Format::jpeg)) << keep;
+  EXPECT_FALSE(complete(png, PictureHeader::Format::unknown));
+}
+
 }  // namespace
 }  // namespace caustic::server

@@ -236,6 +236,15 @@ TEST_F(DesignApi, BadUploadsAreRefusedAndLeaveNothingBehind) {
     for (int b = 0; b < 4; ++b) huge[16 + 4 * i + b] = static_cast<char>((v >> (24 - 8 * b)) & 0xff);
   }
   expect_problem(upload(server, huge, "image/png"), 413, "20000x20000");
+  // 20000 x 1 is few pixels but a side beyond the designer's: refused as well, not queued to fail.
+  std::string wide = square_png();
+  for (int i = 0; i < 2; ++i) {
+    const unsigned v = i == 0 ? 20000 : 1;
+    for (int b = 0; b < 4; ++b) wide[16 + 4 * i + b] = static_cast<char>((v >> (24 - 8 * b)) & 0xff);
+  }
+  expect_problem(upload(server, wide, "image/png"), 413, "a side");
+  // Cut short: its header is whole, its end is missing.
+  expect_problem(upload(server, square_png().substr(0, square_png().size() / 2), "image/png"), 415, "ends before");
   expect_problem(upload(server, square_png().substr(0, 20), "image/png"), 422, "broken");
   // Asking first, as a client sending a large body should: the server's
   // early 413 then never races the body into a closed connection.
@@ -243,7 +252,10 @@ TEST_F(DesignApi, BadUploadsAreRefusedAndLeaveNothingBehind) {
                  "100000 bytes");
   expect_problem(upload(server, square_png(), "image/png", "?name=%01"), 422, "control");
   expect_problem(upload(server, square_png(), "image/png", "?name=" + std::string(65, 'a')), 422, "name");
-  expect_problem(upload(server, square_png(), "image/png", "?shape=round"), 422, "query key");
+  expect_problem(upload(server, square_png(), "image/png", "?shape=round"), 422, "shape: unknown query key");
+  expect_problem(upload(server, square_png(), "image/png", "?name=a&name=b"), 422, "name is given twice");
+  expect_problem(upload(server, square_png(), "image/png", "?colour=true&colour=false"), 422, "colour is given twice");
+  expect_problem(upload(server, square_png(), "image/png", "?name"), 422, "name needs a value");
   expect_problem(upload(server, square_png(), "image/png", "?colour=red"), 422, "colour must be");
   const Response list = http("GET", server.url() + "/api/v1/designs");
   expect_problem(list, 405);
@@ -252,8 +264,9 @@ TEST_F(DesignApi, BadUploadsAreRefusedAndLeaveNothingBehind) {
 
   // Pictures that decode to nothing usable fail as jobs, saying why and
   // naming no file of the server.
-  std::string cut = square_png();
-  cut.resize(cut.size() / 2);
+  // (Its middle cut out: the end is whole, the image data is not.)
+  const std::string whole = square_png();
+  const std::string cut = whole.substr(0, whole.size() / 2) + whole.substr(whole.size() - 12);
   const std::string black = square_png(128, 0);
   for (const std::string& body : {cut, black}) {
     const Response posted = upload(server, body);

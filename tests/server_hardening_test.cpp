@@ -59,6 +59,8 @@ TEST(Hardening, DeeplyNestedJsonIsRefusedWithoutRecursion) {
   const Response r = http("PATCH", params_url(server, s), deep, "application/merge-patch+json", bearer(s));
   EXPECT_EQ(r.status, 400u) << r.body.substr(0, 200);
   EXPECT_NE(r.body.find("nested deeper"), std::string::npos) << r.body.substr(0, 200);
+  // Where: the 33rd bracket ('{' at byte 0, the 32nd '[' at byte 8 + 31).
+  EXPECT_NE(r.body.find("(byte 39)"), std::string::npos) << r.body.substr(0, 200);
   EXPECT_EQ(http("GET", params_url(server, s), "", "", bearer(s)).json(), before);
 }
 
@@ -209,6 +211,7 @@ TEST(Hardening, MutatingRequestsBeyondTheRateGet429WithRetryAfter) {
     if (r.status == 429u) {
       ++limited;
       EXPECT_EQ(r.content_type, "application/problem+json");
+      EXPECT_EQ(json::parse(r.body)["title"], "Too Many Requests") << r.body;  // not libsoup's "Unknown Error"
     }
   }
   EXPECT_GE(ok, 3);

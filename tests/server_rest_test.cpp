@@ -303,7 +303,8 @@ TEST(StaticFiles, ServeWebAndNothingElse) {
   EXPECT_EQ(http("GET", server.url() + "/sub/app.js").content_type, "text/javascript");
   for (const char* path : {"/../../../../etc/passwd", "/%2e%2e/%2e%2e/%2e%2e/etc/passwd", "/%2E%2E%2F%2E%2E%2Fetc%2Fpasswd",
                            "/sub/..%2f..%2f..%2fetc/passwd", "/passwd.txt", "/etc/passwd", "/.secret.txt",
-                           "/sub%00.html", "/%5c..%5cetc", "/missing.html", "/index.exe"})
+                           "/sub%00.html", "/%5c..%5cetc", "/missing.html", "/index.exe", "/index.html/",
+                           "/index.html//", "/sub//app.js"})
   {
     // libsoup itself answers 400 to some malformed paths; either way, no file.
     const guint status = raw_get(server.url(), path);

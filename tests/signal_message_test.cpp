@@ -63,6 +63,16 @@ TEST(SignalMessage, IceCandidateAndItsLimits) {
     EXPECT_NE(error_of(bad), "") << bad;
   EXPECT_EQ(error_of(R"({"type":"ice","candidate":"a\u0001b","sdpMLineIndex":0})"),
             "ice: the candidate must be printable ASCII");
+  // Printable but not a candidate: said, not handed to the ICE agent to drop.
+  for (const char* bad : {R"({"type":"ice","candidate":"garbage","sdpMLineIndex":0})",
+                          R"({"type":"ice","candidate":"candidate:1 1 UDP 2122252543 127.0.0.1 40000","sdpMLineIndex":0})",
+                          R"({"type":"ice","candidate":"1 1 UDP 2122252543 127.0.0.1 40000 typ host","sdpMLineIndex":0})"})
+    EXPECT_NE(error_of(bad).find("is not an ICE candidate"), std::string::npos) << bad;
+  // A browser's mDNS candidate, with the extensions after the type.
+  EXPECT_EQ(error_of(R"({"type":"ice","candidate":"candidate:842163049 1 udp 1677729535 )"
+                     R"(4b0c0a4e-9d1c.local 56143 typ srflx raddr 0.0.0.0 rport 0 generation 0 ufrag sNQr",)"
+                     R"("sdpMLineIndex":0})"),
+            "");
 }
 
 TEST(SignalMessage, PingAndMalformedMessages) {

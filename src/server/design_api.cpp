@@ -7,8 +7,12 @@
 #include "picture_header.hpp"
 #include "server_state.hpp"
 
+#include "caustic/json_text.hpp"
+
 #include <algorithm>
 #include <regex>
+#include <string>
+#include <vector>
 
 namespace caustic::server {
 namespace {
@@ -19,6 +23,27 @@ constexpr std::size_t kMaxNameBytes = 64;
 // Uploads one address may make at once: a twentieth of the hourly
 // allowance, at least 4 (a visitor trying a few pictures), at most all of it.
 int upload_burst(int per_hour) { return std::min(per_hour, std::max(4, per_hour / 20)); }
+
+// A query's parts between its '&'s (empty ones skipped).
+std::vector<std::string> split_query(const std::string& query) {
+  std::vector<std::string> parts;
+  for (std::size_t start = 0; start <= query.size();) {
+    const auto end = std::min(query.find('&', start), query.size());
+    if (end > start) parts.push_back(query.substr(start, end - start));
+    start = end + 1;
+  }
+  return parts;
+}
+
+// Form decoding ('+' a space, %XX a byte); a broken escape reads as written.
+std::string unescape(std::string text) {
+  std::replace(text.begin(), text.end(), '+', ' ');
+  char* decoded = g_uri_unescape_string(text.c_str(), nullptr);
+  if (!decoded) return text;
+  std::string out = decoded;
+  g_free(decoded);
+  return out;
+}
 
 void refuse(ServerState& s, SoupServerMessage* msg, guint status, const std::string& detail,
             const std::string& key = "") {
@@ -59,21 +84,24 @@ void upload(ServerState& s, SoupServerMessage* msg) {
   bool colour = false;
   std::string bad_colour;
   if (const char* query = g_uri_get_query(soup_server_message_get_uri(msg))) {
-    GHashTable* form = soup_form_decode(query);
-    GHashTableIter it;
-    gpointer key, value;
-    g_hash_table_iter_init(&it, form);
-    std::string bad_key;
-    while (g_hash_table_iter_next(&it, &key, &value)) {
-      const std::string k = static_cast<const char*>(key), v = static_cast<const char*>(value);
+    // Each key once and with a value: a form decoder keeps the last of a
+    // repeated key and drops one without "=", both silently.
+    std::vector<std::string> seen;
+    for (const std::string& part : split_query(query)) {
+      const auto eq = part.find('=');
+      const std::string k = unescape(part.substr(0, eq)), v = eq == std::string::npos ? "" : unescape(part.substr(eq + 1));
+      const std::string shown = printable_name(k);  // the client's bytes, made safe to echo
+      if (k != "name" && k != "colour")
+        return refuse(s, msg, SOUP_STATUS_UNPROCESSABLE_ENTITY,
+                      shown + ": unknown query key; the keys taken are \"name\" and \"colour\"", shown);
+      if (std::find(seen.begin(), seen.end(), k) != seen.end())
+        return refuse(s, msg, SOUP_STATUS_UNPROCESSABLE_ENTITY, k + " is given twice", k);
+      if (eq == std::string::npos) return refuse(s, msg, SOUP_STATUS_UNPROCESSABLE_ENTITY, k + " needs a value", k);
+      seen.push_back(k);
       if (k == "name") name = v;
-      else if (k == "colour" && (v == "true" || v == "false")) colour = v == "true";
-      else if (k == "colour") bad_colour = "colour must be \"true\" or \"false\"";
-      else bad_key = "a query key";  // never echoed: it may be anything
+      else if (v == "true" || v == "false") colour = v == "true";
+      else bad_colour = "colour must be \"true\" or \"false\"";
     }
-    g_hash_table_unref(form);
-    if (!bad_key.empty())
-      return refuse(s, msg, SOUP_STATUS_UNPROCESSABLE_ENTITY, "the query keys taken are \"name\" and \"colour\"");
     if (!bad_colour.empty()) return refuse(s, msg, SOUP_STATUS_UNPROCESSABLE_ENTITY, bad_colour, "colour");
   }
   std::string why;
@@ -100,6 +128,15 @@ void upload(ServerState& s, SoupServerMessage* msg) {
     return refuse(s, msg, SOUP_STATUS_REQUEST_ENTITY_TOO_LARGE,
                   "the picture has " + std::to_string(header.width) + "x" + std::to_string(header.height) +
                       " pixels; at most " + std::to_string(s.config.design_max_pixels) + " are taken");
+  if (header.width > s.designs->max_side() || header.height > s.designs->max_side())
+    return refuse(s, msg, SOUP_STATUS_REQUEST_ENTITY_TOO_LARGE,
+                  "the picture is " + std::to_string(header.width) + "x" + std::to_string(header.height) +
+                      " pixels; at most " + std::to_string(s.designs->max_side()) + " a side are taken");
+  // A picture cut short has a whole header: its end says so before a queue
+  // place and an upload of the hour are spent on it.
+  if (!picture_complete(bytes, size, header.format))
+    return refuse(s, msg, SOUP_STATUS_UNSUPPORTED_MEDIA_TYPE,
+                  std::string("the body is not a whole ") + media_type(declared) + ": it ends before the picture does");
   // Charged only for a picture that would be designed: the designs are
   // what costs (refusals are cheap, and the general rate limit covers them).
   int retry = 1;

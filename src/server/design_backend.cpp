@@ -80,6 +80,6 @@ std::shared_ptr<const Mesh> run(const std::filesystem::path& target, const std::
 
 }  // namespace
 
-DesignBackend design_backend() { return {run, true}; }
+DesignBackend design_backend() { return {run, true, static_cast<std::uint32_t>(design::kMaxTargetSide)}; }
 
 }  // namespace caustic::server

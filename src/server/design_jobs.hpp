@@ -51,6 +51,9 @@ struct DesignBackend {
                                             const std::function<void(const Progress&)>& progress)>
       run;
   bool built_in = false;
+  /// The most pixels a side the designer takes (its own limit), checked at
+  /// upload so that a picture it would refuse takes no place in the queue.
+  std::uint32_t max_side = 0;
 };
 DesignBackend design_backend();
 
@@ -105,6 +108,7 @@ class DesignJobs {
   /// Removes a design when `token` is its owner's; false otherwise.
   bool remove(const std::string& id, const std::string& token);
   bool built_in() const { return backend_.built_in; }
+  std::uint32_t max_side() const { return backend_.max_side; }
 
  private:
   struct Job;

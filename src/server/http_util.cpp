@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "http_util.hpp"
 
+#include "request_head.hpp"
+
 #include "caustic/json_text.hpp"
 
 namespace caustic::server {
 
 void reply_bytes(SoupServerMessage* msg, guint status, const std::string& content_type, const void* data,
                  std::size_t size) {
-  soup_server_message_set_status(msg, status, nullptr);
+  soup_server_message_set_status(msg, status, status_phrase(status));
   SoupMessageHeaders* headers = soup_server_message_get_response_headers(msg);
   soup_message_headers_replace(headers, "Cache-Control", "no-store");
   soup_message_headers_replace(headers, "X-Content-Type-Options", "nosniff");
@@ -23,7 +25,7 @@ void reply_problem(SoupServerMessage* msg, Metrics& metrics, guint status, const
                    const std::string& key) {
   ++metrics.http_errors;
   nlohmann::json body = {{"type", "about:blank"},
-                         {"title", soup_status_get_phrase(status)},
+                         {"title", status_phrase(status)},
                          {"status", status},
                          {"detail", detail}};
   if (!key.empty()) body["key"] = key;

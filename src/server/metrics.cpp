@@ -41,7 +41,8 @@ std::string Metrics::render(std::size_t sessions, std::size_t connections) const
   counter("causticd_render_overruns_total", "Frames sent while a render outlasted its frame interval (the previous picture went out again).",
           render_overruns);
   counter("causticd_frames_dropped_total",
-          "Frames dropped before the encoder because it was still encoding an earlier one (the newest goes next).",
+          "Frames dropped before the encoder because it was still encoding an earlier one (the newest goes next), or "
+          "because nothing takes its output yet (a session before its viewer connects).",
           frames_dropped);
   counter("causticd_frames_sent_total", "Encoded frames handed to the RTP payloader.", frames_sent);
   counter("causticd_parameter_updates_total", "Accepted parameter patches.", parameter_updates);

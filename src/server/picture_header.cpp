@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "picture_header.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 namespace caustic::server {
@@ -59,6 +60,21 @@ PictureHeader read_picture_header(const unsigned char* data, std::size_t size) {
     return out;
   }
   return out;
+}
+
+bool picture_complete(const unsigned char* data, std::size_t size, PictureHeader::Format format) {
+  if (format == PictureHeader::Format::png) {
+    // ... IEND, then its 4-byte CRC: the type sits 8 bytes from the end.
+    static const unsigned char kIend[] = {'I', 'E', 'N', 'D'};
+    return size >= 12 && std::equal(kIend, kIend + 4, data + size - 8);
+  }
+  if (format == PictureHeader::Format::jpeg) {
+    // Entropy-coded data stuffs every 0xFF with 0x00: FF D9 is the marker.
+    for (std::size_t i = size >= 4096 ? size - 4096 : 0; i + 1 < size; ++i)
+      if (data[i] == 0xFF && data[i + 1] == 0xD9) return true;
+    return false;
+  }
+  return false;
 }
 
 const char* media_type(PictureHeader::Format format) {

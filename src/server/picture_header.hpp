@@ -22,6 +22,12 @@ struct PictureHeader {
 /// (SOI, then markers up to the first SOFn).
 PictureHeader read_picture_header(const unsigned char* data, std::size_t size);
 
+/// Whether the bytes run to the format's end: a PNG's last chunk is IEND, a
+/// JPEG's end-of-image marker lies in its last 4 KiB (trailing bytes after
+/// it are common). A picture cut short has a whole header and fails only
+/// when decoded; this sees it on the request thread, without decoding.
+bool picture_complete(const unsigned char* data, std::size_t size, PictureHeader::Format format);
+
 /// The media type of a format ("image/png"), and its file extension (".png").
 const char* media_type(PictureHeader::Format format);
 const char* extension(PictureHeader::Format format);

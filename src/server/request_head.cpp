@@ -183,8 +183,17 @@ RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) 
   return out;
 }
 
+const char* status_phrase(unsigned status) {
+  switch (status) {
+    case 421: return "Misdirected Request";                // RFC 9110
+    case 429: return "Too Many Requests";                  // RFC 6585
+    case 431: return "Request Header Fields Too Large";    // RFC 6585
+    default: return soup_status_get_phrase(status);
+  }
+}
+
 std::string canned_problem(unsigned status, const std::string& detail, const std::string& extra_headers) {
-  const char* phrase = soup_status_get_phrase(status);
+  const char* phrase = status_phrase(status);
   const std::string body = nlohmann::json{{"type", "about:blank"},
                                           {"title", phrase ? phrase : "Error"},
                                           {"status", status},

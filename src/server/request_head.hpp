@@ -40,6 +40,10 @@ struct RequestHead {
 /// no blank line has arrived and the limits still allow one.
 RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits);
 
+/// The reason phrase of an HTTP status: libsoup's, or for the statuses it
+/// does not know (421, 429, 431) their RFC names rather than "Unknown Error".
+const char* status_phrase(unsigned status);
+
 /// A whole HTTP/1.1 answer with an RFC 9457 problem body, for refusals made
 /// before the HTTP library is involved. `extra_headers` are "Name: value\r\n"
 /// lines (for example Retry-After).

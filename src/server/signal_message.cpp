@@ -5,6 +5,10 @@
 
 #include <gst/sdp/sdp.h>
 
+#include <sstream>
+#include <string>
+#include <vector>
+
 namespace caustic::server {
 namespace {
 
@@ -45,6 +49,16 @@ SignalMessage parse_signal_message(std::string_view text) {
     const std::string& c = candidate->get_ref<const std::string&>();
     for (unsigned char ch : c)
       if (ch < 0x20 || ch >= 0x7f) return SignalError{"ice: the candidate must be printable ASCII"};
+    // RFC 8839's shape, "candidate:F C transport priority address port typ
+    // type ...", or "" for the end of candidates: anything else would be
+    // handed to the ICE agent only to be dropped without a word.
+    if (!c.empty()) {
+      std::vector<std::string> fields;
+      std::istringstream words(c);
+      for (std::string w; words >> w;) fields.push_back(w);
+      if (fields.size() < 8 || fields[0].rfind("candidate:", 0) != 0 || fields[6] != "typ")
+        return SignalError{"ice: \"candidate\" is not an ICE candidate (candidate:... typ ...), nor \"\" for the end"};
+    }
     return SignalIce{c, static_cast<unsigned>(mline->get<std::uint64_t>())};
   }
   if (type == "ping") return SignalPing{};

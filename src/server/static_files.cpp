@@ -23,6 +23,9 @@ std::optional<std::filesystem::path> resolve_static(const std::filesystem::path&
     return std::nullopt;
   for (unsigned char ch : decoded)
     if (ch < 0x20 || ch == 0x7f) return std::nullopt;
+  // One name per file: no empty segment, and a trailing '/' only on a folder.
+  if (decoded.find("//") != std::string::npos) return std::nullopt;
+  const bool folder_asked = decoded.size() > 1 && decoded.back() == '/';
   fs::path relative;
   std::istringstream parts(decoded.substr(1));
   for (std::string part; std::getline(parts, part, '/');) {
@@ -35,6 +38,7 @@ std::optional<std::filesystem::path> resolve_static(const std::filesystem::path&
   if (ec) return std::nullopt;
   fs::path candidate = base / relative;
   if (fs::is_directory(fs::symlink_status(candidate, ec))) candidate /= "index.html";
+  else if (folder_asked) return std::nullopt;
   // Every component must be what it says: a canonical path that differs
   // from the lexical one went through a symbolic link.
   const fs::path real = fs::canonical(candidate, ec);
