@@ -134,6 +134,8 @@ TEST_F(ObjFiles, RejectsBadFiles) {
   expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n", "does not exist");
   expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nvn 0 0 0\nf 1//1 2//1 3//1\n", "zero or not finite");
   expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2e7 0 0\nf 1 2 3\nf 2 3 4\n", "coordinate limit");
+  // Finite, but Inf as a float: the limit and the line, not "NaN or Inf".
+  expect_error("v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n", "line 2: the coordinate 1e300 lies beyond the coordinate limit");
   MeshLimits small;
   small.max_vertices = 3;
   expect_error(kSquare, "more than 3 vertices", small);

@@ -63,6 +63,14 @@ TEST(SceneWater, BadValuesAreNamed) {
   expect_rejected(pool_with("rain_strength", "deep"), "water.rain_strength");
   expect_rejected(pool_with("seed", 1.5), "water.seed");
   expect_rejected(pool_with("seed", -1), "water.seed");
+  try {  // the message quotes the number as written
+    scene_from_json(pool_with("seed", 9007199254740993ull), ".");
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), "water.seed");
+    EXPECT_NE(std::string(e.what()).find("got 9007199254740993"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(scene_from_json(pool_with("seed", 9007199254740992ull), ".").water->seed, 9007199254740992ull);
   expect_rejected(pool_with("warmup_s", 600), "water.warmup_s");
   expect_rejected(pool_with("paused", 1), "water.paused");
   expect_rejected(pool_with("tide", 1), "water.tide");

@@ -72,10 +72,12 @@ class Reader {
     const json* v = get(k);
     if (!v) return fallback;
     if (!v->is_number_integer()) throw SceneError(key(k), "must be an integer");
-    const auto x = v->get<long long>();
+    // Beyond long long (an unsigned 2^64 - 1) it would wrap: said as written.
+    const bool huge = v->is_number_unsigned() && v->get<unsigned long long>() > static_cast<unsigned long long>(hi);
+    const auto x = huge ? static_cast<long long>(hi) + 1 : v->get<long long>();
     if (x < lo || x > hi)
       throw SceneError(key(k), "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
-                                   std::to_string(x));
+                                   v->dump());
     return static_cast<int>(x);
   }
 

@@ -47,6 +47,7 @@ class LimitedDom : public nlohmann::json_sax<json> {
   json result;
   JsonTextError error_{"", 0};
   bool failed = false;
+  bool too_deep = false;  // the one failure of its own: the nesting limit
 
  private:
   bool fail(const std::string& why) {
@@ -56,7 +57,7 @@ class LimitedDom : public nlohmann::json_sax<json> {
   }
   bool open(json value) {
     if (static_cast<int>(stack_.size()) >= max_depth_)
-      return fail("nested deeper than " + std::to_string(max_depth_) + " levels");
+      return too_deep = true, fail("nested deeper than " + std::to_string(max_depth_) + " levels");
     if (!put(std::move(value))) return false;
     stack_.push_back(last_);
     return true;
@@ -84,6 +85,28 @@ class LimitedDom : public nlohmann::json_sax<json> {
   string_t key_;
 };
 
+// Where the text first opens a bracket deeper than `max_depth`: the SAX
+// callbacks carry no position, so the brackets are counted again (outside
+// strings) for the error to say where.
+std::size_t too_deep_at(std::string_view text, int max_depth) {
+  int depth = 0;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char ch = text[i];
+    if (in_string) {
+      if (ch == '\\') ++i;
+      else if (ch == '"') in_string = false;
+    } else if (ch == '"') {
+      in_string = true;
+    } else if (ch == '[' || ch == '{') {
+      if (++depth > max_depth) return i;
+    } else if (ch == ']' || ch == '}') {
+      --depth;
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 std::optional<nlohmann::json> parse_json_text(std::string_view text, JsonTextError* error, int max_depth) {
@@ -102,6 +125,7 @@ std::optional<nlohmann::json> parse_json_text(std::string_view text, JsonTextErr
     if (error) {
       *error = dom.error_;
       if (error->message.empty()) error->message = "not valid JSON";
+      if (dom.too_deep) error->offset = too_deep_at(text, max_depth);
     }
     return std::nullopt;
   }

@@ -30,7 +30,7 @@ bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y
 // A vertex line with a colour has six numbers; the loader keeps colours
 // only when every vertex has one, so a file that mixes the two would lose
 // its tint without a word: an error names the first line that differs.
-void check_numbers(std::string text, const std::string& label) {
+void check_numbers(std::string text, const std::string& label, double max_coordinate) {
   static const char* const kStatements[] = {"v", "vn", "vt", "f", "o", "g", "s", "l", "usemtl"};
   // The loader ends a line at '\r' as well as '\n': read the lines it reads.
   for (char& ch : text)
@@ -62,6 +62,10 @@ void check_numbers(std::string text, const std::string& label) {
         throw SceneError("mesh", "mesh file " + label + " line " + std::to_string(number) + ": \"" + word +
                                      "\" is not a finite number (NaN, Inf or malformed)");
       if (count < 6) numbers.emplace_back(x, word);
+      // Read as floats, 1e300 would become Inf: over the limit, said here with its line.
+      if (tag == "v" && count < 3 && std::abs(x) > max_coordinate)
+        throw SceneError("mesh", "mesh file " + label + " line " + std::to_string(number) + ": the coordinate " +
+                                     word + " lies beyond the coordinate limit of 1e6");
     }
     if (tag != "v") continue;
     const int coloured = count >= 6 ? 1 : 0;
@@ -152,7 +156,7 @@ Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool 
   std::string text(static_cast<std::size_t>(bytes), '\0');
   if (!in.read(text.data(), static_cast<std::streamsize>(text.size())))
     throw SceneError("mesh", "cannot read mesh file " + label);
-  check_numbers(text, label);
+  check_numbers(text, label, limits.max_coordinate);
   tinyobj::ObjReaderConfig config;
   config.triangulate = false;
   config.vertex_color = false;

@@ -17,9 +17,15 @@ water::WaveParams read_water(Reader r) {
   w.wind_direction_deg = r.number("wind_direction_deg", w.wind_direction_deg, -360, 360);
   w.wind_wavelength = r.number("wind_wavelength", w.wind_wavelength, 0, 100, true);
   // Seeds are whole numbers a double holds exactly, so that JSON round-trips them.
-  w.seed = static_cast<std::uint64_t>(r.number("seed", static_cast<double>(w.seed), 0, 0x1.0p53));
-  if (const json* seed = r.get("seed"); seed && !seed->is_number_integer())
-    throw SceneError(r.key("seed"), "must be a whole number");
+  // Read as the integer written: through a double, 2^53 + 1 would round
+  // into the range and be stored as another seed.
+  if (const json* seed = r.get("seed")) {
+    if (!seed->is_number_integer()) throw SceneError(r.key("seed"), "must be a whole number");
+    const bool negative = !seed->is_number_unsigned() && seed->get<std::int64_t>() < 0;
+    if (negative || seed->get<std::uint64_t>() > (std::uint64_t{1} << 53))
+      throw SceneError(r.key("seed"), "must be in [0, 9007199254740992], got " + seed->dump());
+    w.seed = seed->get<std::uint64_t>();
+  }
   w.warmup_s = r.number("warmup_s", w.warmup_s, 0, 60);
   w.paused = r.boolean("paused", w.paused);
   r.reject_unknown();
