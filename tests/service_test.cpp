@@ -300,17 +300,25 @@ TEST(Service, SighupRereadsTheConfigurationAndKeepsItWhenBroken) {
   EXPECT_EQ(post(), 503u);  // still 2, not reset
 }
 
+namespace {
+
+// Runs `causticd ARGS` to its end (`timeout` bounds a server that would
+// start): its exit status (-1 when killed) and its stdout and stderr.
+int run_causticd(const std::string& args, std::string* output) {
+  gchar *out = nullptr, *err = nullptr;
+  gint status = 0;
+  const std::string command = std::string("timeout 120 ") + CAUSTICD_BINARY + " " + args;
+  const bool ran = g_spawn_command_line_sync(command.c_str(), &out, &err, &status, nullptr);
+  *output = std::string(out ? out : "") + (err ? err : "");
+  g_free(out);
+  g_free(err);
+  return ran && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace
+
 TEST(CheckConfig, AcceptsTheShippedFileAndNamesTheKeyOfABrokenOne) {
-  auto run = [](const std::string& args, std::string* output) {
-    gchar *out = nullptr, *err = nullptr;
-    gint status = 0;
-    const std::string command = std::string(CAUSTICD_BINARY) + " check-config " + args;
-    g_spawn_command_line_sync(command.c_str(), &out, &err, &status, nullptr);
-    *output = std::string(out ? out : "") + (err ? err : "");
-    g_free(out);
-    g_free(err);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  };
+  auto run = [](const std::string& args, std::string* output) { return run_causticd("check-config " + args, output); };
   std::string output;
   EXPECT_EQ(run(CAUSTIC_SOURCE_DIR "/systemd/causticd.conf", &output), 0) << output;
   EXPECT_NE(output.find(": ok"), std::string::npos) << output;
@@ -345,14 +353,8 @@ TEST(Serve, AGpuThatIsNotThereIsAConfigurationErrorThatNamesIt) {
   // key and the GPU named, not "no usable scene" blaming the scenes folder.
   // No host here has ten GPUs; `timeout` bounds a server that would start.
   for (const char* args : {"--egl-device 9", "--instance 18099-gpu9"}) {
-    gchar *out = nullptr, *err = nullptr;
-    gint status = 0;
-    const std::string command = std::string("timeout 120 ") + CAUSTICD_BINARY + " serve --bind 127.0.0.1 --port 0 " + args;
-    ASSERT_TRUE(g_spawn_command_line_sync(command.c_str(), &out, &err, &status, nullptr));
-    const std::string output = std::string(out ? out : "") + (err ? err : "");
-    g_free(out);
-    g_free(err);
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << args << ": " << output;
+    std::string output;
+    EXPECT_EQ(run_causticd(std::string("serve --bind 127.0.0.1 --port 0 ") + args, &output), 2) << args << ": " << output;
     EXPECT_NE(output.find("egl_device: GPU 9 not found"), std::string::npos) << output;
     EXPECT_EQ(output.find("no usable scene"), std::string::npos) << output;
   }
@@ -364,14 +366,8 @@ TEST(Serve, FoldersAndAddressesAreCheckedAsCheckConfigChecksThem) {
                                                      {"--scenes-dir /nonexistent", "scenes_dir"},
                                                      {"--bind 999.1.1.1", "bind_address: must be an IP address"}};
   for (const auto& [args, named] : bad) {
-    gchar *out = nullptr, *err = nullptr;
-    gint status = 0;
-    const std::string command = std::string("timeout 120 ") + CAUSTICD_BINARY + " serve --port 0 " + args;
-    ASSERT_TRUE(g_spawn_command_line_sync(command.c_str(), &out, &err, &status, nullptr));
-    const std::string output = std::string(out ? out : "") + (err ? err : "");
-    g_free(out);
-    g_free(err);
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << args << ": " << output;
+    std::string output;
+    EXPECT_EQ(run_causticd(std::string("serve --port 0 ") + args, &output), 2) << args << ": " << output;
     EXPECT_NE(output.find(named), std::string::npos) << output;
     EXPECT_EQ(output.find("listening"), std::string::npos) << output;
   }
