@@ -14,11 +14,10 @@
  * version it shows and its fidelity level. While the parameters keep
  * changing (progressive=true), frames are previews (level 1: a coarser mesh
  * level, the caustic at 1/preview-divisor of the size, no bloom); once they
- * have been still for settle-ms, one full-quality frame (level 0) follows;
- * a spectral scene left standing half a second is drawn once more at its
- * render.still_wavelengths.
- * A scene with water moves it by the stream's clock, stepped on the GL when
- * the renderer is a GPU (water-solver=auto), or where water-solver says.
+ * have been still for settle-ms, one full-quality frame (level 0) follows
+ * (a spectral one, left standing 0.5 s, again at render.still_wavelengths).
+ * Water moves by the stream's clock, stepped on the GL when the renderer is
+ * a GPU (water-solver=auto), or where water-solver says.
  *
  * ## Example launch line
  * |[
