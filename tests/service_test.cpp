@@ -175,6 +175,18 @@ TEST(Service, WithoutDrainSigtermClosesOpenSessionsAndExitsZeroWithinTwoSeconds)
   EXPECT_TRUE(viewer.spin([&] { return viewer.heard("\"bye\""); }, 1000));
 }
 
+TEST(Service, ASocketReplacedByASecondConnectionIsToldWhy) {
+  ServerProcess server;
+  const json viewed = create_session(server.url(), "lens");
+  const std::string url = "ws" + server.url().substr(4) + viewed["signal_url"].get<std::string>();
+  Listener first(url);
+  ASSERT_NE(first.socket, nullptr);
+  first.spin([&] { return first.heard("offer"); }, 10000);
+  Listener second(url);
+  ASSERT_NE(second.socket, nullptr);
+  EXPECT_TRUE(first.spin([&] { return first.heard(R"("reason":"replaced by a new connection")"); }, 5000));
+}
+
 // Draining: the first SIGTERM refuses new sessions (a proxy sends them
 // elsewhere) while running ones go on; the last one ending stops the server,
 // and so does a second signal.
