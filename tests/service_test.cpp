@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // causticd as a systemd service, tested as a plain process: sd_notify
 // readiness and watchdog on a test NOTIFY_SOCKET, SIGTERM with open
-// sessions, SIGHUP reloading the gallery under a running session, and
-// `check-config`. Every wait is bounded; traffic stays on 127.0.0.1.
+// sessions, SIGHUP reloading the gallery under a running session (what
+// check-config and serve refuse: serve_cli_test.cpp). Every wait is
+// bounded; traffic stays on 127.0.0.1.
 #include "server_process.hpp"
 
 #include <gio/gunixsocketaddress.h>
@@ -310,79 +311,6 @@ TEST(Service, SighupRereadsTheConfigurationAndKeepsItWhenBroken) {
   ASSERT_TRUE(notify.wait_for("READY=1", 60000));
   EXPECT_EQ(http("GET", server.url() + "/api/v1/health").json()["sessions"], 2);  // nothing dropped
   EXPECT_EQ(post(), 503u);  // still 2, not reset
-}
-
-namespace {
-
-// Runs `causticd ARGS` to its end (`timeout` bounds a server that would
-// start): its exit status (-1 when killed) and its stdout and stderr.
-int run_causticd(const std::string& args, std::string* output) {
-  gchar *out = nullptr, *err = nullptr;
-  gint status = 0;
-  const std::string command = std::string("timeout 120 ") + CAUSTICD_BINARY + " " + args;
-  const bool ran = g_spawn_command_line_sync(command.c_str(), &out, &err, &status, nullptr);
-  *output = std::string(out ? out : "") + (err ? err : "");
-  g_free(out);
-  g_free(err);
-  return ran && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-}  // namespace
-
-TEST(CheckConfig, AcceptsTheShippedFileAndNamesTheKeyOfABrokenOne) {
-  auto run = [](const std::string& args, std::string* output) { return run_causticd("check-config " + args, output); };
-  std::string output;
-  EXPECT_EQ(run(CAUSTIC_SOURCE_DIR "/systemd/causticd.conf", &output), 0) << output;
-  EXPECT_NE(output.find(": ok"), std::string::npos) << output;
-  const fs::path dir = fs::temp_directory_path() / "causticd_check_config";
-  fs::create_directories(dir);
-  const std::pair<const char*, const char*> broken[] = {
-      {"port = 80800", "port"}, {"codec = av1", "codec"}, {"scenes_dir = /nonexistent", "scenes_dir"},
-      {"colour = red", "colour: unknown key"}, {"log_level = loud", "log_level"}, {"port", "expected key = value"},
-      {"bind_address = 256.0.0.1", "bind_address"}};
-  for (const auto& [line, named] : broken) {
-    std::ofstream(dir / "broken.conf") << "# a comment\n" << line << "\n";
-    EXPECT_EQ(run((dir / "broken.conf").string(), &output), 2) << line;
-    EXPECT_NE(output.find(named), std::string::npos) << output;
-    if (std::string(named) != "scenes_dir") {  // the folder check has no line to name
-      EXPECT_NE(output.find("broken.conf:2"), std::string::npos) << output;
-    }
-  }
-  EXPECT_EQ(run("/nonexistent.conf", &output), 2);
-  EXPECT_NE(output.find("/nonexistent.conf"), std::string::npos) << output;
-  // A key written twice: the first is not silently dropped.
-  std::ofstream(dir / "twice.conf") << "port = 9000\nport = 9001\n";
-  EXPECT_EQ(run((dir / "twice.conf").string(), &output), 0) << output;
-  EXPECT_NE(output.find("warning: port: the value set at " + (dir / "twice.conf").string() + ":1 is overridden by " +
-                        (dir / "twice.conf").string() + ":2"),
-            std::string::npos)
-      << output;
-  fs::remove_all(dir);
-}
-
-TEST(Serve, AGpuThatIsNotThereIsAConfigurationErrorThatNamesIt) {
-  // Exit 2 (RestartPreventExitStatus=2 in the units: no restart loop), the
-  // key and the GPU named, not "no usable scene" blaming the scenes folder.
-  // No host here has ten GPUs; `timeout` bounds a server that would start.
-  for (const char* args : {"--egl-device 9", "--instance 18099-gpu9"}) {
-    std::string output;
-    EXPECT_EQ(run_causticd(std::string("serve --bind 127.0.0.1 --port 0 ") + args, &output), 2) << args << ": " << output;
-    EXPECT_NE(output.find("egl_device: GPU 9 not found"), std::string::npos) << output;
-    EXPECT_EQ(output.find("no usable scene"), std::string::npos) << output;
-  }
-}
-
-TEST(Serve, FoldersAndAddressesAreCheckedAsCheckConfigChecksThem) {
-  // Before the gallery loads, exit 2 naming the key: what check-config says.
-  const std::pair<const char*, const char*> bad[] = {{"--web-dir /nonexistent", "web_dir: /nonexistent is not a folder"},
-                                                     {"--scenes-dir /nonexistent", "scenes_dir"},
-                                                     {"--bind 999.1.1.1", "bind_address: must be an IP address"}};
-  for (const auto& [args, named] : bad) {
-    std::string output;
-    EXPECT_EQ(run_causticd(std::string("serve --port 0 ") + args, &output), 2) << args << ": " << output;
-    EXPECT_NE(output.find(named), std::string::npos) << output;
-    EXPECT_EQ(output.find("listening"), std::string::npos) << output;
-  }
 }
 
 TEST(Logs, SessionEventsNameTheSessionSceneCodecAndPeer) {
