@@ -234,9 +234,10 @@ void load_config_file(ServerConfig& config, const std::filesystem::path& file, C
   if (std::filesystem::is_directory(file, error)) throw ConfigError("config file " + file.string() + " is a folder");
   std::ifstream file_in(file, std::ios::binary);
   if (!file_in) throw ConfigError("cannot read config file " + file.string());
-  std::string text(kMaxBytes + 1, '\0');
-  file_in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(file_in.gcount()));
+  std::string text;
+  char chunk[4096];
+  while (text.size() <= kMaxBytes && file_in.read(chunk, sizeof chunk).gcount() > 0)
+    text.append(chunk, static_cast<std::size_t>(file_in.gcount()));
   if (text.size() > kMaxBytes) throw ConfigError("config file " + file.string() + " is larger than 1 MiB");
   std::istringstream in(text);
   ServerConfig next = config;
