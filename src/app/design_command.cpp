@@ -96,14 +96,14 @@ int check_flags(DesignCommandOptions& o) {
   const std::pair<const char*, const std::filesystem::path*> outputs[] = {
       {"--output", &o.face}, {"--scene-out", &o.scene}, {"--solid", &o.solid},
       {"--report", &o.report}, {"--side-by-side", &o.side_by_side}};
+  const auto same = [](const std::filesystem::path& a, const std::filesystem::path& b) {
+    return std::filesystem::absolute(a).lexically_normal() == std::filesystem::absolute(b).lexically_normal();
+  };
   for (std::size_t i = 0; i < std::size(outputs); ++i) {
     const auto& [flag, p] = outputs[i];
     if (p->empty()) continue;
     const auto dir = std::filesystem::absolute(*p).parent_path();
     if (!std::filesystem::is_directory(dir)) return bad(p->string() + ": folder " + dir.string() + " does not exist");
-    const auto same = [](const std::filesystem::path& a, const std::filesystem::path& b) {
-      return std::filesystem::absolute(a).lexically_normal() == std::filesystem::absolute(b).lexically_normal();
-    };
     for (std::size_t j = 0; j < i; ++j)
       if (!outputs[j].second->empty() && same(*outputs[j].second, *p))
         return bad(std::string(flag) + " " + p->string() + ": the same file as " + outputs[j].first);

@@ -40,13 +40,13 @@ void check_uri(const std::string& key, const std::string& value, const char* sch
     throw ConfigError(key + ": must look like " + std::string(schemes) + "://host:port, got \"" + value + "\"");
 }
 
-// A comma-separated list of IP addresses; empty items are skipped.
 // A numeric IPv4 or IPv6 address, each part in range (999.1.1.1 is not one).
 bool ip_address(const std::string& text) {
   unsigned char bytes[16];
   return inet_pton(AF_INET, text.c_str(), bytes) == 1 || inet_pton(AF_INET6, text.c_str(), bytes) == 1;
 }
 
+// A comma-separated list of IP addresses; empty items are skipped.
 std::vector<std::string> address_list(const std::string& key, const std::string& value) {
   std::vector<std::string> list;
   for (std::size_t start = 0; start <= value.size();) {
@@ -134,7 +134,8 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
       return;
     }
   if (key == "bind_address") {
-    if (value != "localhost" && !ip_address(value)) throw ConfigError(key + ": must be an IP address, got \"" + value + "\"");
+    if (value != "localhost" && !ip_address(value))
+      throw ConfigError(key + ": must be an IP address, got \"" + value + "\"");
     c.bind_address = value;
   } else if (key == "codec") {
     if (value != "vp8" && value != "h264") throw ConfigError(key + ": must be vp8 or h264, got \"" + value + "\"");

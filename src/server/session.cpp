@@ -271,12 +271,7 @@ std::chrono::steady_clock::time_point Session::last_sign_of_life() const {
 void Session::close(const std::string& reason) {
   if (closed_) return;
   closed_ = true;
-  if (socket_) {
-    if (soup_websocket_connection_get_state(socket_) == SOUP_WEBSOCKET_STATE_OPEN) {
-      soup_websocket_connection_send_text(socket_, nlohmann::json{{"type", "bye"}, {"reason", reason}}.dump().c_str());
-      soup_websocket_connection_close(socket_, SOUP_WEBSOCKET_CLOSE_NORMAL, reason.c_str());
-    }
-  }
+  say_bye(reason);
   stop();
   std::lock_guard lock(channel_lock_);
   if (channel_) g_object_unref(channel_);

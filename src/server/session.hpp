@@ -130,6 +130,9 @@ class Session : public std::enable_shared_from_this<Session> {
   void teardown_pipeline();
   void setup_webrtc();
   void send(const nlohmann::json& message);
+  // `bye` with `reason`, then the close, on the socket when still open: how
+  // every socket the session lets go is told why.
+  void say_bye(const std::string& reason);
   void on_socket_message(const std::string& text);
   void negotiate();
   void offer_created(GstPromise* promise);

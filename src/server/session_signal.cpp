@@ -134,16 +134,17 @@ void Session::send(const nlohmann::json& message) {
   soup_websocket_connection_send_text(socket_, message.dump().c_str());
 }
 
+void Session::say_bye(const std::string& reason) {
+  if (!socket_ || soup_websocket_connection_get_state(socket_) != SOUP_WEBSOCKET_STATE_OPEN) return;
+  soup_websocket_connection_send_text(socket_, nlohmann::json{{"type", "bye"}, {"reason", reason}}.dump().c_str());
+  soup_websocket_connection_close(socket_, SOUP_WEBSOCKET_CLOSE_NORMAL, reason.c_str());
+}
+
 void Session::attach(SoupWebsocketConnection* socket) {
   if (socket_) {
     g_signal_handler_disconnect(socket_, socket_message_);
     g_signal_handler_disconnect(socket_, socket_closed_);
-    // Told in a message first, as every close is (docs/api.md): the page
-    // that lost its socket knows it was replaced, not dropped.
-    if (soup_websocket_connection_get_state(socket_) == SOUP_WEBSOCKET_STATE_OPEN)
-      soup_websocket_connection_send_text(
-          socket_, nlohmann::json{{"type", "bye"}, {"reason", "replaced by a new connection"}}.dump().c_str());
-    soup_websocket_connection_close(socket_, SOUP_WEBSOCKET_CLOSE_NORMAL, "replaced by a new connection");
+    say_bye("replaced by a new connection");  // the page knows it was replaced, not dropped
     g_object_unref(socket_);
     socket_ = nullptr;
   }
