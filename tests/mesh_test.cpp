@@ -146,6 +146,13 @@ TEST_F(ObjFiles, RejectsBadFiles) {
   expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nvw 1e39 1 0.5\nf 1 2 3\n", "\"vw\" is not supported");
   // The loader ends lines at a carriage return too; so does the check.
   expect_error("o a\rmtllib ../../../../dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "\"mtllib\" is not supported");
+  // A file from Windows ends its lines with "\r\n": one line each, as an
+  // editor counts them.
+  expect_error("v 0 0 0\r\nv 1 0 0\r\n\r\nv 1 x 0\r\nf 1 2 3\r\n", "line 4: \"x\"");
+  expect_error("# a\rv 0 0 0\nv 1 0 0\nv 0 1 0 0.5 2 0.5\nf 1 2 3\n", "line 4: the colour 2 is outside");
+  // Blanks of every kind separate words; a NUL is no blank.
+  const char with_nul[] = "v\t0 0 0\nv 1\f0 0\nv 1 1\v0\nv 0 1 0\0\nf 1 2 3\n";
+  expect_error(std::string(with_nul, sizeof with_nul - 1), "line 4: \"0");
 }
 
 TEST_F(ObjFiles, MissingFileIsAnError) {

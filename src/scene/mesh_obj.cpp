@@ -11,7 +11,6 @@
 #include <fstream>
 #include <map>
 #include <memory>
-#include <sstream>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -30,56 +29,72 @@ bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y
 // A vertex line with a colour has six numbers; the loader keeps colours
 // only when every vertex has one, so a file that mixes the two would lose
 // its tint without a word: an error names the first line that differs.
-void check_numbers(std::string text, const std::string& label, double max_coordinate) {
+void check_numbers(const std::string& text, const std::string& label, double max_coordinate) {
   static const char* const kStatements[] = {"v", "vn", "vt", "f", "o", "g", "s", "l", "usemtl"};
-  // The loader ends a line at '\r' as well as '\n': read the lines it reads.
-  for (char& ch : text)
-    if (ch == '\r') ch = '\n';
-  std::istringstream in(text);
-  std::string line;
+  // One pass over the text with no stream a line: a caustic face is
+  // megabytes, and every gallery scene's is read at start-up.
+  const auto blank = [](char ch) { return ch == ' ' || ch == '\t' || ch == '\v' || ch == '\f'; };
+  const auto fail = [&](std::size_t number, const std::string& what) {
+    throw SceneError("mesh", "mesh file " + label + " line " + std::to_string(number) + ": " + what);
+  };
+  std::string word;  // the word being read, NUL-terminated for strtod
   int first_coloured = -1;  // whether the first vertex line has a colour; -1 before it
-  for (std::size_t number = 1; std::getline(in, line); ++number) {
-    std::istringstream words(line);
-    std::string tag;
-    words >> tag;
-    if (tag.empty() || tag[0] == '#') continue;
+  const char* p = text.data();
+  const char* const end = p + text.size();
+  for (std::size_t number = 1; p < end; ++number) {
+    // The loader ends a line at '\r' as well as '\n'; "\r\n" is one end.
+    const char* line_end = p;
+    while (line_end < end && *line_end != '\n' && *line_end != '\r') ++line_end;
+    const char* const next = line_end + (line_end + 1 < end && line_end[0] == '\r' && line_end[1] == '\n' ? 2 : 1);
+    // The words of the line, one at a time.
+    const auto next_word = [&]() -> bool {
+      while (p < line_end && blank(*p)) ++p;
+      const char* from = p;
+      while (p < line_end && !blank(*p)) ++p;
+      word.assign(from, p);
+      return !word.empty();
+    };
+    if (!next_word() || word[0] == '#') {
+      p = next;
+      continue;
+    }
+    const std::string tag = word;
     bool known = false;
     for (const char* statement : kStatements) known = known || tag == statement;
     if (!known) {
       std::string shown;
       for (unsigned char ch : tag.substr(0, 16)) shown += (ch >= 0x21 && ch < 0x7f) ? static_cast<char>(ch) : '?';
-      throw SceneError("mesh", "mesh file " + label + " line " + std::to_string(number) + ": the statement \"" + shown +
-                                   "\" is not supported (v, vn, vt, f, o, g, s, l, usemtl)");
+      fail(number, "the statement \"" + shown + "\" is not supported (v, vn, vt, f, o, g, s, l, usemtl)");
     }
-    if (tag != "v" && tag != "vn" && tag != "vt") continue;
-    std::string word;
-    std::vector<std::pair<double, std::string>> numbers;  // the first six: x y z and a colour
+    if (tag != "v" && tag != "vn" && tag != "vt") {
+      p = next;
+      continue;
+    }
+    double numbers[6];
+    std::string colours[3];  // as written, for a colour's error
     std::size_t count = 0;
-    for (; words >> word; ++count) {
-      char* end = nullptr;
-      const double x = std::strtod(word.c_str(), &end);
-      if (end != word.c_str() + word.size() || !std::isfinite(x))
-        throw SceneError("mesh", "mesh file " + label + " line " + std::to_string(number) + ": \"" + word +
-                                     "\" is not a finite number (NaN, Inf or malformed)");
-      if (count < 6) numbers.emplace_back(x, word);
+    for (; next_word(); ++count) {
+      char* stop = nullptr;
+      const double x = std::strtod(word.c_str(), &stop);
+      if (stop != word.c_str() + word.size() || !std::isfinite(x))
+        fail(number, "\"" + word + "\" is not a finite number (NaN, Inf or malformed)");
+      if (count < 6) numbers[count] = x;
+      if (count >= 3 && count < 6) colours[count - 3] = word;
       // Read as floats, 1e300 would become Inf: over the limit, said here with its line.
       if (tag == "v" && count < 3 && std::abs(x) > max_coordinate)
-        throw SceneError("mesh", "mesh file " + label + " line " + std::to_string(number) + ": the coordinate " +
-                                     word + " lies beyond the coordinate limit of 1e6");
+        fail(number, "the coordinate " + word + " lies beyond the coordinate limit of 1e6");
     }
+    p = next;
     if (tag != "v") continue;
     const int coloured = count >= 6 ? 1 : 0;
     for (std::size_t k = 3; coloured && k < 6; ++k)
-      if (!(numbers[k].first >= 0 && numbers[k].first <= 1))
-        throw SceneError("mesh", "mesh file " + label + " line " + std::to_string(number) + ": the colour " +
-                                     numbers[k].second + " is outside [0, 1] (a vertex colour is the fraction of "
-                                     "light passed)");
+      if (!(numbers[k] >= 0 && numbers[k] <= 1))
+        fail(number, "the colour " + colours[k - 3] + " is outside [0, 1] (a vertex colour is the fraction of light passed)");
     if (first_coloured < 0) first_coloured = coloured;
     if (coloured != first_coloured)
-      throw SceneError("mesh", "mesh file " + label + " line " + std::to_string(number) + ": " +
-                                   (coloured ? "this vertex has a colour but the first has none"
-                                             : "this vertex has no colour but the first has one") +
-                                   "; give every vertex a colour (v x y z r g b) or none");
+      fail(number, std::string(coloured ? "this vertex has a colour but the first has none"
+                                        : "this vertex has no colour but the first has one") +
+                       "; give every vertex a colour (v x y z r g b) or none");
   }
 }
 
@@ -178,7 +193,26 @@ Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool 
 
   Mesh mesh;
   bool all_normals = true;
-  std::map<std::tuple<int, int, int>, unsigned> unified;  // (position, normal, vt) -> vertex
+  // (position, normal, vt) -> vertex: most positions come with one normal
+  // and vt, held beside the position; the others (a crease, an atlas seam)
+  // go to a map.
+  struct Made {
+    int normal, uv;
+    unsigned vertex;
+  };
+  constexpr unsigned kNone = ~0u;
+  std::vector<Made> first_made(vertex_count, Made{0, 0, kNone});
+  std::map<std::tuple<int, int, int>, unsigned> other_made;
+  const auto made = [&](int position, int normal, int uv) -> std::pair<unsigned*, bool> {
+    Made& first = first_made[static_cast<std::size_t>(position)];
+    if (first.vertex == kNone) {
+      first = {normal, uv, static_cast<unsigned>(mesh.positions.size())};
+      return {&first.vertex, true};
+    }
+    if (first.normal == normal && first.uv == uv) return {&first.vertex, false};
+    auto [it, inserted] = other_made.try_emplace({position, normal, uv}, static_cast<unsigned>(mesh.positions.size()));
+    return {&it->second, inserted};
+  };
   for (const auto& shape : shapes) {
     if (!shape.lines.indices.empty() || !shape.points.indices.empty())
       throw SceneError("mesh", "mesh file " + label + " holds lines or points; only triangles are allowed");
@@ -201,8 +235,7 @@ Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool 
           throw SceneError("mesh", "mesh file " + label + ": face " + std::to_string(f + 1) + " of \"" + shape.name +
                                        "\" has a corner without a texture coordinate (vt); a receiver's shape needs "
                                        "its atlas on every corner");
-        const auto key = std::make_tuple(idx.vertex_index, idx.normal_index, atlas ? idx.texcoord_index : -1);
-        auto [it, inserted] = unified.try_emplace(key, static_cast<unsigned>(mesh.positions.size()));
+        const auto [vertex, inserted] = made(idx.vertex_index, idx.normal_index, atlas ? idx.texcoord_index : -1);
         if (inserted) {
           const float* p = &attrib.vertices[3 * idx.vertex_index];
           mesh.positions.emplace_back(p[0], p[1], p[2]);
@@ -232,7 +265,7 @@ Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool 
             throw SceneError("mesh", "mesh file " + label + " has more than " + std::to_string(limits.max_vertices) +
                                          " vertices");
         }
-        tri[k] = it->second;
+        tri[k] = *vertex;
       }
       mesh.triangles.push_back(tri);
       if (mesh.triangles.size() > limits.max_triangles)

@@ -13,10 +13,12 @@
 #include "caustic/spectral.hpp"
 #include "log.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 
 #include <regex>
+#include <thread>
 
 namespace caustic::server {
 
@@ -56,9 +58,12 @@ nlohmann::json fidelity_of(const GalleryEntry& entry, const Scene& scene) {
   return describe_fidelity(scene, *entry.mesh, *entry.levels, entry.calibration);
 }
 
-std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, const std::string& id,
-                                         const std::function<Engine&()>& engine, int thumbnail,
-                                         std::shared_ptr<const Mesh> mesh) {
+namespace {
+
+// All of load_entry() but the thumbnail: no GL, so several scenes may be
+// prepared at once, each on a thread of its own.
+std::shared_ptr<GalleryEntry> prepare_entry(const std::filesystem::path& file, const std::string& id,
+                                            std::shared_ptr<const Mesh> mesh) {
   auto entry = std::make_shared<GalleryEntry>();
   entry->id = id;
   entry->scene = load_scene(file);
@@ -85,16 +90,28 @@ std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, cons
         log(Level::warning, "scene " + id + ": " + detail);
   }
   // A manual scene may name a level not on offer: at() throws then.
-  const auto rendered = entry->levels->at(entry->scene.render.mesh_resolution);
+  entry->levels->at(entry->scene.render.mesh_resolution);
   entry->proxy = proxy_geometry(entry->scene, *entry->mesh);
-  // The thumbnail from the mesh level a session renders: what a visitor
-  // will see, and a spectral scene's K passes stay cheap at start-up.
-  Scene small = entry->scene;
+  return entry;
+}
+
+// The thumbnail from the mesh level a session renders: what a visitor will
+// see, and a spectral scene's K passes stay cheap at start-up.
+void draw_thumbnail(GalleryEntry& entry, Engine& engine, int thumbnail) {
+  Scene small = entry.scene;
   small.render.width = small.render.height = thumbnail;
-  Engine& e = engine();
-  e.set_scene(small, rendered);
-  e.render();
-  entry->thumbnail_png = encode_png(e.read_ldr());
+  engine.set_scene(small, entry.levels->at(entry.scene.render.mesh_resolution));
+  engine.render();
+  entry.thumbnail_png = encode_png(engine.read_ldr());
+}
+
+}  // namespace
+
+std::shared_ptr<GalleryEntry> load_entry(const std::filesystem::path& file, const std::string& id,
+                                         const std::function<Engine&()>& engine, int thumbnail,
+                                         std::shared_ptr<const Mesh> mesh) {
+  auto entry = prepare_entry(file, id, std::move(mesh));
+  draw_thumbnail(*entry, engine(), thumbnail);
   return entry;
 }
 
@@ -106,34 +123,64 @@ Gallery load_gallery(const std::filesystem::path& dir, int thumbnail, const std:
   for (const auto& f : std::filesystem::directory_iterator(dir, ec))
     if (f.path().extension() == ".json" && f.path().stem().extension() != ".calibration") files.push_back(f.path());
   if (ec) gallery.problems.push_back("cannot list " + dir.string() + ": " + ec.message());
+  std::sort(files.begin(), files.end());  // problems in a stable order
+  // Scenes are read, meshed and resampled on every core at once (most of
+  // a start-up: megabytes of OBJ text and a hierarchy a scene), then drawn
+  // one after another on this thread, the only one with a GL context.
+  std::vector<std::string> ids;
+  for (const auto& file : files) {
+    const std::string id = file.stem().string();
+    ids.push_back(std::regex_match(id, id_pattern) ? id : "");
+  }
+  std::vector<std::shared_ptr<GalleryEntry>> prepared(files.size());
+  std::vector<std::string> failed(files.size());
+  std::atomic<std::size_t> next{0};
+  const auto prepare = [&]() {
+    for (std::size_t n; (n = next++) < files.size();) {
+      if ((cancel && *cancel) || ids[n].empty()) continue;
+      try {
+        prepared[n] = prepare_entry(files[n], ids[n], nullptr);
+      } catch (const std::exception& e) {
+        failed[n] = e.what();
+      }
+    }
+  };
+  {
+    const std::size_t helpers = std::min<std::size_t>(std::max(1u, std::thread::hardware_concurrency()), files.size());
+    std::vector<std::jthread> crew;
+    for (std::size_t k = 1; k < helpers; ++k) crew.emplace_back(prepare);
+    prepare();
+  }
   std::unique_ptr<GlContext> context;
   std::unique_ptr<Engine> engine;
-  // The GL context is made only once a scene has parsed: a folder of broken
-  // files needs none.
-  const std::function<Engine&()> make_engine = [&]() -> Engine& {
-    if (!context) {
-      context = std::make_unique<GlContext>(egl_platform_from_environment());
-      engine = std::make_unique<Engine>();
-      gallery.renderer = context->renderer();
-    }
-    return *engine;
-  };
-  for (const auto& file : files) {
+  for (std::size_t n = 0; n < files.size(); ++n) {
     if (cancel && *cancel) break;
-    const std::string id = file.stem().string();
-    if (!std::regex_match(id, id_pattern)) {
-      gallery.problems.push_back(file.filename().string() + ": not a valid scene id");
+    const std::string name = files[n].filename().string();
+    if (ids[n].empty()) {
+      gallery.problems.push_back(name + ": not a valid scene id");
+      continue;
+    }
+    if (!prepared[n]) {
+      gallery.problems.push_back(name + ": " + failed[n]);
       continue;
     }
     try {
-      auto entry = load_entry(file, id, make_engine, thumbnail);
+      // The GL context is made only once a scene has parsed: a folder of
+      // broken files needs none.
+      if (!context) {
+        context = std::make_unique<GlContext>(egl_platform_from_environment());
+        engine = std::make_unique<Engine>();
+        gallery.renderer = context->renderer();
+      }
+      auto& entry = prepared[n];
+      draw_thumbnail(*entry, *engine, thumbnail);
       // The designer leaves its report beside the scenes folder
       // (assets/designs/<id>.report.json): such a scene projects a picture.
       std::error_code exists_ec;
-      entry->designed = std::filesystem::exists(dir / ".." / "designs" / (id + ".report.json"), exists_ec);
-      gallery.entries[id] = std::move(entry);
+      entry->designed = std::filesystem::exists(dir / ".." / "designs" / (ids[n] + ".report.json"), exists_ec);
+      gallery.entries[ids[n]] = std::move(entry);
     } catch (const std::exception& e) {
-      gallery.problems.push_back(file.filename().string() + ": " + e.what());
+      gallery.problems.push_back(name + ": " + e.what());
     }
   }
   if (context) {
