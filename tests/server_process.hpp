@@ -72,9 +72,13 @@ class ServerProcess {
     }
   }
 
+  /// SIGTERM; when running sessions keep the server draining (up to a
+  /// minute), a second SIGTERM after a second, which stops it at once; a
+  /// kill 10 s after that. A test's sessions end with it.
   void stop() {
     g_subprocess_send_signal(process_, SIGTERM);
-    // Bounded wait: 10 s, then kill.
+    for (int i = 0; i < 20 && !finished(); ++i) g_usleep(50000);
+    if (!finished()) g_subprocess_send_signal(process_, SIGTERM);
     for (int i = 0; i < 100 && !finished(); ++i) g_usleep(100000);
     if (!finished()) g_subprocess_force_exit(process_);
     g_subprocess_wait(process_, nullptr, nullptr);

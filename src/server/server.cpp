@@ -260,7 +260,7 @@ void Server::run() {
           auto& st = *static_cast<State*>(data);
           const bool late = std::chrono::steady_clock::now() >= st.drain_deadline;
           if (!st.shared.sessions.empty() && !late) return G_SOURCE_CONTINUE;
-          log(Level::notice, late ? "drain timeout: closing the " + std::to_string(st.shared.sessions.size()) +
+          log(Level::notice, late && !st.shared.sessions.empty() ? "drain timeout: closing the " + std::to_string(st.shared.sessions.size()) +
                                         " sessions left"
                                   : "drained: every session has ended");
           g_main_loop_quit(st.loop);

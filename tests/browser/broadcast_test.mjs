@@ -14,7 +14,7 @@ import { mkdirSync } from 'node:fs';
 import { after, before, test } from 'node:test';
 
 import { launchChromium } from './chromium.mjs';
-import { shots, until } from './harness.mjs';
+import { shots, stopServer, until } from './harness.mjs';
 import { api as call, Janus, sentFrames as sent, videoStat } from './janus_harness.mjs';
 
 const VIEWERS = 4;
@@ -34,7 +34,7 @@ before(async () => {
 });
 after(async () => {
   await browser?.close();
-  server?.kill('SIGTERM');
+  if (server) await stopServer(server);
   if (janus) await janus.stop();
 });
 

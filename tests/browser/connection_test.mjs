@@ -8,7 +8,7 @@ import assert from 'node:assert/strict';
 import { after, before, test } from 'node:test';
 
 import { launchChromium } from './chromium.mjs';
-import { startServer, until, withServer } from './harness.mjs';
+import { startServer, stopServer, until, withServer } from './harness.mjs';
 
 let browser;
 before(async () => {
@@ -66,9 +66,7 @@ test('a server restart shows reconnecting and the page comes back live', async (
     const page = await browser.newPage();
     await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
     await until(page, () => window.caustic.connection === 'live', 30, 'live');
-    const exited = new Promise((resolve) => server.once('exit', resolve));
-    server.kill('SIGTERM');
-    await exited;
+    await stopServer(server);
     await until(page, () => ['reconnecting', 'error'].includes(window.caustic.connection), 20, 'the loss noticed');
     // A transient failure says so and counts down to the next try.
     await until(page, () => /the server does not answer; retrying in \d+ s/.test(document.getElementById('state').textContent),
@@ -77,7 +75,7 @@ test('a server restart shows reconnecting and the page comes back live', async (
     await until(page, () => window.caustic.connection === 'live', 60, 'live again after the restart');
     await page.close();
   } finally {
-    server.kill('SIGTERM');
+    await stopServer(server);
   }
 });
 

@@ -34,8 +34,30 @@ export async function withServer(...args) {
   try {
     return await fn(server);
   } finally {
-    server.kill('SIGTERM');
+    await stopServer(server);
   }
+}
+
+/// Stops a server as an operator in a hurry does and resolves once it has
+/// exited: SIGTERM, then, when running sessions keep it draining (up to a
+/// minute), a second SIGTERM, which stops it at once; SIGKILL after 10 s
+/// more. A server left draining would render beside the next test.
+export async function stopServer(server) {
+  if (server.exitCode !== null || server.signalCode !== null) return;
+  const exited = new Promise((resolve) => server.once('exit', resolve));
+  const within = async (ms) => {
+    let timer;
+    const late = new Promise((resolve) => { timer = setTimeout(() => resolve(false), ms); });
+    const done = await Promise.race([exited.then(() => true), late]);
+    clearTimeout(timer);
+    return done;
+  };
+  server.kill('SIGTERM');
+  if (await within(1000)) return;
+  server.kill('SIGTERM');
+  if (await within(10000)) return;
+  server.kill('SIGKILL');
+  await exited;
 }
 
 /// Polls `fn` in the page until it returns a truthy value or `seconds` pass.

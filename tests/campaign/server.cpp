@@ -140,7 +140,17 @@ void ServerProcess::stop() {
   if (pid_ <= 0) return;
   if (!exited_) {
     kill(pid_, SIGTERM);
-    if (wait_bounded(pid_, 10000) < 0) kill(pid_, SIGKILL);
+    // A second SIGTERM after a second ends a drain that running sessions
+    // would hold open for a minute.
+    bool gone = false;
+    for (int waited = 0; waited < 1000 && !gone; waited += 20) {
+      gone = waitpid(pid_, nullptr, WNOHANG) == pid_;
+      if (!gone) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    if (!gone) {
+      kill(pid_, SIGTERM);
+      wait_bounded(pid_, 10000);  // SIGKILL when it is still there
+    }
   }
   pid_ = -1;
 }

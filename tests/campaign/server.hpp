@@ -24,7 +24,7 @@ class ServerProcess {
   // Writes the config, drops keys this binary refuses (each one a failed
   // check: the contract names them) and waits for "listening on".
   bool start(Config config, KindReport& report);
-  // SIGTERM, then SIGKILL after a bounded wait.
+  // SIGTERM (twice when draining), then SIGKILL after a bounded wait.
   void stop();
   // False once the process exited; `why` says how.
   bool alive(std::string* why = nullptr);
