@@ -258,11 +258,10 @@ void Server::run() {
         250,
         [](gpointer data) -> gboolean {
           auto& st = *static_cast<State*>(data);
-          const bool late = std::chrono::steady_clock::now() >= st.drain_deadline;
-          if (!st.shared.sessions.empty() && !late) return G_SOURCE_CONTINUE;
-          log(Level::notice, late && !st.shared.sessions.empty() ? "drain timeout: closing the " + std::to_string(st.shared.sessions.size()) +
-                                        " sessions left"
-                                  : "drained: every session has ended");
+          const std::size_t left = st.shared.sessions.size();
+          if (left > 0 && std::chrono::steady_clock::now() < st.drain_deadline) return G_SOURCE_CONTINUE;
+          log(Level::notice, left > 0 ? "drain timeout: closing the " + std::to_string(left) + " sessions left"
+                                      : "drained: every session has ended");
           g_main_loop_quit(st.loop);
           st.drain = 0;
           return G_SOURCE_REMOVE;
