@@ -56,6 +56,35 @@ bool limit_answer(const Response& r) {
          problem_defect(r).empty();
 }
 
+// Where the server's sessions, descriptors and threads stand once the
+// phase before has ended all its sessions: up to 10 s for them to settle.
+struct Settled {
+  int sessions = -1, fds = -1, threads = -1;
+};
+
+Settled settle(ServerProcess& server, int port, int fds_base, int threads_base) {
+  Settled s;
+  const auto start = Clock::now();
+  do {
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    s.sessions = session_count(port);
+    s.fds = server.descriptors();
+    s.threads = server.threads();
+  } while (ms_since(start) < 10000 && (s.sessions != 0 || s.fds > fds_base + 4 || s.threads > threads_base + 2));
+  return s;
+}
+
+// Whether descriptors over the baseline go in the next 30 s: late, or kept.
+std::string later(ServerProcess& server, int fds_base) {
+  const auto start = Clock::now();
+  while (ms_since(start) < 30000) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    if (server.descriptors() <= fds_base + 4)
+      return "back near the baseline " + std::to_string(std::lround(ms_since(start) / 1000)) + " s later";
+  }
+  return "still " + std::to_string(server.descriptors()) + " 30 s later";
+}
+
 }  // namespace
 
 void run_sessions(const Options& opt, KindReport& rep) {
@@ -80,6 +109,14 @@ void run_sessions(const Options& opt, KindReport& rep) {
   const int fds_base = server.descriptors(), threads_base = server.threads();
   const auto kinds_base = server.descriptor_kinds();
   const auto names_base = server.thread_names();
+
+  // Descriptors and threads once each phase's sessions are gone: a leak
+  // that the final check finds is thus traced to the way its session ended.
+  std::string trail;
+  auto after_phase = [&](const std::string& phase) {
+    const Settled now = settle(server, port, fds_base, threads_base);
+    trail += (trail.empty() ? "" : ", ") + phase + " " + std::to_string(now.fds) + "/" + std::to_string(now.threads);
+  };
 
   // 1. create + delete cycles, spread over addresses to stay under the rate limit.
   const int cycles = opt.short_mode ? 20 : 100;
@@ -106,9 +143,13 @@ void run_sessions(const Options& opt, KindReport& rep) {
             "  created " + std::to_string(created) + ", deleted " + std::to_string(deleted) + " of " +
                 std::to_string(cycles));
 
+  after_phase("cycles");
+
   // 2. created, never connected: idle_timeout_s.
   if (const Session s = create_session(port, scenes[0]); rep.check("sessions can be created", s.ok()))
     reclaim_check(rep, "never_connected", time_to_reclaim(port, s, kIdle + 5), kIdle + 5);
+
+  after_phase("never_connected");
 
   // 3. socket open, viewer silent (no answer, no ping, no RTCP): viewer_timeout_s.
   if (const Session s = create_session(port, scenes[0]); s.ok()) {
@@ -120,6 +161,8 @@ void run_sessions(const Options& opt, KindReport& rep) {
     ws.close();
     if (t < 0) delete_session(port, s);
   }
+
+  after_phase("silent_viewer");
 
   // 4. socket opened then dropped without a close frame (RST, then FIN).
   for (const bool reset : {true, false}) {
@@ -134,6 +177,8 @@ void run_sessions(const Options& opt, KindReport& rep) {
     reclaim_check(rep, reset ? "socket_reset" : "socket_closed_without_close_frame", t, 3);
     if (t < 0) delete_session(port, s);
   }
+
+  after_phase("dropped_sockets");
 
   // 5. per-address and global session limits.
   std::vector<Session> held;
@@ -160,6 +205,8 @@ void run_sessions(const Options& opt, KindReport& rep) {
             describe("POST /api/v1/sessions from 127.0.0.64", full));
   if (extra.ok()) held.push_back(extra);
   for (const auto& s : held) delete_session(port, s);
+
+  after_phase("limits");
 
   // 6. rate limit on mutating requests, per address.
   std::string token(32, '0');
@@ -192,14 +239,8 @@ void run_sessions(const Options& opt, KindReport& rep) {
             describe(patch, other));
 
   // Everything reclaimed: sessions, descriptors, threads back near baseline.
-  int sessions = -1, fds = -1, threads = -1;
-  const auto settle = Clock::now();
-  do {
-    std::this_thread::sleep_for(std::chrono::milliseconds(250));
-    sessions = session_count(port);
-    fds = server.descriptors();
-    threads = server.threads();
-  } while (ms_since(settle) < 10000 && (sessions != 0 || fds > fds_base + 4 || threads > threads_base + 2));
+  const Settled end = settle(server, port, fds_base, threads_base);
+  const int sessions = end.sessions, fds = end.fds, threads = end.threads;
   rep.figure("sessions_after", sessions);
   rep.figure("descriptors_baseline", fds_base);
   rep.figure("descriptors_after", fds);
@@ -208,11 +249,14 @@ void run_sessions(const Options& opt, KindReport& rep) {
   std::string why;
   rep.check("server process stays alive", server.alive(&why), "  " + why + "\n  log: " + escape(server.log_tail(600)));
   rep.check("no sessions left at the end", sessions == 0, "  health says " + std::to_string(sessions));
-  rep.check("descriptors back near baseline (+4)", fds <= fds_base + 4,
-            "  baseline " + std::to_string(fds_base) + ", after " + std::to_string(fds) +
-                "; grew: " + descriptor_growth(kinds_base, server.descriptor_kinds()) +
-                "; threads grew: " + descriptor_growth(names_base, server.thread_names()) +
-                "\n  log: " + escape(server.log_tail(1500)));
+  std::string leak;  // built only when there is one: it waits to see whether they go later
+  if (fds > fds_base + 4)
+    leak = "  baseline " + std::to_string(fds_base) + ", after " + std::to_string(fds) +
+           "; grew: " + descriptor_growth(kinds_base, server.descriptor_kinds()) +
+           "; threads grew: " + descriptor_growth(names_base, server.thread_names()) +
+           "\n  descriptors/threads after each phase: " + trail + "; " + later(server, fds_base) +
+           "\n  log: " + escape(server.log_tail(1500));
+  rep.check("descriptors back near baseline (+4)", fds <= fds_base + 4, leak);
   rep.check("threads back near baseline (+2)", threads <= threads_base + 2,
             "  baseline " + std::to_string(threads_base) + ", after " + std::to_string(threads) +
                 "; grew: " + descriptor_growth(names_base, server.thread_names()));
