@@ -90,10 +90,14 @@ photo_dir="$deps/skimage/usr/lib/python3/dist-packages/skimage/data"
 if [[ ! -f "$photo_dir/chelsea.png" ]]; then
   echo "== fetching python3-skimage (pictures for the designed scenes) into $deps"
   mkdir -p "$deps"
-  rm -f "$deps"/python3-skimage_*.deb
-  if (cd "$deps" && apt-get download -q python3-skimage) && dpkg-deb -x "$deps"/python3-skimage_*.deb "$deps/skimage"; then
-    rm -f "$deps"/python3-skimage_*.deb
+  # Fetched in a folder of its own that apt's unprivileged downloader (the
+  # _apt user, when root runs this) may write, then unpacked here.
+  fetch="$(mktemp -d)"
+  if [[ $(id -u) -eq 0 ]] && id _apt >/dev/null 2>&1; then chown _apt "$fetch"; fi
+  if (cd "$fetch" && apt-get download -q python3-skimage) && dpkg-deb -x "$fetch"/python3-skimage_*.deb "$deps/skimage"; then
+    rm -rf "$fetch"
   else
+    rm -rf "$fetch"
     echo "== python3-skimage could not be fetched: the photographic designs will be skipped" >&2
   fi
 fi
