@@ -196,6 +196,17 @@ TEST(Calibration, RoundTripsAndNamesWhatIsWrongInAFile) {
   EXPECT_FALSE(load_calibration(dir / "missing.json", "f"));
   std::ofstream(dir / "bad.json") << "{\"format\": ";
   EXPECT_THROW(load_calibration(dir / "bad.json", "f"), SceneError);
+  // Read as every outside JSON text is: what follows a NUL is not ignored.
+  {
+    std::ofstream out(dir / "nul.json", std::ios::binary);
+    out << good.dump() << '\0' << "junk";
+  }
+  try {
+    load_calibration(dir / "nul.json", "f");
+    ADD_FAILURE() << "a calibration with a NUL inside was read";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("nul.json is not valid JSON"), std::string::npos) << e.what();
+  }
   std::filesystem::remove_all(dir);
 }
 

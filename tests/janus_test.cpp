@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "../src/server/broadcast.hpp"
+#include "../src/server/janus_admin.hpp"
 
 #include <filesystem>
 #include <sstream>
@@ -180,6 +181,40 @@ TEST(JanusToken, IsTheFormatJanusChecks) {
   //   printf %s '1700000000,janus,janus.plugin.streaming' | openssl dgst -sha1 -hmac secret -binary | base64
   EXPECT_EQ(caustic::server::janus_token("secret", 1700000000),
             "1700000000,janus,janus.plugin.streaming:dwvIvxr0mdOVyZJ3U4ZTq/+8q5s=");
+}
+
+// Whatever answers on Janus's admin port, its body is read without an
+// exception (it is read inside a libsoup callback) and said as an error.
+TEST(JanusAnswer, OddBodiesAreErrorsNotCrashes) {
+  using caustic::server::JanusAdmin;
+  static constexpr char kNulInside[] = "{\"janus\":\"success\"}\0{\"janus\":\"error\"}";
+  const auto ok = JanusAdmin::parse_answer(R"({"janus":"success","response":{"streaming":"created","id":7}})");
+  EXPECT_EQ(ok.error, "");
+  EXPECT_EQ(ok.response.value("id", 0), 7);
+  const auto gone = JanusAdmin::parse_answer(
+      R"({"janus":"success","response":{"error_code":455,"error":"No such mountpoint/stream 7"}})");
+  EXPECT_EQ(gone.error_code, 455);
+  EXPECT_EQ(gone.error, "No such mountpoint/stream 7");
+  EXPECT_EQ(JanusAdmin::parse_answer(R"({"janus":"error","error":{"code":403,"reason":"Unauthorized request"}})").error,
+            "Janus refused: Unauthorized request");
+  for (const std::string& body :
+       {std::string("<html>bad gateway</html>"), std::string(""), std::string("[1,2]"), std::string("\"success\""),
+        std::string("{\"janus\":5}"), std::string("{\"janus\":\"error\",\"error\":\"text\"}"),
+        std::string("{\"janus\":\"error\",\"error\":{\"reason\":7}}"),
+        std::string(kNulInside, sizeof kNulInside - 1),
+        std::string("{\"janus\":\"error\",\"error\":{\"reason\":\"\xff\xfe\"}}")}) {
+    JanusAdmin::Answer a;
+    EXPECT_NO_THROW(a = JanusAdmin::parse_answer(body)) << body;
+    EXPECT_NE(a.error, "") << body;
+  }
+  // Fields of other types inside a success: the plugin refused, no throw.
+  JanusAdmin::Answer odd;
+  EXPECT_NO_THROW(odd = JanusAdmin::parse_answer(R"({"janus":"success","response":{"error_code":"455","error":[1]}})"));
+  EXPECT_EQ(odd.error, "the streaming plugin refused");
+  EXPECT_EQ(odd.error_code, -1);
+  EXPECT_NO_THROW(odd = JanusAdmin::parse_answer(R"({"janus":"success","response":"text"})"));
+  EXPECT_EQ(odd.error, "");
+  EXPECT_TRUE(odd.response.is_object());
 }
 
 TEST_F(Broadcast, TheMountpointLivesWithTheSessionAndReceivesTheStream) {

@@ -220,9 +220,43 @@ TEST(LoadScene, ReportsMissingFilesAndBadJson) {
     EXPECT_NE(std::string(e.what()).find("not valid JSON"), std::string::npos) << e.what();
   }
   std::ofstream(dir / "good.json") << R"({"mesh": "a.obj", "object": {"ior": 1.6}})";
-  const Scene s = load_scene(dir / "good.json");
+  nlohmann::json written;
+  const Scene s = load_scene(dir / "good.json", &written);
   EXPECT_EQ(s.mesh_path(), dir / "a.obj");
   EXPECT_DOUBLE_EQ(s.object.ior, 1.6);
+  EXPECT_EQ(written, nlohmann::json::parse(R"({"mesh": "a.obj", "object": {"ior": 1.6}})"));
+}
+
+// A scene file is parsed as every outside JSON text is (json_text.hpp):
+// nothing after a NUL is ignored, nesting is bounded, and a file that
+// never ends is not read whole.
+TEST(LoadScene, RefusesWhatTheJsonRulesRefuse) {
+  const auto dir = std::filesystem::temp_directory_path() / "caustic_scene_test";
+  std::filesystem::create_directories(dir);
+  const auto refused = [](const std::filesystem::path& file) -> std::string {
+    try {
+      load_scene(file);
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  {
+    std::ofstream out(dir / "nul.json", std::ios::binary);
+    out << R"({"mesh": "a.obj"})" << '\0' << "junk";
+  }
+  EXPECT_NE(refused(dir / "nul.json").find("not valid JSON"), std::string::npos) << refused(dir / "nul.json");
+  EXPECT_NE(refused(dir / "nul.json").find("at byte 17"), std::string::npos) << refused(dir / "nul.json");
+  std::ofstream(dir / "deep.json") << R"({"mesh": "a.obj", "x": )" << std::string(100000, '[')
+                                   << std::string(100000, ']') << "}";
+  EXPECT_NE(refused(dir / "deep.json").find("nested deeper than"), std::string::npos) << refused(dir / "deep.json");
+  {
+    std::ofstream out(dir / "big.json", std::ios::binary);
+    out << R"({"mesh": "a.obj", "description": ")" << std::string(kMaxSceneFileBytes, 'a') << "\"}";
+  }
+  EXPECT_NE(refused(dir / "big.json").find("larger than 16 MiB"), std::string::npos);
+  EXPECT_NE(refused("/dev/zero").find("larger than 16 MiB"), std::string::npos) << refused("/dev/zero");
+  std::filesystem::remove(dir / "big.json");
 }
 
 // Warnings are judged on the proxy (the bounding slab): light straight down

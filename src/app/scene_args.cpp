@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "commands.hpp"
 
-#include "caustic/json_text.hpp"
 #include "caustic/pool.hpp"
 #include "caustic/resample.hpp"
 #include "caustic/screen_follow.hpp"
@@ -10,8 +9,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <set>
 
 #include <iostream>
@@ -23,13 +20,9 @@ namespace {
 // What the scene file and the assignments write that is not what renders:
 // a key another setting overrides or leaves unused, and a key assigned
 // twice (a --set, then --width). Said once each, never silently dropped.
-void warn_overrides(const char* command, const std::filesystem::path& file,
-                    const std::vector<std::string>& assignments, const Scene& scene) {
-  std::vector<nlohmann::json> written;
-  if (std::ifstream in{file}) {
-    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    if (auto doc = parse_json_text(text)) written.push_back(std::move(*doc));
-  }
+void warn_overrides(const char* command, const nlohmann::json& file_doc, const std::vector<std::string>& assignments,
+                    const Scene& scene) {
+  std::vector<nlohmann::json> written{file_doc};
   for (const auto& a : assignments) written.push_back(patch_from_assignment(a));
   std::set<std::string> said;
   for (const auto& w : written)
@@ -49,10 +42,11 @@ void warn_overrides(const char* command, const std::filesystem::path& file,
 bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
                          const std::vector<std::string>& assignments, Scene* scene, Mesh* mesh) {
   try {
-    *scene = load_scene(file);
+    nlohmann::json written;
+    *scene = load_scene(file, &written);
     for (const auto& a : assignments) *scene = apply_merge_patch(*scene, patch_from_assignment(a));
     *mesh = water::load_scene_mesh(*scene);
-    warn_overrides(command, file, assignments, *scene);
+    warn_overrides(command, written, assignments, *scene);
     return true;
   } catch (const SceneError& e) {
     std::cerr << "causticd " << command << ": " << file.string() << ": " << e.what() << "\n";

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/fidelity.hpp"
+#include "caustic/json_text.hpp"
 #include "caustic/screen_follow.hpp"
 #include "caustic/spectral.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <tuple>
 
 namespace caustic {
@@ -128,10 +130,15 @@ Calibration calibration_from_json(const json& j) {
 }
 
 std::optional<Calibration> load_calibration(const std::filesystem::path& file, const std::string& fingerprint) {
-  std::ifstream in(file);
+  std::ifstream in(file, std::ios::binary);
   if (!in) return std::nullopt;
-  const json j = json::parse(in, nullptr, false);
-  if (j.is_discarded()) throw SceneError("", file.filename().string() + " is not valid JSON");
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  JsonTextError error;
+  const auto parsed = parse_json_text(text, &error);
+  if (!parsed)
+    throw SceneError("", file.filename().string() + " is not valid JSON: " + error.message + " at byte " +
+                             std::to_string(error.offset));
+  const json& j = *parsed;
   Calibration c;
   try {
     c = calibration_from_json(j);

@@ -362,16 +362,25 @@ void validate_scene(const Scene& scene) {
   }
 }
 
-Scene load_scene(const std::filesystem::path& file) {
-  std::ifstream in(file);
+Scene load_scene(const std::filesystem::path& file, nlohmann::json* written) {
+  std::ifstream in(file, std::ios::binary);
   if (!in) throw SceneError("", "cannot open scene file " + file.string());
-  json j;
-  try {
-    j = json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw SceneError("", "scene file " + file.string() + " is not valid JSON: " + e.what());
-  }
-  return scene_from_json(j, file.parent_path());
+  // Read one byte past the limit, so that a file (or a device) that never
+  // ends is refused instead of read whole.
+  std::string text(kMaxSceneFileBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxSceneFileBytes)
+    throw SceneError("", "scene file " + file.string() + " is larger than " +
+                             std::to_string(kMaxSceneFileBytes >> 20) + " MiB; a scene names its meshes, never holds them");
+  JsonTextError error;
+  auto j = parse_json_text(text, &error);
+  if (!j)
+    throw SceneError("", "scene file " + file.string() + " is not valid JSON: " + error.message + " at byte " +
+                             std::to_string(error.offset));
+  Scene scene = scene_from_json(*j, file.parent_path());
+  if (written) *written = std::move(*j);
+  return scene;
 }
 
 }  // namespace caustic

@@ -2,6 +2,7 @@
 // Changing a scene: RFC 7396 merge patches (a null restoring the scene's own
 // value) and the CLI's key.path=value assignments. The result goes through
 // scene_from_json, so a patch is validated like a whole scene.
+#include "caustic/json_text.hpp"
 #include "caustic/scene.hpp"
 
 #include <nlohmann/json.hpp>
@@ -56,8 +57,8 @@ json patch_from_assignment(const std::string& assignment) {
   if (eq == std::string::npos || eq == 0) throw SceneError("", "expected key.path=value, got \"" + assignment + "\"");
   const std::string path = assignment.substr(0, eq);
   const std::string text = assignment.substr(eq + 1);
-  json value = json::parse(text, nullptr, false);
-  if (value.is_discarded()) value = text;
+  // A value that is not JSON is the string written: --set object.glass=bk7.
+  json value = parse_json_text(text).value_or(json(text));
   std::vector<std::string> keys;
   std::size_t begin = 0;
   while (true) {

@@ -4,7 +4,6 @@
 #include "caustic/engine.hpp"
 #include "caustic/gl_context.hpp"
 #include "caustic/image_io.hpp"
-#include "caustic/json_text.hpp"
 #include "caustic/pool.hpp"
 #include "caustic/receiver_meshes.hpp"
 #include "caustic/water_mesh.hpp"
@@ -14,8 +13,6 @@
 #include "log.hpp"
 
 #include <algorithm>
-#include <fstream>
-#include <iterator>
 
 #include <regex>
 #include <thread>
@@ -66,7 +63,8 @@ std::shared_ptr<GalleryEntry> prepare_entry(const std::filesystem::path& file, c
                                             std::shared_ptr<const Mesh> mesh) {
   auto entry = std::make_shared<GalleryEntry>();
   entry->id = id;
-  entry->scene = load_scene(file);
+  nlohmann::json written;
+  entry->scene = load_scene(file, &written);
   if (entry->scene.water && !mesh) {
     auto warmed = std::make_shared<const water::WaveSolver>(water::warmed_up(*entry->scene.water));
     mesh = std::make_shared<const Mesh>(water::water_mesh(*warmed));
@@ -83,12 +81,8 @@ std::shared_ptr<GalleryEntry> prepare_entry(const std::filesystem::path& file, c
     for (const auto& [name, shape] : table->meshes) entry->shapes[name] = receiver_mesh_json(shape);
   // A value the scene file writes for a key that fidelity "auto" decides, or
   // that another setting overrides: say so rather than ignore it.
-  if (std::ifstream in{file}) {
-    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    if (const auto written = parse_json_text(text))
-      for (const auto& [key, detail] : scene_overrides(*written, entry->scene))
-        log(Level::warning, "scene " + id + ": " + detail);
-  }
+  for (const auto& [key, detail] : scene_overrides(written, entry->scene))
+    log(Level::warning, "scene " + id + ": " + detail);
   // A manual scene may name a level not on offer: at() throws then.
   entry->levels->at(entry->scene.render.mesh_resolution);
   entry->proxy = proxy_geometry(entry->scene, *entry->mesh);

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "janus_admin.hpp"
 
+#include "caustic/json_text.hpp"
+
 namespace caustic::server {
 
 JanusAdmin::JanusAdmin(std::string url, std::string admin_secret, std::string streaming_key, int timeout_s)
@@ -38,19 +40,40 @@ JanusAdmin::Answer JanusAdmin::read_answer(SoupMessage* msg, GBytes* reply, GErr
     answer.error = "Janus answered HTTP " + std::to_string(soup_message_get_status(msg));
   } else {
     gsize size = 0;
-    const auto* text = static_cast<const char*>(g_bytes_get_data(reply, &size));
-    const auto json = nlohmann::json::parse(text, text + size, nullptr, false);
-    if (!json.is_object()) {
-      answer.error = "Janus answered something that is not JSON";
-    } else if (json.value("janus", "") != "success") {
-      answer.error = "Janus refused: " + json.value("error", nlohmann::json::object()).value("reason", json.dump());
-    } else {
-      answer.response = json.value("response", nlohmann::json::object());
-      if (answer.response.contains("error_code")) {
-        answer.error_code = answer.response.value("error_code", 0);
-        answer.error = answer.response.value("error", "the streaming plugin refused");
-      }
-    }
+    const auto* text = reply ? static_cast<const char*>(g_bytes_get_data(reply, &size)) : nullptr;
+    answer = parse_answer(std::string_view(text ? text : "", size));
+  }
+  return answer;
+}
+
+JanusAdmin::Answer JanusAdmin::parse_answer(std::string_view body) {
+  // Read field by field with their types checked: this runs in a libsoup
+  // callback, where an exception (a field of another type) would end the
+  // process, whatever Janus (or what answers on its port) sends.
+  const auto text_of = [](const nlohmann::json& j, const char* key) -> std::string {
+    const auto it = j.find(key);
+    return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
+  };
+  Answer answer;
+  const auto json = parse_json_text(body);
+  if (!json || !json->is_object()) {
+    answer.error = "Janus answered something that is not a JSON object";
+    return answer;
+  }
+  if (text_of(*json, "janus") != "success") {
+    const auto error = json->find("error");
+    const std::string reason = error != json->end() && error->is_object() ? text_of(*error, "reason") : "";
+    answer.error = "Janus refused: " + (reason.empty() ? std::string("no reason given") : printable_name(reason, 200));
+    return answer;
+  }
+  if (const auto response = json->find("response"); response != json->end() && response->is_object())
+    answer.response = *response;
+  else
+    answer.response = nlohmann::json::object();
+  if (const auto code = answer.response.find("error_code"); code != answer.response.end()) {
+    answer.error_code = code->is_number_integer() ? code->get<int>() : -1;
+    const std::string said = text_of(answer.response, "error");
+    answer.error = said.empty() ? "the streaming plugin refused" : printable_name(said, 200);
   }
   return answer;
 }

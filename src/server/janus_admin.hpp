@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 
 namespace caustic::server {
 
@@ -39,6 +40,10 @@ class JanusAdmin {
   /// The same, waiting for the answer (at most `timeout_s`): for the last
   /// requests while the server stops, when no main loop runs any more.
   Answer plugin_request_now(nlohmann::json request, int timeout_s = 2);
+
+  /// Janus's reply body read as an Answer; never throws: a body that is not
+  /// a JSON object, or fields of other types, give an error instead.
+  static Answer parse_answer(std::string_view body);
 
  private:
   SoupMessage* message(nlohmann::json request);  // null for a bad URL

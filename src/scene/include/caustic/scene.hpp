@@ -235,8 +235,14 @@ nlohmann::json scene_to_json(const Scene& scene);
 /// Throws SceneError naming the key.
 void validate_scene(const Scene& scene);
 
-/// Reads a scene file. Throws SceneError on I/O, syntax or validation errors.
-Scene load_scene(const std::filesystem::path& file);
+/// The largest scene file read: scenes name their meshes, never hold them.
+inline constexpr std::size_t kMaxSceneFileBytes = std::size_t{16} << 20;
+
+/// Reads a scene file (at most kMaxSceneFileBytes, parsed as every outside
+/// JSON text is: caustic/json_text.hpp). Throws SceneError on I/O, size,
+/// syntax or validation errors. `written`, when given, receives the file's
+/// JSON as written, for warnings about keys that other settings override.
+Scene load_scene(const std::filesystem::path& file, nlohmann::json* written = nullptr);
 
 /// Applies an RFC 7396 JSON merge patch and validates the result; the input
 /// scene is left untouched, so a rejected patch changes nothing. With an
