@@ -5,7 +5,7 @@
 # loopback interface, so the namespace gets a veth carrying 127.0.0.2 for
 # Janus's ICE (JANUS_ICE_INTERFACE), and everything (Janus, causticd,
 # chromium) talks inside it, to nothing outside. Exits 77 (skipped) only
-# where namespaces cannot be made (not root, no ip netns).
+# where namespaces cannot be made or entered (not root, no ip netns).
 #   in_namespace.sh COMMAND [ARG...]
 set -euo pipefail
 (($#)) || { echo "usage: in_namespace.sh COMMAND [ARG...]" >&2; exit 2; }
@@ -16,6 +16,9 @@ command -v janus >/dev/null || skip "janus is not installed (tools/bootstrap.sh 
 ns="causticd-bc-$$"
 ip netns add "$ns" 2>/dev/null || skip "cannot create a network namespace here"
 trap 'ip netns del "$ns" 2>/dev/null || true' EXIT
+# Entering it remounts / as a slave, which a chroot whose / is no mount
+# point refuses ("mount --make-rslave /": Invalid argument).
+why="$(ip netns exec "$ns" true 2>&1)" || skip "cannot enter a network namespace here: $why"
 ip -n "$ns" link set lo up
 # "type dummy" needs a kernel module that some hosts lack; a veth pair does not.
 ip -n "$ns" link add jv0 type veth peer name jv1
