@@ -74,7 +74,9 @@ boot() {
     [[ "$state" == running || "$state" == degraded ]] && return 0
     sleep 0.1
   done
-  fail "the container's systemd is \"$state\" after 60 s"
+  local said
+  said="$(tail -8 "$work/console.log")"
+  fail "the container's systemd is \"$state\" after 60 s; its console said: ${said:-nothing}"
 }
 
 # A command inside the booted container (all its namespaces).
