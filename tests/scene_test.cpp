@@ -246,7 +246,12 @@ TEST(LoadScene, RefusesWhatTheJsonRulesRefuse) {
     out << R"({"mesh": "a.obj"})" << '\0' << "junk";
   }
   EXPECT_NE(refused(dir / "nul.json").find("not valid JSON"), std::string::npos) << refused(dir / "nul.json");
-  EXPECT_NE(refused(dir / "nul.json").find("at byte 17"), std::string::npos) << refused(dir / "nul.json");
+  EXPECT_NE(refused(dir / "nul.json").find("at line 1, column 18 (byte 17)"), std::string::npos) << refused(dir / "nul.json");
+  // Where a hand-edited file broke, as an editor counts: the "}" where the
+  // value should be is line 3, column 21.
+  std::ofstream(dir / "lines.json") << "{\n  \"mesh\": \"a.obj\",\n  \"object\": {\"ior\": }\n}\n";
+  EXPECT_NE(refused(dir / "lines.json").find("at line 3, column 21 (byte 41)"), std::string::npos)
+      << refused(dir / "lines.json");
   std::ofstream(dir / "deep.json") << R"({"mesh": "a.obj", "x": )" << std::string(100000, '[')
                                    << std::string(100000, ']') << "}";
   EXPECT_NE(refused(dir / "deep.json").find("nested deeper than"), std::string::npos) << refused(dir / "deep.json");

@@ -136,8 +136,7 @@ std::optional<Calibration> load_calibration(const std::filesystem::path& file, c
   JsonTextError error;
   const auto parsed = parse_json_text(text, &error);
   if (!parsed)
-    throw SceneError("", file.filename().string() + " is not valid JSON: " + error.message + " at byte " +
-                             std::to_string(error.offset));
+    throw SceneError("", file.filename().string() + " is not valid JSON: " + where_json_broke(text, error));
   const json& j = *parsed;
   Calibration c;
   try {

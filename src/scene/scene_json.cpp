@@ -377,8 +377,7 @@ Scene load_scene(const std::filesystem::path& file, nlohmann::json* written) {
   JsonTextError error;
   auto j = parse_json_text(text, &error);
   if (!j)
-    throw SceneError("", "scene file " + file.string() + " is not valid JSON: " + error.message + " at byte " +
-                             std::to_string(error.offset));
+    throw SceneError("", "scene file " + file.string() + " is not valid JSON: " + where_json_broke(text, error));
   Scene scene = scene_from_json(*j, file.parent_path());
   if (written) *written = std::move(*j);
   return scene;

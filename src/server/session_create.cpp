@@ -33,13 +33,9 @@ bool read_json_body(ServerState& s, SoupServerMessage* msg, std::initializer_lis
   JsonTextError error;
   auto parsed = parse_json_text(std::string_view(body->data, static_cast<std::size_t>(body->length)), &error);
   if (!parsed) {
-    // Line and column as an editor counts them (1-based), and the byte.
-    const std::string_view text(body->data, std::min(static_cast<std::size_t>(body->length), error.offset));
-    const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
-    const std::size_t column = text.size() - (text.rfind('\n') == std::string_view::npos ? 0 : text.rfind('\n') + 1) + 1;
     reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST,
-                  "the body is not JSON: " + error.message + " at line " + std::to_string(line) + ", column " +
-                      std::to_string(column) + " (byte " + std::to_string(error.offset) + ")");
+                  "the body is not JSON: " +
+                      where_json_broke(std::string_view(body->data, static_cast<std::size_t>(body->length)), error));
     return false;
   }
   if (!parsed->is_object()) {

@@ -32,6 +32,11 @@ struct JsonTextError {
 std::optional<nlohmann::json> parse_json_text(std::string_view text, JsonTextError* error = nullptr,
                                               int max_depth = kMaxJsonDepth);
 
+/// Where `text` broke, as an editor counts (1-based line and column) and
+/// by byte: "<message> at line 3, column 7 (byte 41)". Quotes none of the
+/// text's bytes.
+std::string where_json_broke(std::string_view text, const JsonTextError& error);
+
 /// `value.dump()` that never throws: invalid UTF-8 in strings is replaced.
 std::string dump_json(const nlohmann::json& value);
 
