@@ -11,6 +11,9 @@ namespace campaign {
 namespace {
 
 constexpr int kIdle = 3, kViewer = 3, kPerAddress = 2, kMax = 4, kRate = 20, kBurst = 40;
+// How far over their baselines descriptors and threads may end: what the
+// settles wait for, what the last checks allow.
+constexpr int kSpareFds = 4, kSpareThreads = 2;
 
 bool gone(int port, const Session& s) {
   int status = 0;
@@ -70,7 +73,7 @@ Settled settle(ServerProcess& server, int port, int fds_base, int threads_base) 
     s.sessions = session_count(port);
     s.fds = server.descriptors();
     s.threads = server.threads();
-  } while (ms_since(start) < 10000 && (s.sessions != 0 || s.fds > fds_base + 4 || s.threads > threads_base + 2));
+  } while (ms_since(start) < 10000 && (s.sessions != 0 || s.fds > fds_base + kSpareFds || s.threads > threads_base + kSpareThreads));
   return s;
 }
 
@@ -79,7 +82,7 @@ std::string later(ServerProcess& server, int fds_base) {
   const auto start = Clock::now();
   while (ms_since(start) < 30000) {
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    if (server.descriptors() <= fds_base + 4)
+    if (server.descriptors() <= fds_base + kSpareFds)
       return "back near the baseline " + std::to_string(std::lround(ms_since(start) / 1000)) + " s later";
   }
   return "still " + std::to_string(server.descriptors()) + " 30 s later";
@@ -250,14 +253,14 @@ void run_sessions(const Options& opt, KindReport& rep) {
   rep.check("server process stays alive", server.alive(&why), "  " + why + "\n  log: " + escape(server.log_tail(600)));
   rep.check("no sessions left at the end", sessions == 0, "  health says " + std::to_string(sessions));
   std::string leak;  // built only when there is one: it waits to see whether they go later
-  if (fds > fds_base + 4)
+  if (fds > fds_base + kSpareFds)
     leak = "  baseline " + std::to_string(fds_base) + ", after " + std::to_string(fds) +
            "; grew: " + descriptor_growth(kinds_base, server.descriptor_kinds()) +
            "; threads grew: " + descriptor_growth(names_base, server.thread_names()) +
            "\n  descriptors/threads after each phase: " + trail + "; " + later(server, fds_base) +
            "\n  log: " + escape(server.log_tail(1500));
-  rep.check("descriptors back near baseline (+4)", fds <= fds_base + 4, leak);
-  rep.check("threads back near baseline (+2)", threads <= threads_base + 2,
+  rep.check("descriptors back near baseline (+" + std::to_string(kSpareFds) + ")", fds <= fds_base + kSpareFds, leak);
+  rep.check("threads back near baseline (+" + std::to_string(kSpareThreads) + ")", threads <= threads_base + kSpareThreads,
             "  baseline " + std::to_string(threads_base) + ", after " + std::to_string(threads) +
                 "; grew: " + descriptor_growth(names_base, server.thread_names()));
 }
