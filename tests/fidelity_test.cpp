@@ -207,6 +207,13 @@ TEST(Calibration, RoundTripsAndNamesWhatIsWrongInAFile) {
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("nul.json is not valid JSON"), std::string::npos) << e.what();
   }
+  // A file that never ends is refused at its bound, not read whole.
+  try {
+    load_calibration("/dev/zero", "f");
+    ADD_FAILURE() << "/dev/zero was read as a calibration";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("larger than 1024 KiB"), std::string::npos) << e.what();
+  }
   std::filesystem::remove_all(dir);
 }
 

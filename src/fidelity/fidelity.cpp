@@ -6,8 +6,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <tuple>
 
 namespace caustic {
@@ -130,9 +128,12 @@ Calibration calibration_from_json(const json& j) {
 }
 
 std::optional<Calibration> load_calibration(const std::filesystem::path& file, const std::string& fingerprint) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return std::nullopt;
-  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const FileText read = read_file_text(file, kMaxCalibrationFileBytes);
+  if (!read.opened) return std::nullopt;
+  if (read.too_large)
+    throw SceneError("", file.filename().string() + " is larger than " + std::to_string(kMaxCalibrationFileBytes >> 10) +
+                             " KiB; a calibration holds a few entries");
+  const std::string& text = read.text;
   JsonTextError error;
   const auto parsed = parse_json_text(text, &error);
   if (!parsed)

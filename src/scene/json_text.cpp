@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/json_text.hpp"
 
+#include <fstream>
+
 #include <algorithm>
 #include <vector>
 
@@ -160,6 +162,18 @@ std::string printable_name(std::string_view name, std::size_t max_bytes) {
   }
   if (name.size() > max_bytes) out += "...";
   if (out.empty()) out = "\"\"";  // an empty key still reads as a key
+  return out;
+}
+
+FileText read_file_text(const std::filesystem::path& file, std::size_t limit) {
+  FileText out;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return out;
+  out.opened = true;
+  char piece[1 << 14];
+  while (out.text.size() <= limit && in.read(piece, sizeof piece).gcount() > 0)
+    out.text.append(piece, static_cast<std::size_t>(in.gcount()));
+  out.too_large = out.text.size() > limit;
   return out;
 }
 

@@ -14,7 +14,6 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <fstream>
 #include <set>
 #include <span>
 #include <sstream>
@@ -363,17 +362,12 @@ void validate_scene(const Scene& scene) {
 }
 
 Scene load_scene(const std::filesystem::path& file, nlohmann::json* written) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw SceneError("", "cannot open scene file " + file.string());
-  // Read in pieces up to one byte past the limit, so that a file (or a
-  // device) that never ends is refused instead of read whole.
-  std::string text;
-  char piece[1 << 14];
-  while (text.size() <= kMaxSceneFileBytes && in.read(piece, sizeof piece).gcount() > 0)
-    text.append(piece, static_cast<std::size_t>(in.gcount()));
-  if (text.size() > kMaxSceneFileBytes)
+  const FileText read = read_file_text(file, kMaxSceneFileBytes);
+  if (!read.opened) throw SceneError("", "cannot open scene file " + file.string());
+  if (read.too_large)
     throw SceneError("", "scene file " + file.string() + " is larger than " +
                              std::to_string(kMaxSceneFileBytes >> 20) + " MiB; a scene names its meshes, never holds them");
+  const std::string& text = read.text;
   JsonTextError error;
   auto j = parse_json_text(text, &error);
   if (!j)

@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -75,8 +76,11 @@ std::string scene_fingerprint(const Scene& scene, const Mesh& mesh);
 nlohmann::json calibration_to_json(const Calibration& calibration);
 /// Throws SceneError (key inside the file) on a malformed calibration.
 Calibration calibration_from_json(const nlohmann::json& j);
+/// A calibration file's bound: the build writes a few KiB.
+inline constexpr std::size_t kMaxCalibrationFileBytes = std::size_t{1} << 20;
 /// The calibration for `fingerprint` in `file`, or none when the file is
-/// missing or calibrates something else. Throws SceneError when it is malformed.
+/// missing or calibrates something else. Throws SceneError when it is
+/// malformed or larger than kMaxCalibrationFileBytes.
 std::optional<Calibration> load_calibration(const std::filesystem::path& file, const std::string& fingerprint);
 
 struct FidelityChoice {

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -36,6 +37,17 @@ std::optional<nlohmann::json> parse_json_text(std::string_view text, JsonTextErr
 /// by byte: "<message> at line 3, column 7 (byte 41)". Quotes none of the
 /// text's bytes.
 std::string where_json_broke(std::string_view text, const JsonTextError& error);
+
+/// A file's bytes, read in pieces up to one byte past `limit`, so that a
+/// file (or a device such as /dev/zero) that never ends is refused instead
+/// of read whole. `opened` is false when the file cannot be opened;
+/// `too_large` is true (and `text` cut) when it holds more than `limit`.
+struct FileText {
+  bool opened = false;
+  bool too_large = false;
+  std::string text;
+};
+FileText read_file_text(const std::filesystem::path& file, std::size_t limit);
 
 /// `value.dump()` that never throws: invalid UTF-8 in strings is replaced.
 std::string dump_json(const nlohmann::json& value);
