@@ -5,6 +5,7 @@
 #include "caustic/gst/stop_pipeline.hpp"
 #include "caustic/server/data_files.hpp"
 #include "frame_probes.hpp"
+#include "receive_bins.hpp"
 #include "room_messages.hpp"
 
 #define GST_USE_UNSTABLE_API
@@ -285,6 +286,12 @@ void Session::stop() {
   if (const int left = gst::stop_pipeline(pipeline_))
     log(Level::warning, "session " + id_ + ": " + std::to_string(left) +
                             " elements still ran after the pipeline stopped; stopped them", log_context());
+  // A receive bin that holds itself would keep the ICE agent's sockets for
+  // good (receive_bins.hpp): rare, and released here, so only said.
+  if (webrtc_)
+    if (const int held = release_receive_bins(webrtc_))
+      log(Level::info, "session " + id_ + ": released " + std::to_string(held) +
+                           " WebRTC receive bin(s) that held themselves after the stop", log_context());
 }
 
 void Session::teardown_pipeline() {

@@ -4,9 +4,11 @@
 // its children have gone down, and a transport bin that an offer makes in
 // that window is synced to webrtcbin's state as it was a moment before: it
 // can come up (its nicesrc locked in PLAYING, as webrtcbin's receive bin
-// starts it) inside a webrtcbin already past its children. Nothing stops it
-// then, and the nicesrc keeps its ICE agent, the agent's sockets and their
-// main contexts for the life of the process (docs/reliability.md). Once the
+// starts it) inside a webrtcbin already past its children. Nothing would
+// stop it then, and the nicesrc would keep its ICE agent, the agent's
+// sockets and their main contexts for the life of the process. That much
+// is read from webrtcbin's code, never seen (the leak that was seen is a
+// stopped receive bin holding itself: server/receive_bins.hpp). Once the
 // first set_state(NULL) has returned, webrtcbin's thread has ended and
 // nothing adds more: stop_pipeline then sets every element still above NULL
 // to NULL itself, a locked one (which a bin's own state change skips) too.
