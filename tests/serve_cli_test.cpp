@@ -86,3 +86,33 @@ TEST(Serve, FoldersAndAddressesAreCheckedAsCheckConfigChecksThem) {
     EXPECT_EQ(output.find("listening"), std::string::npos) << output;
   }
 }
+
+TEST(Serve, ADataFolderThatIsNotThereIsAConfigurationErrorThatNamesIt) {
+  // The data folder comes from CAUSTICD_DATA_DIR or from beside the
+  // executable; a copy of the binary elsewhere has neither. Exit 2 naming
+  // the variable, from serve and check-config alike, not an abort.
+  const fs::path dir = fs::temp_directory_path() / "causticd_no_data";
+  fs::create_directories(dir / "bin");
+  fs::copy_file(CAUSTICD_BINARY, dir / "bin/causticd", fs::copy_options::overwrite_existing);
+  const std::pair<std::string, const char*> cases[] = {
+      {"env -u CAUSTICD_DATA_DIR " + (dir / "bin/causticd").string() + " serve --bind 127.0.0.1 --port 0",
+       "CAUSTICD_DATA_DIR: not set"},
+      {"env -u CAUSTICD_DATA_DIR " + (dir / "bin/causticd").string() + " check-config " CAUSTIC_SOURCE_DIR
+       "/systemd/causticd.conf",
+       "CAUSTICD_DATA_DIR: not set"},
+      {"env CAUSTICD_DATA_DIR=/nonexistent " + std::string(CAUSTICD_BINARY) + " serve --bind 127.0.0.1 --port 0",
+       "CAUSTICD_DATA_DIR: /nonexistent is not a folder"}};
+  for (const auto& [command, named] : cases) {
+    gchar *out = nullptr, *err = nullptr;
+    gint status = 0;
+    ASSERT_TRUE(g_spawn_command_line_sync(("timeout 120 " + command).c_str(), &out, &err, &status, nullptr));
+    const std::string output = std::string(out ? out : "") + (err ? err : "");
+    g_free(out);
+    g_free(err);
+    ASSERT_TRUE(WIFEXITED(status)) << command << ": " << output;
+    EXPECT_EQ(WEXITSTATUS(status), 2) << command << ": " << output;
+    EXPECT_NE(output.find(named), std::string::npos) << output;
+    EXPECT_EQ(output.find("listening"), std::string::npos) << output;
+  }
+  fs::remove_all(dir);
+}

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/server/data_files.hpp"
 
+#include "caustic/server/config.hpp"
+
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -12,7 +14,8 @@ namespace caustic::server {
 
 std::filesystem::path data_dir() {
   if (const char* env = std::getenv("CAUSTICD_DATA_DIR"); env && *env) {
-    if (!std::filesystem::is_directory(env)) throw std::runtime_error(std::string("CAUSTICD_DATA_DIR ") + env + " is not a folder");
+    if (!std::filesystem::is_directory(env))
+      throw ConfigError(std::string("CAUSTICD_DATA_DIR: ") + env + " is not a folder");
     return env;
   }
   std::error_code ec;
@@ -21,7 +24,8 @@ std::filesystem::path data_dir() {
     const auto dir = exe.parent_path().parent_path() / "share" / "causticd";
     if (std::filesystem::is_directory(dir)) return dir;
   }
-  throw std::runtime_error("cannot find the data folder (share/causticd beside the executable); set CAUSTICD_DATA_DIR");
+  throw ConfigError("CAUSTICD_DATA_DIR: not set, and " + (exe.parent_path() / ".." / "share" / "causticd").string() +
+                    " (beside the executable) is not a folder; set it to the folder that holds pipelines/ and assets/");
 }
 
 std::string pipeline_description(const std::filesystem::path& data, const std::string& codec,

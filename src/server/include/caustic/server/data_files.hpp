@@ -12,7 +12,8 @@ namespace caustic::server {
 
 /// The data folder: $CAUSTICD_DATA_DIR when set, else ../share/causticd
 /// beside the running executable (true in the build tree and under any
-/// install prefix). Throws std::runtime_error when neither exists.
+/// install prefix). Throws ConfigError naming CAUSTICD_DATA_DIR when
+/// neither is a folder: an operator's setting, not the server's failure.
 std::filesystem::path data_dir();
 
 /// Reads pipelines/<codec>.pipeline, drops comment lines, and replaces each
