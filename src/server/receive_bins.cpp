@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "receive_bins.hpp"
 
+#include "caustic/gst/bin_elements.hpp"
+
 #include <algorithm>
 #include <cstring>
 #include <vector>
@@ -8,37 +10,9 @@
 namespace caustic::server {
 namespace {
 
-// The receive bins are webrtcbin's direct children of this type (private to
-// webrtcbin: known by name, reached through GstBin and GObject alone).
+// The receive bins' type, private to webrtcbin: known by name, reached
+// through GstBin and GObject alone.
 constexpr const char* kReceiveBinType = "TransportReceiveBin";
-
-std::vector<GstElement*> receive_bins(GstElement* webrtcbin) {
-  std::vector<GstElement*> bins;
-  if (!GST_IS_BIN(webrtcbin)) return bins;
-  GstIterator* it = gst_bin_iterate_elements(GST_BIN(webrtcbin));
-  GValue item = G_VALUE_INIT;
-  for (bool done = false; !done;) {
-    switch (gst_iterator_next(it, &item)) {
-      case GST_ITERATOR_OK: {
-        auto* element = GST_ELEMENT(g_value_get_object(&item));
-        if (std::strcmp(G_OBJECT_TYPE_NAME(element), kReceiveBinType) == 0)
-          bins.push_back(GST_ELEMENT(gst_object_ref(element)));
-        g_value_reset(&item);
-        break;
-      }
-      case GST_ITERATOR_RESYNC:
-        for (GstElement* b : bins) gst_object_unref(b);
-        bins.clear();
-        gst_iterator_resync(it);
-        break;
-      default:
-        done = true;
-    }
-  }
-  g_value_unset(&item);
-  gst_iterator_free(it);
-  return bins;
-}
 
 // `object`'s property `name`, an object (a new reference), or null.
 GObject* object_property(gpointer object, const char* name) {
@@ -79,31 +53,31 @@ std::vector<GObject*> ice_transports(GstElement* webrtcbin) {
   return ice;
 }
 
-// Whether a blocking probe sits on any pad inside `bin`.
+// Whether a blocking probe sits on any pad of an element inside `bin`.
 bool holds_a_block(GstElement* bin) {
-  bool blocked = false;
-  GstIterator* elements = gst_bin_iterate_recurse(GST_BIN(bin));
-  GValue item = G_VALUE_INIT;
-  while (!blocked && gst_iterator_next(elements, &item) == GST_ITERATOR_OK) {
-    GstIterator* pads = gst_element_iterate_pads(GST_ELEMENT(g_value_get_object(&item)));
+  const auto blocked = gst::bin_elements(bin, true, [](GstElement* element) {
+    bool any = false;
+    GstIterator* pads = gst_element_iterate_pads(element);
     GValue pad = G_VALUE_INIT;
-    while (!blocked && gst_iterator_next(pads, &pad) == GST_ITERATOR_OK) {
-      blocked = gst_pad_is_blocked(GST_PAD(g_value_get_object(&pad)));
+    while (!any && gst_iterator_next(pads, &pad) == GST_ITERATOR_OK) {
+      any = gst_pad_is_blocked(GST_PAD(g_value_get_object(&pad)));
       g_value_reset(&pad);
     }
     g_value_unset(&pad);
     gst_iterator_free(pads);
-    g_value_reset(&item);
-  }
-  g_value_unset(&item);
-  gst_iterator_free(elements);
-  return blocked;
+    return any;
+  });
+  for (GstElement* e : blocked) gst_object_unref(e);
+  return !blocked.empty();
 }
 
 }  // namespace
 
 int release_receive_bins(GstElement* webrtcbin) {
-  std::vector<GstElement*> bins = receive_bins(webrtcbin);
+  // webrtcbin's direct children of that type.
+  const std::vector<GstElement*> bins = gst::bin_elements(webrtcbin, false, [](GstElement* element) {
+    return std::strcmp(G_OBJECT_TYPE_NAME(element), kReceiveBinType) == 0;
+  });
   if (bins.empty()) return 0;
   std::vector<GObject*> ice = ice_transports(webrtcbin);
   // The handler's data is the bin: that matches its handler and no other.
