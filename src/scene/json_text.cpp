@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/json_text.hpp"
 
-#include <fstream>
-
 #include <algorithm>
+#include <fstream>
 #include <vector>
 
 namespace caustic {
@@ -138,7 +137,8 @@ std::optional<nlohmann::json> parse_json_text(std::string_view text, JsonTextErr
 std::string where_json_broke(std::string_view text, const JsonTextError& error) {
   const std::string_view before = text.substr(0, std::min(text.size(), error.offset));
   const std::size_t line = 1 + static_cast<std::size_t>(std::count(before.begin(), before.end(), '\n'));
-  const std::size_t line_start = before.rfind('\n') == std::string_view::npos ? 0 : before.rfind('\n') + 1;
+  const std::size_t last_newline = before.rfind('\n');
+  const std::size_t line_start = last_newline == std::string_view::npos ? 0 : last_newline + 1;
   return error.message + " at line " + std::to_string(line) + ", column " +
          std::to_string(before.size() - line_start + 1) + " (byte " + std::to_string(error.offset) + ")";
 }

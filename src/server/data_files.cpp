@@ -20,12 +20,12 @@ std::filesystem::path data_dir() {
   }
   std::error_code ec;
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    const auto dir = exe.parent_path().parent_path() / "share" / "causticd";
-    if (std::filesystem::is_directory(dir)) return dir;
-  }
-  throw ConfigError("CAUSTICD_DATA_DIR: not set, and " + (exe.parent_path() / ".." / "share" / "causticd").string() +
-                    " (beside the executable) is not a folder; set it to the folder that holds pipelines/ and assets/");
+  const auto beside = exe.parent_path().parent_path() / "share" / "causticd";
+  if (!ec && std::filesystem::is_directory(beside)) return beside;
+  throw ConfigError("CAUSTICD_DATA_DIR: not set, and " +
+                    (ec ? std::string("the executable's own path cannot be read")
+                        : beside.string() + " (beside the executable) is not a folder") +
+                    "; set it to the folder that holds pipelines/ and assets/");
 }
 
 std::string pipeline_description(const std::filesystem::path& data, const std::string& codec,
