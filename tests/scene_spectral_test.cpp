@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The spectral keys: object.glass by name or coefficients, light.spectrum
 // and temperature_k, render.wavelengths and still_wavelengths; bad values named, the overridden
-// ones warned about, and the passes a frame traces.
+// ones warned about, how many wavelengths a frame samples and the passes it traces.
 #include "caustic/spectral.hpp"
 #include "scene_test_support.hpp"
 
@@ -82,6 +82,25 @@ TEST(SceneSpectral, StillWavelengthsRoundTrip) {
   EXPECT_EQ(scene_to_json(s)["render"]["still_wavelengths"], 12);
   EXPECT_EQ(scene_from_json(scene_to_json(s), "."), s);
   EXPECT_EQ(scene_from_json(minimal(), ".").render.still_wavelengths, 32);  // the most a frame may sample
+}
+
+TEST(SceneSpectral, AFrameSamplesFewWhileMovingAndMoreLeftStanding) {
+  json doc = with("object", "glass", "bk7");
+  doc["render"]["wavelengths"] = 8;
+  doc["render"]["still_wavelengths"] = 24;
+  Scene s = scene_from_json(doc, ".");
+  EXPECT_EQ(frame_wavelengths(s, true, false), kPreviewWavelengths);
+  EXPECT_EQ(frame_wavelengths(s, true, true), kPreviewWavelengths) << "a preview is never a picture left standing";
+  EXPECT_EQ(frame_wavelengths(s, false, false), 8);
+  EXPECT_EQ(frame_wavelengths(s, false, true), 24);
+  // Fewer still wavelengths than a frame's (warned about) never thin it;
+  // fewer frame wavelengths than a preview's are not raised to it.
+  s.render.still_wavelengths = 4;
+  EXPECT_EQ(frame_wavelengths(s, false, true), 8);
+  s.render.wavelengths = 2;
+  EXPECT_EQ(frame_wavelengths(s, true, false), 2);
+  // A grey scene samples none: a picture left standing draws nothing more.
+  EXPECT_EQ(frame_wavelengths(scene_from_json(minimal(), "."), false, true), 0);
 }
 
 TEST(SceneSpectral, PassesFollowTheGlassAndTheLight) {

@@ -28,13 +28,6 @@ bool same_caustic(const Scene& a, const Scene& b) {
          a.render == b.render;
 }
 
-// The wavelengths a frame samples: a preview's few while the scene moves,
-// render.wavelengths for a full frame, more for a picture left standing.
-int frame_wavelengths(const RenderParams& r, int divisor, bool still) {
-  if (divisor > 1) return std::min(r.wavelengths, kPreviewWavelengths);
-  return still ? std::max(r.wavelengths, r.still_wavelengths) : r.wavelengths;
-}
-
 // Mesa's software rasterisers run the geometry stage on one thread.
 bool software_renderer() {
   const auto* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
@@ -122,9 +115,8 @@ void Engine::set_preview_divisor(int divisor) {
 void Engine::set_still(bool still) {
   auto& s = *impl_;
   if (still == s.still) return;
-  const bool changes = s.scene && spectral(*s.scene) &&
-                       frame_wavelengths(s.scene->render, s.divisor, still) !=
-                           frame_wavelengths(s.scene->render, s.divisor, s.still);
+  const bool changes = s.scene && frame_wavelengths(*s.scene, s.divisor > 1, still) !=
+                                      frame_wavelengths(*s.scene, s.divisor > 1, s.still);
   s.still = still;
   if (changes) s.ray_dirty = s.post_dirty = s.prepare_dirty = true;
 }
@@ -144,7 +136,7 @@ bool Engine::render() {
   if (s.ray_dirty) {
     const auto start = std::chrono::steady_clock::now();
     s.stats.trace_ms = 0;
-    const auto passes = spectral_passes(*s.scene, frame_wavelengths(s.scene->render, s.divisor, s.still));
+    const auto passes = spectral_passes(*s.scene, frame_wavelengths(*s.scene, s.divisor > 1, s.still));
     // A lathe's or mesh's triangles are not in the shaders: its scenes land on the CPU whatever the setup.
     const bool on_cpu = s.setup == TriangleSetup::cpu || (s.setup == TriangleSetup::automatic && s.software) ||
                         has_shaped_receiver(*s.scene);

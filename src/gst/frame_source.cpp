@@ -154,7 +154,7 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
   // Left standing, a spectral scene's full frame samples more wavelengths.
   const Scene& seen = source.seen_scene;
   const bool still = want == full_quality && source.progressive.enabled && source.picture && !water_moves &&
-                     spectral(seen) && seen.render.still_wavelengths > seen.render.wavelengths &&
+                     frame_wavelengths(seen, false, true) > frame_wavelengths(seen, false, false) &&
                      now - source.changed_at >= source.progressive.still;
   const bool changed = source.seen != source.rendered || want != source.rendered_level ||
                        still != source.rendered_still || settling || source.water_dirty;

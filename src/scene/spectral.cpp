@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/spectral.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -31,6 +32,13 @@ std::optional<double> written_number(const nlohmann::json& written, const char* 
 }  // namespace
 
 bool spectral(const Scene& scene) { return scene.object.glass && scene.object.material == Material::refractive; }
+
+int frame_wavelengths(const Scene& scene, bool preview, bool still) {
+  if (!spectral(scene)) return 0;
+  const RenderParams& r = scene.render;
+  if (preview) return std::min(r.wavelengths, kPreviewWavelengths);
+  return still ? std::max(r.wavelengths, r.still_wavelengths) : r.wavelengths;
+}
 
 std::vector<SpectralPass> spectral_passes(const Scene& scene, int count) {
   if (!spectral(scene)) return {};

@@ -29,6 +29,13 @@ bool spectral(const Scene& scene);
 /// fewer for a preview); empty when the scene is not spectral.
 std::vector<SpectralPass> spectral_passes(const Scene& scene, int count);
 
+/// The wavelengths a frame of the scene samples: at most
+/// kPreviewWavelengths for a preview (the scene moving), render.wavelengths
+/// for a full frame, and render.still_wavelengths where that is more for a
+/// picture left standing; 0 when the scene is not spectral. The one rule
+/// the engine draws by and the stream decides its still spells by.
+int frame_wavelengths(const Scene& scene, bool preview, bool still);
+
 /// Keys that `written` (a scene file or a patch) sets but that the spectral
 /// settings of `scene` (the result) override or make moot, each with a
 /// sentence for its writer: object.ior beside object.glass, light
