@@ -72,3 +72,35 @@ TEST(Hardening, ASecondSignallingSocketGetsAFreshOffer) {
   ::close(first);
   ::close(second);
 }
+
+// The offer's text with its m-line sections swapped and each turned round
+// as a browser's answer would be: a viewer's answer in the wrong order,
+// which webrtcbin once answered by aborting the whole server.
+std::string swapped_answer(std::string offer) {
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"a=setup:actpass", "a=setup:active"},
+                                 {"a=sendonly", "a=recvonly"}})
+    for (std::size_t at; (at = offer.find(from)) != std::string::npos;) offer.replace(at, from.size(), to);
+  const std::size_t first = offer.find("m="), second = offer.find("\r\nm=", first) + 2;
+  const std::size_t end = offer.find("\r\nm=", second) == std::string::npos ? offer.size() : offer.find("\r\nm=", second) + 2;
+  return offer.substr(0, first) + offer.substr(second, end - second) + offer.substr(first, second - first) +
+         offer.substr(end);
+}
+
+TEST(Hardening, AnAnswerWhoseMLinesDoNotFitTheOfferIsRefused) {
+  ServerProcess server;
+  const json s = create_session(server);
+  const int fd = ws_open(server.port(), signal_path(s));
+  ASSERT_GE(fd, 0);
+  std::string offer;
+  for (std::optional<std::string> m; offer.empty() && (m = ws_read_text(fd, 20000));)
+    if (const json j = json::parse(*m, nullptr, false); j.value("type", "") == "offer") offer = j["sdp"];
+  ASSERT_NE(offer.find("m=application"), std::string::npos) << "an offer of two m-lines: " << offer;
+  ws_send_frame(fd, 1, true, json{{"type", "answer"}, {"sdp", swapped_answer(offer)}}.dump());
+  std::string error;
+  for (std::optional<std::string> m; error.empty() && (m = ws_read_text(fd, 20000));)
+    if (const json j = json::parse(*m, nullptr, false); j.value("type", "") == "error") error = j["message"];
+  EXPECT_NE(error.find("m-line 0 must answer the offer's video m-line"), std::string::npos) << error;
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u) << "the server went down";
+  EXPECT_EQ(sessions_now(server), 1);
+  ::close(fd);
+}

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
-// The signalling parser on its own: each message kind, and the inputs that
-// once reached a library precondition instead of an error.
+// The signalling parser on its own: each message kind, the inputs that
+// once reached a library precondition instead of an error, and the answers
+// that do not fit their offer.
 #include "signal_message.hpp"
 
 #include <glib.h>
@@ -83,6 +84,76 @@ TEST(SignalMessage, PingAndMalformedMessages) {
   // Errors never echo what came in.
   EXPECT_EQ(error_of(R"({"type":"<script>"})"), "unknown message type");
   EXPECT_NE(error_of(std::string(kMaxSignalMessageBytes + 1, ' ')), "");
+}
+
+// An offer in webrtcbin's shape (video it sends, then the data channel) and
+// the answer a browser gives it; the cases below change one thing each.
+const std::string kOffer =
+    "v=0\r\no=- 1 0 IN IP4 0.0.0.0\r\ns=-\r\nt=0 0\r\na=group:BUNDLE video0 application1\r\n"
+    "m=video 9 UDP/TLS/RTP/SAVPF 96 97\r\nc=IN IP4 0.0.0.0\r\na=setup:actpass\r\na=sendonly\r\n"
+    "a=rtpmap:96 VP8/90000\r\na=mid:video0\r\n"
+    "m=application 0 UDP/DTLS/SCTP webrtc-datachannel\r\nc=IN IP4 0.0.0.0\r\na=setup:actpass\r\n"
+    "a=mid:application1\r\na=sctp-port:5000\r\n";
+const std::string kVideo =
+    "m=video 9 UDP/TLS/RTP/SAVPF 96\r\nc=IN IP4 0.0.0.0\r\na=setup:active\r\na=recvonly\r\n"
+    "a=rtpmap:96 VP8/90000\r\na=mid:video0\r\n";
+const std::string kChannel =
+    "m=application 9 UDP/DTLS/SCTP webrtc-datachannel\r\nc=IN IP4 0.0.0.0\r\na=setup:active\r\n"
+    "a=mid:application1\r\na=sctp-port:5000\r\n";
+const std::string kHead = "v=0\r\no=- 2 0 IN IP4 0.0.0.0\r\ns=-\r\nt=0 0\r\n";
+
+std::string with_direction(std::string media, const std::string& direction) {
+  const std::size_t at = media.find("a=recvonly\r\n");
+  return media.replace(at, 12, direction.empty() ? "" : "a=" + direction + "\r\n");
+}
+
+TEST(SignalMessage, AnAnswerThatFitsTheOfferIsTaken) {
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + kChannel), "");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + with_direction(kVideo, "inactive") + kChannel), "");
+  // A rejected m-line (port 0) needs no direction.
+  std::string rejected = with_direction(kVideo, "sendrecv");
+  rejected.replace(rejected.find("m=video 9"), 9, "m=video 0");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + rejected + kChannel), "");
+}
+
+TEST(SignalMessage, AnAnswerWhoseMLinesDoNotFitTheOfferIsNamed) {
+  // Swapped m-lines once aborted the server inside webrtcbin.
+  const std::string swapped = answer_mismatch(kOffer, kHead + kChannel + kVideo);
+  EXPECT_EQ(swapped,
+            "answer: m-line 0 must answer the offer's video m-line (UDP/TLS/RTP/SAVPF), the m-lines in the offer's order");
+  // An RTP m-line of the application kind where the data channel was.
+  std::string rtp_application = kVideo;
+  rtp_application.replace(0, 7, "m=application");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + rtp_application),
+            "answer: m-line 1 must answer the offer's application m-line (UDP/DTLS/SCTP webrtc-datachannel), the "
+            "m-lines in the offer's order");
+  std::string audio = kVideo;
+  audio.replace(0, 7, "m=audio");
+  EXPECT_NE(answer_mismatch(kOffer, kHead + audio + kChannel), "");
+  std::string other_proto = kVideo;
+  other_proto.replace(other_proto.find("UDP/TLS/RTP/SAVPF"), 17, "RTP/AVP");
+  EXPECT_NE(answer_mismatch(kOffer, kHead + other_proto + kChannel), "");
+  for (const std::string& count : {kHead + kVideo, kHead + kVideo + kChannel + kChannel})
+    EXPECT_EQ(answer_mismatch(kOffer, count), "answer: needs one m-line for each of the offer's 2, in the offer's order");
+}
+
+TEST(SignalMessage, ASendonlyMLineIsAnsweredRecvonlyOrInactive) {
+  const std::string expected = "answer: m-line 0 answers a sendonly video m-line: it must be recvonly or inactive";
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + with_direction(kVideo, "sendonly") + kChannel), expected);
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + with_direction(kVideo, "sendrecv") + kChannel), expected);
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + with_direction(kVideo, "") + kChannel), expected) << "none is sendrecv";
+  // A session-level direction counts where the m-line has none.
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + "a=recvonly\r\n" + with_direction(kVideo, "") + kChannel), "");
+}
+
+TEST(SignalMessage, AnAnswerWithoutAnOfferOrSdpIsRefusedWithoutQuotingIt) {
+  EXPECT_EQ(answer_mismatch("", kHead + kVideo + kChannel), "answer: there is no offer to answer");
+  EXPECT_EQ(answer_mismatch(kOffer, ""), "answer: \"sdp\" is not valid SDP");
+  std::string odd = kChannel;
+  odd.replace(0, 13, "m=<script>");
+  const std::string why = answer_mismatch(kOffer, kHead + kVideo + odd);
+  EXPECT_NE(why, "");
+  EXPECT_EQ(why.find("script"), std::string::npos) << why;
 }
 
 }  // namespace

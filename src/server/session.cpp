@@ -308,6 +308,7 @@ void Session::teardown_pipeline() {
   webrtc_ = nullptr;
   pipeline_ = nullptr;
   offered_ = false;
+  offer_sdp_.clear();
 }
 
 Session::~Session() {

@@ -155,6 +155,7 @@ class Session : public std::enable_shared_from_this<Session> {
   std::vector<nlohmann::json> outbox_;  // messages that wait for a socket
   std::chrono::steady_clock::time_point idle_since_;
   bool offered_ = false, closed_ = false, had_viewer_ = false;
+  std::string offer_sdp_;  // the offer sent to this pipeline's viewer; "" before it
   std::atomic<std::int64_t> alive_ns_{0};  // steady clock; written from streaming threads too
   std::atomic<std::int64_t> media_ns_{0};  // the same, RTCP alone (0: none yet)
   std::mutex channel_lock_;

@@ -120,10 +120,13 @@ void Session::offer_created(GstPromise* promise) {
   g_signal_emit_by_name(webrtc_, "set-local-description", offer, done);
   gst_promise_unref(done);
   gchar* text = gst_sdp_message_as_text(offer->sdp);
-  nlohmann::json message = {{"type", "offer"}, {"sdp", text}};
+  std::string sdp = text;
   g_free(text);
   gst_webrtc_session_description_free(offer);
-  on_main([message](Session& me) { me.send(message); });
+  on_main([sdp = std::move(sdp)](Session& me) {
+    me.offer_sdp_ = sdp;  // what an answer is checked against
+    me.send({{"type", "offer"}, {"sdp", sdp}});
+  });
 }
 
 void Session::send(const nlohmann::json& message) {
@@ -193,6 +196,12 @@ void Session::on_socket_message(const std::string& text) {
   }
   alive_now();
   if (const auto* answer = std::get_if<SignalAnswer>(&message)) {
+    // webrtcbin takes the answer's m-lines by position, some mismatches
+    // with an abort of the whole process: only a fitting answer reaches it.
+    if (const std::string why = answer_mismatch(offer_sdp_, answer->sdp); !why.empty()) {
+      send({{"type", "error"}, {"message", why}});
+      return;
+    }
     GstSDPMessage* sdp = nullptr;
     gst_sdp_message_new(&sdp);
     gst_sdp_message_parse_buffer(reinterpret_cast<const guint8*>(answer->sdp.data()),

@@ -12,19 +12,73 @@
 namespace caustic::server {
 namespace {
 
-bool is_sdp(const std::string& text) {
-  // The parser asserts a non-empty buffer (a GLib critical, not an error).
-  if (text.empty()) return false;
+// The SDP of `text`, owned; null when it does not parse.
+struct SdpMessage {
   GstSDPMessage* sdp = nullptr;
-  gst_sdp_message_new(&sdp);
-  const bool ok = gst_sdp_message_parse_buffer(reinterpret_cast<const guint8*>(text.data()),
-                                               static_cast<guint>(text.size()), sdp) == GST_SDP_OK &&
-                  gst_sdp_message_medias_len(sdp) > 0;
-  gst_sdp_message_free(sdp);
-  return ok;
+  explicit SdpMessage(std::string_view text) {
+    // The parser asserts a non-empty buffer (a GLib critical, not an error).
+    gst_sdp_message_new(&sdp);
+    if (text.empty() || gst_sdp_message_parse_buffer(reinterpret_cast<const guint8*>(text.data()),
+                                                     static_cast<guint>(text.size()), sdp) != GST_SDP_OK) {
+      gst_sdp_message_free(sdp);
+      sdp = nullptr;
+    }
+  }
+  ~SdpMessage() {
+    if (sdp) gst_sdp_message_free(sdp);
+  }
+  SdpMessage(const SdpMessage&) = delete;
+  SdpMessage& operator=(const SdpMessage&) = delete;
+};
+
+bool is_sdp(const std::string& text) {
+  const SdpMessage message(text);
+  return message.sdp && gst_sdp_message_medias_len(message.sdp) > 0;
+}
+
+std::string text_of(const char* s) { return s ? s : ""; }
+
+// The media's direction: its own attribute, else the session's, else
+// sendrecv (RFC 3264 5.1).
+std::string direction(const GstSDPMessage* sdp, const GstSDPMedia* media) {
+  for (const char* d : {"sendonly", "recvonly", "sendrecv", "inactive"})
+    if (gst_sdp_media_get_attribute_val(media, d)) return d;
+  for (const char* d : {"sendonly", "recvonly", "sendrecv", "inactive"})
+    if (gst_sdp_message_get_attribute_val(sdp, d)) return d;
+  return "sendrecv";
+}
+
+// A data channel's m-line: what webrtcbin tells apart by its first format.
+bool data_channel(const GstSDPMedia* media) {
+  return gst_sdp_media_formats_len(media) > 0 && text_of(gst_sdp_media_get_format(media, 0)) == "webrtc-datachannel";
 }
 
 }  // namespace
+
+std::string answer_mismatch(std::string_view offer_text, std::string_view answer_text) {
+  const SdpMessage offer(offer_text), answer(answer_text);
+  if (!offer.sdp) return "answer: there is no offer to answer";
+  if (!answer.sdp) return "answer: \"sdp\" is not valid SDP";
+  const guint lines = gst_sdp_message_medias_len(offer.sdp);
+  if (gst_sdp_message_medias_len(answer.sdp) != lines)
+    return "answer: needs one m-line for each of the offer's " + std::to_string(lines) + ", in the offer's order";
+  for (guint i = 0; i < lines; ++i) {
+    const GstSDPMedia* o = gst_sdp_message_get_media(offer.sdp, i);
+    const GstSDPMedia* a = gst_sdp_message_get_media(answer.sdp, i);
+    const std::string media = text_of(gst_sdp_media_get_media(o)), proto = text_of(gst_sdp_media_get_proto(o));
+    if (text_of(gst_sdp_media_get_media(a)) != media || text_of(gst_sdp_media_get_proto(a)) != proto ||
+        data_channel(a) != data_channel(o))
+      return "answer: m-line " + std::to_string(i) + " must answer the offer's " + media + " m-line (" + proto +
+             (data_channel(o) ? " webrtc-datachannel" : "") + "), the m-lines in the offer's order";
+    if (direction(offer.sdp, o) == "sendonly" && gst_sdp_media_get_port(a) != 0) {
+      const std::string d = direction(answer.sdp, a);
+      if (d != "recvonly" && d != "inactive")
+        return "answer: m-line " + std::to_string(i) + " answers a sendonly " + media +
+               " m-line: it must be recvonly or inactive";
+    }
+  }
+  return "";
+}
 
 SignalMessage parse_signal_message(std::string_view text) {
   if (text.size() > kMaxSignalMessageBytes)

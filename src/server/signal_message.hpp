@@ -31,4 +31,14 @@ using SignalMessage = std::variant<SignalAnswer, SignalIce, SignalPing, SignalEr
 /// Parses one text message. Never throws.
 SignalMessage parse_signal_message(std::string_view text);
 
+/// Why `answer` cannot answer `offer` (both SDP text), or "" when it can:
+/// one m-line for each of the offer's, in the same order, each of the same
+/// media and protocol (a data channel's with its format), and a sendonly
+/// m-line answered recvonly or inactive (RFC 3264 6.1) unless rejected
+/// (port 0). webrtcbin pairs m-lines by position and aborts the process on
+/// an answer whose RTP m-line sits where its data channel's was. The reason
+/// is ASCII, quotes only the offer (the server's own words), never the
+/// answer; an answer that is not SDP is parse_signal_message's to refuse.
+std::string answer_mismatch(std::string_view offer, std::string_view answer);
+
 }  // namespace caustic::server
