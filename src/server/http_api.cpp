@@ -297,12 +297,24 @@ void on_request_started(SoupServer*, SoupServerMessage* msg, gpointer data) {
   soup_message_headers_replace(headers, "X-Content-Type-Options", "nosniff");
   soup_message_headers_replace(headers, "Referrer-Policy", "no-referrer");
   soup_message_headers_replace(headers, "X-Frame-Options", "DENY");
+  soup_message_headers_replace(headers, "Accept-Ranges", "none");  // on_request_read
   const auto& state = *static_cast<ServerState*>(data);
   const auto& config = state.config;
   soup_message_headers_replace(headers, "Content-Security-Policy", state.api_policy.c_str());
   // Which instance answered, for an operator reading a proxy's traffic.
   if (const int n = config.instance_index; n > 0)
     soup_message_headers_replace(headers, "X-Causticd-Instance", std::to_string(n).c_str());
+}
+
+void on_request_read(SoupServer*, SoupServerMessage* msg, gpointer) {
+  // libsoup 3.2 serves the ranges of any 200 itself: every range of a
+  // multi-range request copied into one body in memory (a thousand copies
+  // of a megabyte file for one 16 KiB head), and a suffix longer than the
+  // file as a broken 206. A server may ignore Range (RFC 9110 14.2); the
+  // files here are small, and an answer is whole.
+  SoupMessageHeaders* headers = soup_server_message_get_request_headers(msg);
+  soup_message_headers_remove(headers, "Range");
+  soup_message_headers_remove(headers, "If-Range");
 }
 
 }  // namespace caustic::server

@@ -166,6 +166,9 @@ RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) 
       chunked_or_other = true;
     } else if (iequals(name, "Upgrade")) {
       upgrade_ws = iequals(value, "websocket");
+    } else if (iequals(name, "Expect") && !iequals(value, "100-continue")) {
+      // The library answers any other expectation with an empty 417.
+      return refuse(417, "the only expectation served is 100-continue");
     }
   }
   if (lengths > 1) return refuse(400, "more than one Content-Length header");

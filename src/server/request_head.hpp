@@ -32,7 +32,7 @@ struct RequestHead {
   std::uint64_t content_length = 0;  ///< 0 when absent
   bool websocket = false;            ///< GET with "Upgrade: websocket"
   // refused:
-  unsigned status = 0;  ///< 400, 411, 413 or 431
+  unsigned status = 0;  ///< 400, 411, 413, 417 or 431
   std::string detail;   ///< ASCII; never quotes the request's bytes
 };
 

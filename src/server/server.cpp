@@ -161,6 +161,7 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
   }
   s.soup = soup_server_new("server-header", "causticd", nullptr);
   g_signal_connect(s.soup, "request-started", G_CALLBACK(on_request_started), &s);
+  g_signal_connect(s.soup, "request-read", G_CALLBACK(on_request_read), &s);
   s.listener = std::make_unique<Listener>(s.soup, s.metrics, listener_limits(s.config));
   // The same path also carries plain requests (POST, and everything under
   // /api/v1/sessions/{id}): a handler entry with both callbacks takes both.

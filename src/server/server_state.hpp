@@ -77,6 +77,9 @@ void handle_signal_socket(SoupServer*, SoupServerMessage* msg, const char* path,
                           gpointer state);
 /// Sets the headers every answer carries (connected to "request-started").
 void on_request_started(SoupServer*, SoupServerMessage* msg, gpointer state);
+/// Drops the request's Range before any handler answers (connected to
+/// "request-read"): byte ranges are not served.
+void on_request_read(SoupServer*, SoupServerMessage* msg, gpointer state);
 /// What the accept path enforces, from the configuration.
 ListenerLimits listener_limits(const ServerConfig& config);
 
