@@ -73,17 +73,28 @@ TEST(Hardening, ASecondSignallingSocketGetsAFreshOffer) {
   ::close(second);
 }
 
-// The offer's text with its m-line sections swapped and each turned round
-// as a browser's answer would be: a viewer's answer in the wrong order,
-// which webrtcbin once answered by aborting the whole server.
-std::string swapped_answer(std::string offer) {
-  for (const auto& [from, to] : {std::pair<std::string, std::string>{"a=setup:actpass", "a=setup:active"},
-                                 {"a=sendonly", "a=recvonly"}})
-    for (std::size_t at; (at = offer.find(from)) != std::string::npos;) offer.replace(at, from.size(), to);
-  const std::size_t first = offer.find("m="), second = offer.find("\r\nm=", first) + 2;
-  const std::size_t end = offer.find("\r\nm=", second) == std::string::npos ? offer.size() : offer.find("\r\nm=", second) + 2;
-  return offer.substr(0, first) + offer.substr(second, end - second) + offer.substr(first, second - first) +
-         offer.substr(end);
+// Answers a browser could not give but a client can write, each of which
+// webrtcbin once answered by aborting the whole server: the offer's text
+// turned round as an answer (recvonly, setup active), then its two m-line
+// sections swapped, its BUNDLE group tagged by the data channel, or its
+// mids traded between the m-lines.
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  for (std::size_t at = 0; (at = text.find(from, at)) != std::string::npos; at += to.size()) text.replace(at, from.size(), to);
+  return text;
+}
+
+std::vector<std::string> unfitting_answers(const std::string& offer) {
+  const std::string answer = replaced(replaced(offer, "a=setup:actpass", "a=setup:active"), "a=sendonly", "a=recvonly");
+  const std::size_t first = answer.find("m="), second = answer.find("\r\nm=", first) + 2;
+  const std::size_t third = answer.find("\r\nm=", second);
+  const std::size_t end = third == std::string::npos ? answer.size() : third + 2;
+  const std::string swapped = answer.substr(0, first) + answer.substr(second, end - second) +
+                              answer.substr(first, second - first) + answer.substr(end);
+  const std::string tagged = replaced(answer, "a=group:BUNDLE video0 application1", "a=group:BUNDLE application1 video0");
+  const std::string traded = replaced(
+      replaced(replaced(answer, "a=mid:video0", "a=mid:x"), "a=mid:application1", "a=mid:video0"), "a=mid:x",
+      "a=mid:application1");
+  return {swapped, tagged, traded};
 }
 
 TEST(Hardening, AnAnswerWhoseMLinesDoNotFitTheOfferIsRefused) {
@@ -94,13 +105,19 @@ TEST(Hardening, AnAnswerWhoseMLinesDoNotFitTheOfferIsRefused) {
   std::string offer;
   for (std::optional<std::string> m; offer.empty() && (m = ws_read_text(fd, 20000));)
     if (const json j = json::parse(*m, nullptr, false); j.value("type", "") == "offer") offer = j["sdp"];
-  ASSERT_NE(offer.find("m=application"), std::string::npos) << "an offer of two m-lines: " << offer;
-  ws_send_frame(fd, 1, true, json{{"type", "answer"}, {"sdp", swapped_answer(offer)}}.dump());
-  std::string error;
-  for (std::optional<std::string> m; error.empty() && (m = ws_read_text(fd, 20000));)
-    if (const json j = json::parse(*m, nullptr, false); j.value("type", "") == "error") error = j["message"];
-  EXPECT_NE(error.find("m-line 0 must answer the offer's video m-line"), std::string::npos) << error;
-  EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u) << "the server went down";
+  ASSERT_NE(offer.find("a=group:BUNDLE video0 application1"), std::string::npos) << "webrtcbin's offer: " << offer;
+  ASSERT_NE(offer.find("a=mid:application1"), std::string::npos) << offer;
+  const char* reasons[] = {"m-line 0 must answer the offer's video m-line", "a BUNDLE group must start with",
+                           "m-line 0 must keep the offer's mid"};
+  const std::vector<std::string> answers = unfitting_answers(offer);
+  for (std::size_t k = 0; k < answers.size(); ++k) {
+    ws_send_frame(fd, 1, true, json{{"type", "answer"}, {"sdp", answers[k]}}.dump());
+    std::string error;
+    for (std::optional<std::string> m; error.empty() && (m = ws_read_text(fd, 20000));)
+      if (const json j = json::parse(*m, nullptr, false); j.value("type", "") == "error") error = j["message"];
+    EXPECT_NE(error.find(reasons[k]), std::string::npos) << error;
+    ASSERT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u) << "the server went down at answer " << k;
+  }
   EXPECT_EQ(sessions_now(server), 1);
   ::close(fd);
 }

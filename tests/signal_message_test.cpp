@@ -137,6 +137,33 @@ TEST(SignalMessage, AnAnswerWhoseMLinesDoNotFitTheOfferIsNamed) {
     EXPECT_EQ(answer_mismatch(kOffer, count), "answer: needs one m-line for each of the offer's 2, in the offer's order");
 }
 
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  for (std::size_t at = 0; (at = text.find(from, at)) != std::string::npos; at += to.size()) text.replace(at, from.size(), to);
+  return text;
+}
+
+TEST(SignalMessage, AnAnswerKeepsTheOffersMidsAndItsBundleTag) {
+  const std::string bundle = "a=group:BUNDLE video0 application1\r\n";
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + bundle + kVideo + kChannel), "");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + "a=group:BUNDLE video0\r\n" + kVideo + kChannel), "") << "fewer bundled";
+  // Mids that trade places, or a group tagged by the data channel, once
+  // aborted the server inside webrtcbin.
+  const std::string traded =
+      replaced(replaced(replaced(kHead + bundle + kVideo + kChannel, "a=mid:video0", "a=mid:x"), "a=mid:application1",
+                        "a=mid:video0"),
+               "a=mid:x", "a=mid:application1");
+  EXPECT_EQ(answer_mismatch(kOffer, traded), "answer: m-line 0 must keep the offer's mid (video0)");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + replaced(kVideo, "a=mid:video0\r\n", "") + kChannel),
+            "answer: m-line 0 must keep the offer's mid (video0)");
+  const std::string expected =
+      "answer: a BUNDLE group must start with the offer's first bundled mid (video0) and name only the offer's "
+      "bundled mids, each once";
+  for (const std::string& group : {"application1 video0", "application1", "video0 video0", "video0 unknown", "",
+                                   "video0\r\na=group:BUNDLE application1"})
+    EXPECT_EQ(answer_mismatch(kOffer, kHead + "a=group:BUNDLE " + group + "\r\n" + kVideo + kChannel), expected)
+        << group;
+}
+
 TEST(SignalMessage, ASendonlyMLineIsAnsweredRecvonlyOrInactive) {
   const std::string expected = "answer: m-line 0 answers a sendonly video m-line: it must be recvonly or inactive";
   EXPECT_EQ(answer_mismatch(kOffer, kHead + with_direction(kVideo, "sendonly") + kChannel), expected);

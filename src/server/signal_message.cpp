@@ -5,6 +5,7 @@
 
 #include <gst/sdp/sdp.h>
 
+#include <algorithm>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -53,6 +54,48 @@ bool data_channel(const GstSDPMedia* media) {
   return gst_sdp_media_formats_len(media) > 0 && text_of(gst_sdp_media_get_format(media, 0)) == "webrtc-datachannel";
 }
 
+std::vector<std::string> words(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string w; in >> w;) out.push_back(w);
+  return out;
+}
+
+// The mids of each "a=group:BUNDLE ..." line.
+std::vector<std::vector<std::string>> bundle_groups(const GstSDPMessage* sdp) {
+  std::vector<std::vector<std::string>> groups;
+  for (guint i = 0; i < gst_sdp_message_attributes_len(sdp); ++i) {
+    const GstSDPAttribute* a = gst_sdp_message_get_attribute(sdp, i);
+    if (text_of(a->key) != "group") continue;
+    std::vector<std::string> w = words(text_of(a->value));
+    if (w.empty() || w.front() != "BUNDLE") continue;
+    w.erase(w.begin());
+    groups.push_back(std::move(w));
+  }
+  return groups;
+}
+
+// Whether the answer's BUNDLE groups fit the offer's: none, or one that
+// starts with the offer's first bundled mid (the transport webrtcbin made)
+// and names only the offer's bundled mids, each once. webrtcbin 1.22 takes
+// the first mid of the answer's group for its transport and aborts when it
+// names another m-line.
+bool bundle_fits(const GstSDPMessage* offer, const GstSDPMessage* answer) {
+  const auto offered = bundle_groups(offer), answered = bundle_groups(answer);
+  if (answered.empty()) return true;
+  if (answered.size() > 1 || offered.size() != 1 || answered[0].empty() || offered[0].empty() ||
+      answered[0][0] != offered[0][0])
+    return false;
+  std::vector<std::string> seen;
+  for (const std::string& mid : answered[0]) {
+    if (std::find(offered[0].begin(), offered[0].end(), mid) == offered[0].end() ||
+        std::find(seen.begin(), seen.end(), mid) != seen.end())
+      return false;
+    seen.push_back(mid);
+  }
+  return true;
+}
+
 }  // namespace
 
 std::string answer_mismatch(std::string_view offer_text, std::string_view answer_text) {
@@ -70,12 +113,23 @@ std::string answer_mismatch(std::string_view offer_text, std::string_view answer
         data_channel(a) != data_channel(o))
       return "answer: m-line " + std::to_string(i) + " must answer the offer's " + media + " m-line (" + proto +
              (data_channel(o) ? " webrtc-datachannel" : "") + "), the m-lines in the offer's order";
+    // webrtcbin finds an m-line's transport by its mid: a mid moved to
+    // another m-line aborted it as a swapped order did.
+    const char* mid = gst_sdp_media_get_attribute_val(o, "mid");
+    if (mid && text_of(gst_sdp_media_get_attribute_val(a, "mid")) != mid)
+      return "answer: m-line " + std::to_string(i) + " must keep the offer's mid (" + text_of(mid) + ")";
     if (direction(offer.sdp, o) == "sendonly" && gst_sdp_media_get_port(a) != 0) {
       const std::string d = direction(answer.sdp, a);
       if (d != "recvonly" && d != "inactive")
         return "answer: m-line " + std::to_string(i) + " answers a sendonly " + media +
                " m-line: it must be recvonly or inactive";
     }
+  }
+  if (!bundle_fits(offer.sdp, answer.sdp)) {
+    const auto offered = bundle_groups(offer.sdp);
+    const std::string first = offered.empty() || offered[0].empty() ? "" : offered[0][0];
+    return "answer: a BUNDLE group must start with the offer's first bundled mid (" + first +
+           ") and name only the offer's bundled mids, each once";
   }
   return "";
 }
@@ -107,9 +161,7 @@ SignalMessage parse_signal_message(std::string_view text) {
     // type ...", or "" for the end of candidates: anything else would be
     // handed to the ICE agent only to be dropped without a word.
     if (!c.empty()) {
-      std::vector<std::string> fields;
-      std::istringstream words(c);
-      for (std::string w; words >> w;) fields.push_back(w);
+      const std::vector<std::string> fields = words(c);
       if (fields.size() < 8 || fields[0].rfind("candidate:", 0) != 0 || fields[6] != "typ")
         return SignalError{"ice: \"candidate\" is not an ICE candidate (candidate:... typ ...), nor \"\" for the end"};
     }

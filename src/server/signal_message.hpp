@@ -33,10 +33,13 @@ SignalMessage parse_signal_message(std::string_view text);
 
 /// Why `answer` cannot answer `offer` (both SDP text), or "" when it can:
 /// one m-line for each of the offer's, in the same order, each of the same
-/// media and protocol (a data channel's with its format), and a sendonly
-/// m-line answered recvonly or inactive (RFC 3264 6.1) unless rejected
-/// (port 0). webrtcbin pairs m-lines by position and aborts the process on
-/// an answer whose RTP m-line sits where its data channel's was. The reason
+/// media and protocol (a data channel's with its format) and mid, a
+/// sendonly m-line answered recvonly or inactive (RFC 3264 6.1) unless
+/// rejected (port 0), and no BUNDLE group or one that starts with the
+/// offer's first bundled mid and names only the offer's bundled mids, once
+/// each. webrtcbin 1.22 aborts the process on an answer whose RTP m-line
+/// sits where its data channel's was, whose mids trade places, or whose
+/// BUNDLE group starts with another m-line than the offer's. The reason
 /// is ASCII, quotes only the offer (the server's own words), never the
 /// answer; an answer that is not SDP is parse_signal_message's to refuse.
 std::string answer_mismatch(std::string_view offer, std::string_view answer);
