@@ -76,8 +76,9 @@ TEST(Hardening, ASecondSignallingSocketGetsAFreshOffer) {
 // Answers a browser could not give but a client can write, each of which
 // webrtcbin once answered by aborting the whole server: the offer's text
 // turned round as an answer (recvonly, setup active), then its two m-line
-// sections swapped, its BUNDLE group tagged by the data channel, or its
-// mids traded between the m-lines.
+// sections swapped, its BUNDLE group tagged by the data channel, its mids
+// traded between the m-lines, or the video's ICE ufrag given twice at the
+// session level instead.
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
   for (std::size_t at = 0; (at = text.find(from, at)) != std::string::npos; at += to.size()) text.replace(at, from.size(), to);
   return text;
@@ -94,7 +95,12 @@ std::vector<std::string> unfitting_answers(const std::string& offer) {
   const std::string traded = replaced(
       replaced(replaced(answer, "a=mid:video0", "a=mid:x"), "a=mid:application1", "a=mid:video0"), "a=mid:x",
       "a=mid:application1");
-  return {swapped, tagged, traded};
+  // The video's ufrag moved to the session level, twice over.
+  std::string credentials = answer;
+  const std::size_t ufrag = credentials.find("a=ice-ufrag:", credentials.find("m=video"));
+  credentials.erase(ufrag, credentials.find("\r\n", ufrag) + 2 - ufrag);
+  credentials.insert(first, "a=ice-ufrag:aaaaaaaa\r\na=ice-ufrag:bbbbbbbb\r\n");
+  return {swapped, tagged, traded, credentials};
 }
 
 TEST(Hardening, AnAnswerWhoseMLinesDoNotFitTheOfferIsRefused) {
@@ -108,7 +114,7 @@ TEST(Hardening, AnAnswerWhoseMLinesDoNotFitTheOfferIsRefused) {
   ASSERT_NE(offer.find("a=group:BUNDLE video0 application1"), std::string::npos) << "webrtcbin's offer: " << offer;
   ASSERT_NE(offer.find("a=mid:application1"), std::string::npos) << offer;
   const char* reasons[] = {"m-line 0 must answer the offer's video m-line", "a BUNDLE group must start with",
-                           "m-line 0 must keep the offer's mid"};
+                           "m-line 0 must keep the offer's mid", "at most one session-level a=ice-ufrag"};
   const std::vector<std::string> answers = unfitting_answers(offer);
   for (std::size_t k = 0; k < answers.size(); ++k) {
     ws_send_frame(fd, 1, true, json{{"type", "answer"}, {"sdp", answers[k]}}.dump());

@@ -164,6 +164,36 @@ TEST(SignalMessage, AnAnswerKeepsTheOffersMidsAndItsBundleTag) {
         << group;
 }
 
+TEST(SignalMessage, WhatTheLibrariesTakeOnlyAsAProgrammingErrorIsRefused) {
+  // A second session-level credential where an m-line has none of its own
+  // aborted the server inside webrtcbin; duplicates are refused anywhere.
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + "a=ice-ufrag:aaaaaaaa\r\na=ice-ufrag:bbbbbbbb\r\n" + kVideo + kChannel),
+            "answer: at most one session-level a=ice-ufrag");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + "a=ice-pwd:p\r\na=ice-pwd:q\r\n" + kVideo + kChannel),
+            "answer: at most one session-level a=ice-pwd");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + "a=ice-pwd:p\r\na=ice-pwd:q\r\n" + kChannel),
+            "answer: m-line 0 has more than one a=ice-pwd");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + "a=ice-ufrag:aaaaaaaa\r\n" + kVideo + kChannel), "") << "one is fine";
+  // GLib criticals, not aborts, but calls the libraries rule out.
+  for (const char* ssrc : {"a=ssrc:0 cname:x", "a=ssrc:4294967296 cname:x", "a=ssrc:-1 cname:x", "a=ssrc:"})
+    EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + ssrc + "\r\n" + kChannel),
+              "answer: m-line 0: an SSRC must be in [1, 2^32 - 1]")
+        << ssrc;
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + "a=ssrc:4294967295 cname:x\r\n" + kChannel), "");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + "a=candidate:1 0 udp 1 127.0.0.1 9 typ host\r\n" + kChannel),
+            "answer: m-line 0: a candidate's component must be in [1, 256]");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + "a=candidate:1 1 udp 1 127.0.0.1 9 typ host\r\n" + kChannel), "");
+  for (const char* fmtp : {"a=fmtp:96 a-mid=foo", "a=fmtp:96 max-fr=30;EXTMAP-1=x", "a=x-foo:1\r\na=fmtp:96 x-foo=2"})
+    EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + fmtp + "\r\n" + kChannel),
+              "answer: m-line 0: an fmtp parameter must not be named like an attribute (a-..., extmap-..., or the "
+              "m-line's own)")
+        << fmtp;
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + "a=fmtp:96 max-fr=30;max-fs=3600\r\n" + kChannel), "");
+  EXPECT_EQ(error_of(R"({"type":"ice","candidate":"candidate:1 0 UDP 2122252543 127.0.0.1 40000 typ host",)"
+                     R"("sdpMLineIndex":0})"),
+            "ice: a candidate's component must be in [1, 256]");
+}
+
 TEST(SignalMessage, ASendonlyMLineIsAnsweredRecvonlyOrInactive) {
   const std::string expected = "answer: m-line 0 answers a sendonly video m-line: it must be recvonly or inactive";
   EXPECT_EQ(answer_mismatch(kOffer, kHead + with_direction(kVideo, "sendonly") + kChannel), expected);

@@ -6,6 +6,7 @@
 #include <gst/sdp/sdp.h>
 
 #include <algorithm>
+#include <cctype>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -96,6 +97,53 @@ bool bundle_fits(const GstSDPMessage* offer, const GstSDPMessage* answer) {
   return true;
 }
 
+// How many attributes `key` has at the session level, or in `media`.
+std::size_t count_attributes(const GstSDPMessage* sdp, const char* key) {
+  std::size_t n = 0;
+  for (guint i = 0; i < gst_sdp_message_attributes_len(sdp); ++i)
+    n += text_of(gst_sdp_message_get_attribute(sdp, i)->key) == key;
+  return n;
+}
+std::size_t count_attributes(const GstSDPMedia* media, const char* key) {
+  std::size_t n = 0;
+  for (guint i = 0; i < gst_sdp_media_attributes_len(media); ++i)
+    n += text_of(gst_sdp_media_get_attribute(media, i)->key) == key;
+  return n;
+}
+
+// A whole number in [lo, hi], as written (no sign, no wrap past 2^32).
+bool number_in(const std::string& text, unsigned long long lo, unsigned long long hi) {
+  if (text.empty() || text.size() > 10 || text.find_first_not_of("0123456789") != std::string::npos) return false;
+  const unsigned long long n = std::stoull(text);
+  return n >= lo && n <= hi;
+}
+
+// What webrtcbin 1.22 and libnice take only as a programming error (a
+// GLib critical) in one m-line, or "": an SSRC of 0 (or past 32 bits,
+// which wraps to one), a candidate of component 0, an fmtp parameter named
+// like a caps field the m-line's attributes make (a-mid, extmap-1, or an
+// attribute's own key), which empties the payload's caps.
+std::string media_problem(const GstSDPMedia* media) {
+  for (guint i = 0; i < gst_sdp_media_attributes_len(media); ++i) {
+    const GstSDPAttribute* a = gst_sdp_media_get_attribute(media, i);
+    const std::string key = text_of(a->key);
+    const std::vector<std::string> w = words(text_of(a->value));
+    if (key == "ssrc" && (w.empty() || !number_in(w[0], 1, 4294967295ULL))) return "an SSRC must be in [1, 2^32 - 1]";
+    if (key == "candidate" && (w.size() < 2 || !number_in(w[1], 1, 256)))
+      return "a candidate's component must be in [1, 256]";
+    if (key != "fmtp" || w.size() < 2) continue;
+    for (std::size_t at = 0; at <= w[1].size();) {  // "name=value;name=value"
+      const std::size_t end = std::min(w[1].find(';', at), w[1].size());
+      std::string name = w[1].substr(at, std::min(w[1].find('=', at), end) - at);
+      std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+      if (name.rfind("a-", 0) == 0 || name.rfind("extmap-", 0) == 0 || count_attributes(media, name.c_str()) > 0)
+        return "an fmtp parameter must not be named like an attribute (a-..., extmap-..., or the m-line's own)";
+      at = end + 1;
+    }
+  }
+  return "";
+}
+
 }  // namespace
 
 std::string answer_mismatch(std::string_view offer_text, std::string_view answer_text) {
@@ -105,9 +153,19 @@ std::string answer_mismatch(std::string_view offer_text, std::string_view answer
   const guint lines = gst_sdp_message_medias_len(offer.sdp);
   if (gst_sdp_message_medias_len(answer.sdp) != lines)
     return "answer: needs one m-line for each of the offer's " + std::to_string(lines) + ", in the offer's order";
+  // One ICE credential of each kind at the session level, and in each
+  // m-line: webrtcbin asserts (and aborts) on a second session-level one
+  // when an m-line leaves its own out.
+  for (const char* key : {"ice-ufrag", "ice-pwd"})
+    if (count_attributes(answer.sdp, key) > 1)
+      return std::string("answer: at most one session-level a=") + key;
   for (guint i = 0; i < lines; ++i) {
     const GstSDPMedia* o = gst_sdp_message_get_media(offer.sdp, i);
     const GstSDPMedia* a = gst_sdp_message_get_media(answer.sdp, i);
+    for (const char* key : {"ice-ufrag", "ice-pwd"})
+      if (count_attributes(a, key) > 1) return "answer: m-line " + std::to_string(i) + " has more than one a=" + key;
+    if (const std::string problem = media_problem(a); !problem.empty())
+      return "answer: m-line " + std::to_string(i) + ": " + problem;
     const std::string media = text_of(gst_sdp_media_get_media(o)), proto = text_of(gst_sdp_media_get_proto(o));
     if (text_of(gst_sdp_media_get_media(a)) != media || text_of(gst_sdp_media_get_proto(a)) != proto ||
         data_channel(a) != data_channel(o))
@@ -164,6 +222,8 @@ SignalMessage parse_signal_message(std::string_view text) {
       const std::vector<std::string> fields = words(c);
       if (fields.size() < 8 || fields[0].rfind("candidate:", 0) != 0 || fields[6] != "typ")
         return SignalError{"ice: \"candidate\" is not an ICE candidate (candidate:... typ ...), nor \"\" for the end"};
+      // libnice takes component 0 only as a programming error (a critical).
+      if (!number_in(fields[1], 1, 256)) return SignalError{"ice: a candidate's component must be in [1, 256]"};
     }
     return SignalIce{c, static_cast<unsigned>(mline->get<std::uint64_t>())};
   }
