@@ -225,6 +225,7 @@ TEST_F(Cli, WaterBenchWritesFrameCostsAndTheLastFrames) {
   expect_rejected("bench --out " + dir_.string() + " --grids 64", "--water");
   expect_rejected("bench --water --out " + dir_.string() + " --grids 8", "--grids");
   expect_rejected("bench --water --out " + dir_.string() + " --seconds 0", "--seconds");
+  expect_rejected("bench --water --out " + dir_.string() + " --seconds nan", "--seconds");  // once a crash
   expect_rejected("bench --water --perf --out " + dir_.string(), "--water");
 }
 

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -87,7 +89,38 @@ TEST(Config, BadFileNamesFileLineAndKeyAndChangesNothing) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("larger than 1 MiB"), std::string::npos) << e.what();
   }
+  // A pipe: opening it waited for a writer.
+  const auto fifo = std::filesystem::temp_directory_path() / "causticd_fifo.conf";
+  std::filesystem::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  try {
+    load_config_file(c, fifo);
+    ADD_FAILURE() << "a pipe was opened";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a pipe or socket"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(fifo);
   EXPECT_EQ(c.port, 8080);
+}
+
+TEST(Config, AValueLongerThanAnyAddressOrPathIsRefusedWithoutQuotingIt) {
+  ServerConfig c;
+  // 30,000 characters took the URL pattern's recursion off the stack.
+  const std::string url = "stun://" + std::string(30000, 'a') + ":3478";
+  expect_error(c, "stun_server", url, "stun_server: a value is at most 4096 characters, got 30012");
+  try {
+    set_config_value(c, "trusted_proxies", std::string(100000, '1'));
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_LT(std::string(e.what()).size(), 200u) << "the value was quoted whole";
+  }
+  try {
+    set_config_value(c, "bind_address", std::string(1000, '9'));
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_LT(std::string(e.what()).size(), 200u) << "the value was quoted whole";
+  }
+  EXPECT_NO_THROW(set_config_value(c, "stun_server", "stun://" + std::string(2000, 'a') + ":3478"));
 }
 
 TEST(Config, ValuesAreCheckedAndNamed) {

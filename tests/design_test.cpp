@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <map>
 
@@ -238,5 +239,32 @@ TEST(DesignTarget, DecodesSrgbKeepsLinearFloatsAndBoxFiltersExactly) {
   EXPECT_FLOAT_EQ(cells.at(1, 1), 0.25f * 3.5f);
   // An n x n picture comes back unchanged at n.
   EXPECT_EQ(box_resample_square(box_resample_square(loaded, 4), 4).pixels, box_resample_square(loaded, 4).pixels);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(DesignTarget, WhatIsNoPictureFileOrClaimsAHugeOneIsRefusedBeforeItsReader) {
+  const auto dir = std::filesystem::temp_directory_path() / "causticd_design_target_bad";
+  std::filesystem::create_directories(dir);
+  const auto refused = [](const std::filesystem::path& file) -> std::string {
+    try {
+      load_target_rgb(file);
+    } catch (const TargetError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  // A device, a folder and a pipe: read, or waited on, without end.
+  EXPECT_NE(refused("/dev/zero").find("is not a regular file"), std::string::npos) << refused("/dev/zero");
+  EXPECT_NE(refused(dir).find("is not a regular file"), std::string::npos);
+  // A 13-byte GIF whose screen claims 65535 x 65535: its reader made the
+  // canvas on open and threw out of it (the process aborted).
+  for (const int side : {65535, 40000}) {
+    std::ofstream out(dir / "huge.gif", std::ios::binary);
+    const char head[] = {'G', 'I', 'F', '8', '9', 'a', char(side & 255), char(side >> 8), char(side & 255),
+                         char(side >> 8), 0, 0, 0};
+    out.write(head, sizeof head);
+    out.close();
+    EXPECT_NE(refused(dir / "huge.gif").find("pixels is too large"), std::string::npos) << refused(dir / "huge.gif");
+  }
   std::filesystem::remove_all(dir);
 }

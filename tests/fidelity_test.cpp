@@ -11,6 +11,8 @@
 #include "caustic/reference.hpp"
 #include "caustic/resample.hpp"
 
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -213,6 +215,17 @@ TEST(Calibration, RoundTripsAndNamesWhatIsWrongInAFile) {
     ADD_FAILURE() << "/dev/zero was read as a calibration";
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("larger than 1024 KiB"), std::string::npos) << e.what();
+  }
+  // Beside its scene, found without being named: a pipe there held render
+  // up, a folder read as broken JSON.
+  ASSERT_EQ(::mkfifo((dir / "pipe.json").c_str(), 0600), 0);
+  for (const char* name : {"pipe.json", "."}) {
+    try {
+      load_calibration(dir / name, "f");
+      ADD_FAILURE() << name << " was read as a calibration";
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("is a folder, pipe or socket"), std::string::npos) << e.what();
+    }
   }
   std::filesystem::remove_all(dir);
 }

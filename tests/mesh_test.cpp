@@ -105,6 +105,32 @@ TEST_F(ObjFiles, ReadsAndWritesVertexColoursAsTheFacesTint) {
   EXPECT_FALSE(tinted(load_obj(write("w.obj", "v 0 0 0 1\nv 1 0 0 1\nv 1 1 0 1\nf 1 2 3\n"))));
 }
 
+TEST_F(ObjFiles, RejectsWhatTheLoaderWouldMisreadOrHoardBeforeItRuns) {
+  const std::string corners = "v 0 0 0\nv 1 0 0\nv 1 1 0\n";
+  // A face's index past 2^31 wrapped round to another vertex; "1.5" and
+  // "3x" were read as 1 and 3.
+  for (const char* face : {"f 1 2 99999999999999999999", "f 1 2 4294967299", "f 1.5 2 3", "f 1 2 3x", "f 1 2 +3",
+                           "f 1 2 0", "f 1 2 3/", "f 1/1/1/1 2 3"})
+    expect_error(corners + face + "\n", "line 4: a face's corner must be v, v/vt, v//vn or v/vt/vn");
+  expect_error(corners + "f 1 2\n", "line 4: a face needs at least 3 corners");
+  for (const char* vertex : {"v 0 0", "v 0 0 0 1 1", "v 0 0 0 1 1 1 1"})
+    expect_error(std::string(vertex) + "\n" + corners + "f 2 3 4\n", "line 1: a vertex is x y z");
+  expect_error(corners + "vn 0 0\nf 1 2 3\n", "line 4: a normal is x y z");
+  expect_error(corners + "vt 0\nf 1 2 3\n", "line 4: a texture coordinate is u v");
+  // Every "o" a shape in the loader: 8 million took 5 GB before the
+  // triangle limit was checked; now counted first.
+  std::string groups = corners;
+  for (int i = 0; i < 4097; ++i) groups += "o a\nf 1 2 3\n";
+  expect_error(groups, "line 8196: more than 4096 objects and groups");
+  MeshLimits limits;
+  limits.max_triangles = 2;
+  limits.max_vertices = 3;
+  expect_error(corners + "f 1 2 3\nf 1 2 3\nf 1 2 3\n", "line 6: more than 2 faces", limits);
+  expect_error(corners + "v 0 0 1\nf 1 2 3\n", "line 4: more than 3 vertices", limits);
+  // What stays: relative and full corners.
+  EXPECT_NO_THROW(load_obj(write("ok.obj", corners + "vn 0 0 1\nvt 0 0\nf -3/1/1 -2/1/1 -1//1\n")));
+}
+
 TEST_F(ObjFiles, RejectsColoursOutOfRangeOrOnSomeVerticesOnly) {
   expect_error("v 0 0 0 1 0 0\nv 1 0 0 1.5 0 0\nv 1 1 0 0 0 1\nf 1 2 3\n", "line 2: the colour 1.5 is outside [0, 1]");
   expect_error("v 0 0 0 1 0 -0.1\nv 1 0 0 1 0 0\nv 1 1 0 0 0 1\nf 1 2 3\n", "-0.1 is outside");

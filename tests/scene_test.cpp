@@ -261,6 +261,7 @@ TEST(LoadScene, RefusesWhatTheJsonRulesRefuse) {
   }
   EXPECT_NE(refused(dir / "big.json").find("larger than 16 MiB"), std::string::npos);
   EXPECT_NE(refused("/dev/zero").find("larger than 16 MiB"), std::string::npos) << refused("/dev/zero");
+  EXPECT_NE(refused(dir).find("is a folder, pipe or socket"), std::string::npos) << refused(dir);
   std::filesystem::remove(dir / "big.json");
 }
 

@@ -204,7 +204,7 @@ std::function<int()> add_bench_command(CLI::App& app) {
       ->check(CLI::Range(16, 512))
       ->needs(water_flag);
   cmd->add_option("--seconds", water_opt->seconds, "--water: seconds of water to time, 30 frames each")
-      ->check(CLI::Range(0.1, 120.0))
+      ->check(finite_range(0.1, 120.0))
       ->needs(water_flag);
   cmd->add_option("--setups", water_opt->setups,
                   "--water: where the caustic pass sets up its triangles, a row each: auto (the CPU under a "

@@ -10,6 +10,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -19,6 +21,18 @@ namespace caustic::app {
 
 /// Exit statuses shared by every subcommand.
 enum Exit : int { ok = 0, runtime_failure = 1, bad_input = 2 };
+
+/// CLI::Range(lo, hi) for a floating-point option, refusing NaN too: every
+/// comparison with NaN is false, so the range alone let "nan" through.
+inline CLI::Validator finite_range(double lo, double hi) {
+  return CLI::Range(lo, hi) & CLI::Validator(
+                                  [](std::string& text) -> std::string {
+                                    char* end = nullptr;
+                                    const double x = std::strtod(text.c_str(), &end);
+                                    return end != text.c_str() && std::isfinite(x) ? "" : "Value is not a finite number";
+                                  },
+                                  "FINITE");
+}
 
 /// A scene file with `--set key.path=value` overrides applied in order, and
 /// its mesh; prints "causticd <command>: <file>: <problem>" and returns

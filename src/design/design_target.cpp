@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <fstream>
+#include <memory>
 #include <string>
 
 namespace caustic::design {
@@ -48,24 +51,59 @@ std::vector<Span> box_spans(int offset, int in, int n) {
   return spans;
 }
 
+std::string size_error(const std::string& name, long long width, long long height) {
+  return name + ": " + std::to_string(width) + "x" + std::to_string(height) + " pixels is too large (at most " +
+         std::to_string(kMaxTargetSide) + " per side and " + std::to_string(kMaxTargetPixels) + " in all)";
+}
+
+bool too_large(long long width, long long height) {
+  return width > kMaxTargetSide || height > kMaxTargetSide || width * height > kMaxTargetPixels;
+}
+
+// A GIF's screen size, read before its reader sees the file: that reader
+// makes the whole canvas on open, before the size below can be checked (a
+// 13-byte file claiming 65535 x 65535 threw out of it; 40000 x 40000 took
+// 2 GiB before it gave up).
+void check_gif_screen(const std::filesystem::path& file, const std::string& name) {
+  unsigned char head[10] = {};
+  std::ifstream in(file, std::ios::binary);
+  if (!in.read(reinterpret_cast<char*>(head), sizeof head)) return;
+  if (std::memcmp(head, "GIF87a", 6) != 0 && std::memcmp(head, "GIF89a", 6) != 0) return;
+  const long long width = head[6] | head[7] << 8, height = head[8] | head[9] << 8;
+  if (too_large(width, height)) throw TargetError(size_error(name, width, height));
+}
+
 }  // namespace
 
 RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   const std::string name = file.string();
-  auto in = OIIO::ImageInput::open(name);
+  // A regular file of bounded size: a device or a pipe would be read, and
+  // probed by every format's reader, without end.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) throw TargetError(name + ": is not a regular file");
+  if (std::filesystem::file_size(file, ec) > kMaxTargetFileBytes || ec)
+    throw TargetError(name + ": is larger than " + std::to_string(kMaxTargetFileBytes >> 20) + " MiB");
+  check_gif_screen(file, name);
+  std::unique_ptr<OIIO::ImageInput> in;
+  try {
+    in = OIIO::ImageInput::open(name);
+  } catch (const std::exception& e) {  // a reader that throws (allocation, length) rather than failing
+    throw TargetError(name + ": cannot read the picture (" + e.what() + ")");
+  }
   if (!in) throw TargetError(name + ": cannot read the picture (" + OIIO::geterror() + ")");
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw TargetError(name + ": the picture is empty");
-  if (spec.width > kMaxTargetSide || spec.height > kMaxTargetSide ||
-      static_cast<long long>(spec.width) * spec.height > kMaxTargetPixels)
-    throw TargetError(name + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                      " pixels is too large (at most " + std::to_string(kMaxTargetSide) + " per side and " +
-                      std::to_string(kMaxTargetPixels) + " in all)");
+  if (too_large(spec.width, spec.height)) throw TargetError(size_error(name, spec.width, spec.height));
   const int channels = spec.nchannels;
   std::vector<float> raw(static_cast<std::size_t>(spec.width) * spec.height * channels);
-  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, raw.data()))
-    throw TargetError(name + ": cannot decode the picture (" + in->geterror() + ")");
+  bool read = false;
+  try {
+    read = in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, raw.data());
+  } catch (const std::exception& e) {
+    throw TargetError(name + ": cannot decode the picture (" + e.what() + ")");
+  }
+  if (!read) throw TargetError(name + ": cannot decode the picture (" + in->geterror() + ")");
   const bool srgb = encoded_srgb(spec);
   // Colour: the first three channels are R, G, B; grey (1 or 2 channels): the first.
   const bool colour = channels >= 3;

@@ -29,7 +29,38 @@ bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y
 // A vertex line with a colour has six numbers; the loader keeps colours
 // only when every vertex has one, so a file that mixes the two would lose
 // its tint without a word: an error names the first line that differs.
-void check_numbers(const std::string& text, const std::string& label, double max_coordinate) {
+// The loader also wraps a face's index past 2^31 round to another vertex,
+// reads "1.5" or "3x" as an index, and keeps every "o" and "g" as a shape
+// of its own (8 million of them, 100 MB of text, took 5 GB before the
+// triangle limit could be checked): indices are checked here, and the
+// statements counted against the limits before the loader runs.
+constexpr std::size_t kMaxGroups = 4096;  // "o" and "g" statements
+
+// A face's corner: v, v/vt, v//vn or v/vt/vn, each a nonzero integer (a
+// negative one counts back from the last vertex) within an int.
+bool face_corner(const std::string& word) {
+  std::size_t at = 0;
+  for (int part = 0; part < 3; ++part) {
+    if (part > 0) {
+      if (at == word.size()) return true;
+      if (word[at] != '/') return false;
+      ++at;
+      if (part == 1 && at < word.size() && word[at] == '/') continue;  // v//vn
+    }
+    const std::size_t from = at;
+    if (at < word.size() && word[at] == '-') ++at;
+    const std::size_t digits = at;
+    while (at < word.size() && word[at] >= '0' && word[at] <= '9') ++at;
+    if (at == digits || at - digits > 10) return false;
+    const long long index = std::stoll(word.substr(from, at - from));
+    if (index == 0 || index > 2147483647LL || index < -2147483647LL) return false;
+  }
+  return at == word.size();
+}
+
+void check_numbers(const std::string& text, const std::string& label, const MeshLimits& limits) {
+  const double max_coordinate = limits.max_coordinate;
+  std::size_t vertices = 0, faces = 0, groups = 0;
   static const char* const kStatements[] = {"v", "vn", "vt", "f", "o", "g", "s", "l", "usemtl"};
   // One pass over the text with no stream a line: a caustic face is
   // megabytes, and every gallery scene's is read at start-up.
@@ -66,10 +97,23 @@ void check_numbers(const std::string& text, const std::string& label, double max
       for (unsigned char ch : tag.substr(0, 16)) shown += (ch >= 0x21 && ch < 0x7f) ? static_cast<char>(ch) : '?';
       fail(number, "the statement \"" + shown + "\" is not supported (v, vn, vt, f, o, g, s, l, usemtl)");
     }
+    if (tag == "o" || tag == "g") {
+      if (++groups > kMaxGroups) fail(number, "more than " + std::to_string(kMaxGroups) + " objects and groups");
+    } else if (tag == "f") {
+      if (++faces > limits.max_triangles)
+        fail(number, "more than " + std::to_string(limits.max_triangles) + " faces");
+      std::size_t corners = 0;
+      for (; next_word(); ++corners)
+        if (!face_corner(word))
+          fail(number, "a face's corner must be v, v/vt, v//vn or v/vt/vn, each a nonzero whole number within an int");
+      if (corners < 3) fail(number, "a face needs at least 3 corners");
+    }
     if (tag != "v" && tag != "vn" && tag != "vt") {
       p = next;
       continue;
     }
+    if (tag == "v" && ++vertices > limits.max_vertices)
+      fail(number, "more than " + std::to_string(limits.max_vertices) + " vertices");
     double numbers[6];
     std::string colours[3];  // as written, for a colour's error
     std::size_t count = 0;
@@ -85,6 +129,10 @@ void check_numbers(const std::string& text, const std::string& label, double max
         fail(number, "the coordinate " + word + " lies beyond the coordinate limit of 1e6");
     }
     p = next;
+    if (tag == "v" && count != 3 && count != 4 && count != 6)
+      fail(number, "a vertex is x y z, x y z w (a weight), or x y z r g b (a colour)");
+    if (tag == "vn" && count != 3) fail(number, "a normal is x y z");
+    if (tag == "vt" && count != 2 && count != 3) fail(number, "a texture coordinate is u v, or u v w");
     if (tag != "v") continue;
     const int coloured = count >= 6 ? 1 : 0;
     for (std::size_t k = 3; coloured && k < 6; ++k)
@@ -171,7 +219,7 @@ Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool 
   std::string text(static_cast<std::size_t>(bytes), '\0');
   if (!in.read(text.data(), static_cast<std::streamsize>(text.size())))
     throw SceneError("mesh", "cannot read mesh file " + label);
-  check_numbers(text, label, limits.max_coordinate);
+  check_numbers(text, label, limits);
   tinyobj::ObjReaderConfig config;
   config.triangulate = false;
   config.vertex_color = false;

@@ -24,7 +24,7 @@ int parse_int(const std::string& key, const std::string& text, int lo, int hi) {
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size() || value < lo || value > hi)
     throw ConfigError(key + ": must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got \"" +
-                      text + "\"");
+                      printable_name(text) + "\"");
   return value;
 }
 
@@ -37,7 +37,7 @@ std::string trim(const std::string& s) {
 void check_uri(const std::string& key, const std::string& value, const char* schemes) {
   const std::regex pattern(std::string("^(") + schemes + ")://([^\\s@/]+@)?[A-Za-z0-9.:\\[\\]-]+(:[0-9]{1,5})?$");
   if (!value.empty() && !std::regex_match(value, pattern))
-    throw ConfigError(key + ": must look like " + std::string(schemes) + "://host:port, got \"" + value + "\"");
+    throw ConfigError(key + ": must look like " + std::string(schemes) + "://host:port, got \"" + printable_name(value) + "\"");
 }
 
 // A numeric IPv4 or IPv6 address, each part in range (999.1.1.1 is not one).
@@ -53,7 +53,7 @@ std::vector<std::string> address_list(const std::string& key, const std::string&
     const auto comma = std::min(value.find(',', start), value.size());
     const std::string item = trim(value.substr(start, comma - start));
     if (!item.empty()) {
-      if (!ip_address(item)) throw ConfigError(key + ": \"" + item + "\" is not an IP address");
+      if (!ip_address(item)) throw ConfigError(key + ": \"" + printable_name(item) + "\" is not an IP address");
       list.push_back(item);
     }
     start = comma + 1;
@@ -128,6 +128,11 @@ const std::vector<std::string>& config_keys() {
 
 void set_config_value(ServerConfig& c, const std::string& key, const std::string& raw) {
   const std::string value = trim(raw);
+  // Far beyond any address list or path; the patterns below are matched by
+  // recursion, which a value of some 30,000 characters took off the stack.
+  if (value.size() > kMaxConfigValueBytes)
+    throw ConfigError(printable_name(key) + ": a value is at most " + std::to_string(kMaxConfigValueBytes) +
+                      " characters, got " + std::to_string(value.size()));
   for (const auto& k : kIntKeys)
     if (key == k.name) {
       c.*k.field = parse_int(key, value, k.lo, k.hi);
@@ -135,10 +140,10 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
     }
   if (key == "bind_address") {
     if (value != "localhost" && !ip_address(value))
-      throw ConfigError(key + ": must be an IP address, got \"" + value + "\"");
+      throw ConfigError(key + ": must be an IP address, got \"" + printable_name(value) + "\"");
     c.bind_address = value;
   } else if (key == "codec") {
-    if (value != "vp8" && value != "h264") throw ConfigError(key + ": must be vp8 or h264, got \"" + value + "\"");
+    if (value != "vp8" && value != "h264") throw ConfigError(key + ": must be vp8 or h264, got \"" + printable_name(value) + "\"");
     c.codec = value;
   } else if (key == "width") {
     // The GPU writes I420 planes packed: widths in steps of 8, even heights.
@@ -161,7 +166,7 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
     // Janus's admin API can do anything to it: it stays on this host.
     static const std::regex admin("^http://(127\\.0\\.0\\.1|localhost|\\[::1\\]):[0-9]{1,5}(/[A-Za-z0-9._~/-]*)?$");
     if (!value.empty() && !std::regex_match(value, admin))
-      throw ConfigError(key + ": must be http://127.0.0.1:PORT/PATH (the admin API stays on this host), got \"" + value +
+      throw ConfigError(key + ": must be http://127.0.0.1:PORT/PATH (the admin API stays on this host), got \"" + printable_name(value) +
                         "\"");
     c.janus_admin_url = value;
   } else if (key == "janus_admin_secret" || key == "janus_streaming_key" || key == "janus_token_secret") {
@@ -173,18 +178,18 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
   } else if (key == "janus_ws_url") {
     static const std::regex ws("^(wss?://[A-Za-z0-9.:\\[\\]-]+)?/[A-Za-z0-9._~/-]*$");
     if (!value.empty() && !std::regex_match(value, ws))
-      throw ConfigError(key + ": must be ws://host:port/path, wss://host/path or a path on this server, got \"" + value + "\"");
+      throw ConfigError(key + ": must be ws://host:port/path, wss://host/path or a path on this server, got \"" + printable_name(value) + "\"");
     c.janus_ws_url = value;
   } else if (key == "janus_rtp_address") {
     const auto list = address_list(key, value);
-    if (list.size() != 1) throw ConfigError(key + ": must be one IP address, got \"" + value + "\"");
+    if (list.size() != 1) throw ConfigError(key + ": must be one IP address, got \"" + printable_name(value) + "\"");
     c.janus_rtp_address = list[0];
   } else if (key == "ice_port_range") {
     static const std::regex range("^([0-9]{1,5})-([0-9]{1,5})$");
     std::smatch m;
     if (!value.empty() && (!std::regex_match(value, m, range) || std::stoi(m[1]) < 1024 || std::stoi(m[2]) > 65535 ||
                            std::stoi(m[1]) > std::stoi(m[2])))
-      throw ConfigError(key + ": must be lo-hi with 1024 <= lo <= hi <= 65535, got \"" + value + "\"");
+      throw ConfigError(key + ": must be lo-hi with 1024 <= lo <= hi <= 65535, got \"" + printable_name(value) + "\"");
     c.ice_port_range = value;
   } else if (key == "max_body_bytes") {
     c.max_body_bytes = static_cast<std::size_t>(parse_int(key, value, 1024, 16 * 1024 * 1024));
@@ -197,7 +202,7 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
   } else if (key == "log_level") {
     static const std::regex level("^(error|warning|notice|info|debug)$");
     if (!std::regex_match(value, level))
-      throw ConfigError(key + ": must be error, warning, notice, info or debug, got \"" + value + "\"");
+      throw ConfigError(key + ": must be error, warning, notice, info or debug, got \"" + printable_name(value) + "\"");
     c.log_level = value;
   } else if (key == "session_create_token" || key == "design_upload_token") {
     static const std::regex token("^[A-Za-z0-9._~+/=-]{16,256}$");
@@ -205,7 +210,7 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
       throw ConfigError(key + ": must be 16 to 256 characters of A-Z a-z 0-9 . _ ~ + / = -");
     (key == "session_create_token" ? c.session_create_token : c.design_upload_token) = value;
   } else if (key == "design_uploads") {
-    if (value != "on" && value != "off") throw ConfigError(key + ": must be on or off, got \"" + value + "\"");
+    if (value != "on" && value != "off") throw ConfigError(key + ": must be on or off, got \"" + printable_name(value) + "\"");
     c.design_uploads = value == "on";
   } else if (key == "state_dir") {
     c.state_dir = value;
@@ -229,10 +234,14 @@ void ConfigSources::set(ServerConfig& config, const std::string& key, const std:
 
 void load_config_file(ServerConfig& config, const std::filesystem::path& file, ConfigSources* sources) {
   // Read whole but bounded: a config is a few hundred bytes, and a device
-  // or a runaway file must not take the memory (a pipe still reads).
+  // or a runaway file must not take the memory.
   constexpr std::size_t kMaxBytes = 1 << 20;
   std::error_code error;
-  if (std::filesystem::is_directory(file, error)) throw ConfigError("config file " + file.string() + " is a folder");
+  const auto type = std::filesystem::status(file, error).type();
+  if (type == std::filesystem::file_type::directory) throw ConfigError("config file " + file.string() + " is a folder");
+  // Opening a pipe or socket waits for a writer that may never come.
+  if (type == std::filesystem::file_type::fifo || type == std::filesystem::file_type::socket)
+    throw ConfigError("config file " + file.string() + " is a pipe or socket, not a file");
   std::ifstream file_in(file, std::ios::binary);
   if (!file_in) throw ConfigError("cannot read config file " + file.string());
   std::string text;
@@ -284,8 +293,13 @@ std::filesystem::path state_folder(const ServerConfig& c) {
 void check_config(const ServerConfig& c, const std::filesystem::path& data_dir) {
   const auto scenes = scenes_folder(c, data_dir);
   const auto web = web_folder(c, data_dir);
-  if (!std::filesystem::is_directory(scenes)) throw ConfigError("scenes_dir: " + scenes.string() + " is not a folder");
-  if (!std::filesystem::is_directory(web)) throw ConfigError("web_dir: " + web.string() + " is not a folder");
+  // The error_code forms: a name too long for the system is "not a folder"
+  // too, not a filesystem_error that quotes it whole.
+  std::error_code ec;
+  if (!std::filesystem::is_directory(scenes, ec))
+    throw ConfigError("scenes_dir: " + printable_name(scenes.string(), 256) + " is not a folder");
+  if (!std::filesystem::is_directory(web, ec))
+    throw ConfigError("web_dir: " + printable_name(web.string(), 256) + " is not a folder");
   if (!std::filesystem::is_regular_file(data_dir / "pipelines" / (c.codec + ".pipeline")))
     throw ConfigError("codec: no pipeline " + c.codec + ".pipeline in " + (data_dir / "pipelines").string());
   check_broadcast_keys(c);

@@ -3,6 +3,8 @@
 // linear luminance, and box resampling onto the design grid.
 #pragma once
 
+#include <cstdint>
+
 #include "caustic/engine.hpp"
 
 #include <filesystem>
@@ -24,6 +26,9 @@ using Image = HdrImage;
 /// above any useful design resolution.
 inline constexpr int kMaxTargetSide = 16384;
 inline constexpr long long kMaxTargetPixels = 1LL << 26;
+/// The largest picture file read: a picture's reader probes a file it does
+/// not know by trying every format over the whole of it.
+inline constexpr std::uintmax_t kMaxTargetFileBytes = std::uintmax_t{256} << 20;
 
 /// Reads `file` (PNG, JPEG, EXR, TIFF, ...) as linear luminance
 /// Y = 0.2126 R + 0.7152 G + 0.0722 B. Integer formats are taken as sRGB

@@ -40,9 +40,11 @@ std::string where_json_broke(std::string_view text, const JsonTextError& error);
 
 /// A file's bytes, read in pieces up to one byte past `limit`, so that a
 /// file (or a device such as /dev/zero) that never ends is refused instead
-/// of read whole. `opened` is false when the file cannot be opened;
+/// of read whole. `opened` is false when the file cannot be opened or is
+/// `not_a_file`;
 /// `too_large` is true (and `text` cut) when it holds more than `limit`.
 struct FileText {
+  bool not_a_file = false;  ///< a folder, pipe or socket: not opened
   bool opened = false;
   bool too_large = false;
   std::string text;

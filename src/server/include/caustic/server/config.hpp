@@ -127,6 +127,10 @@ void check_config(const ServerConfig& config, const std::filesystem::path& data_
 /// names the key.
 void set_config_value(ServerConfig& config, const std::string& key, const std::string& value);
 
+/// The longest value a key takes (after trimming): more than any address
+/// list or path needs.
+inline constexpr std::size_t kMaxConfigValueBytes = 4096;
+
 /// Reads `key = value` lines ('#' starts a comment). Throws ConfigError with
 /// the file, line and key on any error; `config` is untouched then.
 void load_config_file(ServerConfig& config, const std::filesystem::path& file, ConfigSources* sources = nullptr);
