@@ -186,4 +186,17 @@ TEST(SceneSpectral, KeysTheirOwnSectionLeavesUnusedAreWarnedAbout) {
   EXPECT_TRUE(keys(used).empty());
   const Scene plain = scene_from_json(minimal(), ".");
   EXPECT_TRUE(setting_overrides(scene_to_json(plain), plain).empty());
+  // The light's keys of the other kind, and a bloom of strength 0.
+  json directional = minimal();
+  directional["light"] = {{"type", "directional"}, {"position", {5, 5, 50}}, {"point_model", "approximate"}};
+  directional["post"] = {{"bloom_strength", 0.0}, {"bloom_radius", 4.0}, {"bloom_threshold", 2.0}};
+  EXPECT_EQ(keys(directional), (std::vector<std::string>{"post.bloom_radius", "post.bloom_threshold",
+                                                         "light.position", "light.point_model"}));
+  json point = minimal();
+  point["light"] = {{"type", "point"}, {"position", {0, 0, 120}}, {"direction", {0, 0.2, -1}}};
+  EXPECT_EQ(keys(point), std::vector<std::string>{"light.direction"});
+  point["light"].erase("direction");
+  point["light"]["point_model"] = "approximate";
+  point["post"] = {{"bloom_radius", 4.0}};
+  EXPECT_TRUE(keys(point).empty());
 }

@@ -123,6 +123,23 @@ std::vector<std::pair<std::string, std::string>> setting_overrides(const nlohman
          "post.auto_percentile meters post.exposure_mode \"auto\"; with \"manual\" it is ignored");
   unused("post", "exposure_adapt_s", post.exposure_adapt_s, metered,
          "post.exposure_adapt_s eases post.exposure_mode \"auto\"; with \"manual\" it is ignored");
+  unused("post", "bloom_radius", post.bloom_radius, scene.post.bloom_strength > 0,
+         "post.bloom_radius spreads the bloom; with post.bloom_strength 0 there is none, and it is ignored");
+  unused("post", "bloom_threshold", post.bloom_threshold, scene.post.bloom_strength > 0,
+         "post.bloom_threshold starts the bloom; with post.bloom_strength 0 there is none, and it is ignored");
+  // A directional light has no position and no point model, a point light
+  // no direction: said when written with a value other than the default.
+  const LightParams light;
+  const bool point = scene.light.type == LightType::point;
+  if (!point && writes(written, "light", "position") && scene.light.position != light.position)
+    out.emplace_back("light.position", "light.position places a point light; a directional light (light.type) "
+                                       "has none, and it is ignored");
+  if (!point && writes(written, "light", "point_model") && scene.light.point_model != light.point_model)
+    out.emplace_back("light.point_model", "light.point_model is how a point light is traced; a directional light "
+                                          "(light.type) ignores it");
+  if (point && writes(written, "light", "direction") && scene.light.direction != light.direction)
+    out.emplace_back("light.direction", "light.direction aims a directional light; a point light (light.type) "
+                                        "shines from light.position, and it is ignored");
   // focus_distance places the screen only where no centre is written.
   if (written.is_object() && written.contains("focus_distance") && !written["focus_distance"].is_null() &&
       writes(written, "screen", "center"))

@@ -55,7 +55,9 @@ std::vector<std::pair<std::string, std::string>> shape_overrides(const nlohmann:
 /// render.report_plane_distance without intensity "report",
 /// render.accuracy_target with fidelity "manual", post.local_strength with
 /// the global tone map, post.auto_percentile and exposure_adapt_s with a
-/// manual exposure, and focus_distance beside a written screen.center.
+/// manual exposure, post.bloom_radius and bloom_threshold without bloom,
+/// light.position and point_model on a directional light, light.direction
+/// on a point light, and focus_distance beside a written screen.center.
 std::vector<std::pair<std::string, std::string>> setting_overrides(const nlohmann::json& written, const Scene& scene);
 
 }  // namespace caustic
