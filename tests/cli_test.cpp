@@ -118,6 +118,12 @@ TEST_F(Cli, RejectsBadInputWithAMessage) {
   const std::string nowhere = (dir_ / "missing-folder" / "x").string();
   expect_rejected("render --scene " + scene("lens") + " -o " + nowhere + ".png", "--output " + nowhere + ".png: folder");
   expect_rejected("reference --scene " + scene("slab") + " -o " + nowhere + ".exr", "--output " + nowhere + ".exr: folder");
+  // So is an output that is a folder or cannot be made (once exit 1, after the work).
+  fs::create_directories(dir_ / "folder.png");
+  expect_rejected("render --scene " + scene("lens") + " -o " + (dir_ / "folder.png").string(), "folder.png: is a folder");
+  expect_rejected("render --scene " + scene("lens") + " -o /proc/x.png", "--output /proc/x.png: cannot be written");
+  expect_rejected("reference --scene " + scene("slab") + " -o /proc/r.exr", "--output /proc/r.exr: cannot be written");
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
   expect_rejected("calibrate --scene " + scene("slab") + " -o " + nowhere + ".json", "--output " + nowhere + ".json: folder");
 }
 

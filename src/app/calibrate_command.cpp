@@ -27,7 +27,7 @@ int run_calibrate(const CalibrateCommandOptions& opt) {
   SceneLevels levels;
   if (!load_scene_levels("calibrate", opt.scene, opt.assignments, &scene, &levels)) return bad_input;
   const std::filesystem::path output = opt.output.empty() ? calibration_path(opt.scene) : opt.output;
-  if (!output_folder_exists("calibrate", output)) return bad_input;
+  if (!output_writable("calibrate", output)) return bad_input;
   return run_reporting("calibrate", opt.scene, [&] {
     GlContext context(egl_platform_from_environment());
     Engine engine;

@@ -28,7 +28,7 @@ int run_reference(const ReferenceCommandOptions& opt) {
     std::cerr << "causticd reference: --output " << opt.output.string() << ": the file must end in .exr\n";
     return bad_input;
   }
-  if (!output_folder_exists("reference", opt.output)) return bad_input;
+  if (!output_writable("reference", opt.output)) return bad_input;
   ReferenceOptions options;
   options.photons = opt.photons;
   options.seed = opt.seed;

@@ -8,10 +8,14 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
+#include <iostream>
 #include <set>
 
-#include <iostream>
+#include <fcntl.h>
+#include <unistd.h>
 
 namespace caustic::app {
 
@@ -54,12 +58,23 @@ bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
   }
 }
 
-bool output_folder_exists(const char* command, const std::filesystem::path& out) {
+bool output_writable(const char* command, const std::filesystem::path& out) {
   const auto dir = std::filesystem::absolute(out).parent_path();
-  if (std::filesystem::is_directory(dir)) return true;
-  std::cerr << "causticd " << command << ": --output " << out.string() << ": folder " << dir.string()
-            << " does not exist\n";
-  return false;
+  const auto refuse = [&](const std::string& why) {
+    std::cerr << "causticd " << command << ": --output " << out.string() << ": " << why << "\n";
+    return false;
+  };
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return refuse("folder " + dir.string() + " does not exist");
+  if (std::filesystem::is_directory(out, ec)) return refuse("is a folder");
+  // Tried before the work rather than found after it: a file there is
+  // opened for writing (and left as it was), a new one made and removed.
+  const bool existed = std::filesystem::exists(out, ec);
+  const int fd = ::open(out.c_str(), O_WRONLY | (existed ? 0 : O_CREAT | O_EXCL) | O_CLOEXEC | O_NONBLOCK, 0644);
+  if (fd < 0) return refuse(std::string("cannot be written (") + std::strerror(errno) + ")");
+  ::close(fd);
+  if (!existed) std::filesystem::remove(out, ec);
+  return true;
 }
 
 int run_reporting(const char* command, const std::filesystem::path& scene, const std::function<void()>& body,
