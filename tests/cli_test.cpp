@@ -123,6 +123,9 @@ TEST_F(Cli, RejectsBadInputWithAMessage) {
   expect_rejected("render --scene " + scene("lens") + " -o " + (dir_ / "folder.png").string(), "folder.png: is a folder");
   expect_rejected("render --scene " + scene("lens") + " -o /proc/x.png", "--output /proc/x.png: cannot be written");
   expect_rejected("reference --scene " + scene("slab") + " -o /proc/r.exr", "--output /proc/r.exr: cannot be written");
+  for (const char* seed : {"-1", "99999999999999999999999", "18446744073709551616", "1.5"})  // "-1" was 2^64 - 1
+    expect_rejected("reference --scene " + scene("slab") + " -o " + (dir_ / "r.exr").string() + " --seed " + seed,
+                    "--seed");
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
   expect_rejected("calibrate --scene " + scene("slab") + " -o " + nowhere + ".json", "--output " + nowhere + ".json: folder");
 }

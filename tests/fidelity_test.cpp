@@ -186,6 +186,13 @@ TEST(Calibration, RoundTripsAndNamesWhatIsWrongInAFile) {
   j = good;
   j["entries"][2]["relative_l1"] = -1;
   rejects(j, "entries[2].relative_l1");
+  j["entries"][2]["relative_l1"] = 1e308;  // once printed as "expected relative L1 inf%"
+  rejects(j, "entries[2].relative_l1");
+  j["entries"][2]["relative_l1"] = 0.04;
+  for (const int resolution : {-5, 1, 100000}) {  // once matched no level, without a word
+    j["entries"][2]["mesh_resolution"] = resolution;
+    rejects(j, "entries[2].mesh_resolution");
+  }
   j = good;
   j["entries"][0]["fresnel"] = "yes";
   rejects(j, "entries[0].fresnel");

@@ -172,6 +172,8 @@ TEST_F(ObjFiles, RejectsBadFiles) {
   expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nvw 1e39 1 0.5\nf 1 2 3\n", "\"vw\" is not supported");
   // The loader ends lines at a carriage return too; so does the check.
   expect_error("o a\rmtllib ../../../../dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "\"mtllib\" is not supported");
+  // A file that is no OBJ is not quoted (its first 16 bytes once were).
+  expect_error("root:$y$j9T$secret:19000:0:99999:7:::\n", "line 1: this line's statement is not supported");
   // A file from Windows ends its lines with "\r\n": one line each, as an
   // editor counts them.
   expect_error("v 0 0 0\r\nv 1 0 0\r\n\r\nv 1 x 0\r\nf 1 2 3\r\n", "line 4: \"x\"");

@@ -262,6 +262,9 @@ TEST(LoadScene, RefusesWhatTheJsonRulesRefuse) {
   EXPECT_NE(refused(dir / "big.json").find("larger than 16 MiB"), std::string::npos);
   EXPECT_NE(refused("/dev/zero").find("larger than 16 MiB"), std::string::npos) << refused("/dev/zero");
   EXPECT_NE(refused(dir).find("is a folder, pipe or socket"), std::string::npos) << refused(dir);
+  std::ofstream(dir / "nulmesh.json") << R"({"mesh": "a.obj\u0000junk"})";
+  EXPECT_NE(refused(dir / "nulmesh.json").find("mesh: must not hold control characters"), std::string::npos)
+      << refused(dir / "nulmesh.json");
   std::filesystem::remove(dir / "big.json");
 }
 

@@ -100,6 +100,9 @@ Calibration calibration_from_json(const json& j) {
     const std::string where = "entries[" + std::to_string(i) + "].";
     CalibrationEntry e;
     e.config.mesh_resolution = field<int>(entries[i], "mesh_resolution", where);
+    // render.mesh_resolution's own range: an entry outside it matches no level.
+    if (e.config.mesh_resolution < 0 || e.config.mesh_resolution == 1 || e.config.mesh_resolution > 2048)
+      throw SceneError(where + "mesh_resolution", "must be 0 (the mesh as loaded) or in [2, 2048]");
     const auto model = field<std::string>(entries[i], "point_model", where);
     if (model != "exact" && model != "approximate")
       throw SceneError(where + "point_model", "must be \"exact\" or \"approximate\"");
@@ -115,8 +118,9 @@ Calibration calibration_from_json(const json& j) {
     e.relative_rmse = field<double>(entries[i], "relative_rmse", where);
     e.ssim = field<double>(entries[i], "ssim", where);
     e.ray_ms = field<double>(entries[i], "ray_ms", where);
-    if (!(e.relative_l1 >= 0) || !std::isfinite(e.relative_l1))
-      throw SceneError(where + "relative_l1", "must be a finite number >= 0");
+    // An error is a share of the light: 100 (10,000%) is already no picture.
+    if (!(e.relative_l1 >= 0 && e.relative_l1 <= 100))
+      throw SceneError(where + "relative_l1", "must be a number in [0, 100]");
     for (const auto& [key, value] : {std::pair{"streamed_l1", &e.streamed_l1}, std::pair{"streamed_ssim", &e.streamed_ssim}})
       if (entries[i].contains(key)) {
         *value = field<double>(entries[i], key, where);

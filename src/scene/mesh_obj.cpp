@@ -93,9 +93,11 @@ void check_numbers(const std::string& text, const std::string& label, const Mesh
     bool known = false;
     for (const char* statement : kStatements) known = known || tag == statement;
     if (!known) {
-      std::string shown;
-      for (unsigned char ch : tag.substr(0, 16)) shown += (ch >= 0x21 && ch < 0x7f) ? static_cast<char>(ch) : '?';
-      fail(number, "the statement \"" + shown + "\" is not supported (v, vn, vt, f, o, g, s, l, usemtl)");
+      // Named when it reads as a statement; a file that is no OBJ (a path
+      // to another file) is not quoted.
+      const bool word_like = tag.size() <= 16 && tag.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") == std::string::npos;
+      fail(number, (word_like ? "the statement \"" + tag + "\" is" : std::string("this line's statement is")) +
+                       " not supported (v, vn, vt, f, o, g, s, l, usemtl)");
     }
     if (tag == "o" || tag == "g") {
       if (++groups > kMaxGroups) fail(number, "more than " + std::to_string(kMaxGroups) + " objects and groups");

@@ -231,6 +231,9 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir,
   if (!r.has("mesh") && !s.water) throw SceneError("mesh", "is required (path of the caustic face OBJ)");
   s.mesh = r.string("mesh", "");
   if (s.mesh.empty() && !s.water) throw SceneError("mesh", "must not be empty");
+  // A NUL ended the name where the system reads it ("a.obj\u0000junk" loaded a.obj).
+  for (unsigned char ch : s.mesh)
+    if (ch < 0x20 || ch == 0x7f) throw SceneError("mesh", "must not hold control characters");
   s.focus_distance = r.optional_number("focus_distance", 0.0, kMaxCoordinate, true);
   s.object = read_object(r.child("object"));
   if (s.water) {
