@@ -47,13 +47,12 @@ bool face_corner(const std::string& word) {
       ++at;
       if (part == 1 && at < word.size() && word[at] == '/') continue;  // v//vn
     }
-    const std::size_t from = at;
     if (at < word.size() && word[at] == '-') ++at;
     const std::size_t digits = at;
-    while (at < word.size() && word[at] >= '0' && word[at] <= '9') ++at;
-    if (at == digits || at - digits > 10) return false;
-    const long long index = std::stoll(word.substr(from, at - from));
-    if (index == 0 || index > 2147483647LL || index < -2147483647LL) return false;
+    long long index = 0;  // at most 10 digits: no overflow
+    for (; at < word.size() && word[at] >= '0' && word[at] <= '9' && at - digits < 11; ++at)
+      index = 10 * index + (word[at] - '0');
+    if (at == digits || at - digits > 10 || index == 0 || index > 2147483647LL) return false;
   }
   return at == word.size();
 }
