@@ -19,12 +19,14 @@ extern char** environ;
 namespace caustic::server {
 namespace {
 
+// ", got "value"" for an error, the value quoted safely and at most 64 bytes of it.
+std::string got(const std::string& value) { return ", got \"" + printable_name(value) + "\""; }
+
 int parse_int(const std::string& key, const std::string& text, int lo, int hi) {
   int value = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size() || value < lo || value > hi)
-    throw ConfigError(key + ": must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got \"" +
-                      printable_name(text) + "\"");
+    throw ConfigError(key + ": must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]" + got(text));
   return value;
 }
 
@@ -37,7 +39,7 @@ std::string trim(const std::string& s) {
 void check_uri(const std::string& key, const std::string& value, const char* schemes) {
   const std::regex pattern(std::string("^(") + schemes + ")://([^\\s@/]+@)?[A-Za-z0-9.:\\[\\]-]+(:[0-9]{1,5})?$");
   if (!value.empty() && !std::regex_match(value, pattern))
-    throw ConfigError(key + ": must look like " + std::string(schemes) + "://host:port, got \"" + printable_name(value) + "\"");
+    throw ConfigError(key + ": must look like " + std::string(schemes) + "://host:port" + got(value));
 }
 
 // A numeric IPv4 or IPv6 address, each part in range (999.1.1.1 is not one).
@@ -140,10 +142,10 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
     }
   if (key == "bind_address") {
     if (value != "localhost" && !ip_address(value))
-      throw ConfigError(key + ": must be an IP address, got \"" + printable_name(value) + "\"");
+      throw ConfigError(key + ": must be an IP address" + got(value));
     c.bind_address = value;
   } else if (key == "codec") {
-    if (value != "vp8" && value != "h264") throw ConfigError(key + ": must be vp8 or h264, got \"" + printable_name(value) + "\"");
+    if (value != "vp8" && value != "h264") throw ConfigError(key + ": must be vp8 or h264" + got(value));
     c.codec = value;
   } else if (key == "width") {
     // The GPU writes I420 planes packed: widths in steps of 8, even heights.
@@ -166,8 +168,7 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
     // Janus's admin API can do anything to it: it stays on this host.
     static const std::regex admin("^http://(127\\.0\\.0\\.1|localhost|\\[::1\\]):[0-9]{1,5}(/[A-Za-z0-9._~/-]*)?$");
     if (!value.empty() && !std::regex_match(value, admin))
-      throw ConfigError(key + ": must be http://127.0.0.1:PORT/PATH (the admin API stays on this host), got \"" + printable_name(value) +
-                        "\"");
+      throw ConfigError(key + ": must be http://127.0.0.1:PORT/PATH (the admin API stays on this host)" + got(value));
     c.janus_admin_url = value;
   } else if (key == "janus_admin_secret" || key == "janus_streaming_key" || key == "janus_token_secret") {
     static const std::regex secret("^[A-Za-z0-9._~+/=-]{16,256}$");
@@ -178,18 +179,18 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
   } else if (key == "janus_ws_url") {
     static const std::regex ws("^(wss?://[A-Za-z0-9.:\\[\\]-]+)?/[A-Za-z0-9._~/-]*$");
     if (!value.empty() && !std::regex_match(value, ws))
-      throw ConfigError(key + ": must be ws://host:port/path, wss://host/path or a path on this server, got \"" + printable_name(value) + "\"");
+      throw ConfigError(key + ": must be ws://host:port/path, wss://host/path or a path on this server" + got(value));
     c.janus_ws_url = value;
   } else if (key == "janus_rtp_address") {
     const auto list = address_list(key, value);
-    if (list.size() != 1) throw ConfigError(key + ": must be one IP address, got \"" + printable_name(value) + "\"");
+    if (list.size() != 1) throw ConfigError(key + ": must be one IP address" + got(value));
     c.janus_rtp_address = list[0];
   } else if (key == "ice_port_range") {
     static const std::regex range("^([0-9]{1,5})-([0-9]{1,5})$");
     std::smatch m;
     if (!value.empty() && (!std::regex_match(value, m, range) || std::stoi(m[1]) < 1024 || std::stoi(m[2]) > 65535 ||
                            std::stoi(m[1]) > std::stoi(m[2])))
-      throw ConfigError(key + ": must be lo-hi with 1024 <= lo <= hi <= 65535, got \"" + printable_name(value) + "\"");
+      throw ConfigError(key + ": must be lo-hi with 1024 <= lo <= hi <= 65535" + got(value));
     c.ice_port_range = value;
   } else if (key == "max_body_bytes") {
     c.max_body_bytes = static_cast<std::size_t>(parse_int(key, value, 1024, 16 * 1024 * 1024));
@@ -202,7 +203,7 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
   } else if (key == "log_level") {
     static const std::regex level("^(error|warning|notice|info|debug)$");
     if (!std::regex_match(value, level))
-      throw ConfigError(key + ": must be error, warning, notice, info or debug, got \"" + printable_name(value) + "\"");
+      throw ConfigError(key + ": must be error, warning, notice, info or debug" + got(value));
     c.log_level = value;
   } else if (key == "session_create_token" || key == "design_upload_token") {
     static const std::regex token("^[A-Za-z0-9._~+/=-]{16,256}$");
@@ -210,7 +211,7 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
       throw ConfigError(key + ": must be 16 to 256 characters of A-Z a-z 0-9 . _ ~ + / = -");
     (key == "session_create_token" ? c.session_create_token : c.design_upload_token) = value;
   } else if (key == "design_uploads") {
-    if (value != "on" && value != "off") throw ConfigError(key + ": must be on or off, got \"" + printable_name(value) + "\"");
+    if (value != "on" && value != "off") throw ConfigError(key + ": must be on or off" + got(value));
     c.design_uploads = value == "on";
   } else if (key == "state_dir") {
     c.state_dir = value;
