@@ -215,6 +215,22 @@ TEST_F(Cli, PerfBenchWritesFrameCosts) {
   EXPECT_GT(fs::file_size(dir_ / "perf.png"), 1000u);
 }
 
+TEST_F(Cli, BenchTriesItsFolderFirstAndChartsInAnyFolderName) {
+  // A quote in the folder's name once broke the shell line that ran gnuplot: no chart.
+  const fs::path odd = dir_ / "it's a 'folder' $HOME";
+  std::string quoted = "'";  // for the shell that runs the command
+  for (const char c : odd.string()) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  quoted += "'";
+  const CommandResult r = causticd("bench --perf --out " + quoted + " --frames 1 --meshes 16 --sizes 128");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_GT(fs::file_size(odd / "perf.png"), 1000u) << r.output;
+  // A folder that cannot be made or written is refused before any frame (once exit 1, after the work).
+  std::ofstream(dir_ / "a-file") << "x";
+  expect_rejected("bench --perf --out " + (dir_ / "a-file").string(), "--out " + (dir_ / "a-file").string() + ": ");
+  expect_rejected("bench --out /proc/self/bench", "--out /proc/self/bench: ");
+  expect_rejected("bench --spectral --out /proc/bench", "--out /proc/bench: cannot be made a folder");
+}
+
 TEST_F(Cli, WaterBenchWritesFrameCostsAndTheLastFrames) {
   const CommandResult r =
       causticd("bench --water --out " + dir_.string() +

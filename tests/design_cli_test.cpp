@@ -158,6 +158,28 @@ TEST_F(DesignCli, RejectsBadTargetsAndFlags) {
                   "--report");
 }
 
+TEST_F(DesignCli, RefusesGlassItsSceneCouldNotRenderAndOutputsItCannotWrite) {
+  const std::string t = " --target " + good_target().string() + " --resolution 16 --no-check";
+  // Each once written with exit 0 and refused by `render` afterwards.
+  expect_rejected(t + " --size 1e-300", "--size");
+  expect_rejected(t + " --size 10000", "lies within the glass");      // a relief of metres, the screen 200 mm away
+  expect_rejected(t + " --focus 1e-300", "is not finite");            // a face of NaN
+  expect_rejected(t + " --size 2 --focus 1e-6", "lies within the glass");
+  // Outputs tried before the solve (once found after it, exit 1).
+  fs::create_directory(dir_ / "bad-folder.json");
+  expect_rejected(t + " --report " + (dir_ / "bad-folder.json").string(),
+                  "--report " + (dir_ / "bad-folder.json").string() + ": is a folder");
+  expect_rejected(t + " --solid " + (dir_ / "bad-none" / "s.obj").string(), "does not exist");
+  expect_rejected(t + " --scene-out /proc/x.json", "--scene-out /proc/x.json: cannot be written");
+  // What passes these renders as written.
+  const fs::path face = dir_ / "face.obj";
+  const CommandResult design = causticd("design" + t + " --size 2 --focus 5 -o " + face.string());
+  ASSERT_EQ(design.status, 0) << design.output;
+  const CommandResult render =
+      causticd("render --scene " + (dir_ / "face.json").string() + " -o " + (dir_ / "face.exr").string());
+  EXPECT_EQ(render.status, 0) << render.output;
+}
+
 TEST_F(DesignCli, WritesTheGivenNameAndDescriptionIntoTheScene) {
   const fs::path target = good_target(), face = dir_ / "face.obj", scene = dir_ / "face.json";
   const CommandResult r = causticd("design --target " + target.string() + " -o " + face.string() +

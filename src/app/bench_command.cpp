@@ -90,13 +90,11 @@ void write_charts(const std::filesystem::path& out, const std::vector<Setup>& se
        << "'] 'convergence.csv' using (strcol(1) eq s ? $2 : 1/0):3 with linespoints title s.' px'\n"
           "  unset multiplot\n  set format x '%g'\n  set format y '%g'\n  set key outside right\n}\n";
   plot.close();
-  const std::string command = "cd '" + out.string() + "' && gnuplot chart.gp 2>gnuplot.log";
-  if (std::system(command.c_str()) != 0)
+  if (!run_gnuplot(out, "chart.gp", "gnuplot.log"))
     std::cerr << "causticd bench: gnuplot failed (see gnuplot.log); the CSV files are complete\n";
 }
 
 int run_bench(const BenchOptions& opt) {
-  std::filesystem::create_directories(opt.out);
   const std::vector<Setup> setups = {
       {"directional", {}, {{"energy", {}}, {"report", {{"render", {{"intensity", "report"}}}}},
                           {"no-fresnel", {{"render", {{"fresnel", false}}}}}}},
@@ -231,6 +229,7 @@ std::function<int()> add_bench_command(CLI::App& app) {
               }, "MULTIPLE OF 128"));
   return [cmd, opt, perf, spectral, multipass, water, water_opt] {
     if (!cmd->parsed()) return -1;
+    if (!bench_folder_ready(opt->out)) return static_cast<int>(bad_input);
     try {
       if (*perf) return run_perf_bench({opt->out, opt->frames, opt->meshes, opt->sizes});
       if (*water) {

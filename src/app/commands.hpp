@@ -40,10 +40,10 @@ inline CLI::Validator finite_range(double lo, double hi) {
 bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
                          const std::vector<std::string>& assignments, Scene* scene, Mesh* mesh);
 
-/// Whether `out` (an --output) can be written: its folder exists, it is no
-/// folder, and it opens for writing (tried, and left as it was). When not,
-/// says so as "causticd <command>: --output <out>: ..." before any work.
-bool output_writable(const char* command, const std::filesystem::path& out);
+/// Whether `out` (the file of `flag`) can be written: its folder exists, it
+/// is no folder, and it opens for writing (tried, and left as it was). When
+/// not, says so as "causticd <command>: <flag> <out>: ..." before any work.
+bool output_writable(const char* command, const std::filesystem::path& out, const char* flag = "--output");
 
 /// Runs `body` and turns what it throws into the exit status: a SceneError
 /// is bad input (the message names `scene`), anything else a runtime failure.

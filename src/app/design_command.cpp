@@ -63,6 +63,12 @@ std::string text_problem(const std::string& text, std::size_t max_len, bool may_
   return "";
 }
 
+// "face.obj" -> "face.part.obj": a sibling name that keeps the extension
+// (OpenImageIO picks the format from it).
+std::filesystem::path part_name(const std::filesystem::path& p) {
+  return p.parent_path() / (p.stem().string() + ".part" + p.extension().string());
+}
+
 // Flags checked before any work; the message names the flag.
 int check_flags(DesignCommandOptions& o) {
   // Limits as in the scene parser (scene-format.md): name 200, description 2000.
@@ -72,7 +78,9 @@ int check_flags(DesignCommandOptions& o) {
     if (const auto problem = text_problem(*o.description, 2000, true); !problem.empty())
       return bad("--description: " + problem);
   const auto& d = o.design;
-  if (!(std::isfinite(d.size) && d.size > 0 && d.size <= 1e4)) return bad("--size: must be in (0, 10000] mm");
+  // A floor far below any glass geometric optics describes (10 um, some 20
+  // wavelengths of light): at 1e-300 mm the face's single floats were all 0.
+  if (!(std::isfinite(d.size) && d.size >= 0.01 && d.size <= 1e4)) return bad("--size: must be in [0.01, 10000] mm");
   if (!(std::isfinite(d.focus) && d.focus > 0 && d.focus <= 1e6)) return bad("--focus: must be in (0, 1e6] mm");
   if (!(std::isfinite(d.ior) && d.ior > 1 && d.ior <= 4)) return bad("--ior: must be in (1, 4]");
   if (d.resolution < 16 || d.resolution > 2048)
@@ -102,8 +110,9 @@ int check_flags(DesignCommandOptions& o) {
   for (std::size_t i = 0; i < std::size(outputs); ++i) {
     const auto& [flag, p] = outputs[i];
     if (p->empty()) continue;
-    const auto dir = std::filesystem::absolute(*p).parent_path();
-    if (!std::filesystem::is_directory(dir)) return bad(p->string() + ": folder " + dir.string() + " does not exist");
+    // Tried now, not found after a solve of minutes: the file itself and
+    // its .part sibling, under which it is first written.
+    if (!output_writable("design", *p, flag) || !output_writable("design", part_name(*p), flag)) return bad_input;
     for (std::size_t j = 0; j < i; ++j)
       if (!outputs[j].second->empty() && same(*outputs[j].second, *p))
         return bad(std::string(flag) + " " + p->string() + ": the same file as " + outputs[j].first);
@@ -111,10 +120,24 @@ int check_flags(DesignCommandOptions& o) {
   return ok;
 }
 
-// "face.obj" -> "face.part.obj": a sibling name that keeps the extension
-// (OpenImageIO picks the format from it).
-std::filesystem::path part_name(const std::filesystem::path& p) {
-  return p.parent_path() / (p.stem().string() + ".part" + p.extension().string());
+// What `render` would refuse of the designed scene and face, refused before
+// a file is written: the same checks, in memory. A face whose relief
+// reaches the screen is the likely case (a wide lens, a short throw).
+void check_renders(const Scene& scene, const Mesh& face, const design::Design& d, double focus) {
+  try {
+    validate_mesh(face);
+    validate_scene(scene);
+    check_geometry(scene, face, place_object(scene.object, face));
+  } catch (const SceneError& e) {
+    std::string why = std::string("the designed glass would not render (") + e.what() + ")";
+    if (e.key() == "screen.center") {
+      char hint[160];
+      std::snprintf(hint, sizeof hint, ": the screen, --focus %g mm away, lies within the glass (relief %.1f mm); lengthen "
+                    "--focus or shrink --size", focus, d.report.relief);
+      why += hint;
+    }
+    throw SceneError("", why);
+  }
 }
 
 // Grey panels as colour ones (R = G = B).
@@ -210,6 +233,12 @@ int run_design(DesignCommandOptions o) {
         {"transport_residual", r.transport_residual}, {"iterations", r.iterations}, {"snell_passes", r.snell_passes},
         {"tir_vertices", r.tir_vertices}, {"max_slope_deg", r.max_slope_deg}, {"relief_mm", r.relief},
         {"min_thickness_mm", r.min_thickness}, {"resampled", o.design.resample}, {"colour", o.colour}};
+    const auto scene_dir = std::filesystem::absolute(o.scene).parent_path();
+    const auto mesh_rel = std::filesystem::absolute(o.face).lexically_normal().lexically_relative(scene_dir.lexically_normal());
+    Scene scene = design::design_scene(d, mesh_rel.generic_string(), std::clamp(d.n, 256, 1024));
+    if (o.name) scene.name = *o.name;
+    if (o.description) scene.description = *o.description;
+    check_renders(scene, d.face, d, o.design.focus);
     std::optional<design::Verification> engine, reference;
     std::optional<design::ColourVerification> colour;
     if (!o.no_check) {
@@ -228,11 +257,6 @@ int run_design(DesignCommandOptions o) {
     }
     // Outputs: every file under its .part name first.
     write_obj(d.face, part(o.face));
-    const auto scene_dir = std::filesystem::absolute(o.scene).parent_path();
-    const auto mesh_rel = std::filesystem::absolute(o.face).lexically_normal().lexically_relative(scene_dir.lexically_normal());
-    Scene scene = design::design_scene(d, mesh_rel.generic_string(), std::clamp(d.n, 256, 1024));
-    if (o.name) scene.name = *o.name;
-    if (o.description) scene.description = *o.description;
     {
       std::ofstream out(part(o.scene));
       out << scene_to_json(scene).dump(2) << "\n";

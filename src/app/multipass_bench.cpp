@@ -34,7 +34,6 @@ Scene bench_biconvex_scene(int size) {
 }
 
 int run_multipass_bench(const PerfOptions& opt) {
-  std::filesystem::create_directories(opt.out);
   GlContext context(egl_platform_from_environment());
   Engine engine;
   std::ofstream csv(opt.out / "multipass.csv");
@@ -85,8 +84,7 @@ int run_multipass_bench(const PerfOptions& opt) {
           "  plot 'multipass.csv' using 4:6 every ::1 with linespoints pointsize 1.2, "
           "'' using 4:6:(" << label << ") every ::1 with labels left offset 1,0.7\n}\n";
   plot.close();
-  const std::string command = "cd '" + opt.out.string() + "' && gnuplot multipass.gp 2>gnuplot.log";
-  if (std::system(command.c_str()) != 0)
+  if (!run_gnuplot(opt.out, "multipass.gp", "gnuplot.log"))
     std::cerr << "causticd bench: gnuplot failed (see gnuplot.log); multipass.csv is complete\n";
   std::printf("wrote %s/multipass.csv, multipass.png/.svg\n", opt.out.string().c_str());
   return 0;

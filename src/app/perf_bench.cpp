@@ -36,14 +36,12 @@ void write_perf_chart(const std::filesystem::path& out, const std::vector<int>& 
        << "'' using ($1 == " << mesh << " ? $2*$2 : 1/0):7 with linespoints title 'I420 convert + read-back'\n"
        << "  unset multiplot\n}\n";
   plot.close();
-  const std::string command = "cd '" + out.string() + "' && gnuplot perf.gp 2>gnuplot-perf.log";
-  if (std::system(command.c_str()) != 0) std::cerr << "causticd bench: gnuplot failed; perf.csv is complete\n";
+  if (!run_gnuplot(out, "perf.gp", "gnuplot-perf.log")) std::cerr << "causticd bench: gnuplot failed; perf.csv is complete\n";
 }
 
 }  // namespace
 
 int run_perf_bench(const PerfOptions& opt) {
-  std::filesystem::create_directories(opt.out);
   GlContext context(egl_platform_from_environment());
   Engine engine;
   std::ofstream csv(opt.out / "perf.csv");

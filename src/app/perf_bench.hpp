@@ -52,6 +52,14 @@ struct PerfOptions {
   std::uint64_t photons = 16'000'000;  ///< --spectral: photons of the prism's reference
 };
 
+/// Makes the --out folder and tries a file in it; when either fails says so
+/// ("causticd bench: --out DIR: ...") and returns false, before any work.
+bool bench_folder_ready(const std::filesystem::path& out);
+
+/// Runs `gnuplot script` inside `folder` (no shell: any folder name is
+/// safe), its messages into the file `log` there. True when it succeeded.
+bool run_gnuplot(const std::filesystem::path& folder, const char* script, const char* log);
+
 /// Prints one line per (mesh, size) and writes perf.csv and perf.png/.svg
 /// into `out`. Throws on GL failures.
 int run_perf_bench(const PerfOptions& options);

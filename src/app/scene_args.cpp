@@ -58,10 +58,10 @@ bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
   }
 }
 
-bool output_writable(const char* command, const std::filesystem::path& out) {
+bool output_writable(const char* command, const std::filesystem::path& out, const char* flag) {
   const auto dir = std::filesystem::absolute(out).parent_path();
   const auto refuse = [&](const std::string& why) {
-    std::cerr << "causticd " << command << ": --output " << out.string() << ": " << why << "\n";
+    std::cerr << "causticd " << command << ": " << flag << " " << out.string() << ": " << why << "\n";
     return false;
   };
   std::error_code ec;

@@ -83,8 +83,7 @@ void run_spectral_accuracy(const std::filesystem::path& out, int frames, std::ui
           "  plot 'spectral_accuracy.csv' using 2:3 every ::1 with linespoints pointsize 1.2, "
           "'' using 2:3:(sprintf('K = %d', $1)) every ::1 with labels offset 1.5,0.8\n}\n";
   plot.close();
-  const std::string command = "cd '" + out.string() + "' && gnuplot spectral_accuracy.gp 2>gnuplot.log";
-  if (std::system(command.c_str()) != 0)
+  if (!run_gnuplot(out, "spectral_accuracy.gp", "gnuplot.log"))
     std::cerr << "causticd bench: gnuplot failed (see gnuplot.log); spectral_accuracy.csv is complete\n";
 }
 

@@ -30,7 +30,6 @@ double process_cpu_ms() {
 }  // namespace
 
 int run_spectral_bench(const PerfOptions& opt) {
-  std::filesystem::create_directories(opt.out);
   GlContext context(egl_platform_from_environment());
   std::ofstream csv(opt.out / "spectral.csv");
   csv << "mesh,pixels,wavelengths,ray_ms,post_ms,frame_ms,ratio_to_grey,cpu_ms,cpu_ratio_to_grey\n";

@@ -112,7 +112,6 @@ std::vector<std::pair<TriangleSetup, int>> rows(const WaterBenchOptions& water) 
 
 int run_water_bench(const PerfOptions& opt, const WaterBenchOptions& water) {
   const double seconds = water.seconds;
-  std::filesystem::create_directories(opt.out);
   GlContext context(egl_platform_from_environment());
   std::ofstream csv(opt.out / "water.csv");
   csv << "grid,pixels,setup,divisor,steps_per_frame,sim_ms,mesh_ms,caustic_ms,post_ms,i420_ms,frame_ms,frame_p95_ms,"
