@@ -87,7 +87,18 @@ TEST(Config, BadFileNamesFileLineAndKeyAndChangesNothing) {
     load_config_file(c, "/dev/zero");
     ADD_FAILURE() << "/dev/zero accepted";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("larger than 1 MiB"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("or device, not a file"), std::string::npos) << e.what();
+  }
+  {
+    const auto big = std::filesystem::temp_directory_path() / "causticd_big.conf";
+    std::ofstream(big) << std::string((1 << 20) + 10, '#');
+    try {
+      load_config_file(c, big);
+      ADD_FAILURE() << "a 1 MiB config accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("larger than 1 MiB"), std::string::npos) << e.what();
+    }
+    std::filesystem::remove(big);
   }
   // A pipe: opening it waited for a writer.
   const auto fifo = std::filesystem::temp_directory_path() / "causticd_fifo.conf";
@@ -97,7 +108,7 @@ TEST(Config, BadFileNamesFileLineAndKeyAndChangesNothing) {
     load_config_file(c, fifo);
     ADD_FAILURE() << "a pipe was opened";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("is a pipe or socket"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("is a pipe, socket or device"), std::string::npos) << e.what();
   }
   std::filesystem::remove(fifo);
   EXPECT_EQ(c.port, 8080);

@@ -216,12 +216,22 @@ TEST(Calibration, RoundTripsAndNamesWhatIsWrongInAFile) {
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("nul.json is not valid JSON"), std::string::npos) << e.what();
   }
-  // A file that never ends is refused at its bound, not read whole.
+  // A file larger than its bound is refused there, not read whole.
+  {
+    std::ofstream(dir / "big.json") << std::string((1 << 20) + 10, ' ');
+  }
+  try {
+    load_calibration(dir / "big.json", "f");
+    ADD_FAILURE() << "a 1 MiB file was read as a calibration";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("larger than 1024 KiB"), std::string::npos) << e.what();
+  }
+  // A device is not opened (/dev/zero was read to the bound).
   try {
     load_calibration("/dev/zero", "f");
     ADD_FAILURE() << "/dev/zero was read as a calibration";
   } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("larger than 1024 KiB"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("or device, not a calibration file"), std::string::npos) << e.what();
   }
   // Beside its scene, found without being named: a pipe there held render
   // up, a folder read as broken JSON.
@@ -231,7 +241,7 @@ TEST(Calibration, RoundTripsAndNamesWhatIsWrongInAFile) {
       load_calibration(dir / name, "f");
       ADD_FAILURE() << name << " was read as a calibration";
     } catch (const SceneError& e) {
-      EXPECT_NE(std::string(e.what()).find("is a folder, pipe or socket"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("is a folder, pipe, socket or device"), std::string::npos) << e.what();
     }
   }
   std::filesystem::remove_all(dir);

@@ -167,12 +167,12 @@ std::string printable_name(std::string_view name, std::size_t max_bytes) {
 
 FileText read_file_text(const std::filesystem::path& file, std::size_t limit) {
   FileText out;
-  // A folder reads as nothing, and opening a pipe or a socket waits for a
-  // writer that may never come: neither is opened.
+  // A folder reads as nothing, opening a pipe or a socket waits for a
+  // writer that may never come, and a device (a terminal, a serial line)
+  // for input that may never come: only regular files are opened.
   std::error_code ec;
   const auto type = std::filesystem::status(file, ec).type();
-  using std::filesystem::file_type;
-  out.not_a_file = !ec && (type == file_type::directory || type == file_type::fifo || type == file_type::socket);
+  out.not_a_file = !ec && type != std::filesystem::file_type::regular;
   if (out.not_a_file) return out;
   std::ifstream in(file, std::ios::binary);
   if (!in) return out;

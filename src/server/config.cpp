@@ -240,9 +240,10 @@ void load_config_file(ServerConfig& config, const std::filesystem::path& file, C
   std::error_code error;
   const auto type = std::filesystem::status(file, error).type();
   if (type == std::filesystem::file_type::directory) throw ConfigError("config file " + file.string() + " is a folder");
-  // Opening a pipe or socket waits for a writer that may never come.
-  if (type == std::filesystem::file_type::fifo || type == std::filesystem::file_type::socket)
-    throw ConfigError("config file " + file.string() + " is a pipe or socket, not a file");
+  // Opening a pipe or socket waits for a writer that may never come, a
+  // device (a terminal) for input that may never come.
+  if (!error && type != std::filesystem::file_type::regular)
+    throw ConfigError("config file " + file.string() + " is a pipe, socket or device, not a file");
   std::ifstream file_in(file, std::ios::binary);
   if (!file_in) throw ConfigError("cannot read config file " + file.string());
   std::string text;
