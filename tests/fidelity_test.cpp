@@ -268,6 +268,37 @@ TEST(Calibration, FingerprintFollowsThePhysicsNotTheChoices) {
   EXPECT_NE(scene_fingerprint(s, grid_mesh(plano_convex_lens(41.0, 10.0), 16, 16)), base);
 }
 
+TEST(MeshLevels, EveryLevelSitsWhereTheLoadedMeshDoes) {
+  // A coarse level misses a spike of the loaded mesh, so its own bounds
+  // differ. Placed by them (fit_size centres), it sat elsewhere, its flat
+  // face above the public box, and the render refused screens the public
+  // box had passed: a refusal seen only as a frame not drawn, which told
+  // the level's hidden height.
+  Mesh spiked = grid_mesh(plano_convex_lens(40.0, 10.0), 65, 65);
+  spiked.positions[65 * 20 + 21].z += 5.0f;  // between the coarse grids' vertices
+  const auto source = shared(std::move(spiked));
+  const MeshLevels levels = build_mesh_levels(source, {0, 0, 1}, {8, 16, 32});
+  Scene s;
+  s.mesh = "generated";
+  s.object.fit_size = 100.0;
+  s.object.rotation_deg = {30, 0, 0};
+  s.object.flat_face_offset = levels.bounds->hi.z + 0.5;
+  const Placement placed = levels.place(s.object);
+  double lowest = 1e300, highest = -1e300;
+  for (const auto& corner : placed.box) {
+    lowest = std::min(lowest, corner.z);
+    highest = std::max(highest, corner.z);
+  }
+  for (const int n : {0, 8, 16, 32})
+    for (const double z : {lowest - 1e-6, highest + 1e-6}) {  // a screen touching the box below it, and above
+      Scene at = s;
+      at.render.mesh_resolution = n;
+      at.screen.center = {0, 0, z};
+      EXPECT_NO_THROW(check_geometry_public(at, levels)) << n << " " << z;
+      EXPECT_NO_THROW(check_geometry(at, levels)) << "level " << n << ", screen at " << z;
+    }
+}
+
 class FidelityAuto : public GlTest {};
 
 TEST_F(FidelityAuto, CheaperForAFarDirectionalLightThanAPointLightImagedOnTheScreen) {

@@ -201,6 +201,30 @@ TEST(Placement, FitSizeCentresAndScalesTheFootprint) {
   EXPECT_NEAR(glm::length(p.center - glm::dvec3(1, 2, 3)), 0.0, 1e-12);
 }
 
+TEST(Placement, FitSizePlacesByThePublicBoxNotTheHiddenTop) {
+  // Two faces alike in all the proxy shows (footprint, lowest point, flat
+  // face) and unlike in their highest point under the flat face, which is
+  // hidden. Centred on the vertices' middle, fit_size moved the first by
+  // half the difference: the followed screen then told the top to 1e-7 mm.
+  const Mesh a = grid_mesh(plano_convex_lens(40, 10), 11, 11);
+  Mesh b = a;
+  const MeshBounds bounds = mesh_bounds(a, {0, 0, 1});
+  for (auto& p : b.positions) p.z = static_cast<float>(bounds.lo.z + 0.5 * (p.z - bounds.lo.z));
+  ASSERT_LT(mesh_bounds(b, {0, 0, 1}).hi.z, bounds.hi.z - 1);
+  ObjectParams o;
+  o.fit_size = 100.0;
+  o.rotation_deg = {30, 0, 0};
+  o.position = {1, 2, 3};
+  o.flat_face_offset = bounds.hi.z + 1;
+  const Placement pa = place_object(o, a), pb = place_object(o, b);
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) EXPECT_NEAR(pa.model[c][r], pb.model[c][r], 1e-9) << c << r;
+  // The box's centre (flat face to lowest vertex) is what lands on position.
+  glm::dvec3 centre(0.0);
+  for (const auto& corner : pa.box) centre += corner / 8.0;
+  EXPECT_NEAR(glm::length(centre - o.position), 0.0, 1e-9);
+}
+
 TEST(Placement, DefaultFlatFaceTouchesTheExtremeVertex) {
   const Mesh m = grid_mesh(plano_convex_lens(40, 10), 11, 11);
   ObjectParams o;

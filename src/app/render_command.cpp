@@ -48,12 +48,13 @@ int run_render(const RenderOptions& opt) {
   return run_reporting("render", opt.scene, [&] {
     GlContext context(egl_platform_from_environment());
     Engine engine;
-    engine.set_scene(scene, mesh);
+    const auto& placed_by = levels.levels.bounds;
+    engine.set_scene(scene, mesh, false, placed_by);
     std::vector<double> ray_ms, post_ms;
     for (int i = 0; i < opt.frames; ++i) {
       // Re-setting an unchanged scene would not render again: changing the
       // mesh handle forces a full frame for the timing loop.
-      if (i > 0) engine.set_scene(scene, std::make_shared<const Mesh>(*mesh));
+      if (i > 0) engine.set_scene(scene, std::make_shared<const Mesh>(*mesh), false, placed_by);
       engine.render();
       ray_ms.push_back(engine.stats().ray_ms);
       post_ms.push_back(engine.stats().post_ms);

@@ -120,7 +120,7 @@ std::string describe_choice(const Scene& scene, const SceneLevels& levels) {
   const int n = scene.render.mesh_resolution;
   std::snprintf(line, sizeof line, "fidelity: %s; mesh %s (%zu vertices), point model %s, Fresnel %s; %s",
                 d["mode"].get<std::string>().c_str(), n ? (std::to_string(n) + "^2").c_str() : "as loaded",
-                d["vertices"].get<std::size_t>(), d["point_model"].get<std::string>().c_str(),
+                levels.levels.vertices(n), d["point_model"].get<std::string>().c_str(),
                 scene.render.fresnel ? "on" : "off",
                 d["expected_relative_l1"].is_number()
                     ? ("expected relative L1 " + std::to_string(100 * d["expected_relative_l1"].get<double>()).substr(0, 5) +

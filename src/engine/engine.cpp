@@ -66,10 +66,13 @@ struct Engine::Impl {
 Engine::Engine() : impl_(std::make_unique<Impl>()) {}
 Engine::~Engine() = default;
 
-void Engine::set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh, bool moved) {
+void Engine::set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh, bool moved,
+                       const std::shared_ptr<const MeshBounds>& placed_by) {
   if (!mesh) throw EngineError("set_scene needs a mesh");
   validate_scene(scene);
-  Placement placement = place_object(scene.object, *mesh);
+  Placement placement = placed_by && placed_by->normal == scene.object.flat_face_normal
+                            ? place_object(scene.object, *placed_by)
+                            : place_object(scene.object, *mesh);
   check_geometry(scene, *mesh, placement);
 
   auto& s = *impl_;

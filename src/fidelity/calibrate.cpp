@@ -90,7 +90,8 @@ Calibration calibrate(const Scene& scene, const MeshLevels& levels, Engine& engi
           if (grid > 0) s.render.light_grid = grid;
           std::vector<double> ray_ms;
           for (int f = 0; f < options.frames + 1; ++f) {
-            engine.set_scene(s, std::make_shared<const Mesh>(*levels.at(resolution)));  // new handle: a full frame
+            // A new handle: a full frame. Placed as the stream places it.
+            engine.set_scene(s, std::make_shared<const Mesh>(*levels.at(resolution)), false, levels.bounds);
             engine.render();
             if (f > 0) ray_ms.push_back(engine.stats().ray_ms);
           }
@@ -108,7 +109,7 @@ Calibration calibrate(const Scene& scene, const MeshLevels& levels, Engine& engi
             Scene at = s;
             at.render.width = streamed.render.width;
             at.render.height = streamed.render.height;
-            engine.set_scene(at, levels.at(resolution));
+            engine.set_scene(at, levels.at(resolution), false, levels.bounds);
             engine.render();
             const ImageError seen = compare(engine.read_hdr(), full, streamed_exposure, scene.post.gamma);
             e.streamed_l1 = seen.relative_l1;

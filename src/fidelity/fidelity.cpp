@@ -225,7 +225,9 @@ json describe_fidelity(const Scene& scene, const Mesh& source, const MeshLevels&
   json j{{"mode", automatic ? "auto" : "manual"},
          {"accuracy_target", scene.render.accuracy_target},
          {"mesh_resolution", scene.render.mesh_resolution},
-         {"vertices", levels.vertices(scene.render.mesh_resolution)},
+         // A grid level's count is its resolution squared; the loaded mesh's
+         // is not told (this goes to every session: the mesh stays hidden).
+         {"vertices", scene.render.mesh_resolution ? json(levels.vertices(scene.render.mesh_resolution)) : json()},
          {"point_model", point_model_name(scene.light.point_model)},
          {"fresnel", scene.render.fresnel},
          {"light_grid", scene.object.shape == Shape::solid ? json(scene.render.light_grid) : json()},

@@ -179,7 +179,7 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
                                water             ? source.pool->mesh(divisor)
                                : want == preview ? preview_mesh(meshes, scene, source.progressive.mesh)
                                                  : meshes.at(scene.render.mesh_resolution),
-                               water);
+                               water, water ? nullptr : meshes.bounds);
       source.water_dirty = false;
       const std::uint64_t before = source.engine->ray_passes();
       source.engine->render();

@@ -14,8 +14,10 @@ std::shared_ptr<const Mesh> MeshLevels::at(int resolution) const {
 }
 
 void check_geometry(const Scene& scene, const MeshLevels& levels) {
-  const auto mesh = levels.at(scene.render.mesh_resolution);
-  check_geometry(scene, *mesh, place_object(scene.object, *mesh));
+  // Every level placed as the loaded mesh is (as the engine is told to):
+  // placed by its own bounds, a coarser level sat elsewhere, and the render
+  // refused what the public box had passed.
+  check_geometry(scene, *levels.at(scene.render.mesh_resolution), levels.place(scene.object));
 }
 
 void check_geometry_public(const Scene& scene, const MeshLevels& levels) {

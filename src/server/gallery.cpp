@@ -94,7 +94,7 @@ std::shared_ptr<GalleryEntry> prepare_entry(const std::filesystem::path& file, c
 void draw_thumbnail(GalleryEntry& entry, Engine& engine, int thumbnail) {
   Scene small = entry.scene;
   small.render.width = small.render.height = thumbnail;
-  engine.set_scene(small, entry.levels->at(entry.scene.render.mesh_resolution));
+  engine.set_scene(small, entry.levels->at(entry.scene.render.mesh_resolution), false, entry.levels->bounds);
   engine.render();
   entry.thumbnail_png = encode_png(engine.read_ldr());
 }

@@ -7,8 +7,9 @@
 /// What the server renders and how far from the reference it is expected to be.
 export function fidelityText(f) {
   if (!f) return '';
-  const mesh = f.mesh_resolution ? `${f.mesh_resolution}\u00b2 mesh` : 'mesh as loaded';
-  let text = `fidelity ${f.mode}: ${mesh} (${f.vertices} vertices), ${f.point_model} point model, Fresnel ${f.fresnel ? 'on' : 'off'}`;
+  // The mesh as loaded keeps its vertex count to itself (the server does not tell it).
+  const mesh = f.mesh_resolution ? `${f.mesh_resolution}\u00b2 mesh (${f.vertices} vertices)` : 'mesh as loaded';
+  let text = `fidelity ${f.mode}: ${mesh}, ${f.point_model} point model, Fresnel ${f.fresnel ? 'on' : 'off'}`;
   if (f.expected_relative_l1 === null) return `${text}; not calibrated`;
   text += `; expected L1 ${(100 * f.expected_relative_l1).toFixed(2)}% (target ${(100 * f.accuracy_target).toFixed(1)}%)`;
   if (!f.calibration_matches_parameters) text += ', calibrated before the scene was changed';

@@ -66,7 +66,12 @@ class Engine {
   /// Marks the frame dirty only when something changed. `moved`: the mesh
   /// is the last one's next state (water's next step), so automatic
   /// exposure eases on instead of starting afresh as for a new object.
-  void set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh, bool moved = false);
+  /// `placed_by`: the bounds that place the object (MeshLevels::bounds, the
+  /// loaded mesh's), so a coarser level sits exactly where the loaded mesh
+  /// does, inside the box the public checks judge; by default, and when
+  /// they were taken about another flat-face normal, the mesh's own.
+  void set_scene(const Scene& scene, std::shared_ptr<const Mesh> mesh, bool moved = false,
+                 const std::shared_ptr<const MeshBounds>& placed_by = nullptr);
 
   /// A cheaper frame for interaction: the caustic drawn at 1/divisor of the
   /// output size per side, no bloom, bilinearly upsampled by the tone map

@@ -30,8 +30,9 @@ struct MeshLevels {
   std::size_t vertices(int resolution) const { return at(resolution)->positions.size(); }
 };
 
-/// check_geometry against the level `scene` names (render.mesh_resolution):
-/// what a parameter store checks before it publishes a scene. Throws SceneError.
+/// check_geometry against the level `scene` names (render.mesh_resolution),
+/// placed as the loaded mesh is (place()): what a parameter store checks
+/// before it publishes a scene. Throws SceneError.
 void check_geometry(const Scene& scene, const MeshLevels& levels);
 
 /// What a session's parameter store checks: the level exists, and
