@@ -3,6 +3,7 @@
 // them, viewers that must show signs of life, and a viewer that reconnects.
 // Each failed against the server before its fix. Black-box over loopback.
 #include "hardening_support.hpp"
+#include "sdp_edit.hpp"
 #include "ws_client.hpp"
 
 #include <unistd.h>
@@ -79,11 +80,6 @@ TEST(Hardening, ASecondSignallingSocketGetsAFreshOffer) {
 // sections swapped, its BUNDLE group tagged by the data channel, its mids
 // traded between the m-lines, or the video's ICE ufrag given twice at the
 // session level instead.
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  for (std::size_t at = 0; (at = text.find(from, at)) != std::string::npos; at += to.size()) text.replace(at, from.size(), to);
-  return text;
-}
-
 std::vector<std::string> unfitting_answers(const std::string& offer) {
   const std::string answer = replaced(replaced(offer, "a=setup:actpass", "a=setup:active"), "a=sendonly", "a=recvonly");
   const std::size_t first = answer.find("m="), second = answer.find("\r\nm=", first) + 2;

@@ -3,6 +3,7 @@
 // once reached a library precondition instead of an error, and the answers
 // that do not fit their offer.
 #include "signal_message.hpp"
+#include "sdp_edit.hpp"
 
 #include <glib.h>
 #include <gtest/gtest.h>
@@ -12,6 +13,8 @@
 
 namespace caustic::server {
 namespace {
+
+using caustic::testing::replaced;
 
 // A GLib critical is a precondition the caller broke: here it fails the test
 // (the process aborts) instead of scrolling past in the log.
@@ -137,11 +140,6 @@ TEST(SignalMessage, AnAnswerWhoseMLinesDoNotFitTheOfferIsNamed) {
     EXPECT_EQ(answer_mismatch(kOffer, count), "answer: needs one m-line for each of the offer's 2, in the offer's order");
 }
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  for (std::size_t at = 0; (at = text.find(from, at)) != std::string::npos; at += to.size()) text.replace(at, from.size(), to);
-  return text;
-}
-
 TEST(SignalMessage, AnAnswerKeepsTheOffersMidsAndItsBundleTag) {
   const std::string bundle = "a=group:BUNDLE video0 application1\r\n";
   EXPECT_EQ(answer_mismatch(kOffer, kHead + bundle + kVideo + kChannel), "");
@@ -158,7 +156,7 @@ TEST(SignalMessage, AnAnswerKeepsTheOffersMidsAndItsBundleTag) {
   const std::string expected =
       "answer: a BUNDLE group must start with the offer's first bundled mid (video0) and name only the offer's "
       "bundled mids, each once";
-  for (const std::string& group : {"application1 video0", "application1", "video0 video0", "video0 unknown", "",
+  for (const char* group : {"application1 video0", "application1", "video0 video0", "video0 unknown", "",
                                    "video0\r\na=group:BUNDLE application1"})
     EXPECT_EQ(answer_mismatch(kOffer, kHead + "a=group:BUNDLE " + group + "\r\n" + kVideo + kChannel), expected)
         << group;
