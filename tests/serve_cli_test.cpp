@@ -78,7 +78,10 @@ TEST(Serve, FoldersAndAddressesAreCheckedAsCheckConfigChecksThem) {
   // Before the gallery loads, exit 2 naming the key: what check-config says.
   const std::pair<const char*, const char*> bad[] = {{"--web-dir /nonexistent", "web_dir: /nonexistent is not a folder"},
                                                      {"--scenes-dir /nonexistent", "scenes_dir"},
-                                                     {"--bind 999.1.1.1", "bind_address: must be an IP address"}};
+                                                     {"--bind 999.1.1.1", "bind_address: must be an IP address"},
+                                                     // Once "noequals: unknown key", and a value quoted as """".
+                                                     {"--set noequals", "--set: expected key=value, got \"noequals\""},
+                                                     {"--set port=", "port: must be an integer in [0, 65535], got an empty value"}};
   for (const auto& [args, named] : bad) {
     std::string output;
     EXPECT_EQ(run_causticd(std::string("serve --port 0 ") + args, &output), 2) << args << ": " << output;

@@ -4,6 +4,7 @@
 #include "commands.hpp"
 
 #include "caustic/gst/causticsrc.hpp"
+#include "caustic/json_text.hpp"
 #include "caustic/server/config.hpp"
 #include "caustic/server/data_files.hpp"
 #include "caustic/server/server.hpp"
@@ -154,9 +155,11 @@ std::function<int()> add_serve_command(CLI::App& app) {
       [opt](const std::vector<std::string>& items) {
         for (const auto& item : items) {
           const auto eq = item.find('=');
-          // A missing '=' leaves the value empty: set_config_value names the key in its error.
-          opt->overrides.emplace_back(item.substr(0, eq), eq == std::string::npos ? "" : item.substr(eq + 1),
-                                      "--set " + item.substr(0, eq));
+          // As render's --set words it (an empty value after '=' is the key's own error).
+          if (eq == std::string::npos)
+            throw CLI::ValidationError("--set", "expected key=value, got " +
+                                                    (item.empty() ? "nothing" : "\"" + printable_name(item) + "\""));
+          opt->overrides.emplace_back(item.substr(0, eq), item.substr(eq + 1), "--set " + item.substr(0, eq));
         }
       },
       "Sets any config key: --set key=value (repeatable; docs/configuration.md)");

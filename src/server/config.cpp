@@ -20,7 +20,9 @@ namespace caustic::server {
 namespace {
 
 // ", got "value"" for an error, the value quoted safely and at most 64 bytes of it.
-std::string got(const std::string& value) { return ", got \"" + printable_name(value) + "\""; }
+std::string got(const std::string& value) {
+  return value.empty() ? ", got an empty value" : ", got \"" + printable_name(value) + "\"";
+}
 
 int parse_int(const std::string& key, const std::string& text, int lo, int hi) {
   int value = 0;
