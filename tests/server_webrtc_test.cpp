@@ -122,6 +122,32 @@ TEST(WebRtcWater, FramesCarryTheSurfaceAndShowAPostedDrop) {
   std::printf("the drop showed in the %d-th frame message after it was accepted\n", peer.frame_messages() - before);
 }
 
+TEST(Signalling, AViewerWhoseCertificateIsNotItsAnswersIsCutOff) {
+  // The answer's fingerprint one bit off: webrtcbin took any certificate,
+  // so anyone in the media's path could stand in for the viewer.
+  gst_init(nullptr, nullptr);
+  ServerProcess server;
+  const json s = http("POST", server.url() + "/api/v1/sessions", R"({"scene": "slab"})").json();
+  std::string ws = server.url() + s["signal_url"].get<std::string>();
+  ws.replace(0, 4, "ws");
+  WebRtcPeer peer("vp8", ws);
+  peer.edit_answers([](std::string sdp) {
+    // "a=fingerprint:sha-256 XX:...": the last hex digit of each line changed.
+    for (std::size_t at = sdp.find("a=fingerprint:"); at != std::string::npos; at = sdp.find("a=fingerprint:", at + 1)) {
+      char& digit = sdp[sdp.find_first_of("\r\n", at) - 1];
+      digit = digit == '0' ? '1' : '0';
+    }
+    return sdp;
+  });
+  for (int i = 0; i < 120 && peer.error().find("fingerprint") == std::string::npos; ++i) peer.wait_for_frames(1000, 0.5);
+  EXPECT_NE(peer.error().find("the DTLS certificate does not match the answer's fingerprint"), std::string::npos)
+      << peer.error();
+  int sessions = 1;
+  for (int i = 0; i < 50 && sessions > 0; ++i, g_usleep(100000))
+    sessions = http("GET", server.url() + "/api/v1/health").json()["sessions"].get<int>();
+  EXPECT_EQ(sessions, 0) << "the session outlived a certificate that was not its viewer's";
+}
+
 TEST(Signalling, WrongTokenIsRefused) {
   gst_init(nullptr, nullptr);
   ServerProcess server;

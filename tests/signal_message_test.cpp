@@ -97,13 +97,37 @@ const std::string kOffer =
     "a=rtpmap:96 VP8/90000\r\na=mid:video0\r\n"
     "m=application 0 UDP/DTLS/SCTP webrtc-datachannel\r\nc=IN IP4 0.0.0.0\r\na=setup:actpass\r\n"
     "a=mid:application1\r\na=sctp-port:5000\r\n";
+// A self-signed certificate (made with openssl for these tests) and its
+// digests as `openssl x509 -noout -fingerprint -sha256` (and -sha1) print them.
+const std::string kCertificate =
+    "-----BEGIN CERTIFICATE-----\n"
+    "MIIBhzCCAS2gAwIBAgIUQJ8QhVfR6wXE9eGpf0SX5lH4kkAwCgYIKoZIzj0EAwIw\n"
+    "GDEWMBQGA1UEAwwNY2F1c3RpY2QtdGVzdDAgFw0yNjEyMDYxMDE3MTNaGA8yMTI2\n"
+    "MTExMjEwMTcxM1owGDEWMBQGA1UEAwwNY2F1c3RpY2QtdGVzdDBZMBMGByqGSM49\n"
+    "AgEGCCqGSM49AwEHA0IABLsoGZ8xwS2jZ/hI6s16Ipake5VQfB015EwrXfr6mxU3\n"
+    "31Ybo0yPsqairaqq7VZLWWbffLaq5TibmF29RD2nTs+jUzBRMB0GA1UdDgQWBBRo\n"
+    "sT2TpAbI4ify9lIufaadvmMyPzAfBgNVHSMEGDAWgBRosT2TpAbI4ify9lIufaad\n"
+    "vmMyPzAPBgNVHRMBAf8EBTADAQH/MAoGCCqGSM49BAMCA0gAMEUCIGDMjSriRi2A\n"
+    "ok7FesbF2gx7MFeC6nbf0Zs563HnGwLYAiEA4hTw+Sn/JLrh+Qs/5LTHvgGpa9FS\n"
+    "eTstietWrnZEwbY=\n"
+    "-----END CERTIFICATE-----\n";
+const std::string kSha256 =
+    "B2:4E:A1:0C:C4:AE:C6:98:4A:90:09:94:AE:65:5C:03:C4:85:B3:C5:6B:5E:5D:2C:84:7F:35:31:11:0D:C1:8E";
+const std::string kSha1 = "42:29:45:2D:2F:12:0C:A0:4B:5B:DE:36:D9:63:76:00:78:44:03:0B";
+// What every answered m-line carries for its transport.
+const std::string kTransport = "a=ice-ufrag:uf\r\na=ice-pwd:0123456789abcdefghijkl\r\na=fingerprint:sha-256 " + kSha256 + "\r\n";
 const std::string kVideo =
-    "m=video 9 UDP/TLS/RTP/SAVPF 96\r\nc=IN IP4 0.0.0.0\r\na=setup:active\r\na=recvonly\r\n"
+    "m=video 9 UDP/TLS/RTP/SAVPF 96\r\nc=IN IP4 0.0.0.0\r\n" + kTransport + "a=setup:active\r\na=recvonly\r\n"
     "a=rtpmap:96 VP8/90000\r\na=mid:video0\r\n";
 const std::string kChannel =
-    "m=application 9 UDP/DTLS/SCTP webrtc-datachannel\r\nc=IN IP4 0.0.0.0\r\na=setup:active\r\n"
+    "m=application 9 UDP/DTLS/SCTP webrtc-datachannel\r\nc=IN IP4 0.0.0.0\r\n" + kTransport + "a=setup:active\r\n"
     "a=mid:application1\r\na=sctp-port:5000\r\n";
 const std::string kHead = "v=0\r\no=- 2 0 IN IP4 0.0.0.0\r\ns=-\r\nt=0 0\r\n";
+
+std::string lower_hex(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
 
 std::string with_direction(std::string media, const std::string& direction) {
   const std::size_t at = media.find("a=recvonly\r\n");
@@ -112,9 +136,8 @@ std::string with_direction(std::string media, const std::string& direction) {
 
 TEST(SignalMessage, AnAnswerThatFitsTheOfferIsTaken) {
   EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + kChannel), "");
-  EXPECT_EQ(answer_mismatch(kOffer, kHead + with_direction(kVideo, "inactive") + kChannel), "");
-  // A rejected m-line (port 0) needs no direction.
-  std::string rejected = with_direction(kVideo, "sendrecv");
+  // A rejected m-line (port 0) needs no direction, nor a transport.
+  std::string rejected = replaced(with_direction(kVideo, "sendrecv"), kTransport, "");
   rejected.replace(rejected.find("m=video 9"), 9, "m=video 0");
   EXPECT_EQ(answer_mismatch(kOffer, kHead + rejected + kChannel), "");
 }
@@ -178,9 +201,24 @@ TEST(SignalMessage, WhatTheLibrariesTakeOnlyAsAProgrammingErrorIsRefused) {
               "answer: m-line 0: an SSRC must be in [1, 2^32 - 1]")
         << ssrc;
   EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + "a=ssrc:4294967295 cname:x\r\n" + kChannel), "");
-  EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + "a=candidate:1 0 udp 1 127.0.0.1 9 typ host\r\n" + kChannel),
-            "answer: m-line 0: a candidate's component must be in [1, 256]");
   EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + "a=candidate:1 1 udp 1 127.0.0.1 9 typ host\r\n" + kChannel), "");
+  // Component 0 was a critical; 2 to 256 a warning a line (RTCP shares
+  // RTP's component); a TCP candidate without its tcptype a critical.
+  for (const std::string candidate : {"1 0 udp 1 127.0.0.1 9 typ host", "1 2 udp 1 127.0.0.1 9 typ host"})
+    EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + "a=candidate:" + candidate + "\r\n" + kChannel),
+              "answer: m-line 0: a candidate's component must be 1 (RTCP is multiplexed with RTP)");
+  for (const std::string candidate : {"1 1 TCP 1 127.0.0.1 9 typ host", "1 1 tcp 1 127.0.0.1 9 typ srflx raddr 0.0.0.0",
+                                      "1 1 tcp 1 127.0.0.1 9 typ host tcptype", "1 1 tcp 1 127.0.0.1 9 typ host tcptype x"})
+    EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + "a=candidate:" + candidate + "\r\n" + kChannel),
+              "answer: m-line 0: a TCP candidate needs a tcptype of active, passive or so")
+        << candidate;
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + "a=candidate:1 1 TCP 1 127.0.0.1 9 typ host tcptype passive\r\n" +
+                                        kChannel),
+            "");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + "a=candidate:1 1 sctp 1 127.0.0.1 9 typ host\r\n" + kChannel),
+            "answer: m-line 0: a candidate's transport must be UDP or TCP");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + "a=candidate:1 1 udp 1 127.0.0.1 9\r\n" + kChannel),
+            "answer: m-line 0: an a=candidate line is not an ICE candidate (... typ ...)");
   for (const char* fmtp : {"a=fmtp:96 a-mid=foo", "a=fmtp:96 max-fr=30;EXTMAP-1=x", "a=x-foo:1\r\na=fmtp:96 x-foo=2"})
     EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + fmtp + "\r\n" + kChannel),
               "answer: m-line 0: an fmtp parameter must not be named like an attribute (a-..., extmap-..., or the "
@@ -189,16 +227,79 @@ TEST(SignalMessage, WhatTheLibrariesTakeOnlyAsAProgrammingErrorIsRefused) {
   EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + "a=fmtp:96 max-fr=30;max-fs=3600\r\n" + kChannel), "");
   EXPECT_EQ(error_of(R"({"type":"ice","candidate":"candidate:1 0 UDP 2122252543 127.0.0.1 40000 typ host",)"
                      R"("sdpMLineIndex":0})"),
-            "ice: a candidate's component must be in [1, 256]");
+            "ice: a candidate's component must be 1 (RTCP is multiplexed with RTP)");
+  EXPECT_EQ(error_of(R"({"type":"ice","candidate":"candidate:1 1 TCP 2122252543 127.0.0.1 9999 typ host",)"
+                     R"("sdpMLineIndex":0})"),
+            "ice: a TCP candidate needs a tcptype of active, passive or so");
+  EXPECT_EQ(error_of(R"({"type":"ice","candidate":"candidate:1 1 TCP 2122252543 127.0.0.1 9 typ host tcptype active",)"
+                     R"("sdpMLineIndex":0})"),
+            "");
 }
 
-TEST(SignalMessage, ASendonlyMLineIsAnsweredRecvonlyOrInactive) {
-  const std::string expected = "answer: m-line 0 answers a sendonly video m-line: it must be recvonly or inactive";
+TEST(SignalMessage, ASendonlyMLineIsAnsweredRecvonly) {
+  const std::string expected = "answer: m-line 0 answers a sendonly video m-line: it must be recvonly (or rejected, port 0)";
+  // inactive: webrtcbin sent the video all the same.
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + with_direction(kVideo, "inactive") + kChannel), expected);
   EXPECT_EQ(answer_mismatch(kOffer, kHead + with_direction(kVideo, "sendonly") + kChannel), expected);
   EXPECT_EQ(answer_mismatch(kOffer, kHead + with_direction(kVideo, "sendrecv") + kChannel), expected);
   EXPECT_EQ(answer_mismatch(kOffer, kHead + with_direction(kVideo, "") + kChannel), expected) << "none is sendrecv";
   // A session-level direction counts where the m-line has none.
   EXPECT_EQ(answer_mismatch(kOffer, kHead + "a=recvonly\r\n" + with_direction(kVideo, "") + kChannel), "");
+}
+
+TEST(SignalMessage, EachAnsweredTransportHasCredentialsARoleAndAFingerprint) {
+  // Each of these webrtcbin refused only in its debug log, the viewer left waiting.
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + replaced(kVideo, "a=ice-ufrag:uf\r\n", "") + kChannel),
+            "answer: m-line 0 needs an a=ice-ufrag");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + replaced(kChannel, "a=ice-pwd:0123456789abcdefghijkl\r\n", "")),
+            "answer: m-line 1 needs an a=ice-pwd");
+  const std::string role = "answer: m-line 0 needs one a=setup, active or passive (the answer's DTLS role)";
+  for (const std::string setup : {"", "a=setup:actpass\r\n", "a=setup:holdconn\r\n", "a=setup:garbage\r\n",
+                                  "a=setup:active\r\na=setup:passive\r\n"})
+    EXPECT_EQ(answer_mismatch(kOffer, kHead + replaced(kVideo, "a=setup:active\r\n", setup) + kChannel), role) << setup;
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + replaced(kVideo, "a=setup:active", "a=setup:passive") + kChannel), "");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + replaced(kVideo, "a=fingerprint:sha-256 " + kSha256 + "\r\n", "") + kChannel),
+            "answer: m-line 0 needs an a=fingerprint of its DTLS certificate");
+  const std::string digest =
+      "answer: m-line 0 an a=fingerprint must be sha-1, sha-256, sha-384 or sha-512 and its digest in hex pairs";
+  for (const std::string& bad : {"sha-256 " + kSha256.substr(3), "sha-256 " + kSha256 + ":00", "sha-1 " + kSha256,
+                                "md5 " + kSha1.substr(0, 47), "sha-224 " + kSha256.substr(0, 83), "foo-256 " + kSha256,
+                                "sha-256 " + replaced(kSha256, "B2", "ZZ"), "sha-256 " + replaced(kSha256, ":", "-"),
+                                std::string("sha-256")})
+    EXPECT_EQ(answer_mismatch(kOffer, kHead + replaced(kVideo, "sha-256 " + kSha256, bad) + kChannel), digest) << bad;
+  // Transport attributes at the session level serve every m-line without its own.
+  const std::string bare_video = replaced(replaced(kVideo, kTransport, ""), "a=setup:active\r\n", "");
+  const std::string bare_channel = replaced(replaced(kChannel, kTransport, ""), "a=setup:active\r\n", "");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + kTransport + "a=setup:active\r\n" + bare_video + bare_channel), "");
+}
+
+TEST(SignalMessage, TheViewersCertificateIsHeldAgainstItsFingerprint) {
+  const auto sha256 = parse_fingerprint("sha-256 " + kSha256), sha1 = parse_fingerprint("SHA-1 " + kSha1);
+  ASSERT_TRUE(sha256 && sha1);
+  EXPECT_EQ(sha256->hash, "sha-256");
+  EXPECT_EQ(sha1->hash, "sha-1");
+  EXPECT_EQ(sha256->digest.size(), 32u);
+  EXPECT_EQ(sha256->digest.front(), 0xB2);
+  EXPECT_TRUE(certificate_matches(kCertificate, {*sha256}));
+  EXPECT_TRUE(certificate_matches(kCertificate, {*sha1}));
+  // Lowercase hex is the same digest.
+  EXPECT_TRUE(certificate_matches(kCertificate, {*parse_fingerprint("sha-256 " + lower_hex(kSha256))}));
+  // One byte off, another hash's label, no fingerprint, no certificate: refused.
+  auto off = *sha256;
+  off.digest.back() ^= 1;
+  EXPECT_FALSE(certificate_matches(kCertificate, {off}));
+  auto relabelled = *sha256;
+  relabelled.hash = "sha-512";
+  EXPECT_FALSE(certificate_matches(kCertificate, {relabelled}));
+  EXPECT_FALSE(certificate_matches(kCertificate, {}));
+  EXPECT_FALSE(certificate_matches("", {*sha256}));
+  EXPECT_FALSE(certificate_matches(replaced(kCertificate, "MIIB", "MIIC"), {*sha256}));
+  // Any of several will do (RFC 8122 allows more than one).
+  EXPECT_TRUE(certificate_matches(kCertificate, {off, *sha1}));
+  // The answer's first transport gives them.
+  const auto from_answer = answer_fingerprints(kHead + kVideo + kChannel);
+  ASSERT_EQ(from_answer.size(), 1u);
+  EXPECT_EQ(from_answer[0].digest, sha256->digest);
 }
 
 TEST(SignalMessage, AnAnswerWithoutAnOfferOrSdpIsRefusedWithoutQuotingIt) {

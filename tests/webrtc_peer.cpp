@@ -181,7 +181,12 @@ void WebRtcPeer::on_message(const nlohmann::json& m) {
         error_ = "no answer";
         return;
       }
-      post_to_main({{"type", "answer"}, {"sdp", answer}});
+      std::function<std::string(std::string)> edit;
+      {
+        std::lock_guard lock(lock_);
+        edit = edit_answer_;
+      }
+      post_to_main({{"type", "answer"}, {"sdp", edit ? edit(answer) : answer}});
     });
   } else if (type == "ice") {
     g_signal_emit_by_name(webrtc_, "add-ice-candidate", m["sdpMLineIndex"].get<guint>(),
@@ -250,6 +255,11 @@ void WebRtcPeer::hang_up() {
   }
   g_object_unref(socket_);
   socket_ = nullptr;
+}
+
+void WebRtcPeer::edit_answers(std::function<std::string(std::string)> edit) {
+  std::lock_guard lock(lock_);
+  edit_answer_ = std::move(edit);
 }
 
 }  // namespace caustic::testing

@@ -10,6 +10,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -58,6 +59,9 @@ class WebRtcPeer {
   int zero_playout_delay_packets() const { return zero_delay_packets_.load(); }
   /// Closes the signalling socket (the server then ends the session).
   void hang_up();
+  /// What the peer sends in place of each answer it makes (a test of the
+  /// server's checks): `edit` of the answer's SDP text. Set before the offer comes.
+  void edit_answers(std::function<std::string(std::string)> edit);
 
  private:
   static void on_socket(GObject* source, GAsyncResult* result, gpointer self);
@@ -67,6 +71,7 @@ class WebRtcPeer {
   void post_to_main(nlohmann::json m);
 
   std::string codec_;
+  std::function<std::string(std::string)> edit_answer_;  // under lock_
   GMainContext* context_;
   GstElement* pipeline_ = nullptr;
   GstElement* webrtc_ = nullptr;

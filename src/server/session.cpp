@@ -191,6 +191,19 @@ void Session::build() {
 
 void Session::on_bus_message(GstMessage* message) {
   if (GST_MESSAGE_TYPE(message) != GST_MESSAGE_ERROR || closed_) return;
+  // A viewer that closes its peer connection ends the data channel's SCTP
+  // association, which sctpenc reports as an error: that is the viewer
+  // leaving (every browser hang-up), not a fault of the pipeline.
+  if (GstObject* from = GST_MESSAGE_SRC(message); from && GST_IS_ELEMENT(from))
+    if (GstElementFactory* factory = gst_element_get_factory(GST_ELEMENT(from))) {
+      const std::string name = gst_plugin_feature_get_name(GST_PLUGIN_FEATURE(factory));
+      if (name == "sctpenc" || name == "sctpdec") {
+        log(Level::info, "session " + id_ + ": the viewer closed its connection (the data channel's association ended)",
+            log_context());
+        if (options_.on_end) options_.on_end(id_, "peer disconnected");
+        return;
+      }
+    }
   GError* error = nullptr;
   gchar* debug = nullptr;
   gst_message_parse_error(message, &error, &debug);
@@ -309,6 +322,9 @@ void Session::teardown_pipeline() {
   pipeline_ = nullptr;
   offered_ = false;
   offer_sdp_.clear();
+  answered_ = false;
+  dtls_checked_ = false;
+  fingerprints_.clear();
 }
 
 Session::~Session() {

@@ -9,6 +9,7 @@
 #include "caustic/param_store.hpp"
 #include "caustic/pool.hpp"
 #include "caustic/server/config.hpp"
+#include "dtls_fingerprint.hpp"
 #include "frame_probes.hpp"
 #include "gallery.hpp"
 #include "log.hpp"
@@ -136,6 +137,10 @@ class Session : public std::enable_shared_from_this<Session> {
   void on_socket_message(const std::string& text);
   void negotiate();
   void offer_created(GstPromise* promise);
+  // webrtcbin's word on the answer: `refusal` empty when it took it.
+  void answer_set(const std::string& refusal);
+  // Once DTLS has connected: the viewer's certificate against its answer.
+  void dtls_connected(const std::string& pem);
   void on_bus_message(GstMessage* message);
   // Runs `fn` on the main loop's thread if the session still exists.
   void on_main(std::function<void(Session&)> fn);
@@ -156,6 +161,9 @@ class Session : public std::enable_shared_from_this<Session> {
   std::chrono::steady_clock::time_point idle_since_;
   bool offered_ = false, closed_ = false, had_viewer_ = false;
   std::string offer_sdp_;  // the offer sent to this pipeline's viewer; "" before it
+  bool answered_ = false;  // an answer went to webrtcbin (and was not refused)
+  bool dtls_checked_ = false;  // the viewer's certificate was held against fingerprints_
+  std::vector<Fingerprint> fingerprints_;  // the answer's, for the viewer's certificate
   std::atomic<std::int64_t> alive_ns_{0};  // steady clock; written from streaming threads too
   std::atomic<std::int64_t> media_ns_{0};  // the same, RTCP alone (0: none yet)
   std::mutex channel_lock_;

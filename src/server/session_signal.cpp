@@ -6,6 +6,8 @@
 #include "session.hpp"
 #include "signal_message.hpp"
 
+#include "caustic/json_text.hpp"
+
 #define GST_USE_UNSTABLE_API
 #include <gst/sdp/sdp.h>
 #include <gst/webrtc/webrtc.h>
@@ -129,6 +131,56 @@ void Session::offer_created(GstPromise* promise) {
   });
 }
 
+void Session::answer_set(const std::string& refusal) {
+  if (closed_ || !webrtc_) return;
+  if (!refusal.empty()) {
+    // webrtcbin's words may quote the answer: they go to the log, not back.
+    answered_ = false;
+    log(Level::info, "session " + id_ + ": webrtcbin refused the answer: " + printable_name(refusal, 200), log_context());
+    send({{"type", "error"}, {"message", "answer: the WebRTC stack refused it (its reason is in the server's log)"}});
+    return;
+  }
+  // The bundled transport, the one DTLS runs on: the first sender's.
+  GArray* transceivers = nullptr;
+  g_signal_emit_by_name(webrtc_, "get-transceivers", &transceivers);
+  GstWebRTCRTPSender* sender = nullptr;
+  if (transceivers && transceivers->len > 0)
+    g_object_get(g_array_index(transceivers, GstWebRTCRTPTransceiver*, 0), "sender", &sender, nullptr);
+  if (transceivers) g_array_unref(transceivers);
+  GstWebRTCDTLSTransport* transport = nullptr;
+  if (sender) g_object_get(sender, "transport", &transport, nullptr);
+  if (sender) gst_object_unref(sender);
+  if (!transport) {
+    log(Level::error, "session " + id_ + ": no DTLS transport to check the viewer's certificate on", log_context());
+    if (options_.on_end) options_.on_end(id_, "negotiation failed");
+    return;
+  }
+  const auto check = +[](GObject* t, GParamSpec*, gpointer data) {
+    GstWebRTCDTLSTransportState state = GST_WEBRTC_DTLS_TRANSPORT_STATE_NEW;
+    g_object_get(t, "state", &state, nullptr);
+    if (state != GST_WEBRTC_DTLS_TRANSPORT_STATE_CONNECTED) return;
+    gchar* pem = nullptr;
+    g_object_get(t, "remote-certificate", &pem, nullptr);
+    std::string text = pem ? pem : "";
+    g_free(pem);
+    if (auto s = static_cast<Ref*>(data)->lock()) s->on_main([text](Session& me) { me.dtls_connected(text); });
+  };
+  g_signal_connect_data(transport, "notify::state", G_CALLBACK(check), new Ref(weak_from_this()),
+                        [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
+  Ref now(weak_from_this());
+  check(G_OBJECT(transport), nullptr, &now);  // connected already, before the watch
+  gst_object_unref(transport);
+}
+
+void Session::dtls_connected(const std::string& pem) {
+  if (closed_ || !answered_ || dtls_checked_) return;
+  dtls_checked_ = true;  // once a connection; no fingerprint fails it
+  if (certificate_matches(pem, fingerprints_)) return;
+  log(Level::warning, "session " + id_ + ": the viewer's DTLS certificate does not match its answer's fingerprint",
+      log_context());
+  if (options_.on_end) options_.on_end(id_, "the DTLS certificate does not match the answer's fingerprint");
+}
+
 void Session::send(const nlohmann::json& message) {
   if (!socket_ || soup_websocket_connection_get_state(socket_) != SOUP_WEBSOCKET_STATE_OPEN) {
     if (outbox_.size() < 256) outbox_.push_back(message);
@@ -196,20 +248,40 @@ void Session::on_socket_message(const std::string& text) {
   }
   alive_now();
   if (const auto* answer = std::get_if<SignalAnswer>(&message)) {
+    // webrtcbin refused a second answer only in its debug log.
+    if (answered_) {
+      send({{"type", "error"}, {"message", "answer: this offer is answered already (a new connection gets a new offer)"}});
+      return;
+    }
     // webrtcbin takes the answer's m-lines by position, some mismatches
     // with an abort of the whole process: only a fitting answer reaches it.
     if (const std::string why = answer_mismatch(offer_sdp_, answer->sdp); !why.empty()) {
       send({{"type", "error"}, {"message", why}});
       return;
     }
+    answered_ = true;
+    fingerprints_ = answer_fingerprints(answer->sdp);
     GstSDPMessage* sdp = nullptr;
     gst_sdp_message_new(&sdp);
     gst_sdp_message_parse_buffer(reinterpret_cast<const guint8*>(answer->sdp.data()),
                                  static_cast<guint>(answer->sdp.size()), sdp);
     GstWebRTCSessionDescription* description = gst_webrtc_session_description_new(GST_WEBRTC_SDP_TYPE_ANSWER, sdp);
-    GstPromise* done = gst_promise_new();
+    GstPromise* done = gst_promise_new_with_change_func(
+        [](GstPromise* p, gpointer data) {
+          std::string refusal;
+          if (gst_promise_wait(p) != GST_PROMISE_RESULT_REPLIED) {
+            refusal = "no reply";  // the pipeline stopped first
+          } else if (const GstStructure* reply = gst_promise_get_reply(p); reply && gst_structure_has_field(reply, "error")) {
+            GError* error = nullptr;
+            gst_structure_get(reply, "error", G_TYPE_ERROR, &error, nullptr);
+            refusal = error ? error->message : "an error";
+            if (error) g_error_free(error);
+          }
+          if (auto s = static_cast<Ref*>(data)->lock()) s->on_main([refusal](Session& me) { me.answer_set(refusal); });
+          gst_promise_unref(p);
+        },
+        new Ref(weak_from_this()), [](gpointer data) { delete static_cast<Ref*>(data); });
     g_signal_emit_by_name(webrtc_, "set-remote-description", description, done);
-    gst_promise_unref(done);
     gst_webrtc_session_description_free(description);
   } else if (const auto* ice = std::get_if<SignalIce>(&message)) {
     if (ice->candidate.empty()) return;  // end of candidates

@@ -2,6 +2,7 @@
 #include "signal_message.hpp"
 
 #include "caustic/json_text.hpp"
+#include "dtls_fingerprint.hpp"
 
 #include <gst/sdp/sdp.h>
 
@@ -118,24 +119,49 @@ bool number_in(const std::string& text, unsigned long long lo, unsigned long lon
   return n >= lo && n <= hi;
 }
 
+std::string lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
+  return text;
+}
+
+// Whether a candidate's fields have RFC 8839's shape: foundation,
+// component, transport, priority, address, port, "typ", type, then
+// name-value pairs.
+bool candidate_shape(const std::vector<std::string>& w) { return w.size() >= 8 && w[6] == "typ"; }
+
+// What is wrong with a candidate of that shape, or "". libnice takes component 0 only as a programming error (a GLib
+// critical), a TCP candidate without its tcptype the same, and drops any
+// other component than RTP's with a warning a line: RTCP shares RTP's
+// component here (rtcp-mux), so only component 1 means anything.
+std::string candidate_problem(const std::vector<std::string>& w) {
+  if (w[1] != "1") return "a candidate's component must be 1 (RTCP is multiplexed with RTP)";
+  const std::string transport = lower(w[2]);
+  if (transport == "tcp") {
+    for (std::size_t k = 8; k + 1 < w.size(); k += 2)
+      if (w[k] == "tcptype" && (w[k + 1] == "active" || w[k + 1] == "passive" || w[k + 1] == "so")) return "";
+    return "a TCP candidate needs a tcptype of active, passive or so";
+  }
+  return transport == "udp" ? "" : "a candidate's transport must be UDP or TCP";
+}
+
 // What webrtcbin 1.22 and libnice take only as a programming error (a
 // GLib critical) in one m-line, or "": an SSRC of 0 (or past 32 bits,
-// which wraps to one), a candidate of component 0, an fmtp parameter named
-// like a caps field the m-line's attributes make (a-mid, extmap-1, or an
-// attribute's own key), which empties the payload's caps.
+// which wraps to one), a candidate candidate_problem refuses, an fmtp
+// parameter named like a caps field the m-line's attributes make (a-mid,
+// extmap-1, or an attribute's own key), which empties the payload's caps.
 std::string media_problem(const GstSDPMedia* media) {
   for (guint i = 0; i < gst_sdp_media_attributes_len(media); ++i) {
     const GstSDPAttribute* a = gst_sdp_media_get_attribute(media, i);
     const std::string key = text_of(a->key);
     const std::vector<std::string> w = words(text_of(a->value));
     if (key == "ssrc" && (w.empty() || !number_in(w[0], 1, 4294967295ULL))) return "an SSRC must be in [1, 2^32 - 1]";
-    if (key == "candidate" && (w.size() < 2 || !number_in(w[1], 1, 256)))
-      return "a candidate's component must be in [1, 256]";
+    if (key == "candidate" && !candidate_shape(w)) return "an a=candidate line is not an ICE candidate (... typ ...)";
+    if (key == "candidate")
+      if (const std::string problem = candidate_problem(w); !problem.empty()) return problem;
     if (key != "fmtp" || w.size() < 2) continue;
     for (std::size_t at = 0; at <= w[1].size();) {  // "name=value;name=value"
       const std::size_t end = std::min(w[1].find(';', at), w[1].size());
-      std::string name = w[1].substr(at, std::min(w[1].find('=', at), end) - at);
-      std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+      const std::string name = lower(w[1].substr(at, std::min(w[1].find('=', at), end) - at));
       if (name.rfind("a-", 0) == 0 || name.rfind("extmap-", 0) == 0 || count_attributes(media, name.c_str()) > 0)
         return "an fmtp parameter must not be named like an attribute (a-..., extmap-..., or the m-line's own)";
       at = end + 1;
@@ -144,7 +170,50 @@ std::string media_problem(const GstSDPMedia* media) {
   return "";
 }
 
+// An attribute's values in `media`, or where it has none, at the session
+// level (RFC 8839 and 8122 allow both).
+std::vector<std::string> values_of(const GstSDPMessage* sdp, const GstSDPMedia* media, const char* key) {
+  std::vector<std::string> out;
+  for (guint i = 0; i < gst_sdp_media_attributes_len(media); ++i)
+    if (const GstSDPAttribute* a = gst_sdp_media_get_attribute(media, i); text_of(a->key) == key)
+      out.push_back(text_of(a->value));
+  for (guint i = 0; out.empty() && i < gst_sdp_message_attributes_len(sdp); ++i)
+    if (const GstSDPAttribute* a = gst_sdp_message_get_attribute(sdp, i); text_of(a->key) == key)
+      out.push_back(text_of(a->value));
+  return out;
+}
+
+// What an answered m-line's transport needs, or "": ICE credentials, a
+// DTLS role (the answerer picks one: active or passive, RFC 5763 5), and a
+// fingerprint the server can check the certificate against. webrtcbin 1.22
+// refused such answers only in its debug log, and took any certificate.
+std::string transport_problem(const GstSDPMessage* sdp, const GstSDPMedia* media) {
+  for (const char* key : {"ice-ufrag", "ice-pwd"})
+    if (values_of(sdp, media, key).empty()) return std::string("needs an a=") + key;
+  const auto setup = values_of(sdp, media, "setup");
+  if (setup.size() != 1 || (setup[0] != "active" && setup[0] != "passive"))
+    return "needs one a=setup, active or passive (the answer's DTLS role)";
+  const auto fingerprints = values_of(sdp, media, "fingerprint");
+  if (fingerprints.empty()) return "needs an a=fingerprint of its DTLS certificate";
+  for (const std::string& f : fingerprints)
+    if (!parse_fingerprint(f)) return "an a=fingerprint must be sha-1, sha-256, sha-384 or sha-512 and its digest in hex pairs";
+  return "";
+}
+
 }  // namespace
+
+std::vector<Fingerprint> answer_fingerprints(std::string_view answer_text) {
+  const SdpMessage answer(answer_text);
+  std::vector<Fingerprint> out;
+  if (!answer.sdp) return out;
+  for (guint i = 0; i < gst_sdp_message_medias_len(answer.sdp) && out.empty(); ++i) {
+    const GstSDPMedia* media = gst_sdp_message_get_media(answer.sdp, i);
+    if (gst_sdp_media_get_port(media) == 0) continue;  // rejected: no transport
+    for (const std::string& value : values_of(answer.sdp, media, "fingerprint"))
+      if (auto f = parse_fingerprint(value)) out.push_back(std::move(*f));
+  }
+  return out;
+}
 
 std::string answer_mismatch(std::string_view offer_text, std::string_view answer_text) {
   const SdpMessage offer(offer_text), answer(answer_text);
@@ -176,12 +245,14 @@ std::string answer_mismatch(std::string_view offer_text, std::string_view answer
     const char* mid = gst_sdp_media_get_attribute_val(o, "mid");
     if (mid && text_of(gst_sdp_media_get_attribute_val(a, "mid")) != mid)
       return "answer: m-line " + std::to_string(i) + " must keep the offer's mid (" + text_of(mid) + ")";
-    if (direction(offer.sdp, o) == "sendonly" && gst_sdp_media_get_port(a) != 0) {
-      const std::string d = direction(answer.sdp, a);
-      if (d != "recvonly" && d != "inactive")
-        return "answer: m-line " + std::to_string(i) + " answers a sendonly " + media +
-               " m-line: it must be recvonly or inactive";
-    }
+    if (gst_sdp_media_get_port(a) == 0) continue;  // rejected: no transport, no direction
+    // inactive (RFC 3264 6.1) would be a session that streams nothing:
+    // webrtcbin 1.22 sent the video all the same.
+    if (direction(offer.sdp, o) == "sendonly" && direction(answer.sdp, a) != "recvonly")
+      return "answer: m-line " + std::to_string(i) + " answers a sendonly " + media +
+             " m-line: it must be recvonly (or rejected, port 0)";
+    if (const std::string problem = transport_problem(answer.sdp, a); !problem.empty())
+      return "answer: m-line " + std::to_string(i) + " " + problem;
   }
   if (!bundle_fits(offer.sdp, answer.sdp)) {
     const auto offered = bundle_groups(offer.sdp);
@@ -219,11 +290,10 @@ SignalMessage parse_signal_message(std::string_view text) {
     // type ...", or "" for the end of candidates: anything else would be
     // handed to the ICE agent only to be dropped without a word.
     if (!c.empty()) {
-      const std::vector<std::string> fields = words(c);
-      if (fields.size() < 8 || fields[0].rfind("candidate:", 0) != 0 || fields[6] != "typ")
+      std::vector<std::string> fields = words(c);
+      if (!candidate_shape(fields) || fields[0].rfind("candidate:", 0) != 0)
         return SignalError{"ice: \"candidate\" is not an ICE candidate (candidate:... typ ...), nor \"\" for the end"};
-      // libnice takes component 0 only as a programming error (a critical).
-      if (!number_in(fields[1], 1, 256)) return SignalError{"ice: a candidate's component must be in [1, 256]"};
+      if (const std::string problem = candidate_problem(fields); !problem.empty()) return SignalError{"ice: " + problem};
     }
     return SignalIce{c, static_cast<unsigned>(mline->get<std::uint64_t>())};
   }

@@ -3,10 +3,13 @@
 // session so that the parser can be tested and fuzzed on its own.
 #pragma once
 
+#include "dtls_fingerprint.hpp"
+
 #include <cstddef>
 #include <string>
 #include <string_view>
 #include <variant>
+#include <vector>
 
 namespace caustic::server {
 
@@ -33,9 +36,11 @@ SignalMessage parse_signal_message(std::string_view text);
 
 /// Why `answer` cannot answer `offer` (both SDP text), or "" when it can:
 /// one m-line for each of the offer's, in the same order, each of the same
-/// media and protocol (a data channel's with its format) and mid, a
-/// sendonly m-line answered recvonly or inactive (RFC 3264 6.1) unless
-/// rejected (port 0), and no BUNDLE group or one that starts with the
+/// media and protocol (a data channel's with its format) and mid; unless
+/// rejected (port 0), a sendonly m-line answered recvonly, and ICE
+/// credentials, an a=setup of active or passive and a checkable
+/// a=fingerprint for each (its own or the session's); candidates of
+/// component 1, UDP or TCP with a tcptype; no BUNDLE group or one that starts with the
 /// offer's first bundled mid and names only the offer's bundled mids, once
 /// each. webrtcbin 1.22 aborts the process on an answer whose RTP m-line
 /// sits where its data channel's was, whose mids trade places, or whose
@@ -43,5 +48,10 @@ SignalMessage parse_signal_message(std::string_view text);
 /// is ASCII, quotes only the offer (the server's own words), never the
 /// answer; an answer that is not SDP is parse_signal_message's to refuse.
 std::string answer_mismatch(std::string_view offer, std::string_view answer);
+
+/// The fingerprints of the answer's first m-line not rejected (its own,
+/// else the session's): the bundled transport's, which the viewer's DTLS
+/// certificate must match. Empty when there are none it can check.
+std::vector<Fingerprint> answer_fingerprints(std::string_view answer);
 
 }  // namespace caustic::server

@@ -123,14 +123,19 @@ test('a path that connects but carries no picture says so instead of staying liv
   await withServer(async (server) => {
     const context = await browser.newContext();
     const page = await context.newPage();
-    // The server's offer turned inactive on the way: the path connects
-    // (its data channel) and no video comes, as with a codec the browser
-    // cannot decode or a middlebox that drops the media.
+    // The server's offer turned inactive on the way, and the browser's
+    // answer turned back to recvonly (the server refuses an inactive one):
+    // the path connects (its data channel) and the browser takes no video,
+    // as with a codec it cannot decode or a middlebox that drops the media.
     let starved = true;
     await relaySignalling(page, (m, toServer) => {
       const message = JSON.parse(m);
-      if (toServer || !starved || message.type !== 'offer') return m;
-      return JSON.stringify({ ...message, sdp: message.sdp.replace(/a=sendonly/g, 'a=inactive') });
+      if (!starved) return m;
+      if (!toServer && message.type === 'offer')
+        return JSON.stringify({ ...message, sdp: message.sdp.replace(/a=sendonly/g, 'a=inactive') });
+      if (toServer && message.type === 'answer')
+        return JSON.stringify({ ...message, sdp: message.sdp.replace(/a=inactive/g, 'a=recvonly') });
+      return m;
     });
     await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
     await until(page, () => window.caustic.connection === 'live', 30, 'live without a picture');
