@@ -95,6 +95,28 @@ test('a lost network shows reconnecting and the page recovers', async () => {
   });
 });
 
+test('a viewer that hangs its peer connection up has disconnected, not broken the pipeline', async () => {
+  await withServer(async (server) => {
+    const context = await browser.newContext();
+    const page = await context.newPage();
+    const byes = [];
+    await relaySignalling(page, (m, toServer) => {
+      const message = JSON.parse(m);
+      if (!toServer && message.type === 'bye') byes.push(message.reason);
+      return m;
+    });
+    await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'live', 30, 'live');
+    await page.evaluate(() => window.caustic.closePeer());
+    // Every browser hang-up was once a "pipeline error", logged and counted as one.
+    for (let i = 0; i < 100 && byes.length === 0; ++i) await page.waitForTimeout(200);
+    assert.deepEqual(byes, ['peer disconnected']);
+    const metrics = await (await fetch(`${server.url}/metrics`)).text();
+    assert.match(metrics, /^causticd_pipeline_errors_total 0$/m);
+    await context.close();
+  });
+});
+
 test('a browser the video cannot reach says so, keeps trying, and goes live once the path opens', async () => {
   await withServer(async (server) => {
     const context = await browser.newContext();

@@ -73,4 +73,7 @@ export function installTestHooks(state, parts) {
   });
   // Closes the signalling socket as a network failure would.
   state.dropSignalling = () => parts().stream?.socket.close();
+  // Hangs the peer connection up first, the socket left open: the server
+  // hears of it from the data channel's association ending.
+  state.closePeer = () => parts().stream?.pc.close();
 }
