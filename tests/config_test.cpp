@@ -41,7 +41,7 @@ TEST(Config, FileSetsEveryKindOfValue) {
                                    "# comment\nport = 9000\nbind_address=0.0.0.0\ncodec = h264  # inline comment\n"
                                    "ice_addresses = 127.0.0.1, ::1\nstun_server = stun://stun.example:3478\n"
                                    "max_sessions = 7\nlog_level = debug\negl_device = 1\nsettle_ms = 0\n"
-                                   "stall_timeout_s = 5\n\n"));
+                                   "stall_timeout_s = 5\nturn_server = turn://user:pa#ss@turn.example:3478 #x\n\n"));
   EXPECT_EQ(c.port, 9000);
   EXPECT_EQ(c.bind_address, "0.0.0.0");
   EXPECT_EQ(c.codec, "h264");
@@ -52,6 +52,8 @@ TEST(Config, FileSetsEveryKindOfValue) {
   EXPECT_EQ(c.egl_device, 1);
   EXPECT_EQ(c.settle_ms, 0);
   EXPECT_EQ(c.stall_timeout_s, 5);
+  // A '#' inside a value is the value's (it once cut the password off): a comment follows a blank.
+  EXPECT_EQ(c.turn_server, "turn://user:pa#ss@turn.example:3478");
 }
 
 TEST(Config, TheShippedFileNamesEveryKeyAndHoldsTheDefaults) {

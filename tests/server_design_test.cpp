@@ -8,9 +8,12 @@
 #include "openapi_check.hpp"
 #include "server_process.hpp"
 
+#include <sys/stat.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 using caustic::testing::bearer_token;
 using caustic::testing::http;
@@ -346,6 +349,44 @@ TEST_F(DesignApi, DesignsSurviveARestartExpireUnlessKeptAndTheirOwnerMayDeleteTh
   EXPECT_TRUE(http("GET", server.url() + "/api/v1/designs/" + kept).json()["expires"].is_null());
   expect_problem(http("GET", server.url() + "/api/v1/designs/" + plain), 404);
   EXPECT_FALSE(fs::exists(state.path / "designs" / plain));
+}
+
+TEST_F(DesignApi, OneDesignsBrokenFilesSkipThatDesignAlone) {
+  TempDir state;
+  std::string good;
+  {
+    ServerProcess server(small_designs(state));
+    good = upload(server, square_png()).json()["id"];
+    ASSERT_EQ(wait_design(server, good).value("state", ""), "ready");
+  }
+  // Copies of it, each broken as a disk or a hand can break one. Once a
+  // pipe held the start for good, a link to /dev/zero took gigabytes, a
+  // wrong type or a looping link turned every design off, and a time past
+  // the clock's range expired (and removed) its design.
+  const fs::path designs = state.path / "designs";
+  const auto copy = [&](char digit) {
+    const fs::path to = designs / std::string(32, digit);
+    fs::copy(designs / good, to, fs::copy_options::recursive);
+    return to;
+  };
+  const fs::path pipe = copy('a'), zero = copy('b'), typed = copy('c'), future = copy('d');
+  fs::remove(pipe / "meta.json");
+  ASSERT_EQ(::mkfifo((pipe / "meta.json").c_str(), 0600), 0);
+  fs::remove(zero / "thumbnail.png");
+  fs::create_symlink("/dev/zero", zero / "thumbnail.png");
+  std::ofstream(typed / "report.json") << R"({"resolution": "x"})";
+  json meta = json::parse(std::ifstream(future / "meta.json"));
+  meta["created"] = std::numeric_limits<std::int64_t>::max();
+  std::ofstream(future / "meta.json") << meta.dump();
+  fs::create_symlink(designs / std::string(32, 'e'), designs / std::string(32, 'e'));  // a link to itself
+  ServerProcess server(small_designs(state));
+  EXPECT_EQ(wait_design(server, good).value("state", ""), "ready") << "designs went off for one broken design";
+  EXPECT_EQ(upload(server, square_png()).status, 202u);
+  for (const fs::path& broken : {pipe, future})
+    expect_problem(http("GET", server.url() + "/api/v1/designs/" + broken.filename().string()), 404);
+  EXPECT_TRUE(fs::exists(future / "meta.json")) << "skipped, not removed";
+  // The one whose thumbnail was a device started without reading it (the server is up), and answers.
+  EXPECT_NE(http("GET", server.url() + "/api/v1/designs/" + zero.filename().string()).status, 0u);
 }
 
 TEST_F(DesignApi, OnlyAFewScenesStayInMemoryAndTheStoreIsBounded) {

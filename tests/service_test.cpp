@@ -288,6 +288,25 @@ TEST(Service, RequestsAreAnsweredWhileTheGalleryReloads) {
   fs::remove_all(scenes);
 }
 
+TEST(Service, ASighupWhileTheGalleryLoadsWaitsForTheServer) {
+  // A slow gallery (a pool warmed up for a minute of water at 256², some
+  // 6 s idle), and a SIGHUP 2 s after the start: its default action once
+  // ended the server before it listened (and systemd took that exit as clean).
+  const fs::path dir = scene_folder("hup_start", {});
+  json pool = json::parse(std::ifstream(std::string(CAUSTIC_ASSET_DIR) + "/scenes/pool.json"));
+  pool["water"]["grid"] = 256;
+  pool["water"]["warmup_s"] = 60;
+  std::ofstream(dir / "pool.json") << pool.dump();
+  NotifySocket notify(fs::temp_directory_path() / "causticd_notify_hup_start.sock");
+  ServerProcess server({"--scenes-dir", dir.string()}, {{"NOTIFY_SOCKET", notify.path().string()}}, CAUSTICD_BINARY,
+                       {"sh", "-c", "(sleep 2; kill -HUP $$) & exec \"$@\"", "sh"});
+  ASSERT_FALSE(server.url().empty()) << "a SIGHUP during the start ended the server";
+  // Ready, then the reload the signal asked for (the configuration may have changed since it was read).
+  ASSERT_TRUE(notify.wait_for("READY=1", 60000));
+  EXPECT_TRUE(notify.wait_for("RELOADING=1", 60000));
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
+}
+
 TEST(Service, SighupRereadsTheConfigurationAndKeepsItWhenBroken) {
   const fs::path dir = scene_folder("conf", {"lens"});
   const fs::path conf = dir / "causticd.conf";

@@ -257,7 +257,12 @@ void load_config_file(ServerConfig& config, const std::filesystem::path& file, C
   ServerConfig next = config;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
-    const std::string text = trim(line.substr(0, line.find('#')));
+    // A comment starts with '#' at the line's start or after a blank: a '#'
+    // inside a value (a TURN password, a URL's fragment) is the value's.
+    std::size_t hash = line.find('#');
+    while (hash != std::string::npos && hash > 0 && line[hash - 1] != ' ' && line[hash - 1] != '\t')
+      hash = line.find('#', hash + 1);
+    const std::string text = trim(line.substr(0, hash));
     if (text.empty()) continue;
     const auto eq = text.find('=');
     const std::string where = file.string() + ":" + std::to_string(number) + ": ";

@@ -1,16 +1,15 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "design_files.hpp"
 
+#include "caustic/json_text.hpp"
+
 #include <fstream>
-#include <sstream>
 
 namespace caustic::server {
 
-std::string read_text(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+std::string read_text(const std::filesystem::path& file, std::size_t limit) {
+  FileText read = read_file_text(file, limit);
+  return read.opened && !read.too_large ? std::move(read.text) : std::string();
 }
 
 void write_atomic(const std::filesystem::path& file, const std::string& text) {

@@ -5,13 +5,20 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 
 namespace caustic::server {
 
-/// The whole file, or "" when it cannot be read.
-std::string read_text(const std::filesystem::path& file);
+/// The most bytes read of a design's file: its pictures and JSON are a few
+/// hundred kilobytes.
+inline constexpr std::size_t kMaxDesignFileBytes = std::size_t{16} << 20;
+
+/// The whole file, or "" when it cannot be read, is no regular file (a
+/// pipe would hold the start, a link to a device feed it without end), or
+/// holds more than `limit` bytes.
+std::string read_text(const std::filesystem::path& file, std::size_t limit = kMaxDesignFileBytes);
 
 /// Written under a temporary name, then renamed: a crash leaves the old file
 /// or the new one, never half of one. Throws naming the file alone.

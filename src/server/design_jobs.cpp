@@ -61,9 +61,12 @@ DesignJobs::DesignJobs(DesignSettings settings, DesignBackend backend)
   fs::permissions(settings_.folder, fs::perms::owner_all, fs::perm_options::replace);
   static const std::regex id_pattern("[0-9a-f]{32}");
   std::vector<std::shared_ptr<Job>> found;
+  // One design's broken files skip that design, never the others: each is
+  // read in a try of its own, and a link that loops is only a name.
   for (const auto& dir : fs::directory_iterator(settings_.folder)) {
     const std::string id = dir.path().filename().string();
-    if (!dir.is_directory() || !std::regex_match(id, id_pattern)) continue;
+    std::error_code ec;
+    if (!std::regex_match(id, id_pattern) || !dir.is_directory(ec)) continue;
     auto job = std::make_shared<Job>();
     job->id = id;
     job->folder = dir.path();
@@ -76,29 +79,12 @@ DesignJobs::DesignJobs(DesignSettings settings, DesignBackend backend)
       job->created = meta->at("created").get<std::int64_t>();
       job->colour = meta->value("colour", false);  // absent in designs stored before colour existed
       if (job->extension != ".png" && job->extension != ".jpg") throw std::runtime_error("meta.json: bad extension");
+      // An upload's time on this server's clock: far beyond it, the expiry's sum overflowed and removed it.
+      if (job->created < 0 || job->created > unix_now() + 24 * 3600)
+        throw std::runtime_error("meta.json: \"created\" is not a time this server gave");
+      if (!restore(*job)) continue;
     } catch (const std::exception& e) {
       log(Level::warning, "design " + id + " skipped: " + e.what());
-      continue;
-    }
-    if (fs::exists(dir.path() / "error.txt")) {
-      job->state = Job::State::failed;
-      job->error = read_text(dir.path() / "error.txt");
-    } else if (fs::exists(dir.path() / "scene.json") && fs::exists(dir.path() / "report.json")) {
-      job->state = Job::State::restoring;
-      // What answers need was kept beside the scene: ready at once, and the
-      // scene itself is read back only when a session asks for it.
-      const auto info = parse_json_text(read_text(dir.path() / "info.json"));
-      auto thumbnail = read_text(dir.path() / "thumbnail.png");
-      const auto report = parse_json_text(read_text(dir.path() / "report.json"));
-      if (info && info->is_object() && report && report->is_object() && !thumbnail.empty()) {
-        job->state = Job::State::ready;
-        job->info = *info;
-        job->thumbnail.assign(thumbnail.begin(), thumbnail.end());
-        job->report = public_report(*report);
-      }
-    } else if (fs::exists(dir.path() / ("picture" + job->extension))) {
-      job->state = Job::State::queued;  // interrupted by a stop: design it again
-    } else {
       continue;
     }
     found.push_back(job);
@@ -112,6 +98,37 @@ DesignJobs::DesignJobs(DesignSettings settings, DesignBackend backend)
   }
   expire_locked(unix_now());
   for (int i = 0; i < std::max(1, settings_.workers); ++i) workers_.emplace_back([this] { work(); });
+}
+
+// A stored design's state from what its folder holds; false when it holds
+// nothing to go on with. Throws on files that do not read as they should.
+bool DesignJobs::restore(Job& job) {
+  const fs::path& dir = job.folder;
+  std::error_code ec;
+  if (fs::exists(dir / "error.txt", ec)) {
+    job.state = Job::State::failed;
+    // The visitor's words for the failure: short, or the generic ones.
+    job.error = read_text(dir / "error.txt", 4096);
+    if (job.error.empty()) job.error = "the server could not design this picture";
+  } else if (fs::exists(dir / "scene.json", ec) && fs::exists(dir / "report.json", ec)) {
+    job.state = Job::State::restoring;
+    // What answers need was kept beside the scene: ready at once, and the
+    // scene itself is read back only when a session asks for it.
+    const auto info = parse_json_text(read_text(dir / "info.json"));
+    auto thumbnail = read_text(dir / "thumbnail.png");
+    const auto report = parse_json_text(read_text(dir / "report.json"));
+    if (info && info->is_object() && report && report->is_object() && !thumbnail.empty()) {
+      job.state = Job::State::ready;
+      job.info = *info;
+      job.thumbnail.assign(thumbnail.begin(), thumbnail.end());
+      job.report = public_report(*report);
+    }
+  } else if (fs::exists(dir / ("picture" + job.extension), ec)) {
+    job.state = Job::State::queued;  // interrupted by a stop: design it again
+  } else {
+    return false;
+  }
+  return true;
 }
 
 DesignJobs::~DesignJobs() {

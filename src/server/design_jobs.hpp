@@ -112,6 +112,9 @@ class DesignJobs {
 
  private:
   struct Job;
+  // A stored design's state from what its folder holds; false when it holds
+  // nothing to go on with. Throws on files that do not read as they should.
+  static bool restore(Job& job);
   void work();
   void run_job(const std::shared_ptr<Job>& job);
   void expire_locked(std::int64_t now);

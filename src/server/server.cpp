@@ -124,6 +124,19 @@ bool sessions_alive(const ServerState& s) {
 
 Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std::make_unique<State>()) {
   state_->owner = this;
+  // First of all: SIGHUP's default action ends the process, and loading the
+  // gallery can take a minute. One that comes meanwhile waits for the main
+  // loop and reloads then (the configuration may have changed since it was read).
+  state_->sighup = g_unix_signal_add_full(
+      G_PRIORITY_DEFAULT, SIGHUP,
+      [](gpointer data) -> gboolean {
+        // A server whose start failed is gone; one not listening yet (were
+        // the loop to turn during the start) has nothing to reload.
+        if (auto state = static_cast<std::weak_ptr<State*>*>(data)->lock())
+          if ((*state)->shared.listener) (*state)->owner->reload();
+        return G_SOURCE_CONTINUE;
+      },
+      new std::weak_ptr<State*>(state_->alive), [](gpointer data) { delete static_cast<std::weak_ptr<State*>*>(data); });
   auto& s = state_->shared;
   s.config = std::move(config);
   s.api_policy = allow_connect(kContentSecurityPolicy, s.config.janus_ws_url);
@@ -272,13 +285,6 @@ void Server::run() {
   };
   state_->sigint = g_unix_signal_add(SIGINT, stop, state_.get());
   state_->sigterm = g_unix_signal_add(SIGTERM, stop, state_.get());
-  state_->sighup = g_unix_signal_add(
-      SIGHUP,
-      [](gpointer self) -> gboolean {
-        static_cast<Server*>(self)->reload();
-        return G_SOURCE_CONTINUE;
-      },
-      this);
   if (const auto interval = watchdog_interval()) {
     // Ping at half the interval systemd waits, from the main loop: a blocked
     // loop misses pings as surely as a stalled session withholds them.
@@ -322,6 +328,19 @@ void Server::reload() {
         next.egl_device = s.config.egl_device;
         next.instance_index = s.config.instance_index;
         next.agent_port = s.config.agent_port;
+      }
+      // The design queue is made once, at the start, from these.
+      if (next.state_dir != s.config.state_dir || next.design_queue != s.config.design_queue ||
+          next.design_workers != s.config.design_workers || next.design_resolution != s.config.design_resolution ||
+          next.design_expiry_s != s.config.design_expiry_s || next.design_max_stored != s.config.design_max_stored) {
+        log(Level::warning, "state_dir, design_queue, design_workers, design_resolution, design_expiry_s and "
+                            "design_max_stored take effect at the next restart; kept as they are");
+        next.state_dir = s.config.state_dir;
+        next.design_queue = s.config.design_queue;
+        next.design_workers = s.config.design_workers;
+        next.design_resolution = s.config.design_resolution;
+        next.design_expiry_s = s.config.design_expiry_s;
+        next.design_max_stored = s.config.design_max_stored;
       }
       s.config = std::move(next);
       s.api_policy = allow_connect(kContentSecurityPolicy, s.config.janus_ws_url);
