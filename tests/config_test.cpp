@@ -85,33 +85,24 @@ TEST(Config, BadFileNamesFileLineAndKeyAndChangesNothing) {
   EXPECT_THROW(load_config_file(c, "/nonexistent/causticd.conf"), ConfigError);
   // A folder is no file, and an endless one is not read to the end.
   EXPECT_THROW(load_config_file(c, std::filesystem::temp_directory_path()), ConfigError);
-  try {
-    load_config_file(c, "/dev/zero");
-    ADD_FAILURE() << "/dev/zero accepted";
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("or device, not a file"), std::string::npos) << e.what();
-  }
-  {
-    const auto big = std::filesystem::temp_directory_path() / "causticd_big.conf";
-    std::ofstream(big) << std::string((1 << 20) + 10, '#');
+  const auto refusal = [&](const std::filesystem::path& file) {
     try {
-      load_config_file(c, big);
-      ADD_FAILURE() << "a 1 MiB config accepted";
+      load_config_file(c, file);
     } catch (const ConfigError& e) {
-      EXPECT_NE(std::string(e.what()).find("larger than 1 MiB"), std::string::npos) << e.what();
+      return std::string(e.what());
     }
-    std::filesystem::remove(big);
-  }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refusal("/dev/zero").find("or device, not a file"), std::string::npos) << refusal("/dev/zero");
+  const auto big = std::filesystem::temp_directory_path() / "causticd_big.conf";
+  std::ofstream(big) << std::string((1 << 20) + 10, '#');
+  EXPECT_NE(refusal(big).find("larger than 1 MiB"), std::string::npos) << refusal(big);
+  std::filesystem::remove(big);
   // A pipe: opening it waited for a writer.
   const auto fifo = std::filesystem::temp_directory_path() / "causticd_fifo.conf";
   std::filesystem::remove(fifo);
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  try {
-    load_config_file(c, fifo);
-    ADD_FAILURE() << "a pipe was opened";
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("is a pipe, socket or device"), std::string::npos) << e.what();
-  }
+  EXPECT_NE(refusal(fifo).find("is a pipe, socket or device"), std::string::npos) << refusal(fifo);
   std::filesystem::remove(fifo);
   EXPECT_EQ(c.port, 8080);
 }

@@ -307,6 +307,26 @@ TEST(Service, ASighupWhileTheGalleryLoadsWaitsForTheServer) {
   EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
 }
 
+TEST(Service, AReloadNamesTheKeysThatWaitForARestart) {
+  // The design queue's keys were once dropped by a reload without a word.
+  const fs::path dir = scene_folder("restart_keys", {"lens"});
+  const fs::path conf = dir / "causticd.conf", log = dir / "log.txt";
+  std::ofstream(conf) << "design_resolution = 128\nmax_sessions = 3\n";
+  NotifySocket notify(fs::temp_directory_path() / "causticd_notify_restart_keys.sock");
+  ServerProcess server({"--config", conf.string(), "--scenes-dir", dir.string()},
+                       {{"NOTIFY_SOCKET", notify.path().string()}}, CAUSTICD_BINARY,
+                       {"sh", "-c", "exec \"$@\" 2>>" + log.string(), "sh"});
+  ASSERT_TRUE(notify.wait_for("READY=1", 60000));
+  std::ofstream(conf) << "design_resolution = 64\nmax_sessions = 3\ndesign_max_stored = 5\n";
+  server.signal(SIGHUP);
+  ASSERT_TRUE(notify.wait_for("READY=1", 60000));
+  std::stringstream text;
+  text << std::ifstream(log).rdbuf();
+  EXPECT_NE(text.str().find("kept as they were until the next restart: design_resolution, design_max_stored"),
+            std::string::npos)
+      << text.str();
+}
+
 TEST(Service, SighupRereadsTheConfigurationAndKeepsItWhenBroken) {
   const fs::path dir = scene_folder("conf", {"lens"});
   const fs::path conf = dir / "causticd.conf";

@@ -318,30 +318,26 @@ void Server::reload() {
       ServerConfig next = state_->reloader();
       check_config(next, s.data_dir);
       for (const auto& warning : next.warnings) log(Level::warning, warning);
-      if (next.bind_address != s.config.bind_address || next.port != s.config.port ||
-          next.egl_device != s.config.egl_device || next.instance_index != s.config.instance_index ||
-          next.agent_port != s.config.agent_port) {
-        log(Level::warning, "bind_address, port, egl_device, instance_index and agent_port take effect at the next "
-                            "restart; kept as they are");
-        next.bind_address = s.config.bind_address;
-        next.port = s.config.port;
-        next.egl_device = s.config.egl_device;
-        next.instance_index = s.config.instance_index;
-        next.agent_port = s.config.agent_port;
-      }
-      // The design queue is made once, at the start, from these.
-      if (next.state_dir != s.config.state_dir || next.design_queue != s.config.design_queue ||
-          next.design_workers != s.config.design_workers || next.design_resolution != s.config.design_resolution ||
-          next.design_expiry_s != s.config.design_expiry_s || next.design_max_stored != s.config.design_max_stored) {
-        log(Level::warning, "state_dir, design_queue, design_workers, design_resolution, design_expiry_s and "
-                            "design_max_stored take effect at the next restart; kept as they are");
-        next.state_dir = s.config.state_dir;
-        next.design_queue = s.config.design_queue;
-        next.design_workers = s.config.design_workers;
-        next.design_resolution = s.config.design_resolution;
-        next.design_expiry_s = s.config.design_expiry_s;
-        next.design_max_stored = s.config.design_max_stored;
-      }
+      // Read once, at the start: the listener, the GPU, the design queue.
+      // A reload keeps them and names each one written anew.
+      std::string kept;
+      const auto keep = [&](const char* key, auto ServerConfig::*field) {
+        if (next.*field == s.config.*field) return;
+        next.*field = s.config.*field;
+        kept += (kept.empty() ? "" : ", ") + std::string(key);
+      };
+      keep("bind_address", &ServerConfig::bind_address);
+      keep("port", &ServerConfig::port);
+      keep("egl_device", &ServerConfig::egl_device);
+      keep("instance_index", &ServerConfig::instance_index);
+      keep("agent_port", &ServerConfig::agent_port);
+      keep("state_dir", &ServerConfig::state_dir);
+      keep("design_queue", &ServerConfig::design_queue);
+      keep("design_workers", &ServerConfig::design_workers);
+      keep("design_resolution", &ServerConfig::design_resolution);
+      keep("design_expiry_s", &ServerConfig::design_expiry_s);
+      keep("design_max_stored", &ServerConfig::design_max_stored);
+      if (!kept.empty()) log(Level::warning, "kept as they were until the next restart: " + kept);
       s.config = std::move(next);
       s.api_policy = allow_connect(kContentSecurityPolicy, s.config.janus_ws_url);
       set_log_level(level_from_name(s.config.log_level));
