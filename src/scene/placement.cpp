@@ -53,12 +53,8 @@ Placement place_object(const ObjectParams& object, const MeshBounds& bounds) {
   // A solid or a surface has no flat face: the plane through its extreme
   // vertex only frames the footprint and the public box.
   const double offset_mesh = object.shape != Shape::slab ? hi.z : object.flat_face_offset.value_or(hi.z);
-  // The centre of the public box (footprint, and from the lowest vertex to
-  // the flat face), not of the vertices: the face's highest point below a
-  // flat face is hidden, and a centre halfway to it moved everything
-  // fit_size places (the flat face, the followed screen) by half of it.
-  const double top = std::max(offset_mesh, hi.z);
-  const glm::dvec3 centre_mesh = 0.5 * (lo.x + hi.x) * e1 + 0.5 * (lo.y + hi.y) * e2 + 0.5 * (lo.z + top) * n;
+  const glm::dvec3 mid = 0.5 * (lo + hi);
+  const glm::dvec3 centre_mesh = mid.x * e1 + mid.y * e2 + mid.z * n;
 
   Placement out;
   out.rotation = euler_xyz_degrees(object.rotation_deg);
@@ -66,7 +62,11 @@ Placement place_object(const ObjectParams& object, const MeshBounds& bounds) {
   if (object.fit_size) {
     const double footprint = std::max(hi.x - lo.x, hi.y - lo.y);
     out.scale = footprint > 0 ? *object.fit_size / footprint : 1.0;
-    origin = centre_mesh;
+    // The centre of the public box (the footprint, from the lowest vertex
+    // to the flat face), not of the vertices: the face's highest point
+    // below a flat face is hidden, and a centre halfway to it moved all
+    // that fit_size places (the flat face, the followed screen) by half of it.
+    origin = mid.x * e1 + mid.y * e2 + 0.5 * (lo.z + std::max(offset_mesh, hi.z)) * n;
   }
   glm::dmat4 m(out.rotation * out.scale);
   m[3] = glm::dvec4(object.position - out.rotation * (out.scale * origin), 1.0);

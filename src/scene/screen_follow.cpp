@@ -29,7 +29,10 @@ Scene follow_light(Scene scene, const Placement& placement) {
   if (!hit) return scene;
   ScreenParams& screen = scene.screen;
   // The object's foot on the plane: the shift is measured from there.
-  const glm::dvec3 foot = placement.center - glm::dot(placement.center - screen.center, screen.normal) * screen.normal;
+  // From the flat face's middle, as the light is followed: the vertices'
+  // middle below it is hidden, and would show in a clamped shift.
+  const glm::dvec3 middle = onto_flat_face(placement, placement.center);
+  const glm::dvec3 foot = middle - glm::dot(middle - screen.center, screen.normal) * screen.normal;
   glm::dvec3 shift = *hit - foot;
   const double limit = kMaxFollow * std::max(screen.width, screen.height);
   if (const double length = glm::length(shift); length > limit) shift *= limit / length;
