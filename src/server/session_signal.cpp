@@ -277,10 +277,16 @@ void Session::on_socket_message(const std::string& text) {
             refusal = error ? error->message : "an error";
             if (error) g_error_free(error);
           }
-          if (auto s = static_cast<Ref*>(data)->lock()) s->on_main([refusal](Session& me) { me.answer_set(refusal); });
+          auto* to = static_cast<std::pair<Ref, const GstElement*>*>(data);
+          // For the webrtcbin it was given to: a reconnection may have made another since.
+          if (auto s = to->first.lock())
+            s->on_main([refusal, bin = to->second](Session& me) {
+              if (me.webrtc_ == bin) me.answer_set(refusal);
+            });
           gst_promise_unref(p);
         },
-        new Ref(weak_from_this()), [](gpointer data) { delete static_cast<Ref*>(data); });
+        new std::pair<Ref, const GstElement*>(weak_from_this(), webrtc_),
+        [](gpointer data) { delete static_cast<std::pair<Ref, const GstElement*>*>(data); });
     g_signal_emit_by_name(webrtc_, "set-remote-description", description, done);
     gst_webrtc_session_description_free(description);
   } else if (const auto* ice = std::get_if<SignalIce>(&message)) {
