@@ -4,7 +4,8 @@
 // last advance, so that it is drawn by the next due time; an ask within
 // half an interval of the last advance waits; without asks the water keeps
 // whole intervals of its own clock. The asks are set here, so nothing
-// depends on how fast this machine draws.
+// depends on how fast this machine draws. A full frame of water still on
+// its way out is shown before a preview takes its place.
 #include "frame_source.hpp"
 
 #include "caustic/param_store.hpp"
@@ -13,6 +14,8 @@
 
 #include <gst/gst.h>
 #include <gtest/gtest.h>
+
+#include "caustic/gst/frame_meta.hpp"
 
 #include <memory>
 
@@ -73,5 +76,49 @@ TEST(FrameSourceWater, AFrameOfWaterStartsWhenTheStreamAsksForIt) {
   EXPECT_GE(moved, 3 * interval);
   EXPECT_EQ(moved % interval, Clock::duration::zero()) << "not whole intervals";
   EXPECT_GT(source.pool->step(), after_ask);
+  caustic::gst::release(source);
+}
+
+TEST(FrameSourceWater, AFullFrameOnItsWayOutIsShownBeforeAPreviewTakesItsPlace) {
+  gst_init(nullptr, nullptr);
+  const caustic::Scene scene = caustic::load_scene(std::string(CAUSTIC_ASSET_DIR) + "/scenes/pool.json");
+  ASSERT_TRUE(scene.water);
+  const caustic::ParamStore params(scene);
+  const caustic::MeshLevels meshes;
+  caustic::gst::FrameSource source;
+  source.pool = std::make_shared<caustic::water::Pool>(*scene.water);
+  // No full frame fits, and the blind try is an hour away: after the first
+  // picture, moving water comes as previews.
+  source.progressive.water_budget = 1e-9;
+  source.progressive.water_retry = source.progressive.water_retry_max = std::chrono::hours(1);
+  const auto interval = std::chrono::duration_cast<Clock::duration>(source.frame_interval);
+  Clock::time_point asked = Clock::now() + 100 * interval;
+  source.water_clock = asked;
+  auto frame = [&] {
+    asked += 2 * interval;  // each frame a new step of water
+    source.asked = asked.time_since_epoch().count();
+    return Buffer{caustic::gst::produce_frame(source, params, meshes, 32, 32, false)};
+  };
+  auto level = [](const Buffer& b) { return caustic_buffer_get_frame_meta(b.buffer)->level; };
+  { const Buffer first = frame(); ASSERT_EQ(level(first), caustic::gst::full_quality); }
+  { const Buffer second = frame(); ASSERT_EQ(level(second), caustic::gst::preview); }
+
+  // A full frame's copy queued and not yet handed over, as on a GPU (or a
+  // busy llvmpipe) whose fence has not signalled by the time it is polled.
+  source.context->make_current();
+  const std::uint64_t tag = ++source.readbacks;
+  source.in_flight.push_back({tag, source.rendered, source.pool->step(), caustic::gst::full_quality});
+  source.engine->start_readback(tag, source.format);
+  source.readback_pending = true;
+  source.rendered_level = caustic::gst::full_quality;
+  source.context->release_current();
+
+  // The water moves on, so a preview is due; the full frame comes out first,
+  // and the preview with the frame after it.
+  const std::uint64_t passes = source.engine->ray_passes();
+  { const Buffer shown = frame(); EXPECT_EQ(level(shown), caustic::gst::full_quality) << "the full frame was hidden"; }
+  EXPECT_EQ(source.engine->ray_passes(), passes) << "a preview drawn over the full frame on its way out";
+  { const Buffer next = frame(); EXPECT_EQ(level(next), caustic::gst::preview); }
+  EXPECT_GT(source.engine->ray_passes(), passes);
   caustic::gst::release(source);
 }

@@ -159,10 +159,17 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
   const bool changed = source.seen != source.rendered || want != source.rendered_level ||
                        still != source.rendered_still || settling || source.water_dirty;
   if (!changed && !source.readback_pending && source.picture) return gst_buffer_ref(source.picture);
+  // A full frame of water still on its way out (its fence not yet
+  // signalled) is shown before a preview takes its place: the read-back
+  // hands over the newest finished picture, so a preview drawn now would
+  // hide it, and a try of water too slow for its interval would cost its
+  // overrun and never be seen. The preview comes with the next frame.
+  const bool full_on_its_way = water && want == preview && source.readback_pending &&
+                               !source.in_flight.empty() && source.in_flight.back().level == full_quality;
   ensure_context(source);
   const Current current(*source.context);
 
-  if (changed) {
+  if (changed && !full_on_its_way) {
     // The scene noticed above is the one to draw (one snapshot per version).
     Scene scene = source.seen_scene;
     scene.render.width = width;  // the negotiated caps decide the size
@@ -217,7 +224,7 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     std::uint64_t tag = 0;
     bool ready = false;
     try {
-      ready = source.engine->poll_readback(map.data, bytes, &tag, wait || !source.picture);
+      ready = source.engine->poll_readback(map.data, bytes, &tag, wait || !source.picture || full_on_its_way);
     } catch (...) {
       gst_buffer_unmap(buffer, &map);
       gst_buffer_unref(buffer);
