@@ -54,6 +54,13 @@ TEST(Config, FileSetsEveryKindOfValue) {
   EXPECT_EQ(c.stall_timeout_s, 5);
   // A '#' inside a value is the value's (it once cut the password off): a comment follows a blank.
   EXPECT_EQ(c.turn_server, "turn://user:pa#ss@turn.example:3478");
+  // A byte-order mark (some editors write one) is no part of the first key;
+  // elsewhere it is no key at all.
+  load_config_file(c, write_config("causticd_bom.conf", "\xEF\xBB\xBFport = 9001\n"));
+  EXPECT_EQ(c.port, 9001);
+  EXPECT_THROW(load_config_file(c, write_config("causticd_bom2.conf", "port = 9002\n\xEF\xBB\xBF" "codec = vp8\n")),
+               ConfigError);
+  EXPECT_EQ(c.port, 9001);
 }
 
 TEST(Config, TheShippedFileNamesEveryKeyAndHoldsTheDefaults) {
@@ -188,12 +195,17 @@ TEST(Config, AKeySetAgainInALaterPlaceIsWarnedAbout) {
   ConfigSources sources;
   const auto file = write_config("causticd_layers.conf",
                                  "port = 9000\nmax_sessions = 12\nlog_level = debug\nlog_level = info\n"
-                                 "janus_admin_secret =\nframerate = 25\n");
+                                 "janus_admin_secret =\nframerate = 25\nwidth = 1024\nwidth = 512\n");
   load_config_file(c, file, &sources);
-  ASSERT_EQ(c.warnings.size(), 1u);  // log_level, written twice
+  // log_level and width, each written twice (width's first value the default:
+  // twice in one file is a slip all the same).
+  ASSERT_EQ(c.warnings.size(), 2u);
   EXPECT_NE(c.warnings[0].find("log_level"), std::string::npos) << c.warnings[0];
   EXPECT_NE(c.warnings[0].find("causticd_layers.conf:3"), std::string::npos) << c.warnings[0];
   EXPECT_NE(c.warnings[0].find("causticd_layers.conf:4"), std::string::npos) << c.warnings[0];
+  EXPECT_NE(c.warnings[1].find("width: the value set at"), std::string::npos) << c.warnings[1];
+  EXPECT_NE(c.warnings[1].find("causticd_layers.conf:7 is overridden by"), std::string::npos) << c.warnings[1];
+  EXPECT_NE(c.warnings[1].find("causticd_layers.conf:8"), std::string::npos) << c.warnings[1];
   setenv("CAUSTICD_PORT", "9100", 1);
   setenv("CAUSTICD_MAX_SESSIONS", "4", 1);                               // the default was written: not said
   setenv("CAUSTICD_JANUS_ADMIN_SECRET", "0123456789abcdef0123", 1);      // an empty one was written: not said
@@ -205,16 +217,16 @@ TEST(Config, AKeySetAgainInALaterPlaceIsWarnedAbout) {
   unsetenv("CAUSTICD_FRAMERATE");
   EXPECT_EQ(c.port, 9100);
   EXPECT_EQ(c.janus_admin_secret, "0123456789abcdef0123");
-  ASSERT_EQ(c.warnings.size(), 2u);
-  EXPECT_NE(c.warnings[1].find("port: the value set at"), std::string::npos) << c.warnings[1];
-  EXPECT_NE(c.warnings[1].find("causticd_layers.conf:1"), std::string::npos) << c.warnings[1];
-  EXPECT_NE(c.warnings[1].find("environment CAUSTICD_PORT"), std::string::npos) << c.warnings[1];
+  ASSERT_EQ(c.warnings.size(), 3u);
+  EXPECT_NE(c.warnings[2].find("port: the value set at"), std::string::npos) << c.warnings[2];
+  EXPECT_NE(c.warnings[2].find("causticd_layers.conf:1"), std::string::npos) << c.warnings[2];
+  EXPECT_NE(c.warnings[2].find("environment CAUSTICD_PORT"), std::string::npos) << c.warnings[2];
   // A flag over the environment's choice.
   set_config_value(c, "port", "9200");
   sources.set(c, "port", "9200", "--port");
-  ASSERT_EQ(c.warnings.size(), 3u);
-  EXPECT_NE(c.warnings[2].find("environment CAUSTICD_PORT is overridden by --port"), std::string::npos)
-      << c.warnings[2];
+  ASSERT_EQ(c.warnings.size(), 4u);
+  EXPECT_NE(c.warnings[3].find("environment CAUSTICD_PORT is overridden by --port"), std::string::npos)
+      << c.warnings[3];
   // Without a record of sources, nothing is said (check-config of one file).
   ServerConfig plain;
   load_config_file(plain, file);

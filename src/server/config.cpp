@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/server/config.hpp"
 
+#include "ascii.hpp"
 #include "caustic/json_text.hpp"
 
 #include <algorithm>
@@ -230,7 +231,11 @@ void ConfigSources::set(ServerConfig& config, const std::string& key, const std:
   ServerConfig earlier, now;
   set_config_value(earlier, key, it->second.value);
   set_config_value(now, key, value);
-  if (earlier != now && earlier != ServerConfig{})
+  // A default written out (the shipped file writes every key) may be
+  // replaced from a later place unsaid; a key written twice in one file is a
+  // slip whatever its first value.
+  const auto place = [](const std::string& w) { return w.substr(0, w.rfind(':')); };
+  if (earlier != now && (earlier != ServerConfig{} || place(it->second.where) == place(where)))
     config.warnings.push_back(key + ": the value set at " + it->second.where + " is overridden by " + where);
   it->second = Origin{value, where};
 }
@@ -253,6 +258,8 @@ void load_config_file(ServerConfig& config, const std::filesystem::path& file, C
   while (text.size() <= kMaxBytes && file_in.read(chunk, sizeof chunk).gcount() > 0)
     text.append(chunk, static_cast<std::size_t>(file_in.gcount()));
   if (text.size() > kMaxBytes) throw ConfigError("config file " + file.string() + " is larger than 1 MiB");
+  // Some editors start a UTF-8 file with a byte-order mark: no part of the first key.
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
   std::istringstream in(text);
   ServerConfig next = config;
   std::string line;
@@ -330,8 +337,7 @@ void load_config_environment(ServerConfig& config, ConfigSources* sources) {
     const std::string entry = *env;
     if (entry.rfind("CAUSTICD_", 0) != 0) continue;
     const auto eq = entry.find('=');
-    std::string key = entry.substr(9, eq - 9);
-    std::transform(key.begin(), key.end(), key.begin(), [](unsigned char ch) { return std::tolower(ch); });
+    const std::string key = ascii_lower(entry.substr(9, eq - 9));
     if (std::find(config_keys().begin(), config_keys().end(), key) == config_keys().end()) {
       // Read where they are used, not settings: anything else is a misspelling.
       static const std::string kRead[] = {"data_dir", "egl_device", "egl_platform"};

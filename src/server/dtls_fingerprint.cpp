@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "dtls_fingerprint.hpp"
 
+#include "ascii.hpp"
+
 #include <glib.h>
 
 #include <algorithm>
@@ -30,8 +32,8 @@ const Hash* hash_named(std::string_view name) {
 
 int hex_digit(char c) {
   if (c >= '0' && c <= '9') return c - '0';
-  c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1;
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  return c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
 }
 
 // The DER bytes of the first certificate in `pem`; empty when there is none.
@@ -53,8 +55,7 @@ std::vector<unsigned char> der_of(std::string_view pem) {
 std::optional<Fingerprint> parse_fingerprint(std::string_view value) {
   const std::size_t space = value.find(' ');
   if (space == std::string_view::npos) return std::nullopt;
-  std::string name(value.substr(0, space));
-  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string name = ascii_lower(std::string(value.substr(0, space)));
   const Hash* hash = hash_named(name);
   if (!hash) return std::nullopt;
   const std::string_view hex = value.substr(space + 1);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "signal_message.hpp"
 
+#include "ascii.hpp"
 #include "caustic/json_text.hpp"
 #include "dtls_fingerprint.hpp"
 
@@ -119,11 +120,6 @@ bool number_in(const std::string& text, unsigned long long lo, unsigned long lon
   return n >= lo && n <= hi;
 }
 
-std::string lower(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
-  return text;
-}
-
 // Whether a candidate's fields have RFC 8839's shape: foundation,
 // component, transport, priority, address, port, "typ", type, then
 // name-value pairs.
@@ -135,7 +131,7 @@ bool candidate_shape(const std::vector<std::string>& w) { return w.size() >= 8 &
 // component here (rtcp-mux), so only component 1 means anything.
 std::string candidate_problem(const std::vector<std::string>& w) {
   if (w[1] != "1") return "a candidate's component must be 1 (RTCP is multiplexed with RTP)";
-  const std::string transport = lower(w[2]);
+  const std::string transport = ascii_lower(w[2]);
   if (transport == "tcp") {
     for (std::size_t k = 8; k + 1 < w.size(); k += 2)
       if (w[k] == "tcptype" && (w[k + 1] == "active" || w[k + 1] == "passive" || w[k + 1] == "so")) return "";
@@ -161,7 +157,7 @@ std::string media_problem(const GstSDPMedia* media) {
     if (key != "fmtp" || w.size() < 2) continue;
     for (std::size_t at = 0; at <= w[1].size();) {  // "name=value;name=value"
       const std::size_t end = std::min(w[1].find(';', at), w[1].size());
-      const std::string name = lower(w[1].substr(at, std::min(w[1].find('=', at), end) - at));
+      const std::string name = ascii_lower(w[1].substr(at, std::min(w[1].find('=', at), end) - at));
       if (name.rfind("a-", 0) == 0 || name.rfind("extmap-", 0) == 0 || count_attributes(media, name.c_str()) > 0)
         return "an fmtp parameter must not be named like an attribute (a-..., extmap-..., or the m-line's own)";
       at = end + 1;
