@@ -152,7 +152,7 @@ TEST_F(Cli, EglPlatformChoiceIsCheckedAndExplained) {
   const std::string args = " render --scene " + scene("slab") + " -o " + (dir_ / "x.png").string() +
                            " --width 32 --height 32";
   CommandResult bad = causticd_with_env("CAUSTICD_EGL_PLATFORM=vulkan", args);
-  EXPECT_EQ(bad.status, 1) << bad.output;
+  EXPECT_EQ(bad.status, 2) << bad.output;
   EXPECT_NE(bad.output.find("CAUSTICD_EGL_PLATFORM must be automatic, device or surfaceless"), std::string::npos)
       << bad.output;
   // On a machine without a GPU asking for one is a clear error; with one it renders on it.

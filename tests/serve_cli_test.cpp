@@ -17,11 +17,12 @@ namespace fs = std::filesystem;
 namespace {
 
 // Runs `causticd ARGS` to its end (`timeout` bounds a server that would
-// start): its exit status (-1 when killed) and its stdout and stderr.
-int run_causticd(const std::string& args, std::string* output) {
+// start), with `env` (NAME=VALUE ...) added to its environment: its exit
+// status (-1 when killed) and its stdout and stderr.
+int run_causticd(const std::string& args, std::string* output, const std::string& env = "") {
   gchar *out = nullptr, *err = nullptr;
   gint status = 0;
-  const std::string command = std::string("timeout 120 ") + CAUSTICD_BINARY + " " + args;
+  const std::string command = "env " + env + " timeout 120 " + CAUSTICD_BINARY + " " + args;
   const bool ran = g_spawn_command_line_sync(command.c_str(), &out, &err, &status, nullptr);
   *output = std::string(out ? out : "") + (err ? err : "");
   g_free(out);
@@ -72,6 +73,20 @@ TEST(Serve, AGpuThatIsNotThereIsAConfigurationErrorThatNamesIt) {
     EXPECT_NE(output.find("egl_device: GPU 9 not found"), std::string::npos) << output;
     EXPECT_EQ(output.find("no usable scene"), std::string::npos) << output;
   }
+  // The platform variable alike: a name no EGL offers (any command), and a
+  // device platform on a host without a GPU.
+  for (const char* command : {"serve --bind 127.0.0.1 --port 0", "check-config"}) {
+    std::string output;
+    EXPECT_EQ(run_causticd(command, &output, "CAUSTICD_EGL_PLATFORM=vulkan"), 2) << command << ": " << output;
+    EXPECT_NE(output.find("CAUSTICD_EGL_PLATFORM must be automatic, device or surfaceless, got \"vulkan\""),
+              std::string::npos)
+        << output;
+  }
+  if (fs::exists("/dev/dri") || fs::exists("/dev/nvidia0")) return;  // a GPU may be there: serve would start
+  std::string output;
+  EXPECT_EQ(run_causticd("serve --bind 127.0.0.1 --port 0", &output, "CAUSTICD_EGL_PLATFORM=device"), 2) << output;
+  EXPECT_NE(output.find("CAUSTICD_EGL_PLATFORM: no hardware EGL device"), std::string::npos) << output;
+  EXPECT_EQ(output.find("no usable scene"), std::string::npos) << output;
 }
 
 TEST(Serve, FoldersAndAddressesAreCheckedAsCheckConfigChecksThem) {

@@ -2,6 +2,8 @@
 // causticd: renders caustics of refractive and reflective objects.
 #include "commands.hpp"
 
+#include "caustic/gl_context.hpp"
+
 #include <iostream>
 
 int main(int argc, char** argv) {
@@ -20,6 +22,14 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : caustic::app::bad_input;
+  }
+  // The environment is input too: a GL platform no one offers is said at
+  // once, before a command starts and fails on each context it makes.
+  try {
+    (void)caustic::egl_platform_from_environment();
+  } catch (const std::exception& e) {
+    std::cerr << "causticd: " << e.what() << "\n";
+    return caustic::app::bad_input;
   }
   for (const auto& command : commands)
     if (const int status = command(); status >= 0) return status;

@@ -144,14 +144,14 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
   set_log_level(level_from_name(s.config.log_level));
   for (const auto& warning : s.config.warnings) log(Level::warning, warning);
   // Read by every GL context the process creates, before the first exists.
-  if (s.config.egl_device >= 0) {
-    setenv("CAUSTICD_EGL_DEVICE", std::to_string(s.config.egl_device).c_str(), 1);
-    // A GPU that is not there is a configuration error, said as such: the
-    // gallery would otherwise fail every scene and blame the scenes folder.
+  if (s.config.egl_device >= 0) setenv("CAUSTICD_EGL_DEVICE", std::to_string(s.config.egl_device).c_str(), 1);
+  // A GPU asked for and not there is a configuration error, said as such:
+  // the gallery would otherwise fail every scene and blame the scenes folder.
+  if (s.config.egl_device >= 0 || std::getenv("CAUSTICD_EGL_PLATFORM")) {
     try {
       GlContext probe(egl_platform_from_environment());
     } catch (const GlContextError& e) {
-      throw ConfigError(std::string("egl_device: ") + e.what());
+      throw ConfigError(std::string(s.config.egl_device >= 0 ? "egl_device: " : "CAUSTICD_EGL_PLATFORM: ") + e.what());
     }
   }
   if (!s.config.janus_admin_url.empty()) {
