@@ -120,10 +120,12 @@ int check_flags(DesignCommandOptions& o) {
   return ok;
 }
 
-// What `render` would refuse of the designed scene and face, refused before
-// a file is written: the same checks, in memory. A face whose relief
-// reaches the screen is the likely case (a wide lens, a short throw).
-void check_renders(const Scene& scene, const Mesh& face, const design::Design& d, double focus) {
+// What `render` would refuse of the designed scene and face (d.face),
+// refused before a file is written: the same checks, in memory. A face
+// whose relief reaches the screen is the likely case (a wide lens, a short
+// throw).
+void check_renders(const Scene& scene, const design::Design& d, double focus) {
+  const Mesh& face = d.face;
   try {
     validate_mesh(face);
     validate_scene(scene);
@@ -238,7 +240,7 @@ int run_design(DesignCommandOptions o) {
     Scene scene = design::design_scene(d, mesh_rel.generic_string(), std::clamp(d.n, 256, 1024));
     if (o.name) scene.name = *o.name;
     if (o.description) scene.description = *o.description;
-    check_renders(scene, d.face, d, o.design.focus);
+    check_renders(scene, d, o.design.focus);
     std::optional<design::Verification> engine, reference;
     std::optional<design::ColourVerification> colour;
     if (!o.no_check) {
