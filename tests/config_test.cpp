@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Server configuration: file, environment and values, each bad one named.
 #include "caustic/server/config.hpp"
+#include "refusal.hpp"
 
 #include <gtest/gtest.h>
 
@@ -93,12 +94,7 @@ TEST(Config, BadFileNamesFileLineAndKeyAndChangesNothing) {
   // A folder is no file, and an endless one is not read to the end.
   EXPECT_THROW(load_config_file(c, std::filesystem::temp_directory_path()), ConfigError);
   const auto refusal = [&](const std::filesystem::path& file) {
-    try {
-      load_config_file(c, file);
-    } catch (const ConfigError& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
+    return caustic::testing::refusal<ConfigError>([&] { load_config_file(c, file); });
   };
   EXPECT_NE(refusal("/dev/zero").find("or device, not a file"), std::string::npos) << refusal("/dev/zero");
   const auto big = std::filesystem::temp_directory_path() / "causticd_big.conf";

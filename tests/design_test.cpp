@@ -10,6 +10,7 @@
 #include "caustic/design.hpp"
 #include "caustic/design_verify.hpp"
 #include "caustic/image_io.hpp"
+#include "refusal.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -245,13 +246,8 @@ TEST(DesignTarget, DecodesSrgbKeepsLinearFloatsAndBoxFiltersExactly) {
 TEST(DesignTarget, WhatIsNoPictureFileOrClaimsAHugeOneIsRefusedBeforeItsReader) {
   const auto dir = std::filesystem::temp_directory_path() / "causticd_design_target_bad";
   std::filesystem::create_directories(dir);
-  const auto refused = [](const std::filesystem::path& file) -> std::string {
-    try {
-      load_target_rgb(file);
-    } catch (const TargetError& e) {
-      return e.what();
-    }
-    return "accepted";
+  const auto refused = [](const std::filesystem::path& file) {
+    return caustic::testing::refusal<TargetError>([&] { load_target_rgb(file); });
   };
   // A device, a folder and a pipe: read, or waited on, without end.
   EXPECT_NE(refused("/dev/zero").find("is not a regular file"), std::string::npos) << refused("/dev/zero");

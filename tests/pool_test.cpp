@@ -6,6 +6,7 @@
 // surface made the same way every time.
 #include "caustic/pool.hpp"
 #include "caustic/water_mesh.hpp"
+#include "refusal.hpp"
 
 #include <gtest/gtest.h>
 
@@ -65,14 +66,7 @@ TEST(Pool, PausedWaterStandsButTakesDrops) {
 
 TEST(Pool, DropsAreCheckedWhenPostedAndNumbered) {
   Pool pool(calm());
-  const auto key_of = [&](Drop d) {
-    try {
-      pool.post(d);
-    } catch (const SceneError& e) {
-      return e.key();
-    }
-    return std::string("accepted");
-  };
+  const auto key_of = [&](Drop d) { return caustic::testing::refused_key<SceneError>([&] { pool.post(d); }); };
   EXPECT_EQ(key_of({1.5, 0, 0.001, 0.05}), "x");
   EXPECT_EQ(key_of({0, -1.01, 0.001, 0.05}), "y");
   EXPECT_EQ(key_of({0, std::nan(""), 0.001, 0.05}), "y");

@@ -5,6 +5,7 @@
 #include "caustic/scene.hpp"
 #include "caustic/scene_warnings.hpp"
 #include "scene_test_support.hpp"
+#include "refusal.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -233,13 +234,8 @@ TEST(LoadScene, ReportsMissingFilesAndBadJson) {
 TEST(LoadScene, RefusesWhatTheJsonRulesRefuse) {
   const auto dir = std::filesystem::temp_directory_path() / "caustic_scene_test";
   std::filesystem::create_directories(dir);
-  const auto refused = [](const std::filesystem::path& file) -> std::string {
-    try {
-      load_scene(file);
-    } catch (const SceneError& e) {
-      return e.what();
-    }
-    return "accepted";
+  const auto refused = [](const std::filesystem::path& file) {
+    return caustic::testing::refusal<SceneError>([&] { load_scene(file); });
   };
   {
     std::ofstream out(dir / "nul.json", std::ios::binary);

@@ -6,6 +6,7 @@
 // waves are of the wind's height; wind without damping is refused.
 #include "caustic/scene.hpp"
 #include "caustic/wave_solver.hpp"
+#include "refusal.hpp"
 
 #include <gtest/gtest.h>
 
@@ -114,14 +115,7 @@ TEST(Wind, AWindyPoolsWavesHaveTheWindsHeight) {
 }
 
 TEST(Wind, WindWithoutDampingOrResolutionIsRefused) {
-  const auto key_of = [](WaveParams p) {
-    try {
-      validate(p);
-    } catch (const SceneError& e) {
-      return e.key();
-    }
-    return std::string("accepted");
-  };
+  const auto key_of = [](WaveParams p) { return caustic::testing::refused_key<SceneError>([&] { validate(p); }); };
   WaveParams calm = breezy();
   calm.wind_height = 0.001;
   calm.damping = 0;
