@@ -158,6 +158,9 @@ TEST_F(ObjFiles, RejectsBadFiles) {
   expect_error("v 0 0 0\nv 1 0 0\nv 1 1e999 0\nf 1 2 3\n", "not a finite number");
   expect_error("v 0 0 0\nv 1 0 0\nv 1 x 0\nf 1 2 3\n", "\"x\"");
   expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n", "does not exist");
+  // Triangles on a line or at a point: nothing to bend light (it was drawn black).
+  expect_error("v 0 0 0\nv 1 0 0\nv 2 0 0\nvn 0 0 1\nf 1//1 2//1 3//1\n", "has no area");
+  expect_error("v 5 5 5\nv 5 5 5\nv 5 5 5\nvn 0 0 1\nf 1//1 2//1 3//1\nf 3//1 2//1 1//1\n", "has no area");
   expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nvn 0 0 0\nf 1//1 2//1 3//1\n", "zero or not finite");
   expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2e7 0 0\nf 1 2 3\nf 2 3 4\n", "coordinate limit");
   // Finite, but Inf as a float: the limit and the line, not "NaN or Inf".

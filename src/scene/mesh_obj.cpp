@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <tuple>
@@ -198,6 +199,18 @@ void validate_mesh(const Mesh& mesh, const MeshLimits& limits) {
     for (int k = 0; k < 3; ++k)
       if (mesh.triangles[i][k] >= mesh.positions.size())
         throw SceneError("mesh", "triangle " + std::to_string(i + 1) + " refers to a vertex that does not exist");
+  // Triangles that all lie on a line or a point bend no light: such a glass
+  // would be shown black, as if the scene were wrong in some other way.
+  // Measured against the bounding box, so that units do not matter.
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+  for (const auto& p : mesh.positions) lo = glm::min(lo, glm::dvec3(p)), hi = glm::max(hi, glm::dvec3(p));
+  double area = 0;
+  for (const auto& t : mesh.triangles) {
+    const glm::dvec3 a(mesh.positions[t[0]]), b(mesh.positions[t[1]]), c(mesh.positions[t[2]]);
+    area += 0.5 * glm::length(glm::cross(b - a, c - a));
+  }
+  const double span = glm::length(hi - lo);
+  if (!(area > 1e-9 * span * span)) throw SceneError("mesh", "has no area: every triangle lies on a line or a point");
 }
 
 Mesh load_obj(const std::filesystem::path& file, const MeshLimits& limits) { return read_obj(file, limits, false); }
