@@ -51,7 +51,22 @@ bool ip_address(const std::string& text) {
   return inet_pton(AF_INET, text.c_str(), bytes) == 1 || inet_pton(AF_INET6, text.c_str(), bytes) == 1;
 }
 
-// A comma-separated list of IP addresses; empty items are skipped.
+// Whether a numeric address names one host: not "any" (0.0.0.0, ::),
+// multicast or the IPv4 broadcast address, which a listening socket may
+// take but a candidate, a peer or a destination may not.
+bool one_host(const std::string& text) {
+  unsigned char b[16] = {};
+  if (inet_pton(AF_INET, text.c_str(), b) == 1)
+    return !(b[0] == 0 && b[1] == 0 && b[2] == 0 && b[3] == 0) && (b[0] & 0xF0) != 0xE0 &&
+           !(b[0] == 255 && b[1] == 255 && b[2] == 255 && b[3] == 255);
+  if (inet_pton(AF_INET6, text.c_str(), b) != 1) return false;
+  bool any = true;
+  for (const unsigned char byte : b) any = any && byte == 0;
+  return !any && b[0] != 0xFF;
+}
+
+// A comma-separated list of IP addresses, each of one host; empty items
+// are skipped.
 std::vector<std::string> address_list(const std::string& key, const std::string& value) {
   std::vector<std::string> list;
   for (std::size_t start = 0; start <= value.size();) {
@@ -59,6 +74,8 @@ std::vector<std::string> address_list(const std::string& key, const std::string&
     const std::string item = trim(value.substr(start, comma - start));
     if (!item.empty()) {
       if (!ip_address(item)) throw ConfigError(key + ": \"" + printable_name(item) + "\" is not an IP address");
+      if (!one_host(item))
+        throw ConfigError(key + ": \"" + item + "\" names no one host (an any, multicast or broadcast address)");
       list.push_back(item);
     }
     start = comma + 1;
