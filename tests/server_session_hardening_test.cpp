@@ -74,6 +74,27 @@ TEST(Hardening, ASecondSignallingSocketGetsAFreshOffer) {
   ::close(second);
 }
 
+TEST(Hardening, AViewerThatReconnectsAtOnceGetsOneOfferTheNewPipelines) {
+  // The first pipeline's offer, made on webrtcbin's thread while the second
+  // socket replaces the first, once reached the new viewer too: two offers,
+  // the first for a webrtcbin that was gone. Bounded: four sessions, each
+  // read for a few seconds.
+  ServerProcess server;
+  for (int round = 0; round < 4; ++round) {
+    const json s = create_session(server);
+    const int first = ws_open(server.port(), signal_path(s));
+    const int second = ws_open(server.port(), signal_path(s));
+    ASSERT_GE(first, 0);
+    ASSERT_GE(second, 0);
+    int offers = 0;
+    for (std::optional<std::string> message; (message = ws_read_text(second, offers == 0 ? 20000 : 3000));)
+      offers += json::parse(*message, nullptr, false).value("type", "") == "offer";
+    EXPECT_EQ(offers, 1) << "round " << round;
+    ::close(first);
+    ::close(second);
+  }
+}
+
 // Answers a browser could not give but a client can write, each of which
 // webrtcbin once answered by aborting the whole server: the offer's text
 // turned round as an answer (recvonly, setup active), then its two m-line

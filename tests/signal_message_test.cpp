@@ -253,24 +253,36 @@ TEST(SignalMessage, EachAnsweredTransportHasCredentialsARoleAndAFingerprint) {
             "answer: m-line 0 needs an a=ice-ufrag");
   EXPECT_EQ(answer_mismatch(kOffer, kHead + kVideo + replaced(kChannel, "a=ice-pwd:0123456789abcdefghijkl\r\n", "")),
             "answer: m-line 1 needs an a=ice-pwd");
-  const std::string role = "answer: m-line 0 needs one a=setup, active or passive (the answer's DTLS role)";
+  const std::string role = "answer: m-line 0 needs one a=setup of its own, active or passive (the answer's DTLS role)";
   for (const std::string setup : {"", "a=setup:actpass\r\n", "a=setup:holdconn\r\n", "a=setup:garbage\r\n",
                                   "a=setup:active\r\na=setup:passive\r\n"})
     EXPECT_EQ(answer_mismatch(kOffer, kHead + replaced(kVideo, "a=setup:active\r\n", setup) + kChannel), role) << setup;
   EXPECT_EQ(answer_mismatch(kOffer, kHead + replaced(kVideo, "a=setup:active", "a=setup:passive") + kChannel), "");
-  EXPECT_EQ(answer_mismatch(kOffer, kHead + replaced(kVideo, "a=fingerprint:sha-256 " + kSha256 + "\r\n", "") + kChannel),
-            "answer: m-line 0 needs an a=fingerprint of its DTLS certificate");
   const std::string digest =
-      "answer: m-line 0 an a=fingerprint must be sha-1, sha-256, sha-384 or sha-512 and its digest in hex pairs";
+      "answer: m-line 0 needs an a=fingerprint of its DTLS certificate: sha-1, sha-256, sha-384 or sha-512, its "
+      "digest in hex pairs";
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + replaced(kVideo, "a=fingerprint:sha-256 " + kSha256 + "\r\n", "") + kChannel),
+            digest);
   for (const std::string& bad : {"sha-256 " + kSha256.substr(3), "sha-256 " + kSha256 + ":00", "sha-1 " + kSha256,
                                 "md5 " + kSha1.substr(0, 47), "sha-224 " + kSha256.substr(0, 83), "foo-256 " + kSha256,
                                 "sha-256 " + replaced(kSha256, "B2", "ZZ"), "sha-256 " + replaced(kSha256, ":", "-"),
                                 std::string("sha-256")})
     EXPECT_EQ(answer_mismatch(kOffer, kHead + replaced(kVideo, "sha-256 " + kSha256, bad) + kChannel), digest) << bad;
-  // Transport attributes at the session level serve every m-line without its own.
-  const std::string bare_video = replaced(replaced(kVideo, kTransport, ""), "a=setup:active\r\n", "");
-  const std::string bare_channel = replaced(replaced(kChannel, kTransport, ""), "a=setup:active\r\n", "");
-  EXPECT_EQ(answer_mismatch(kOffer, kHead + kTransport + "a=setup:active\r\n" + bare_video + bare_channel), "");
+  // A fingerprint of a hash the server does not know, beside one it does,
+  // is ignored (RFC 8122 5), as is a second of a known hash that is malformed.
+  for (const std::string& beside : {"sha-224 " + kSha256.substr(0, 83), "sha-256 " + kSha256.substr(3)})
+    EXPECT_EQ(answer_mismatch(kOffer, kHead + replaced(kVideo, kTransport, kTransport + "a=fingerprint:" + beside + "\r\n") +
+                                          kChannel),
+              "")
+        << beside;
+  // Credentials and fingerprints at the session level serve every m-line
+  // without its own; the DTLS role does not (webrtcbin reads it per m-line,
+  // and made both ends DTLS clients).
+  const std::string bare_video = replaced(kVideo, kTransport, ""), bare_channel = replaced(kChannel, kTransport, "");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + kTransport + bare_video + bare_channel), "");
+  EXPECT_EQ(answer_mismatch(kOffer, kHead + kTransport + "a=setup:active\r\n" +
+                                        replaced(bare_video, "a=setup:active\r\n", "") + bare_channel),
+            role);
 }
 
 TEST(SignalMessage, TheViewersCertificateIsHeldAgainstItsFingerprint) {

@@ -109,6 +109,18 @@ void Session::on_main(std::function<void(Session&)> fn) {
       job, [](gpointer data) { delete static_cast<std::pair<Ref, std::function<void(Session&)>>*>(data); });
 }
 
+void Session::on_pipeline_main(std::function<void(Session&)> fn) {
+  on_main([generation = pipeline_generation_.load(), fn = std::move(fn)](Session& me) {
+    if (me.pipeline_generation_.load() == generation) fn(me);
+  });
+}
+
+GstPromise* Session::pipeline_promise(GstPromiseChangeFunc change, gpointer data, GDestroyNotify notify) {
+  GstPromise* promise = gst_promise_new_with_change_func(change, data, notify);
+  promises_.push_back(gst_promise_ref(promise));
+  return promise;
+}
+
 void Session::build() {
   const ServerConfig& c = *options_.config;
   const int macroblocks = ((c.width + 15) / 16) * ((c.height + 15) / 16);
@@ -316,6 +328,14 @@ void Session::teardown_pipeline() {
   if (bus_watch_) g_source_remove(bus_watch_);
   bus_watch_ = 0;
   stop();
+  // The stopped pipeline's promises still unanswered end (their callbacks
+  // see no reply), then all its threads posted, those callbacks' too, is stale.
+  for (GstPromise* promise : promises_) {
+    gst_promise_expire(promise);
+    gst_promise_unref(promise);
+  }
+  promises_.clear();
+  ++pipeline_generation_;
   if (webrtc_) gst_object_unref(webrtc_);
   if (pipeline_) gst_object_unref(pipeline_);
   webrtc_ = nullptr;
@@ -323,7 +343,6 @@ void Session::teardown_pipeline() {
   offered_ = false;
   offer_sdp_.clear();
   answered_ = false;
-  dtls_checked_ = false;
   fingerprints_.clear();
 }
 
@@ -335,6 +354,10 @@ Session::~Session() {
     g_object_unref(socket_);
   }
   if (bus_watch_) g_source_remove(bus_watch_);
+  for (GstPromise* promise : promises_) {
+    gst_promise_expire(promise);  // its callback finds no session
+    gst_promise_unref(promise);
+  }
   if (webrtc_) gst_object_unref(webrtc_);
   if (pipeline_) gst_object_unref(pipeline_);
   g_main_context_unref(context_);

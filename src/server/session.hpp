@@ -144,6 +144,13 @@ class Session : public std::enable_shared_from_this<Session> {
   void on_bus_message(GstMessage* message);
   // Runs `fn` on the main loop's thread if the session still exists.
   void on_main(std::function<void(Session&)> fn);
+  // The same for what a pipeline's own threads (webrtcbin's, DTLS's) tell:
+  // dropped once that pipeline is torn down, so that a reconnection's new
+  // webrtcbin never takes the old one's offer, candidates or verdicts.
+  void on_pipeline_main(std::function<void(Session&)> fn);
+  // A promise for webrtcbin, kept until the pipeline is torn down: one
+  // webrtcbin drops unanswered when it stops would otherwise leak.
+  GstPromise* pipeline_promise(GstPromiseChangeFunc change, gpointer data, GDestroyNotify notify);
 
   std::string id_, token_;
   std::shared_ptr<const GalleryEntry> scene_;
@@ -162,7 +169,10 @@ class Session : public std::enable_shared_from_this<Session> {
   bool offered_ = false, closed_ = false, had_viewer_ = false;
   std::string offer_sdp_;  // the offer sent to this pipeline's viewer; "" before it
   bool answered_ = false;  // an answer went to webrtcbin (and was not refused)
-  bool dtls_checked_ = false;  // the viewer's certificate was held against fingerprints_
+  // Counts the pipelines built: a job a pipeline's thread posts carries
+  // the count it saw (read off the main thread, hence atomic).
+  std::atomic<std::uint64_t> pipeline_generation_{0};
+  std::vector<GstPromise*> promises_;  // pipeline_promise()'s, each a reference
   std::vector<Fingerprint> fingerprints_;  // the answer's, for the viewer's certificate
   std::atomic<std::int64_t> alive_ns_{0};  // steady clock; written from streaming threads too
   std::atomic<std::int64_t> media_ns_{0};  // the same, RTCP alone (0: none yet)

@@ -12,6 +12,9 @@
 #include <gst/sdp/sdp.h>
 #include <gst/webrtc/webrtc.h>
 
+#include <algorithm>
+#include <vector>
+
 namespace caustic::server {
 namespace {
 
@@ -55,14 +58,14 @@ void Session::setup_webrtc() {
   g_signal_connect_data(
       webrtc_, "on-negotiation-needed",
       G_CALLBACK((+[](GstElement*, gpointer data) {
-        if (auto s = static_cast<Ref*>(data)->lock()) s->on_main([](Session& me) { me.negotiate(); });
+        if (auto s = static_cast<Ref*>(data)->lock()) s->on_pipeline_main([](Session& me) { me.negotiate(); });
       })),
       self, [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
   g_signal_connect_data(
       webrtc_, "on-ice-candidate",
       G_CALLBACK((+[](GstElement*, guint mline, gchar* candidate, gpointer data) {
         nlohmann::json message = {{"type", "ice"}, {"candidate", candidate}, {"sdpMLineIndex", mline}};
-        if (auto s = static_cast<Ref*>(data)->lock()) s->on_main([message](Session& me) { me.send(message); });
+        if (auto s = static_cast<Ref*>(data)->lock()) s->on_pipeline_main([message](Session& me) { me.send(message); });
       })),
       new Ref(weak_from_this()), [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
 }
@@ -97,13 +100,13 @@ void Session::negotiate() {
     std::lock_guard lock(channel_lock_);
     channel_ = channel;
   }
-  GstPromise* promise = gst_promise_new_with_change_func(
+  GstPromise* promise = pipeline_promise(
       [](GstPromise* p, gpointer data) {
         if (auto s = static_cast<Ref*>(data)->lock()) s->offer_created(p);
-        gst_promise_unref(p);
       },
       new Ref(weak_from_this()), [](gpointer data) { delete static_cast<Ref*>(data); });
   g_signal_emit_by_name(webrtc_, "create-offer", nullptr, promise);
+  gst_promise_unref(promise);
 }
 
 void Session::offer_created(GstPromise* promise) {
@@ -111,7 +114,7 @@ void Session::offer_created(GstPromise* promise) {
   const GstStructure* reply = gst_promise_get_reply(promise);
   GstWebRTCSessionDescription* offer = nullptr;
   if (!reply || !gst_structure_has_field(reply, "offer")) {
-    on_main([](Session& me) {
+    on_pipeline_main([](Session& me) {
       log(Level::error, "session " + me.id_ + ": webrtcbin made no offer", me.log_context());
       if (me.options_.on_end) me.options_.on_end(me.id_, "negotiation failed");
     });
@@ -125,7 +128,7 @@ void Session::offer_created(GstPromise* promise) {
   std::string sdp = text;
   g_free(text);
   gst_webrtc_session_description_free(offer);
-  on_main([sdp = std::move(sdp)](Session& me) {
+  on_pipeline_main([sdp = std::move(sdp)](Session& me) {
     me.offer_sdp_ = sdp;  // what an answer is checked against
     me.send({{"type", "offer"}, {"sdp", sdp}});
   });
@@ -140,7 +143,10 @@ void Session::answer_set(const std::string& refusal) {
     send({{"type", "error"}, {"message", "answer: the WebRTC stack refused it (its reason is in the server's log)"}});
     return;
   }
-  // The bundled transport, the one DTLS runs on: the first sender's.
+  // The transports DTLS runs on: the first sender's, and the data
+  // channel's, the same one when the answer bundles them (browsers do),
+  // its own when it does not.
+  std::vector<GstWebRTCDTLSTransport*> transports;
   GArray* transceivers = nullptr;
   g_signal_emit_by_name(webrtc_, "get-transceivers", &transceivers);
   GstWebRTCRTPSender* sender = nullptr;
@@ -150,7 +156,17 @@ void Session::answer_set(const std::string& refusal) {
   GstWebRTCDTLSTransport* transport = nullptr;
   if (sender) g_object_get(sender, "transport", &transport, nullptr);
   if (sender) gst_object_unref(sender);
-  if (!transport) {
+  if (transport) transports.push_back(transport);
+  GstWebRTCSCTPTransport* sctp = nullptr;
+  g_object_get(webrtc_, "sctp-transport", &sctp, nullptr);
+  transport = nullptr;
+  if (sctp) g_object_get(sctp, "transport", &transport, nullptr);
+  if (sctp) gst_object_unref(sctp);
+  if (transport && std::find(transports.begin(), transports.end(), transport) == transports.end())
+    transports.push_back(transport);
+  else if (transport)
+    gst_object_unref(transport);
+  if (transports.empty()) {
     log(Level::error, "session " + id_ + ": no DTLS transport to check the viewer's certificate on", log_context());
     if (options_.on_end) options_.on_end(id_, "negotiation failed");
     return;
@@ -163,18 +179,20 @@ void Session::answer_set(const std::string& refusal) {
     g_object_get(t, "remote-certificate", &pem, nullptr);
     std::string text = pem ? pem : "";
     g_free(pem);
-    if (auto s = static_cast<Ref*>(data)->lock()) s->on_main([text](Session& me) { me.dtls_connected(text); });
+    if (auto s = static_cast<Ref*>(data)->lock()) s->on_pipeline_main([text](Session& me) { me.dtls_connected(text); });
   };
-  g_signal_connect_data(transport, "notify::state", G_CALLBACK(check), new Ref(weak_from_this()),
-                        [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
-  Ref now(weak_from_this());
-  check(G_OBJECT(transport), nullptr, &now);  // connected already, before the watch
-  gst_object_unref(transport);
+  for (GstWebRTCDTLSTransport* t : transports) {
+    g_signal_connect_data(t, "notify::state", G_CALLBACK(check), new Ref(weak_from_this()),
+                          [](gpointer data, GClosure*) { delete static_cast<Ref*>(data); }, GConnectFlags(0));
+    Ref now(weak_from_this());
+    check(G_OBJECT(t), nullptr, &now);  // connected already, before the watch
+    gst_object_unref(t);
+  }
 }
 
 void Session::dtls_connected(const std::string& pem) {
-  if (closed_ || !answered_ || dtls_checked_) return;
-  dtls_checked_ = true;  // once a connection; no fingerprint fails it
+  // Each transport's connection is checked (told twice, it is checked twice).
+  if (closed_ || !answered_) return;
   if (certificate_matches(pem, fingerprints_)) return;
   log(Level::warning, "session " + id_ + ": the viewer's DTLS certificate does not match its answer's fingerprint",
       log_context());
@@ -266,7 +284,7 @@ void Session::on_socket_message(const std::string& text) {
     gst_sdp_message_parse_buffer(reinterpret_cast<const guint8*>(answer->sdp.data()),
                                  static_cast<guint>(answer->sdp.size()), sdp);
     GstWebRTCSessionDescription* description = gst_webrtc_session_description_new(GST_WEBRTC_SDP_TYPE_ANSWER, sdp);
-    GstPromise* done = gst_promise_new_with_change_func(
+    GstPromise* done = pipeline_promise(
         [](GstPromise* p, gpointer data) {
           std::string refusal;
           if (gst_promise_wait(p) != GST_PROMISE_RESULT_REPLIED) {
@@ -277,17 +295,13 @@ void Session::on_socket_message(const std::string& text) {
             refusal = error ? error->message : "an error";
             if (error) g_error_free(error);
           }
-          auto* to = static_cast<std::pair<Ref, const GstElement*>*>(data);
           // For the webrtcbin it was given to: a reconnection may have made another since.
-          if (auto s = to->first.lock())
-            s->on_main([refusal, bin = to->second](Session& me) {
-              if (me.webrtc_ == bin) me.answer_set(refusal);
-            });
-          gst_promise_unref(p);
+          if (auto s = static_cast<Ref*>(data)->lock())
+            s->on_pipeline_main([refusal](Session& me) { me.answer_set(refusal); });
         },
-        new std::pair<Ref, const GstElement*>(weak_from_this(), webrtc_),
-        [](gpointer data) { delete static_cast<std::pair<Ref, const GstElement*>*>(data); });
+        new Ref(weak_from_this()), [](gpointer data) { delete static_cast<Ref*>(data); });
     g_signal_emit_by_name(webrtc_, "set-remote-description", description, done);
+    gst_promise_unref(done);
     gst_webrtc_session_description_free(description);
   } else if (const auto* ice = std::get_if<SignalIce>(&message)) {
     if (ice->candidate.empty()) return;  // end of candidates

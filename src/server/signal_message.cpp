@@ -180,19 +180,24 @@ std::vector<std::string> values_of(const GstSDPMessage* sdp, const GstSDPMedia* 
 }
 
 // What an answered m-line's transport needs, or "": ICE credentials, a
-// DTLS role (the answerer picks one: active or passive, RFC 5763 5), and a
-// fingerprint the server can check the certificate against. webrtcbin 1.22
-// refused such answers only in its debug log, and took any certificate.
+// DTLS role in the m-line itself (the answerer picks one: active or
+// passive, RFC 5763 5; webrtcbin 1.22 reads no session-level one, and took
+// a missing role for active, leaving both ends DTLS clients), and a
+// fingerprint the server can check the certificate against (one of another
+// hash beside it is ignored, RFC 8122 5). webrtcbin 1.22 refused such
+// answers only in its debug log, and took any certificate.
 std::string transport_problem(const GstSDPMessage* sdp, const GstSDPMedia* media) {
   for (const char* key : {"ice-ufrag", "ice-pwd"})
     if (values_of(sdp, media, key).empty()) return std::string("needs an a=") + key;
-  const auto setup = values_of(sdp, media, "setup");
+  std::vector<std::string> setup;
+  for (guint i = 0; i < gst_sdp_media_attributes_len(media); ++i)
+    if (const GstSDPAttribute* a = gst_sdp_media_get_attribute(media, i); text_of(a->key) == "setup")
+      setup.push_back(text_of(a->value));
   if (setup.size() != 1 || (setup[0] != "active" && setup[0] != "passive"))
-    return "needs one a=setup, active or passive (the answer's DTLS role)";
+    return "needs one a=setup of its own, active or passive (the answer's DTLS role)";
   const auto fingerprints = values_of(sdp, media, "fingerprint");
-  if (fingerprints.empty()) return "needs an a=fingerprint of its DTLS certificate";
-  for (const std::string& f : fingerprints)
-    if (!parse_fingerprint(f)) return "an a=fingerprint must be sha-1, sha-256, sha-384 or sha-512 and its digest in hex pairs";
+  if (std::none_of(fingerprints.begin(), fingerprints.end(), [](const std::string& f) { return parse_fingerprint(f); }))
+    return "needs an a=fingerprint of its DTLS certificate: sha-1, sha-256, sha-384 or sha-512, its digest in hex pairs";
   return "";
 }
 
