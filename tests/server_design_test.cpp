@@ -3,104 +3,15 @@
 // a streamable scene whose caustic is the picture; bad uploads are refused
 // with problem+json and leave nothing behind; limits, tokens, restarts and
 // expiry. Black box against `causticd serve` on loopback; every wait bounded.
-#include "caustic/image.hpp"
-#include "caustic/image_io.hpp"
+#include "design_api_support.hpp"
 #include "openapi_check.hpp"
-#include "server_process.hpp"
 
 #include <sys/stat.h>
 
-#include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <limits>
 
-using caustic::testing::bearer_token;
-using caustic::testing::http;
-using caustic::testing::Response;
-using caustic::testing::ServerProcess;
-using nlohmann::json;
-namespace fs = std::filesystem;
-
-namespace {
-
-// A bright square (a quarter of the side) on a dark floor: the oracle is
-// where the light must go, not what the designer says it did.
-std::string square_png(int n = 128, int level = 255) {
-  caustic::Rgba8Image image{n, n, std::vector<std::uint8_t>(std::size_t(n) * n * 4, 255)};
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) {
-      const bool inside = std::abs(x - n / 2) < n / 4 && std::abs(y - n / 2) < n / 4;
-      for (int c = 0; c < 3; ++c) image.pixels[(std::size_t(y) * n + x) * 4 + c] = inside ? level : level / 10;
-    }
-  const auto bytes = caustic::encode_png(image);
-  return std::string(bytes.begin(), bytes.end());
-}
-
-Response upload(const ServerProcess& server, const std::string& body, const std::string& type = "image/png",
-                const std::string& query = "", const std::vector<std::pair<std::string, std::string>>& headers = {}) {
-  return http("POST", server.url() + "/api/v1/designs" + query, body, type, headers);
-}
-
-// Polls a design until it leaves queued/designing or `seconds` pass.
-json wait_design(const ServerProcess& server, const std::string& id, double seconds = 180) {
-  json state;
-  for (int i = 0; i < seconds * 5; ++i) {
-    state = http("GET", server.url() + "/api/v1/designs/" + id).json();
-    if (state.value("state", "") == "ready" || state.value("state", "") == "failed") return state;
-    g_usleep(200000);
-  }
-  return state;
-}
-
-void expect_problem(const Response& r, guint status, const std::string& detail_part = "") {
-  EXPECT_EQ(r.status, status) << r.body;
-  EXPECT_EQ(r.content_type, "application/problem+json") << r.body;
-  const json body = r.json();
-  EXPECT_EQ(body.value("status", 0), static_cast<int>(status)) << r.body;
-  if (!detail_part.empty()) {
-    EXPECT_NE(body.value("detail", "").find(detail_part), std::string::npos) << r.body;
-  }
-}
-
-int folders_in(const fs::path& dir) {
-  int n = 0;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir, ec)) n += e.is_directory();
-  return n;
-}
-
-// A session on a design, asked again while the server reads the design
-// back (503), for at most 30 s.
-Response create_session_retrying(const ServerProcess& server, const std::string& scene) {
-  Response r;
-  for (int i = 0; i < 300; ++i) {
-    r = http("POST", server.url() + "/api/v1/sessions", json{{"scene", scene}}.dump());
-    if (r.status != 503u) break;
-    g_usleep(100000);
-  }
-  return r;
-}
-
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    gchar* p = g_dir_make_tmp("causticd-design-test-XXXXXX", nullptr);
-    path = p;
-    g_free(p);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
-
-std::vector<std::string> small_designs(const TempDir& state) {
-  return {"--set", "state_dir=" + state.path.string(), "--set", "design_resolution=128", "--set",
-          "design_uploads_per_hour=1000"};
-}
-
-}  // namespace
+using namespace caustic::testing::design_api;
 
 // Built without the designer, the API says so and nothing else changes.
 TEST(DesignApiOff, WithoutTheDesignerUploadsAnswer501) {
@@ -108,14 +19,6 @@ TEST(DesignApiOff, WithoutTheDesignerUploadsAnswer501) {
   ServerProcess server;
   expect_problem(upload(server, square_png()), 501, "not built");
 }
-
-// The other tests need the designer.
-class DesignApi : public ::testing::Test {
- protected:
-  void SetUp() override {
-    if (!DESIGN_BUILT_IN) GTEST_SKIP() << "built with CAUSTICD_WITH_DESIGN=OFF";
-  }
-};
 
 TEST_F(DesignApi, APictureBecomesAPrivateSceneWhoseCausticIsThePicture) {
   TempDir state;
@@ -313,80 +216,6 @@ TEST_F(DesignApi, UploadsCanBeTurnedOffOrNeedAToken) {
                  401);
   EXPECT_EQ(upload(server, square_png(), "image/png", "", {{"Authorization", "Bearer uploads-secret-0123456789"}}).status,
             202u);
-}
-
-TEST_F(DesignApi, DesignsSurviveARestartExpireUnlessKeptAndTheirOwnerMayDeleteThem) {
-  TempDir state;
-  std::string kept, plain, deleted, token;
-  {
-    ServerProcess server(small_designs(state));
-    for (std::string* id : {&kept, &plain, &deleted}) {
-      const json ticket = upload(server, square_png()).json();
-      *id = ticket["id"];
-      if (id == &deleted) token = ticket["token"];
-      ASSERT_EQ(wait_design(server, *id).value("state", ""), "ready");
-    }
-    // Only the token that came with the upload deletes it.
-    const std::string url = server.url() + "/api/v1/designs/" + deleted;
-    expect_problem(http("DELETE", url, "", "", {{"Authorization", "Bearer 0123456789abcdef0123456789abcdef"}}), 401);
-    EXPECT_EQ(http("DELETE", url, "", "", bearer_token(token)).status, 204u);
-    expect_problem(http("GET", url), 404);
-    EXPECT_FALSE(fs::exists(state.path / "designs" / deleted));
-  }
-  {
-    ServerProcess server(small_designs(state));
-    const json restored = wait_design(server, plain);
-    EXPECT_EQ(restored.value("state", ""), "ready") << restored.dump();
-    // Restored designs answer at once; the scene itself is read back when a
-    // session first asks for it (503 with Retry-After meanwhile).
-    EXPECT_EQ(create_session_retrying(server, plain).status, 201u);
-  }
-  std::ofstream(state.path / "designs" / kept / "keep") << "";
-  auto args = small_designs(state);
-  args.insert(args.end(), {"--set", "design_expiry_s=1"});
-  ServerProcess server(args);
-  EXPECT_EQ(wait_design(server, kept).value("state", ""), "ready");
-  EXPECT_TRUE(http("GET", server.url() + "/api/v1/designs/" + kept).json()["expires"].is_null());
-  expect_problem(http("GET", server.url() + "/api/v1/designs/" + plain), 404);
-  EXPECT_FALSE(fs::exists(state.path / "designs" / plain));
-}
-
-TEST_F(DesignApi, OneDesignsBrokenFilesSkipThatDesignAlone) {
-  TempDir state;
-  std::string good;
-  {
-    ServerProcess server(small_designs(state));
-    good = upload(server, square_png()).json()["id"];
-    ASSERT_EQ(wait_design(server, good).value("state", ""), "ready");
-  }
-  // Copies of it, each broken as a disk or a hand can break one. Once a
-  // pipe held the start for good, a link to /dev/zero took gigabytes, a
-  // wrong type or a looping link turned every design off, and a time past
-  // the clock's range expired (and removed) its design.
-  const fs::path designs = state.path / "designs";
-  const auto copy = [&](char digit) {
-    const fs::path to = designs / std::string(32, digit);
-    fs::copy(designs / good, to, fs::copy_options::recursive);
-    return to;
-  };
-  const fs::path pipe = copy('a'), zero = copy('b'), typed = copy('c'), future = copy('d');
-  fs::remove(pipe / "meta.json");
-  ASSERT_EQ(::mkfifo((pipe / "meta.json").c_str(), 0600), 0);
-  fs::remove(zero / "thumbnail.png");
-  fs::create_symlink("/dev/zero", zero / "thumbnail.png");
-  std::ofstream(typed / "report.json") << R"({"resolution": "x"})";
-  json meta = json::parse(std::ifstream(future / "meta.json"));
-  meta["created"] = std::numeric_limits<std::int64_t>::max();
-  std::ofstream(future / "meta.json") << meta.dump();
-  fs::create_symlink(designs / std::string(32, 'e'), designs / std::string(32, 'e'));  // a link to itself
-  ServerProcess server(small_designs(state));
-  EXPECT_EQ(wait_design(server, good).value("state", ""), "ready") << "designs went off for one broken design";
-  EXPECT_EQ(upload(server, square_png()).status, 202u);
-  for (const fs::path& broken : {pipe, future})
-    expect_problem(http("GET", server.url() + "/api/v1/designs/" + broken.filename().string()), 404);
-  EXPECT_TRUE(fs::exists(future / "meta.json")) << "skipped, not removed";
-  // The one whose thumbnail was a device started without reading it (the server is up), and answers.
-  EXPECT_NE(http("GET", server.url() + "/api/v1/designs/" + zero.filename().string()).status, 0u);
 }
 
 TEST_F(DesignApi, OnlyAFewScenesStayInMemoryAndTheStoreIsBounded) {

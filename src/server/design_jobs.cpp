@@ -387,6 +387,13 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
     hold_locked(entry);
     if (!was_ready) job->report = std::move(report);
     job->progress = 1;
+  } else if (restoring) {
+    // A design made once and not read back now (no GL for a moment, out of
+    // descriptors, a file gone bad): failed for this run only. Its files
+    // stay as they were, and the next start tries them again.
+    job->state = Job::State::failed;
+    job->error = "the server could not read this design back; it tries again when it restarts";
+    log(Level::warning, "design " + job->id + " not read back: " + error);
   } else {
     job->state = Job::State::failed;
     job->error = error;

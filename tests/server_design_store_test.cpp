@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Designs kept in the state folder across restarts: restored, expired
+// unless kept, deleted by their owner alone; one design's broken files
+// skip it alone; a design not read back is failed for that run only.
+// Black box against `causticd serve` on loopback; every wait bounded.
+#include "design_api_support.hpp"
+
+#include <sys/stat.h>
+
+#include <fstream>
+#include <limits>
+
+using namespace caustic::testing::design_api;
+
+TEST_F(DesignApi, DesignsSurviveARestartExpireUnlessKeptAndTheirOwnerMayDeleteThem) {
+  TempDir state;
+  std::string kept, plain, deleted, token;
+  {
+    ServerProcess server(small_designs(state));
+    for (std::string* id : {&kept, &plain, &deleted}) {
+      const json ticket = upload(server, square_png()).json();
+      *id = ticket["id"];
+      if (id == &deleted) token = ticket["token"];
+      ASSERT_EQ(wait_design(server, *id).value("state", ""), "ready");
+    }
+    // Only the token that came with the upload deletes it.
+    const std::string url = server.url() + "/api/v1/designs/" + deleted;
+    expect_problem(http("DELETE", url, "", "", {{"Authorization", "Bearer 0123456789abcdef0123456789abcdef"}}), 401);
+    EXPECT_EQ(http("DELETE", url, "", "", bearer_token(token)).status, 204u);
+    expect_problem(http("GET", url), 404);
+    EXPECT_FALSE(fs::exists(state.path / "designs" / deleted));
+  }
+  {
+    ServerProcess server(small_designs(state));
+    const json restored = wait_design(server, plain);
+    EXPECT_EQ(restored.value("state", ""), "ready") << restored.dump();
+    // Restored designs answer at once; the scene itself is read back when a
+    // session first asks for it (503 with Retry-After meanwhile).
+    EXPECT_EQ(create_session_retrying(server, plain).status, 201u);
+  }
+  std::ofstream(state.path / "designs" / kept / "keep") << "";
+  auto args = small_designs(state);
+  args.insert(args.end(), {"--set", "design_expiry_s=1"});
+  ServerProcess server(args);
+  EXPECT_EQ(wait_design(server, kept).value("state", ""), "ready");
+  EXPECT_TRUE(http("GET", server.url() + "/api/v1/designs/" + kept).json()["expires"].is_null());
+  expect_problem(http("GET", server.url() + "/api/v1/designs/" + plain), 404);
+  EXPECT_FALSE(fs::exists(state.path / "designs" / plain));
+}
+
+TEST_F(DesignApi, OneDesignsBrokenFilesSkipThatDesignAlone) {
+  TempDir state;
+  std::string good;
+  {
+    ServerProcess server(small_designs(state));
+    good = upload(server, square_png()).json()["id"];
+    ASSERT_EQ(wait_design(server, good).value("state", ""), "ready");
+  }
+  // Copies of it, each broken as a disk or a hand can break one. Once a
+  // pipe held the start for good, a link to /dev/zero took gigabytes, a
+  // wrong type or a looping link turned every design off, and a time past
+  // the clock's range expired (and removed) its design.
+  const fs::path designs = state.path / "designs";
+  const auto copy = [&](char digit) {
+    const fs::path to = designs / std::string(32, digit);
+    fs::copy(designs / good, to, fs::copy_options::recursive);
+    return to;
+  };
+  const fs::path pipe = copy('a'), zero = copy('b'), typed = copy('c'), future = copy('d');
+  fs::remove(pipe / "meta.json");
+  ASSERT_EQ(::mkfifo((pipe / "meta.json").c_str(), 0600), 0);
+  fs::remove(zero / "thumbnail.png");
+  fs::create_symlink("/dev/zero", zero / "thumbnail.png");
+  std::ofstream(typed / "report.json") << R"({"resolution": "x"})";
+  json meta = json::parse(std::ifstream(future / "meta.json"));
+  meta["created"] = std::numeric_limits<std::int64_t>::max();
+  std::ofstream(future / "meta.json") << meta.dump();
+  fs::create_symlink(designs / std::string(32, 'e'), designs / std::string(32, 'e'));  // a link to itself
+  ServerProcess server(small_designs(state));
+  EXPECT_EQ(wait_design(server, good).value("state", ""), "ready") << "designs went off for one broken design";
+  EXPECT_EQ(upload(server, square_png()).status, 202u);
+  for (const fs::path& broken : {pipe, future})
+    expect_problem(http("GET", server.url() + "/api/v1/designs/" + broken.filename().string()), 404);
+  EXPECT_TRUE(fs::exists(future / "meta.json")) << "skipped, not removed";
+  // The one whose thumbnail was a device started without reading it (the server is up), and answers.
+  EXPECT_NE(http("GET", server.url() + "/api/v1/designs/" + zero.filename().string()).status, 0u);
+}
+
+
+TEST_F(DesignApi, ADesignNotReadBackIsFailedForThatRunOnly) {
+  // A design whose face cannot be read at a start (a disk gone bad for a
+  // while, no GL for a moment) was once marked failed for good.
+  TempDir state;
+  std::string id;
+  {
+    ServerProcess server(small_designs(state));
+    id = upload(server, square_png()).json()["id"];
+    ASSERT_EQ(wait_design(server, id).value("state", ""), "ready");
+  }
+  const fs::path dir = state.path / "designs" / id;
+  // Without what answers need, the design is read back at the start.
+  fs::remove(dir / "info.json");
+  fs::rename(dir / "face.obj", dir / "face.obj.away");
+  {
+    ServerProcess server(small_designs(state));
+    const json failed = wait_design(server, id);
+    EXPECT_EQ(failed.value("state", ""), "failed") << failed.dump();
+    EXPECT_NE(failed.value("error", "").find("tries again when it restarts"), std::string::npos) << failed.dump();
+  }
+  EXPECT_FALSE(fs::exists(dir / "error.txt"));
+  fs::rename(dir / "face.obj.away", dir / "face.obj");
+  ServerProcess server(small_designs(state));
+  EXPECT_EQ(wait_design(server, id).value("state", ""), "ready");
+  EXPECT_EQ(create_session_retrying(server, id).status, 201u);
+}
