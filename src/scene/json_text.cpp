@@ -1,8 +1,12 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/json_text.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
-#include <fstream>
+#include <cerrno>
 #include <vector>
 
 namespace caustic {
@@ -169,17 +173,37 @@ FileText read_file_text(const std::filesystem::path& file, std::size_t limit) {
   FileText out;
   // A folder reads as nothing, opening a pipe or a socket waits for a
   // writer that may never come, and a device (a terminal, a serial line)
-  // for input that may never come: only regular files are opened.
-  std::error_code ec;
-  const auto type = std::filesystem::status(file, ec).type();
-  out.not_a_file = !ec && type != std::filesystem::file_type::regular;
-  if (out.not_a_file) return out;
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return out;
+  // for input that may never come: only regular files are read. Opened
+  // without waiting and then looked at, so that a file swapped for a pipe
+  // between a look and the open cannot hold the reader.
+  const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) {
+    std::error_code ec;
+    const auto type = std::filesystem::status(file, ec).type();
+    out.not_a_file = !ec && type != std::filesystem::file_type::regular;
+    return out;
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    out.not_a_file = true;
+    ::close(fd);
+    return out;
+  }
   out.opened = true;
-  char piece[1 << 14];
-  while (out.text.size() <= limit && in.read(piece, sizeof piece).gcount() > 0)
-    out.text.append(piece, static_cast<std::size_t>(in.gcount()));
+  out.text.reserve(static_cast<std::size_t>(std::min<std::uintmax_t>(static_cast<std::uintmax_t>(st.st_size), limit + 1)));
+  char piece[1 << 16];
+  while (out.text.size() <= limit) {
+    const ssize_t n = ::read(fd, piece, sizeof piece);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {  // an I/O error part way: not the whole file, so none of it
+      out.opened = false;
+      out.text.clear();
+      break;
+    }
+    if (n == 0) break;
+    out.text.append(piece, static_cast<std::size_t>(n));
+  }
+  ::close(fd);
   out.too_large = out.text.size() > limit;
   return out;
 }

@@ -3,6 +3,8 @@
 // consumer of a Mesh relies on.
 #include "caustic/mesh.hpp"
 
+#include "caustic/json_text.hpp"
+
 #include <tiny_obj_loader.h>
 
 #include <cmath>
@@ -221,18 +223,14 @@ namespace {
 
 // `atlas`: keep each corner's vt (Mesh::uvs), a vertex per (position, normal, vt).
 Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool atlas) {
-  std::error_code ec;
-  const auto bytes = std::filesystem::file_size(file, ec);
   // Messages name the file by its base name only: the full path of a
-  // protected mesh is not something to echo back to a client.
+  // protected mesh is not something to echo back to a client. Read as a
+  // regular file alone (a pipe swapped in is not waited on), bounded.
   const std::string label = file.filename().string();
-  if (ec || !std::filesystem::is_regular_file(file)) throw SceneError("mesh", "cannot read mesh file " + label);
-  if (bytes > limits.max_file_bytes) throw SceneError("mesh", "mesh file " + label + " is larger than the limit");
-
-  std::ifstream in(file, std::ios::binary);
-  std::string text(static_cast<std::size_t>(bytes), '\0');
-  if (!in.read(text.data(), static_cast<std::streamsize>(text.size())))
-    throw SceneError("mesh", "cannot read mesh file " + label);
+  const FileText read = read_file_text(file, limits.max_file_bytes);
+  if (!read.opened) throw SceneError("mesh", "cannot read mesh file " + label);
+  if (read.too_large) throw SceneError("mesh", "mesh file " + label + " is larger than the limit");
+  const std::string& text = read.text;
   check_numbers(text, label, limits);
   tinyobj::ObjReaderConfig config;
   config.triangulate = false;
