@@ -42,7 +42,7 @@ TEST(Config, FileSetsEveryKindOfValue) {
                                    "# comment\nport = 9000\nbind_address=0.0.0.0\ncodec = h264  # inline comment\n"
                                    "ice_addresses = 127.0.0.1, ::1\nstun_server = stun://stun.example:3478\n"
                                    "max_sessions = 7\nlog_level = debug\negl_device = 1\nsettle_ms = 0\n"
-                                   "stall_timeout_s = 5\nturn_server = turn://user:pa#ss@turn.example:3478 #x\n\n"));
+                                   "stall_timeout_s = 5\nturn_server = turn://user:pa%23ss@turn.example:3478 #x\n\n"));
   EXPECT_EQ(c.port, 9000);
   EXPECT_EQ(c.bind_address, "0.0.0.0");
   EXPECT_EQ(c.codec, "h264");
@@ -53,8 +53,11 @@ TEST(Config, FileSetsEveryKindOfValue) {
   EXPECT_EQ(c.egl_device, 1);
   EXPECT_EQ(c.settle_ms, 0);
   EXPECT_EQ(c.stall_timeout_s, 5);
-  // A '#' inside a value is the value's (it once cut the password off): a comment follows a blank.
-  EXPECT_EQ(c.turn_server, "turn://user:pa#ss@turn.example:3478");
+  // A comment follows a blank; a TURN password's '#' is written %23.
+  EXPECT_EQ(c.turn_server, "turn://user:pa%23ss@turn.example:3478");
+  EXPECT_EQ(c.stun_server, "stun://stun.example:3478");
+  load_config_file(c, write_config("causticd_hash.conf", "state_dir = /srv/a#b  # c\n"));  // a # not after a blank
+  EXPECT_EQ(c.state_dir, "/srv/a#b");
   // A byte-order mark (some editors write one) is no part of the first key;
   // elsewhere it is no key at all.
   load_config_file(c, write_config("causticd_bom.conf", "\xEF\xBB\xBFport = 9001\n"));
@@ -158,6 +161,9 @@ TEST(Config, ValuesAreCheckedAndNamed) {
   expect_error(c, "stun_server", "http://x", "stun_server");
   expect_error(c, "stun_server", "stun://a b", "stun_server");
   expect_error(c, "turn_server", "turn://u:p@host:3478 ! filesink", "turn_server");
+  // webrtcbin's URI parser ends at a '#' or '?': TURN was off without a word.
+  for (const char* raw : {"turn://u:p#ss@host:3478", "turn://u:p?ss@host:3478", "turn://u:p\"ss@host:3478"})
+    expect_error(c, "turn_server", raw, "as %XX (%23 for #)");
   expect_error(c, "width", "8", "width");
   expect_error(c, "nonsense", "1", "unknown key");
 }
@@ -189,6 +195,22 @@ TEST(Config, EnvironmentOverridesAndIsChecked) {
   ASSERT_EQ(spelt.warnings.size(), 1u);
   EXPECT_NE(spelt.warnings[0].find("CAUSTICD_PROT"), std::string::npos) << spelt.warnings[0];
   EXPECT_EQ(spelt.port, 8080);
+  // A server reads the environment it began with: what it set since (its
+  // GL device) is not the operator's choice at a reload.
+  const std::vector<std::string> began = {"CAUSTICD_PORT=9300", "PATH=/bin"};
+  setenv("CAUSTICD_EGL_DEVICE", "3", 1);
+  setenv("CAUSTICD_MAX_SESSIONS", "5", 1);
+  ServerConfig reloaded;
+  load_config_environment(reloaded, nullptr, began);
+  const std::vector<std::string> now = config_environment();
+  EXPECT_NE(std::find(now.begin(), now.end(), "CAUSTICD_MAX_SESSIONS=5"), now.end());
+  EXPECT_EQ(std::find(now.begin(), now.end(), "PATH=/bin"), now.end());
+  unsetenv("CAUSTICD_EGL_DEVICE");
+  unsetenv("CAUSTICD_MAX_SESSIONS");
+  EXPECT_EQ(reloaded.port, 9300);
+  EXPECT_EQ(reloaded.egl_device, ServerConfig{}.egl_device);
+  EXPECT_EQ(reloaded.max_sessions, ServerConfig{}.max_sessions);
+  EXPECT_TRUE(reloaded.warnings.empty());
 }
 
 // A value an operator chose and a later layer replaces is said, naming the

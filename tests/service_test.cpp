@@ -317,12 +317,18 @@ TEST(Service, AReloadNamesTheKeysThatWaitForARestart) {
                        {{"NOTIFY_SOCKET", notify.path().string()}}, CAUSTICD_BINARY,
                        {"sh", "-c", "exec \"$@\" 2>>" + log.string(), "sh"});
   ASSERT_TRUE(notify.wait_for("READY=1", 60000));
-  std::ofstream(conf) << "design_resolution = 64\nmax_sessions = 3\ndesign_max_stored = 5\n";
+  // Janus's admin client is made at the start too (a broadcast then found
+  // it missing although the reload had set its address).
+  std::ofstream(conf) << "design_resolution = 64\nmax_sessions = 3\ndesign_max_stored = 5\n"
+                         "janus_admin_url = http://127.0.0.1:7088/admin\njanus_admin_secret = 0123456789abcdef\n"
+                         "janus_streaming_key = 0123456789abcdef\njanus_token_secret = 0123456789abcdef\n"
+                         "janus_ws_url = /janus\n";
   server.signal(SIGHUP);
   ASSERT_TRUE(notify.wait_for("READY=1", 60000));
   std::stringstream text;
   text << std::ifstream(log).rdbuf();
-  EXPECT_NE(text.str().find("kept as they were until the next restart: design_resolution, design_max_stored"),
+  EXPECT_NE(text.str().find("kept as they were until the next restart: design_resolution, design_max_stored, "
+                            "janus_admin_url, janus_admin_secret, janus_streaming_key"),
             std::string::npos)
       << text.str();
 }

@@ -10,8 +10,10 @@
 #include "caustic/server/server.hpp"
 
 #include <malloc.h>
+#include <pthread.h>
 #include <sys/resource.h>
 
+#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -30,6 +32,7 @@ struct ServeOptions {
   std::vector<std::tuple<std::string, std::string, std::string>> overrides;
   std::vector<std::string> ice_addresses;
   std::string instance;
+  std::vector<std::string> environment;  // CAUSTICD_ variables as the process began
 };
 
 // Defaults, then the file, then CAUSTICD_* variables, then flags: what both
@@ -38,7 +41,7 @@ server::ServerConfig read_config(const ServeOptions& opt) {
   server::ServerConfig config;
   server::ConfigSources sources;
   if (!opt.config_file.empty()) server::load_config_file(config, opt.config_file, &sources);
-  server::load_config_environment(config, &sources);
+  server::load_config_environment(config, &sources, opt.environment);
   const auto set = [&](const std::string& key, const std::string& value, const std::string& where) {
     server::set_config_value(config, key, value);
     sources.set(config, key, value, where);
@@ -61,7 +64,17 @@ server::ServerConfig read_config(const ServeOptions& opt) {
   return config;
 }
 
-int run_serve(const ServeOptions& opt) {
+int run_serve(ServeOptions opt) {
+  // A SIGHUP before the server's handler stands would end the process:
+  // held until then (threads made meanwhile inherit the block and leave
+  // the signal to this one), it reloads once the server listens.
+  sigset_t hangup;
+  sigemptyset(&hangup);
+  sigaddset(&hangup, SIGHUP);
+  pthread_sigmask(SIG_BLOCK, &hangup, nullptr);
+  // The environment as it began: the server sets CAUSTICD_EGL_DEVICE for
+  // its GL contexts, which a reload must not read as the operator's choice.
+  opt.environment = server::config_environment();
   server::ServerConfig config;
   try {
     config = read_config(opt);
@@ -95,6 +108,7 @@ int run_serve(const ServeOptions& opt) {
   }
   try {
     server::Server server(config, server::data_dir());
+    pthread_sigmask(SIG_UNBLOCK, &hangup, nullptr);
     server.set_config_reloader([opt] { return read_config(opt); });
     const std::string url = server.listen();
     std::printf("listening on %s\n", url.c_str());

@@ -39,10 +39,17 @@ std::string trim(const std::string& s) {
   return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
 }
 
+// A user and password are RFC 3986 userinfo: any other byte percent-encoded
+// (a '#' or '?' ended the URI that webrtcbin parses, which then left TURN
+// off without a word; a quote would end the pipeline's text).
 void check_uri(const std::string& key, const std::string& value, const char* schemes) {
-  const std::regex pattern(std::string("^(") + schemes + ")://([^\\s@/]+@)?[A-Za-z0-9.:\\[\\]-]+(:[0-9]{1,5})?$");
-  if (!value.empty() && !std::regex_match(value, pattern))
-    throw ConfigError(key + ": must look like " + std::string(schemes) + "://host:port" + got(value));
+  const std::regex pattern(std::string("^(") + schemes +
+                           ")://([A-Za-z0-9._~%!$&()*+,;=:-]+@)?[A-Za-z0-9.:\\[\\]-]+(:[0-9]{1,5})?$");
+  if (value.empty() || std::regex_match(value, pattern)) return;
+  const std::regex userinfo(std::string("^(") + schemes + ")://[^\\s/]*@[A-Za-z0-9.:\\[\\]-]+(:[0-9]{1,5})?$");
+  if (std::regex_match(value, userinfo))
+    throw ConfigError(key + ": write a '#', '?', '@', '/', quote or space in the user or password as %XX (%23 for #)");
+  throw ConfigError(key + ": must look like " + std::string(schemes) + "://host:port" + got(value));
 }
 
 // A numeric IPv4 or IPv6 address, each part in range (999.1.1.1 is not one).
@@ -333,7 +340,7 @@ void check_config(const ServerConfig& c, const std::filesystem::path& data_dir) 
     throw ConfigError("scenes_dir: " + printable_name(scenes.string(), 256) + " is not a folder");
   if (!std::filesystem::is_directory(web, ec))
     throw ConfigError("web_dir: " + printable_name(web.string(), 256) + " is not a folder");
-  if (!std::filesystem::is_regular_file(data_dir / "pipelines" / (c.codec + ".pipeline")))
+  if (!std::filesystem::is_regular_file(data_dir / "pipelines" / (c.codec + ".pipeline"), ec))
     throw ConfigError("codec: no pipeline " + c.codec + ".pipeline in " + (data_dir / "pipelines").string());
   check_broadcast_keys(c);
 }
@@ -348,10 +355,20 @@ void check_broadcast_keys(const ServerConfig& c) {
       if (value->empty()) throw ConfigError(std::string(key) + ": must be set when janus_admin_url is");
 }
 
+std::vector<std::string> config_environment() {
+  std::vector<std::string> entries;
+  for (char** env = environ; env && *env; ++env)
+    if (std::string_view(*env).rfind("CAUSTICD_", 0) == 0) entries.emplace_back(*env);
+  return entries;
+}
+
 void load_config_environment(ServerConfig& config, ConfigSources* sources) {
+  load_config_environment(config, sources, config_environment());
+}
+
+void load_config_environment(ServerConfig& config, ConfigSources* sources, const std::vector<std::string>& entries) {
   ServerConfig next = config;
-  for (char** env = environ; env && *env; ++env) {
-    const std::string entry = *env;
+  for (const std::string& entry : entries) {
     if (entry.rfind("CAUSTICD_", 0) != 0) continue;
     const auto eq = entry.find('=');
     const std::string key = ascii_lower(entry.substr(9, eq - 9));

@@ -3,6 +3,7 @@
 
 #include "http_util.hpp"
 #include "log.hpp"
+#include "main_queue.hpp"
 #include "notify.hpp"
 #include "server_state.hpp"
 
@@ -318,8 +319,9 @@ void Server::reload() {
       ServerConfig next = state_->reloader();
       check_config(next, s.data_dir);
       for (const auto& warning : next.warnings) log(Level::warning, warning);
-      // Read once, at the start: the listener, the GPU, the design queue.
-      // A reload keeps them and names each one written anew.
+      // Read once, at the start: the listener, the GPU, the design queue,
+      // Janus's admin client. A reload keeps them and names each one
+      // written anew.
       std::string kept;
       const auto keep = [&](const char* key, auto ServerConfig::*field) {
         if (next.*field == s.config.*field) return;
@@ -337,16 +339,26 @@ void Server::reload() {
       keep("design_resolution", &ServerConfig::design_resolution);
       keep("design_expiry_s", &ServerConfig::design_expiry_s);
       keep("design_max_stored", &ServerConfig::design_max_stored);
+      keep("janus_admin_url", &ServerConfig::janus_admin_url);
+      keep("janus_admin_secret", &ServerConfig::janus_admin_secret);
+      keep("janus_streaming_key", &ServerConfig::janus_streaming_key);
       if (!kept.empty()) log(Level::warning, "kept as they were until the next restart: " + kept);
       s.config = std::move(next);
       s.api_policy = allow_connect(kContentSecurityPolicy, s.config.janus_ws_url);
       set_log_level(level_from_name(s.config.log_level));
-    } catch (const ConfigError& e) {
+    } catch (const std::exception& e) {
+      // ConfigError, or what a folder check met (a permission, an I/O
+      // error): on the main loop nothing may escape into GLib.
       log(Level::error, std::string("reload: the configuration is kept: ") + e.what());
     }
   }
   s.listener->set_limits(listener_limits(s.config));
-  start_gallery_reload();
+  try {
+    start_gallery_reload();
+  } catch (const std::exception& e) {  // no thread to be had
+    log(Level::error, std::string("reload: the gallery is kept: ") + e.what());
+    notify("READY=1\n" + status_line(s));
+  }
 }
 
 void Server::start_gallery_reload() {
@@ -368,8 +380,8 @@ void Server::start_gallery_reload() {
     // Back on the main loop: swap the gallery in (running sessions keep
     // their own entries) and tell systemd the reload is over.
     auto* job = new std::pair<std::weak_ptr<State*>, decltype(result)>(owner, result);
-    g_main_context_invoke_full(
-        nullptr, G_PRIORITY_DEFAULT,
+    queue_on(
+        nullptr,
         [](gpointer data) -> gboolean {
           auto* j = static_cast<std::pair<std::weak_ptr<State*>, decltype(result)>*>(data);
           auto state = j->first.lock();

@@ -5,6 +5,7 @@
 #include "caustic/gst/stop_pipeline.hpp"
 #include "caustic/server/data_files.hpp"
 #include "frame_probes.hpp"
+#include "main_queue.hpp"
 #include "receive_bins.hpp"
 #include "room_messages.hpp"
 
@@ -85,8 +86,8 @@ std::shared_ptr<Session> Session::start(const std::string& id, std::shared_ptr<c
   // always deleted on the thread that made it, the main loop's.
   std::shared_ptr<Session> session(new Session(id, std::move(scene), std::move(options)), [](Session* s) {
     if (std::this_thread::get_id() == s->owner_thread_) return delete s;
-    g_main_context_invoke_full(
-        s->context_, G_PRIORITY_DEFAULT,
+    queue_on(
+        s->context_,
         [](gpointer p) -> gboolean {
           delete static_cast<Session*>(p);
           return G_SOURCE_REMOVE;
@@ -99,8 +100,8 @@ std::shared_ptr<Session> Session::start(const std::string& id, std::shared_ptr<c
 
 void Session::on_main(std::function<void(Session&)> fn) {
   auto* job = new std::pair<Ref, std::function<void(Session&)>>(weak_from_this(), std::move(fn));
-  g_main_context_invoke_full(
-      context_, G_PRIORITY_DEFAULT,
+  queue_on(
+      context_,
       [](gpointer data) -> gboolean {
         auto* j = static_cast<std::pair<Ref, std::function<void(Session&)>>*>(data);
         if (auto s = j->first.lock(); s && !s->closed_) j->second(*s);
@@ -136,8 +137,10 @@ void Session::build() {
   if (options_.broadcast) {
     // RTP to the Janus mountpoint, RTCP both ways on the next port: Janus
     // latches the sender from its RTCP and passes viewers' PLIs back.
-    description += " ! rtpsink name=rtp uri=rtp://" + options_.broadcast->host + ":" +
-                   std::to_string(options_.broadcast->video_port);
+    // An IPv6 address goes in brackets: rtp://::1:5004 is no URI.
+    const std::string& host = options_.broadcast->host;
+    description += " ! rtpsink name=rtp uri=rtp://" + (host.find(':') != std::string::npos ? "[" + host + "]" : host) +
+                   ":" + std::to_string(options_.broadcast->video_port);
   } else {
     description += " ! webrtcbin name=webrtc bundle-policy=max-bundle";
     if (!c.stun_server.empty()) description += " stun-server=" + c.stun_server;

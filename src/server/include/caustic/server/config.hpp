@@ -137,6 +137,12 @@ void load_config_file(ServerConfig& config, const std::filesystem::path& file, C
 
 /// Applies CAUSTICD_<KEY> variables (e.g. CAUSTICD_PORT=9000) from `environ`.
 void load_config_environment(ServerConfig& config, ConfigSources* sources = nullptr);
+/// The same from `entries` ("NAME=VALUE"): a server reads its environment
+/// once, at the start (config_environment()), since no one can change it
+/// from outside and a reload would otherwise read what the server itself set.
+void load_config_environment(ServerConfig& config, ConfigSources* sources, const std::vector<std::string>& entries);
+/// This process's CAUSTICD_ variables now, as "NAME=VALUE".
+std::vector<std::string> config_environment();
 
 /// The keys, for documentation and help text.
 const std::vector<std::string>& config_keys();
