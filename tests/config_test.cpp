@@ -152,12 +152,13 @@ TEST(Config, ValuesAreCheckedAndNamed) {
   expect_error(c, "trusted_proxies", "10.0.0.300", "10.0.0.300");
   expect_error(c, "ice_addresses", "127.0.0.1, eth0", "eth0");
   // Addresses a socket may listen on but no candidate, peer or destination is.
-  for (const char* nobody : {"0.0.0.0", "::", "224.0.0.251", "255.255.255.255", "ff02::1"}) {
+  for (const char* nobody : {"0.0.0.0", "::", "224.0.0.251", "255.255.255.255", "ff02::1", "::ffff:0.0.0.0",
+                             "::ffff:224.0.0.1"}) {
     expect_error(c, "ice_addresses", nobody, "names no one host");
     expect_error(c, "janus_rtp_address", nobody, "janus_rtp_address");
   }
   expect_error(c, "trusted_proxies", "10.0.0.1, ::", "names no one host");
-  EXPECT_NO_THROW(set_config_value(c, "ice_addresses", "127.0.0.1, ::1, 10.1.2.3, fe80::1"));
+  EXPECT_NO_THROW(set_config_value(c, "ice_addresses", "127.0.0.1, ::1, 10.1.2.3, fe80::1, ::ffff:10.0.0.1"));
   expect_error(c, "stun_server", "http://x", "stun_server");
   expect_error(c, "stun_server", "stun://a b", "stun_server");
   expect_error(c, "turn_server", "turn://u:p@host:3478 ! filesink", "turn_server");

@@ -62,14 +62,17 @@ bool ip_address(const std::string& text) {
 // multicast or the IPv4 broadcast address, which a listening socket may
 // take but a candidate, a peer or a destination may not.
 bool one_host(const std::string& text) {
-  unsigned char b[16] = {};
-  if (inet_pton(AF_INET, text.c_str(), b) == 1)
+  const auto one_v4 = [](const unsigned char* b) {
     return !(b[0] == 0 && b[1] == 0 && b[2] == 0 && b[3] == 0) && (b[0] & 0xF0) != 0xE0 &&
            !(b[0] == 255 && b[1] == 255 && b[2] == 255 && b[3] == 255);
+  };
+  unsigned char b[16] = {};
+  if (inet_pton(AF_INET, text.c_str(), b) == 1) return one_v4(b);
   if (inet_pton(AF_INET6, text.c_str(), b) != 1) return false;
-  bool any = true;
-  for (const unsigned char byte : b) any = any && byte == 0;
-  return !any && b[0] != 0xFF;
+  // ::ffff:a.b.c.d is the IPv4 address a.b.c.d.
+  const bool mapped = std::all_of(b, b + 10, [](unsigned char c) { return c == 0; }) && b[10] == 0xFF && b[11] == 0xFF;
+  if (mapped) return one_v4(b + 12);
+  return !std::all_of(b, b + 16, [](unsigned char c) { return c == 0; }) && b[0] != 0xFF;
 }
 
 // A comma-separated list of IP addresses, each of one host; empty items
