@@ -164,6 +164,34 @@ TEST(Hardening, IdleAndTricklingClientsAreClosedAfterTheHeadTimeout) {
   EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
 }
 
+TEST(Hardening, AnUpgradeThatBecomesNoSignallingSocketKeepsItsTimeouts) {
+  // Any GET with "Upgrade: websocket" was let go of every timeout: one that
+  // never sent the body it announced, or was answered and kept alive, held
+  // its connection for good (64 an address). Bounded: four connections.
+  ServerProcess server({"--set", "body_timeout_s=1", "--set", "connection_idle_timeout_s=1"});
+  const std::string upgrade =
+      "Upgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+      "Sec-WebSocket-Version: 13\r\n";
+  const int stalled = raw_connect(server.port());
+  ASSERT_GE(stalled, 0);
+  raw_send(stalled, "GET /api/v1/health HTTP/1.1\r\nHost: x\r\n" + upgrade + "Content-Length: 100\r\n\r\n");
+  bool closed = false;
+  raw_read_all(stalled, 15000, &closed);
+  EXPECT_TRUE(closed) << "a body announced and never sent held its connection";
+  ::close(stalled);
+  // Answered anywhere but as a signalling socket: closed after the answer.
+  for (const char* path : {"/api/v1/health", "/x/signal", "/api/v1/sessions/00000000000000000000000000000000/signal"}) {
+    const int fd = raw_connect(server.port());
+    ASSERT_GE(fd, 0);
+    raw_send(fd, std::string("GET ") + path + " HTTP/1.1\r\nHost: x\r\n" + upgrade + "\r\n");
+    closed = false;
+    const std::string answer = raw_read_all(fd, 15000, &closed);
+    EXPECT_TRUE(closed) << path << ": " << answer;
+    EXPECT_NE(raw_status(answer), 101) << path;
+    ::close(fd);
+  }
+}
+
 TEST(Hardening, ConnectionsBeyondThePerAddressLimitGet503AtOnce) {
   ServerProcess server({"--set", "max_connections_per_address=4"});
   std::vector<int> held;

@@ -176,6 +176,12 @@ void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path)
   static const std::regex thumbnail_path("^/api/v1/scenes/([a-z0-9_-]{1,64})/thumbnail\\.png$");
   static const std::regex signal_path("^/api/v1/sessions/([0-9a-f]{32})/signal$");
   std::smatch m;
+  // A request that asked to become a WebSocket may have been let go of its
+  // connection's timeouts (request_head.cpp): unless it becomes one, on
+  // the signalling path below, its connection closes after the answer.
+  if (soup_message_headers_get_one(soup_server_message_get_request_headers(msg), "Upgrade") &&
+      !std::regex_match(path, signal_path))
+    soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Connection", "close");
   const bool read = method == "GET" || method == "HEAD";
   const bool mutating = method == "POST" || method == "PATCH" || method == "DELETE" || method == "PUT";
   if (mutating && !within_rate(s, msg)) return;
@@ -189,18 +195,24 @@ void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path)
   if (std::regex_match(path, m, signal_path)) {
     if (method != "GET") return not_allowed(s, msg, "GET");
     // libsoup asks this handler first: leaving the status unset lets the
-    // WebSocket handshake go ahead; any answer refuses it.
+    // WebSocket handshake go ahead; any answer refuses it, and closes the
+    // connection, which the listener let go of its timeouts for the socket
+    // it was to become.
+    const auto closing = [&] {
+      soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Connection", "close");
+    };
     auto it = s.sessions.find(m[1]);
-    if (it == s.sessions.end() || !same_secret(query_token(msg), it->second->token())) return refuse_session(s, msg);
+    if (it == s.sessions.end() || !same_secret(query_token(msg), it->second->token()))
+      return closing(), refuse_session(s, msg);
     const char* upgrade = soup_message_headers_get_one(soup_server_message_get_request_headers(msg), "Upgrade");
     if (!upgrade || g_ascii_strcasecmp(upgrade, "websocket") != 0)
-      return reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST, "this is a WebSocket endpoint");
+      return closing(), reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST, "this is a WebSocket endpoint");
     // The library would refuse a broken handshake with a bare 400; say why.
     GError* error = nullptr;
     if (!soup_websocket_server_check_handshake(msg, nullptr, nullptr, nullptr, &error)) {
       const std::string why = error ? error->message : "invalid handshake";
       if (error) g_error_free(error);
-      return reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST, "not a valid WebSocket handshake: " + why);
+      return closing(), reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST, "not a valid WebSocket handshake: " + why);
     }
     return;
   }

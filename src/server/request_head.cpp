@@ -182,7 +182,14 @@ RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) 
     return refuse(413, "the body is larger than " + std::to_string(max_body) + " bytes");
   out.state = RequestHead::State::complete;
   out.head_bytes = end + 4;
-  out.websocket = upgrade_ws && method == "GET";
+  // Only what can become a signalling socket is let go of the connection's
+  // timeouts (the session watches its viewer instead): any other request
+  // with an Upgrade header, or one with a body, would hold a connection
+  // for good. A refused handshake closes its connection (http_api.cpp).
+  const std::string_view path = target.substr(0, target.find('?'));
+  constexpr std::string_view kSignal = "/signal";
+  out.websocket = upgrade_ws && method == "GET" && out.content_length == 0 && path.size() >= kSignal.size() &&
+                  path.substr(path.size() - kSignal.size()) == kSignal;
   return out;
 }
 
