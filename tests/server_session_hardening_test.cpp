@@ -144,3 +144,38 @@ TEST(Hardening, AnAnswerWhoseMLinesDoNotFitTheOfferIsRefused) {
   EXPECT_EQ(sessions_now(server), 1);
   ::close(fd);
 }
+
+TEST(Hardening, TheViewersCandidatesAreBoundedInSizeNumberAndMLine) {
+  // webrtcbin keeps every candidate it is given until the next negotiation
+  // (one for an m-line it has no transport for, or before the answer): a
+  // viewer looping 60 KB candidates grew the server without bound.
+  ServerProcess server;
+  const json s = create_session(server);
+  const int fd = ws_open(server.port(), signal_path(s));
+  ASSERT_GE(fd, 0);
+  std::optional<std::string> message;
+  bool offered = false;
+  while (!offered && (message = ws_read_text(fd, 20000)))
+    offered = json::parse(*message, nullptr, false).value("type", "") == "offer";
+  ASSERT_TRUE(offered);
+  const auto candidate = [](int n, const std::string& extra = "") {
+    return "candidate:" + std::to_string(n) + " 1 udp 2122260223 127.0.0.1 " + std::to_string(40000 + n) + " typ host" +
+           extra;
+  };
+  const auto send_ice = [&](const std::string& c, int mline) {
+    ws_send_frame(fd, 1, true, json{{"type", "ice"}, {"candidate", c}, {"sdpMLineIndex", mline}}.dump());
+  };
+  send_ice(candidate(1, " x " + std::string(600, 'a')), 0);  // too long
+  send_ice(candidate(2), 7);                                 // no such m-line
+  for (int i = 0; i < 70; ++i) send_ice(candidate(100 + i), 0);
+  std::vector<std::string> errors;
+  while ((message = ws_read_text(fd, 3000)))
+    if (const json m = json::parse(*message, nullptr, false); m.value("type", "") == "error")
+      errors.push_back(m.value("message", ""));
+  ASSERT_EQ(errors.size(), 3u) << ::testing::PrintToString(errors);
+  EXPECT_EQ(errors[0], "ice: a candidate is at most 512 characters");
+  EXPECT_EQ(errors[1], "ice: the offer has 2 m-lines");
+  EXPECT_EQ(errors[2], "ice: at most 64 candidates a connection");
+  EXPECT_EQ(sessions_now(server), 1);
+  ::close(fd);
+}

@@ -345,6 +345,8 @@ void Session::teardown_pipeline() {
   pipeline_ = nullptr;
   offered_ = false;
   offer_sdp_.clear();
+  offer_lines_ = 0;
+  candidates_ = 0;
   answered_ = false;
   fingerprints_.clear();
 }

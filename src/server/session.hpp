@@ -168,6 +168,8 @@ class Session : public std::enable_shared_from_this<Session> {
   std::chrono::steady_clock::time_point idle_since_;
   bool offered_ = false, closed_ = false, had_viewer_ = false;
   std::string offer_sdp_;  // the offer sent to this pipeline's viewer; "" before it
+  unsigned offer_lines_ = 0;  // its m-lines
+  int candidates_ = 0;        // the viewer's ICE candidates given to this pipeline
   bool answered_ = false;  // an answer went to webrtcbin (and was not refused)
   // Counts the pipelines built: a job a pipeline's thread posts carries
   // the count it saw (read off the main thread, hence atomic).

@@ -127,9 +127,11 @@ void Session::offer_created(GstPromise* promise) {
   gchar* text = gst_sdp_message_as_text(offer->sdp);
   std::string sdp = text;
   g_free(text);
+  const unsigned lines = gst_sdp_message_medias_len(offer->sdp);
   gst_webrtc_session_description_free(offer);
-  on_pipeline_main([sdp = std::move(sdp)](Session& me) {
+  on_pipeline_main([sdp = std::move(sdp), lines](Session& me) {
     me.offer_sdp_ = sdp;  // what an answer is checked against
+    me.offer_lines_ = lines;
     me.send({{"type", "offer"}, {"sdp", sdp}});
   });
 }
@@ -304,7 +306,19 @@ void Session::on_socket_message(const std::string& text) {
     gst_promise_unref(done);
     gst_webrtc_session_description_free(description);
   } else if (const auto* ice = std::get_if<SignalIce>(&message)) {
+    // webrtcbin keeps each candidate it is given (before an answer, or for
+    // an m-line it has no transport for) until the next negotiation: only
+    // the offer's m-lines take them, and a bounded number a connection.
+    if (ice->mline >= offer_lines_) {
+      send({{"type", "error"}, {"message", "ice: the offer has " + std::to_string(offer_lines_) + " m-lines"}});
+      return;
+    }
     if (ice->candidate.empty()) return;  // end of candidates
+    if (++candidates_ > kMaxCandidates) {
+      if (candidates_ == kMaxCandidates + 1)
+        send({{"type", "error"}, {"message", "ice: at most " + std::to_string(kMaxCandidates) + " candidates a connection"}});
+      return;
+    }
     g_signal_emit_by_name(webrtc_, "add-ice-candidate", ice->mline, ice->candidate.c_str());
   }
 }

@@ -285,6 +285,10 @@ SignalMessage parse_signal_message(std::string_view text) {
         !mline->is_number_unsigned() || mline->get<std::uint64_t>() > 63)
       return SignalError{"ice: needs a string \"candidate\" and an \"sdpMLineIndex\" in [0, 63]"};
     const std::string& c = candidate->get_ref<const std::string&>();
+    // A browser's candidate is some 150 characters (an mDNS name included);
+    // webrtcbin keeps every one it is given until the next negotiation.
+    if (c.size() > kMaxCandidateBytes)
+      return SignalError{"ice: a candidate is at most " + std::to_string(kMaxCandidateBytes) + " characters"};
     for (unsigned char ch : c)
       if (ch < 0x20 || ch >= 0x7f) return SignalError{"ice: the candidate must be printable ASCII"};
     // RFC 8839's shape, "candidate:F C transport priority address port typ

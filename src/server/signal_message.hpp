@@ -15,6 +15,9 @@ namespace caustic::server {
 
 /// The largest signalling message taken: an SDP answer is a few KiB.
 inline constexpr std::size_t kMaxSignalMessageBytes = 64 * 1024;
+/// The longest ICE candidate taken, and how many a connection may send.
+inline constexpr std::size_t kMaxCandidateBytes = 512;
+inline constexpr int kMaxCandidates = 64;
 
 struct SignalAnswer {
   std::string sdp;  ///< checked to be SDP that GStreamer parses
