@@ -24,6 +24,7 @@ class RateLimiter {
   struct Bucket {
     double tokens;
     Clock::time_point last;
+    double rate, burst;  // as last asked: when the bucket is full again
   };
   std::map<std::string, Bucket> buckets_;
   Clock::time_point last_sweep_{};
