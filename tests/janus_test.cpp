@@ -217,6 +217,29 @@ TEST(JanusAnswer, OddBodiesAreErrorsNotCrashes) {
   EXPECT_TRUE(odd.response.is_object());
 }
 
+TEST(JanusAnswer, PortsOfOtherTypesAreUnusableNotCrashes) {
+  // A field of another type threw out of the library's callback (an abort).
+  using caustic::server::Mountpoint;
+  using caustic::server::read_ports;
+  const json good = json::parse(R"({"stream":{"ports":[{"type":"video","port":5004,"rtcp_port":5005},
+                                                        {"type":"data","port":5006}]}})");
+  Mountpoint m;
+  ASSERT_TRUE(read_ports(good, m));
+  EXPECT_EQ(m.video_port, 5004);
+  EXPECT_EQ(m.data_port, 5006);
+  for (const char* odd :
+       {R"({"stream":"x"})", R"({"stream":{"ports":{}}})", R"({"stream":{"ports":[1,"a",null]}})",
+        R"({"stream":{"ports":[{"type":"video","port":"5004","rtcp_port":5005},{"type":"data","port":5006}]}})",
+        R"({"stream":{"ports":[{"type":7,"port":5004},{"type":"data","port":5006}]}})",
+        R"({"stream":{"ports":[{"type":"video","port":70000,"rtcp_port":70001},{"type":"data","port":5006}]}})",
+        R"({"stream":{"ports":[{"type":"video","port":-2,"rtcp_port":-1},{"type":"data","port":5006}]}})", "[]", "7"}) {
+    Mountpoint odd_m;
+    bool usable = true;
+    EXPECT_NO_THROW(usable = read_ports(json::parse(odd), odd_m)) << odd;
+    EXPECT_FALSE(usable) << odd;
+  }
+}
+
 TEST_F(Broadcast, TheMountpointLivesWithTheSessionAndReceivesTheStream) {
   const json s = create_broadcast();
   ASSERT_EQ(s.value("mode", ""), "broadcast");
@@ -359,4 +382,31 @@ TEST_F(Broadcast, BadRequestsAreRefusedAndPlainSessionsHaveNoViewerLinks) {
   const json plain = http("POST", server_->url() + "/api/v1/sessions", R"({"scene": "lens"})").json();
   EXPECT_EQ(http("POST", server_->url() + plain["url"].get<std::string>() + "/viewers", "", "", bearer_token(plain["token"])).status,
             409u);
+}
+
+TEST_F(Broadcast, RequestsMadeSideBySideKeepTheLimitPerAddress) {
+  // Each was counted before Janus had answered any: one address got up to
+  // max_sessions broadcasts (its limit is 2). Bounded: five requests.
+  janus_.signal(SIGSTOP);
+  const std::string body = R"({"scene": "lens", "mode": "broadcast"})";
+  std::vector<int> fds;
+  for (int i = 0; i < 5; ++i) {
+    fds.push_back(ct::raw_connect(server_->port()));
+    ASSERT_GE(fds.back(), 0);
+    ASSERT_TRUE(ct::raw_send(fds.back(), "POST /api/v1/sessions HTTP/1.1\r\nHost: x\r\nConnection: close\r\n"
+                                         "Content-Type: application/json\r\n"
+                                         "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body));
+  }
+  g_usleep(500000);  // every request read, Janus asked
+  janus_.signal(SIGCONT);
+  int created = 0, refused = 0;
+  for (const int fd : fds) {
+    const int status = ct::raw_status(ct::raw_read_all(fd, 20000));
+    created += status == 201;
+    refused += status == 429;
+    ::close(fd);
+  }
+  EXPECT_EQ(created, 2);
+  EXPECT_EQ(refused, 3);
+  EXPECT_EQ(http("GET", server_->url() + "/api/v1/health").json()["sessions"], 2);
 }

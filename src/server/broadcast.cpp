@@ -37,21 +37,6 @@ nlohmann::json create_request(const Mountpoint& m, const std::string& session_id
           {"media", {video, data}}};
 }
 
-// The ports Janus gave; false unless RTCP sits on the port after RTP (what
-// rtpsink sends to and listens on).
-bool read_ports(const nlohmann::json& response, Mountpoint& m) {
-  const auto ports = response.value("stream", nlohmann::json::object()).value("ports", nlohmann::json::array());
-  for (const auto& p : ports) {
-    if (p.value("type", "") == "video") {
-      m.video_port = p.value("port", 0);
-      if (p.value("rtcp_port", 0) != m.video_port + 1) return false;
-    } else if (p.value("type", "") == "data") {
-      m.data_port = p.value("port", 0);
-    }
-  }
-  return m.video_port > 0 && m.data_port > 0;
-}
-
 void destroy(ServerState& s, const Mountpoint& m) {
   if (!s.janus) return;
   const std::uint64_t id = m.id;
@@ -89,6 +74,37 @@ struct Pending {
 };
 
 }  // namespace
+
+// The ports Janus gave; false unless RTCP sits on the port after RTP (what
+// rtpsink sends to and listens on).
+// Any field of another type (a Janus of another version, or something else
+// on its port) makes the ports unusable, never an exception in the
+// library's callback.
+bool read_ports(const nlohmann::json& response, Mountpoint& m) {
+  const auto field = [](const nlohmann::json& object, const char* key) -> const nlohmann::json* {
+    if (!object.is_object()) return nullptr;
+    const auto it = object.find(key);
+    return it == object.end() ? nullptr : &*it;
+  };
+  const auto port_of = [&](const nlohmann::json& p, const char* key) {
+    const nlohmann::json* v = field(p, key);
+    return v && v->is_number_unsigned() && v->get<std::uint64_t>() <= 65535 ? static_cast<int>(v->get<std::uint64_t>()) : 0;
+  };
+  const nlohmann::json* stream = field(response, "stream");
+  const nlohmann::json* ports = stream ? field(*stream, "ports") : nullptr;
+  if (!ports || !ports->is_array()) return false;
+  for (const auto& p : *ports) {
+    const nlohmann::json* type = field(p, "type");
+    if (!type || !type->is_string()) continue;
+    if (*type == "video") {
+      m.video_port = port_of(p, "port");
+      if (port_of(p, "rtcp_port") != m.video_port + 1) return false;
+    } else if (*type == "data") {
+      m.data_port = port_of(p, "port");
+    }
+  }
+  return m.video_port > 0 && m.data_port > 0;
+}
 
 std::string janus_token(const std::string& secret, std::int64_t expires) {
   const std::string data = std::to_string(expires) + ",janus,janus.plugin.streaming";
@@ -137,6 +153,14 @@ void create_broadcast(ServerState& s, SoupServerMessage* msg, std::shared_ptr<co
       return reply_problem(out, st.metrics, SOUP_STATUS_SERVICE_UNAVAILABLE,
                            st.draining ? "this instance is stopping and takes no new sessions"
                                        : "the server is full (" + std::to_string(st.config.max_sessions) + " sessions)");
+    }
+    // Requests made side by side were each counted before any was answered.
+    if (const int held = st.sessions_held_by(address); held >= st.config.max_sessions_per_address) {
+      destroy(st, m);
+      ++st.metrics.sessions_rejected;
+      soup_message_headers_replace(soup_server_message_get_response_headers(out), "Retry-After", "10");
+      return reply_problem(out, st.metrics, 429,
+                           "your address holds " + std::to_string(held) + " sessions already (the limit); end one first");
     }
     SessionOptions options{codec, address, &st.config, st.data_dir, &st.metrics,
                            [state](const std::string& sid, const std::string& why) { state->end_session(sid, why); },

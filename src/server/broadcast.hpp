@@ -31,6 +31,11 @@ struct Mountpoint {
   std::chrono::steady_clock::time_point recreating{};
 };
 
+/// The RTP and data ports in Janus's answer to a create (`response`) into
+/// `m`; false unless both are there and RTCP sits on the port after RTP
+/// (what rtpsink sends to and listens on). Fields of other types: false.
+bool read_ports(const nlohmann::json& response, Mountpoint& m);
+
 /// Answers POST /api/v1/sessions with "mode": "broadcast" (the request was
 /// checked and admitted): creates the mountpoint, then the session, and
 /// answers once Janus has (the message is paused meanwhile).

@@ -2,6 +2,7 @@
 #include "janus_admin.hpp"
 
 #include "caustic/json_text.hpp"
+#include "log.hpp"
 
 namespace caustic::server {
 
@@ -110,7 +111,12 @@ void JanusAdmin::plugin_request(nlohmann::json request, Done done) {
         if (error) g_error_free(error);
         if (reply) g_bytes_unref(reply);
         g_object_unref(call->msg);
-        if (!call->alive.expired()) call->done(answer);
+        if (call->alive.expired()) return;
+        try {  // nothing may escape into the library's C callback (an abort)
+          call->done(answer);
+        } catch (const std::exception& e) {
+          log(Level::error, std::string("broadcast: Janus's answer not handled: ") + e.what());
+        }
       },
       new Call{std::move(done), msg, alive_});
 }

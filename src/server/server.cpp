@@ -20,6 +20,12 @@
 
 namespace caustic::server {
 
+int ServerState::sessions_held_by(const std::string& address) const {
+  int held = 0;
+  for (const auto& [id, session] : sessions) held += session->client_address() == address;
+  return held;
+}
+
 void ServerState::end_session(const std::string& id, const std::string& reason) {
   auto it = sessions.find(id);
   if (it == sessions.end()) return;

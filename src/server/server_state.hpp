@@ -48,6 +48,8 @@ struct ServerState {
   /// Removes a session on the next main loop iteration (never from inside
   /// one of its own callbacks).
   void end_session(const std::string& id, const std::string& reason);
+  /// How many sessions `address` holds (max_sessions_per_address).
+  int sessions_held_by(const std::string& address) const;
 };
 
 /// Answers /api/v1/designs and /api/v1/designs/{id} (design_api.cpp);

@@ -100,9 +100,7 @@ void create_session(ServerState& s, SoupServerMessage* msg) {
                          "the server is full (" + std::to_string(s.config.max_sessions) + " sessions)");
   }
   const std::string address = client_address(msg, s.config.trusted_proxies);
-  int held = 0;
-  for (const auto& [sid, session] : s.sessions) held += session->client_address() == address;
-  if (held >= s.config.max_sessions_per_address) {
+  if (const int held = s.sessions_held_by(address); held >= s.config.max_sessions_per_address) {
     ++s.metrics.sessions_rejected;
     soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After", "10");
     return reply_problem(msg, s.metrics, 429,
