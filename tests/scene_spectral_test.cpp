@@ -200,3 +200,27 @@ TEST(SceneSpectral, KeysTheirOwnSectionLeavesUnusedAreWarnedAbout) {
   point["post"] = {{"bloom_radius", 4.0}};
   EXPECT_TRUE(keys(point).empty());
 }
+
+TEST(SceneSpectral, AFrameMayTraceABoundedNumberOfRays) {
+  // 2048² rays at 32 wavelengths took a software renderer minutes a frame,
+  // and past stall_timeout_s the server's watchdog. Counted from the public
+  // grid sizes and the still frame's wavelengths.
+  json solid = minimal();
+  solid["object"] = {{"shape", "solid"}, {"glass", "bk7"}};
+  solid["render"] = {{"light_grid", 2048}};  // 32 still wavelengths by default
+  expect_rejected(solid, "render.light_grid");
+  solid["render"] = {{"light_grid", 2048}, {"wavelengths", 2}, {"still_wavelengths", 2}};
+  EXPECT_NO_THROW(scene_from_json(solid, ".")) << "2048² rays at 2 wavelengths is within the bound";
+  solid["object"].erase("glass");
+  solid["render"] = {{"light_grid", 2048}};
+  EXPECT_NO_THROW(scene_from_json(solid, ".")) << "grey: one wavelength";
+  json slab = with("object", "glass", "bk7");
+  slab["render"] = {{"fidelity", "manual"}, {"mesh_resolution", 2048}};
+  expect_rejected(slab, "render.mesh_resolution");
+  slab["render"] = {{"fidelity", "auto"}, {"mesh_resolution", 2048}};
+  EXPECT_NO_THROW(scene_from_json(slab, ".")) << "auto chooses the level itself";
+  slab["render"] = {{"fidelity", "manual"}, {"mesh_resolution", 0}};
+  EXPECT_NO_THROW(scene_from_json(slab, ".")) << "the loaded mesh is the operator's (and its size a secret)";
+  slab["render"] = {{"fidelity", "manual"}, {"mesh_resolution", 512}};
+  EXPECT_NO_THROW(scene_from_json(slab, ".")) << "512² at 32 wavelengths is the bound itself";
+}

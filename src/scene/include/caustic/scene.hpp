@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json_fwd.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -237,6 +238,10 @@ void validate_scene(const Scene& scene);
 
 /// The largest scene file read: scenes name their meshes, never hold them.
 inline constexpr std::size_t kMaxSceneFileBytes = std::size_t{16} << 20;
+/// The most rays a frame may trace (one per wavelength): a solid's
+/// light_grid², or a manual mesh_resolution², times its still frame's
+/// wavelengths. A scene that asks more is refused, naming the key.
+inline constexpr std::uint64_t kMaxFrameRays = std::uint64_t{1} << 23;
 
 /// Reads a scene file (at most kMaxSceneFileBytes, parsed as every outside
 /// JSON text is: caustic/json_text.hpp). Throws SceneError on I/O, size,
