@@ -202,8 +202,8 @@ TEST(SceneSpectral, KeysTheirOwnSectionLeavesUnusedAreWarnedAbout) {
 }
 
 TEST(SceneSpectral, AFrameMayTraceABoundedNumberOfRays) {
-  // 2048² rays at 32 wavelengths took a software renderer minutes a frame,
-  // and past stall_timeout_s the server's watchdog. Counted from the public
+  // 2048² rays at 32 wavelengths would take a software renderer about 90 s
+  // a frame, and past stall_timeout_s the server's watchdog. Counted from the public
   // grid sizes and the still frame's wavelengths.
   json solid = minimal();
   solid["object"] = {{"shape", "solid"}, {"glass", "bk7"}};

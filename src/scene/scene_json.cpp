@@ -222,9 +222,10 @@ json opt(const std::optional<T>& v) { return v ? json(*v) : json(nullptr); }
 
 // What a frame may ask of the renderer, in rays traced (a ray per
 // wavelength): a solid's light grid, or a grid level of the face, times the
-// wavelengths of its still frame. 2048² rays at 32 wavelengths took a
-// software renderer minutes a frame, held the session's render thread and,
-// past stall_timeout_s, the whole server's watchdog. Counted from what is
+// wavelengths of its still frame. 2048² rays at 32 wavelengths would take a
+// software renderer about 90 s a frame (docs/performance.md's multipass
+// figures), hold the session's render thread and, past stall_timeout_s,
+// the whole server's watchdog. Counted from what is
 // public (the grid sizes), never from the loaded mesh (an operator's
 // choice, and a secret).
 static void check_frame_cost(const Scene& s) {
