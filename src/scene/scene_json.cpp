@@ -220,27 +220,6 @@ json opt(const std::optional<T>& v) { return v ? json(*v) : json(nullptr); }
 
 }  // namespace
 
-// What a frame may ask of the renderer, in rays traced (a ray per
-// wavelength): a solid's light grid, or a grid level of the face, times the
-// wavelengths of its still frame. 2048² rays at 32 wavelengths would take a
-// software renderer about 90 s a frame (docs/performance.md's multipass
-// figures), hold the session's render thread and, past stall_timeout_s,
-// the whole server's watchdog. Counted from what is
-// public (the grid sizes), never from the loaded mesh (an operator's
-// choice, and a secret).
-static void check_frame_cost(const Scene& s) {
-  const std::uint64_t k = static_cast<std::uint64_t>(std::max(1, frame_wavelengths(s, false, true)));
-  const bool solid = s.object.shape == Shape::solid;
-  const bool grid_level = s.render.fidelity == Fidelity::manual && s.render.mesh_resolution > 0;
-  if (!solid && !grid_level) return;
-  const std::uint64_t side = static_cast<std::uint64_t>(solid ? s.render.light_grid : s.render.mesh_resolution);
-  if (side * side * k <= kMaxFrameRays) return;
-  throw SceneError(solid ? "render.light_grid" : "render.mesh_resolution",
-                   std::to_string(side) + "² rays at " + std::to_string(k) +
-                       (k == 1 ? " wavelength" : " wavelengths (the still frame's)") + " are more than a frame may trace (" +
-                       std::to_string(kMaxFrameRays) + "); lower it, or render.wavelengths and still_wavelengths");
-}
-
 Scene scene_from_json(const json& j, const std::filesystem::path& base_dir,
                       std::shared_ptr<const ReceiverMeshTable> loaded) {
   Reader r(j, "");

@@ -36,6 +36,12 @@ std::vector<SpectralPass> spectral_passes(const Scene& scene, int count);
 /// the engine draws by and the stream decides its still spells by.
 int frame_wavelengths(const Scene& scene, bool preview, bool still);
 
+/// Throws SceneError naming render.light_grid or render.mesh_resolution
+/// when a frame of `scene` would trace more than kMaxFrameRays (a solid's
+/// light_grid², or a manual mesh level's n², times its still frame's
+/// wavelengths). scene_from_json calls it on every scene read or patched.
+void check_frame_cost(const Scene& scene);
+
 /// Keys that `written` (a scene file or a patch) sets but that the spectral
 /// settings of `scene` (the result) override or make moot, each with a
 /// sentence for its writer: object.ior beside object.glass, light
