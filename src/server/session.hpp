@@ -171,8 +171,8 @@ class Session : public std::enable_shared_from_this<Session> {
   unsigned offer_lines_ = 0;  // its m-lines
   int candidates_ = 0;        // the viewer's ICE candidates given to this pipeline
   bool answered_ = false;  // an answer went to webrtcbin (and was not refused)
-  // Counts the pipelines built: a job a pipeline's thread posts carries
-  // the count it saw (read off the main thread, hence atomic).
+  // Counts the pipelines torn down: a job a pipeline's thread posts
+  // carries the count it saw (read off the main thread, hence atomic).
   std::atomic<std::uint64_t> pipeline_generation_{0};
   std::vector<GstPromise*> promises_;  // pipeline_promise()'s, each a reference
   std::vector<Fingerprint> fingerprints_;  // the answer's, for the viewer's certificate
