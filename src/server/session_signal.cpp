@@ -314,11 +314,13 @@ void Session::on_socket_message(const std::string& text) {
       return;
     }
     if (ice->candidate.empty()) return;  // end of candidates
-    if (++candidates_ > kMaxCandidates) {
-      if (candidates_ == kMaxCandidates + 1)
+    if (candidates_ >= kMaxCandidates) {
+      if (candidates_ == kMaxCandidates)  // said once; the count stops one past the limit
         send({{"type", "error"}, {"message", "ice: at most " + std::to_string(kMaxCandidates) + " candidates a connection"}});
+      candidates_ = kMaxCandidates + 1;
       return;
     }
+    ++candidates_;
     g_signal_emit_by_name(webrtc_, "add-ice-candidate", ice->mline, ice->candidate.c_str());
   }
 }
