@@ -108,4 +108,12 @@ class DesignApi : public ::testing::Test {
   }
 };
 
+// A design made and finished by a server that then stops, its files left
+// in `state`: its id ("" when it did not finish, which the caller checks).
+inline std::string stored_design(const TempDir& state) {
+  ServerProcess server(small_designs(state));
+  const std::string id = upload(server, square_png()).json().value("id", "");
+  return wait_design(server, id).value("state", "") == "ready" ? id : "";
+}
+
 }  // namespace caustic::testing::design_api

@@ -50,12 +50,8 @@ TEST_F(DesignApi, DesignsSurviveARestartExpireUnlessKeptAndTheirOwnerMayDeleteTh
 
 TEST_F(DesignApi, OneDesignsBrokenFilesSkipThatDesignAlone) {
   TempDir state;
-  std::string good;
-  {
-    ServerProcess server(small_designs(state));
-    good = upload(server, square_png()).json()["id"];
-    ASSERT_EQ(wait_design(server, good).value("state", ""), "ready");
-  }
+  const std::string good = stored_design(state);
+  ASSERT_NE(good, "");
   // Copies of it, each broken as a disk or a hand can break one. Once a
   // pipe held the start for good, a link to /dev/zero took gigabytes, a
   // wrong type or a looping link turned every design off, and a time past
@@ -86,17 +82,12 @@ TEST_F(DesignApi, OneDesignsBrokenFilesSkipThatDesignAlone) {
   EXPECT_NE(http("GET", server.url() + "/api/v1/designs/" + zero.filename().string()).status, 0u);
 }
 
-
 TEST_F(DesignApi, ADesignNotReadBackIsFailedForThatRunOnly) {
   // A design whose face cannot be read at a start (a disk gone bad for a
   // while, no GL for a moment) was once marked failed for good.
   TempDir state;
-  std::string id;
-  {
-    ServerProcess server(small_designs(state));
-    id = upload(server, square_png()).json()["id"];
-    ASSERT_EQ(wait_design(server, id).value("state", ""), "ready");
-  }
+  const std::string id = stored_design(state);
+  ASSERT_NE(id, "");
   const fs::path dir = state.path / "designs" / id;
   // Without what answers need, the design is read back at the start.
   fs::remove(dir / "info.json");

@@ -10,6 +10,19 @@
 
 using namespace caustic::testing;
 
+namespace {
+
+// Reads the socket's messages until an offer comes (false: none within 20 s
+// of the last message).
+bool read_until_offer(int fd) {
+  std::optional<std::string> message;
+  while ((message = ws_read_text(fd, 20000)))
+    if (json::parse(*message, nullptr, false).value("type", "") == "offer") return true;
+  return false;
+}
+
+}  // namespace
+
 TEST(Hardening, SessionsPerAddressAreLimited) {
   ServerProcess server({"--set", "max_sessions_per_address=1", "--max-sessions", "4"});
   create_session(server);
@@ -65,11 +78,7 @@ TEST(Hardening, ASecondSignallingSocketGetsAFreshOffer) {
   EXPECT_EQ(json::parse(*offer1)["type"], "offer");
   const int second = ws_open(server.port(), signal_path(s));
   ASSERT_GE(second, 0);
-  std::optional<std::string> message;
-  bool offered = false;
-  while (!offered && (message = ws_read_text(second, 20000)))
-    offered = json::parse(*message, nullptr, false).value("type", "") == "offer";
-  EXPECT_TRUE(offered) << "a reconnecting viewer got no offer";
+  EXPECT_TRUE(read_until_offer(second)) << "a reconnecting viewer got no offer";
   ::close(first);
   ::close(second);
 }
@@ -153,11 +162,8 @@ TEST(Hardening, TheViewersCandidatesAreBoundedInSizeNumberAndMLine) {
   const json s = create_session(server);
   const int fd = ws_open(server.port(), signal_path(s));
   ASSERT_GE(fd, 0);
+  ASSERT_TRUE(read_until_offer(fd));
   std::optional<std::string> message;
-  bool offered = false;
-  while (!offered && (message = ws_read_text(fd, 20000)))
-    offered = json::parse(*message, nullptr, false).value("type", "") == "offer";
-  ASSERT_TRUE(offered);
   const auto candidate = [](int n, const std::string& extra = "") {
     return "candidate:" + std::to_string(n) + " 1 udp 2122260223 127.0.0.1 " + std::to_string(40000 + n) + " typ host" +
            extra;
