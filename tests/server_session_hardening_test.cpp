@@ -8,6 +8,9 @@
 
 #include <unistd.h>
 
+#include <chrono>
+#include <cmath>
+
 using namespace caustic::testing;
 
 namespace {
@@ -102,6 +105,37 @@ TEST(Hardening, AViewerThatReconnectsAtOnceGetsOneOfferTheNewPipelines) {
     ::close(first);
     ::close(second);
   }
+}
+
+TEST(Hardening, RebuildingAStreamForNewSocketsIsLimited) {
+  // Each socket that replaces a session's viewer rebuilds its stream: a
+  // loop of them once cost a pipeline each, as fast as the client asked.
+  // A burst of 3 goes through, then one every 2 s; the tally allows for
+  // the time a slow machine takes. Bounded: 12 sockets, or 60 s.
+  ServerProcess server;
+  const json s = create_session(server);
+  int viewer = ws_open(server.port(), signal_path(s));
+  ASSERT_GE(viewer, 0);
+  const auto start = std::chrono::steady_clock::now();
+  int replaced = 0;
+  std::string refusal;
+  for (int k = 0; k < 12 && std::chrono::steady_clock::now() - start < std::chrono::seconds(60); ++k) {
+    const int next = ws_open(server.port(), signal_path(s), &refusal);
+    if (next < 0) break;
+    ::close(viewer);
+    viewer = next;
+    ++replaced;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_EQ(raw_status(refusal), 429) << "after " << replaced << " replacements in " << seconds << " s: " << refusal;
+  EXPECT_GE(replaced, 3);
+  EXPECT_LE(replaced, 3 + static_cast<int>(std::ceil(0.5 * seconds)));
+  EXPECT_GE(std::stoi(raw_header(refusal, "Retry-After")), 1);
+  EXPECT_EQ(raw_header(refusal, "Content-Type"), "application/problem+json");
+  // The refusal left the session and its viewer as they were.
+  EXPECT_EQ(sessions_now(server), 1);
+  EXPECT_TRUE(read_until_offer(viewer));
+  ::close(viewer);
 }
 
 // Answers a browser could not give but a client can write, each of which

@@ -13,8 +13,9 @@
 namespace caustic::testing {
 
 /// Opens `path` (with its query) as a WebSocket; -1 unless the server
-/// answered 101.
-inline int ws_open(int port, const std::string& path) {
+/// answered 101, and then, when `refusal` is given, the server's whole
+/// answer (head and body) in it.
+inline int ws_open(int port, const std::string& path, std::string* refusal = nullptr) {
   const int fd = raw_connect(port);
   if (fd < 0) return -1;
   raw_send(fd, "GET " + path +
@@ -29,6 +30,7 @@ inline int ws_open(int port, const std::string& path) {
     head += ch;
   }
   if (raw_status(head) != 101) {
+    if (refusal) *refusal = head + raw_read_all(fd, 10000);
     ::close(fd);
     return -1;
   }

@@ -16,6 +16,10 @@
 namespace caustic::server {
 namespace {
 
+// New sockets for a session that had a viewer: a burst of this many (a
+// page reloaded twice, a second tab taking over), then one every 2 s.
+constexpr double kReconnectBurst = 3, kReconnectsPerS = 0.5;
+
 // Keys a session's viewer may not patch: the mesh, its flat face and the
 // gallery text belong to the scene (moving the flat face and watching which
 // offsets are refused would map the hidden surface; the shape says what the
@@ -213,6 +217,20 @@ void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path)
       const std::string why = error ? error->message : "invalid handshake";
       if (error) g_error_free(error);
       return closing(), reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST, "not a valid WebSocket handshake: " + why);
+    }
+    // A socket that replaces the viewer's rebuilds the whole stream (a
+    // pipeline, its encoder and renderer): a loop of them would spend the
+    // machine on rebuilds, so a session may do so a few times at once and
+    // then once every few seconds.
+    int retry = 1;
+    if (it->second->had_viewer() &&
+        !s.reconnect_rate.admit(it->first, kReconnectsPerS, kReconnectBurst, &retry)) {
+      ++s.metrics.rate_limited;
+      soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After",
+                                   std::to_string(retry).c_str());
+      return closing(), reply_problem(msg, s.metrics, 429,
+                                      "this session's stream was rebuilt for new connections too often; retry after " +
+                                          std::to_string(retry) + " s");
     }
     return;
   }

@@ -35,6 +35,7 @@ struct ServerState {
   std::unique_ptr<Listener> listener;
   RateLimiter rate_limiter;
   RateLimiter design_rate;                ///< uploads per address, apart from the other requests
+  RateLimiter reconnect_rate;             ///< per session id: the stream rebuilt for a new socket
   std::unique_ptr<DesignJobs> designs;    ///< null when the state folder is unusable
   bool draining = false;                  ///< stopping: no new sessions, running ones go on
   std::unique_ptr<CapacityAgent> agent;   ///< when agent_port is set
