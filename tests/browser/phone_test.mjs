@@ -114,6 +114,15 @@ test('a shared link restores the scene, the codec, the visitor\'s settings and t
                 'the refusal on the page');
     assert.match(await bad.textContent('#warnings'), /link's settings were refused: .*object\.ior/);
     assert.ok(!new URL(await bad.evaluate(() => location.href)).searchParams.has('p'), 'the refused settings stay in the address');
+    // A link whose settings name "__proto__": once it reached Object.prototype
+    // through the patch's merge and stopped the room from drawing; now the
+    // server refuses the key like any other, and the scene streams.
+    const polluting = await context.newPage();
+    await polluting.goto(`${server.url}/viewer.html?scene=lens&p=${encodeURIComponent('{"__proto__":{"polluted":"yes"}}')}`);
+    await until(polluting, () => window.caustic.connection === 'live' && !document.getElementById('warnings').hidden, 30,
+                'the refusal of a "__proto__" link on the page');
+    assert.equal(await polluting.evaluate(() => ({}).polluted), undefined);
+    assert.match(await polluting.textContent('#warnings'), /link's settings were refused: .*__proto__/);
     await context.close();
   });
 });
@@ -146,6 +155,18 @@ test('loading shows its steps with their times, and a codec switch and a reconne
     await page.evaluate(() => window.caustic.dropSignalling());
     await until(page, (n) => window.caustic.connection === 'live' && window.caustic.framesShown > n + 5, 30,
                 'live again', shown);
+    // The codec changed twice at once: one session, the last one's, stays
+    // (the first change's session once stayed open beside it, using up the
+    // address's two).
+    const codec = page.locator('.lil-gui .lil-controller', { hasText: 'codec' }).locator('select');
+    await codec.selectOption('vp8');
+    await codec.selectOption('h264');
+    await until(page, () => window.caustic.connection === 'live' && window.caustic.session?.codec === 'h264', 30,
+                'live in H.264 after two changes');
+    await page.waitForTimeout(3000);  // a session overtaken on its way would be in by now
+    const metrics = await (await fetch(`${server.url}/metrics`)).text();
+    assert.match(metrics, /^causticd_sessions 1$/m);
+    assert.equal(await page.evaluate(() => window.caustic.connection), 'live');
     assert.deepEqual(problems, []);
     await page.close();
   });

@@ -46,13 +46,17 @@ export async function postDrop(session, drop) {
   return { ok: response.ok, status: response.status, body };
 }
 
+// Merges `patch` into `target` as a merge patch would. Every key becomes an
+// own property, "__proto__" included (JSON.parse makes it one, and a plain
+// assignment would set the target's prototype instead: a shared link's
+// {"__proto__": ...} reached Object.prototype); the server then refuses the
+// key by name. Only own values are merged into, never inherited ones.
 function merge(target, patch) {
   for (const [key, value] of Object.entries(patch)) {
-    if (value && typeof value === 'object' && !Array.isArray(value)) {
-      target[key] = merge(target[key] && typeof target[key] === 'object' ? target[key] : {}, value);
-    } else {
-      target[key] = value;
-    }
+    const own = Object.hasOwn(target, key) ? target[key] : undefined;
+    const merged = value && typeof value === 'object' && !Array.isArray(value)
+      ? merge(own && typeof own === 'object' ? own : {}, value) : value;
+    Object.defineProperty(target, key, { value: merged, enumerable: true, writable: true, configurable: true });
   }
   return target;
 }
@@ -66,11 +70,20 @@ export class ParamChannel {
     this.inFlight = false;
     this.onApplied = onApplied;
     this.onError = onError;
+    this.closed = false;
   }
 
   set(patch) {
+    if (this.closed) return;
     this.pending = merge(this.pending ?? {}, patch);
     if (!this.inFlight) this.flush();
+  }
+
+  // The session is gone: nothing more is sent, and answers still on their
+  // way are not reported (they would speak of the old session).
+  close() {
+    this.closed = true;
+    this.pending = null;
   }
 
   async flush() {
@@ -86,10 +99,11 @@ export class ParamChannel {
           body: JSON.stringify(patch),
         });
         const body = await response.json();
+        if (this.closed) return;
         if (response.ok) this.onApplied(body, sentAt);
         else this.onError(body);
       } catch (error) {
-        this.onError({ detail: error.message });
+        if (!this.closed) this.onError({ detail: error.message });
       } finally {
         this.inFlight = false;
       }

@@ -3,7 +3,7 @@
 // window.caustic beside the state the page keeps: each hook takes the same
 // path as the control it stands for, so a test of the hook tests the page.
 // `parts` returns the viewer's current room, controls, parameter channel,
-// stream and session (they change on reconnect).
+// stream and session (they change on reconnect), and its loading steps.
 export function installTestHooks(state, parts) {
   // A light drag: the marker moves, the light follows it.
   state.moveLight = (dx, dy, dz) => {
@@ -71,6 +71,13 @@ export function installTestHooks(state, parts) {
       return s && { id: s.id, codec: s.codec };
     },
   });
+  // The stream's peer connection (its statistics, its descriptions).
+  Object.defineProperty(state, 'peer', { get: () => parts().stream?.pc });
+  // The loading steps: those under way, else the last load's.
+  state.loading = () => {
+    const { loading } = parts();
+    return loading.timer ? loading.summary() : loading.last ?? [];
+  };
   // Closes the signalling socket as a network failure would.
   state.dropSignalling = () => parts().stream?.socket.close();
   // Hangs the peer connection up first, the socket left open: the server

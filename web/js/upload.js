@@ -59,6 +59,9 @@ export function uploadCard(codecOf) {
       bar.hidden = true;
     } finally {
       file.disabled = false;
+      // Emptied, so that picking the same file again (after a refusal, say
+      // a full queue) is a change and tries again.
+      file.value = '';
     }
   });
   return card;

@@ -10,7 +10,7 @@ import { retryAfter } from './retry.js';
 import { FrameRate, Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
 import { changedParams, sharedParams, sharedView, writeAddress } from './share.js';
-import { fidelityText, showStats } from './stats_overlay.js';
+import { showStats } from './stats_overlay.js';
 import { Stream } from './stream.js';
 import { installTestHooks } from './test_hooks.js';
 import { PoolWater } from './water.js';
@@ -33,7 +33,6 @@ const state = {
   sync: false, poses: new Map(), sentAt: new Map(), shownLog: [], latencies: [], framesShown: 0, shownLevel: 0,
 };
 window.caustic = state;
-state.loading = () => (loading.timer ? loading.summary() : loading.last ?? []);
 // The room's quality: ?quality=high|low, else low on software WebGL, and
 // high until the page draws fewer than 30 frames a second.
 const forcedQuality = Object.values(Quality).includes(query.get('quality')) ? query.get('quality') : null;
@@ -43,6 +42,8 @@ const frameRate = new FrameRate();
 let shared = sharedParams(query);
 
 let session = null, stream = null, channel = null, room = null, controls = null, retry = 0;
+// Which connect() counts: each call, and each retry, makes the earlier ones stale.
+let attempts = 0, cancelRetry = null;
 let panel = null, panelParams = null, water = null;  // lil-gui and the object its controllers edit; the pool's water
 const panelColour = { glass: 'none' };  // object.glass as the panel's dropdown shows it
 
@@ -124,12 +125,18 @@ function onFrameVersion(version, now, level, surface) {
   if (pose) room?.placeSurfaces(pose.surfaces, pose.atlas);
 }
 
+// Starts a session and its stream. Only the latest call counts: one that
+// a newer call (a codec changed twice, a retry) overtook while the server
+// made its session gives that session back at once.
 async function connect() {
+  const attempt = ++attempts;
   setConnection(retry ? 'reconnecting' : 'connecting');
   loading.begin('session');
+  let mine;
   try {
-    session = await createSession(sceneId, state.codec, home);
+    mine = await createSession(sceneId, state.codec, home);
   } catch (error) {
+    if (attempt !== attempts) return;
     if (error instanceof Refused) {
       // Permanent: say what to do instead of asking again forever.
       setConnection('error', `${error.message}. Pick a scene in the gallery.`);
@@ -140,6 +147,25 @@ async function connect() {
     setConnection(error instanceof ServerFull ? 'full' : 'reconnecting', why);
     return scheduleRetry(why);
   }
+  if (attempt !== attempts) return void deleteSession(mine);
+  session = mine;
+  try {
+    await start(attempt);
+  } catch (error) {
+    // The page itself failed (the scene's proxy, the room): asking the
+    // server again would fail alike, so the session goes back and the page
+    // says why.
+    if (attempt !== attempts) return;
+    console.error(error);
+    setConnection('error', `the page could not show this scene: ${error.message}`);
+    deleteSession(mine);
+    session = null;
+  }
+}
+
+// The room (the first time), the parameter channel and the stream for the
+// session just made.
+async function start(attempt) {
   const firstTime = !room;
   if (firstTime) {
     loading.begin('room');
@@ -149,6 +175,7 @@ async function connect() {
     const { proxy, receiver_meshes: shapes } =
       await (await fetch(`${home}/api/v1/scenes/${encodeURIComponent(sceneId)}`)).json();
     state.glasses = await glasses;
+    if (attempt !== attempts) return;  // given back by the retry that overtook it
     room = new CausticRoom(document.getElementById('stage'), video, proxy, firstQuality, shapes);
     state.quality = room.quality;
     controls = new ControlModes(room, {
@@ -187,8 +214,9 @@ async function connect() {
     room.render();
   }
   loading.begin('connecting');
-  stream = new Stream(session, video, {
+  const own = stream = new Stream(session, video, {
     onState: (s, reason) => {
+      if (stream !== own) return;  // a stream already replaced
       if (s === 'live') {
         retry = 0;
         setConnection('live');
@@ -200,10 +228,11 @@ async function connect() {
     codec: state.codec.toUpperCase(),
   });
   stream.start();
-  state.peer = stream.pc;
 }
 
-// Tries again after a backoff, counting the seconds down on the page.
+// Tries again after a backoff, counting the seconds down on the page. The
+// session, its stream and its channel end here; a retry already waiting,
+// or a connect() still asking the server, gives way to this one.
 function scheduleRetry(why = '') {
   // A closed signalling socket ends the session on the server already: a
   // DELETE would only be refused. Otherwise the DELETE goes first: closing
@@ -212,8 +241,14 @@ function scheduleRetry(why = '') {
   oldStream?.mute();
   const release = old && !oldStream?.socketClosed ? deleteSession(old) : Promise.resolve();
   release.finally(() => oldStream?.close());
+  channel?.close();
   session = null;
-  retryAfter(retry++, (left) => { if (why) setConnection(state.connection, `${why}; retrying in ${left} s`); }, connect);
+  stream = null;
+  attempts += 1;
+  cancelRetry?.();
+  cancelRetry = retryAfter(retry++, (left) => {
+    if (why) setConnection(state.connection, `${why}; retrying in ${left} s`);
+  }, connect);
 }
 
 // A refused patch: the settings of a shared link are said to be refused
@@ -324,7 +359,6 @@ function buildGui() {
   view.add({ stats: false }, 'stats').name('stats overlay').onChange((on) => { statsPanel.hidden = !on; });
 }
 
-state.fidelityText = () => fidelityText(state.fidelity);
 showStats(statsPanel, () => stream?.pc, state);
 
 // Help (?) and fullscreen (F): buttons for pointers and touch, keys for keyboards.
@@ -342,7 +376,7 @@ window.addEventListener('keydown', (e) => {
   if (e.key === 'f' || e.key === 'F') toggleFullscreen();
 });
 
-installTestHooks(state, () => ({ room, controls, channel, stream, session, resetScene, water }));
+installTestHooks(state, () => ({ room, controls, channel, stream, session, resetScene, water, loading }));
 
 window.addEventListener('pagehide', () => { if (session) deleteSession(session); });
 

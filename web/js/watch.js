@@ -16,6 +16,7 @@ import { retryAfter } from './retry.js';
 import { FrameRate, Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
 import { ShownWater } from './water.js';
+import { installWatchTestHooks } from './watch_test_hooks.js';
 
 const link = new URLSearchParams(location.hash.slice(1));
 const stateLabel = document.getElementById('state');
@@ -86,7 +87,6 @@ function surfaces(params) {
   }
   return { params: { ...params, receivers: set.map((r) => r.surface) }, atlas: [params.tile, ...set.map((r) => r.tile)] };
 }
-state.receivers = () => receivers.shown?.length ?? 0;
 
 let room = null, orbit = null, water = null, waited = 0;
 async function placeRoom(params, version) {
@@ -187,8 +187,6 @@ class FrameMessages {
   }
 }
 const frames = new FrameMessages(video, (message) => water?.show(message.water));
-state.framesPaired = () => frames.paired;
-state.waterHeights = () => water?.surface.drawnHeights() ?? null;
 
 const broadcast = {
   url: new URL(link.get('janus') ?? '', location.href).href.replace(/^http/, 'ws'),
@@ -198,8 +196,6 @@ const broadcast = {
 };
 let stream = null;
 let retry = 0;
-state.peer = () => stream?.pc;
-state.room = () => room;
 if ('requestVideoFrameCallback' in video) {
   video.requestVideoFrameCallback((now) => { state.firstFrameAt = now; });
 }
@@ -224,7 +220,6 @@ function watch() {
     onReceiver: takeReceiver,
     onFrame: (message) => { if (!flat && message.water) frames.add(message); },  // a pool's
   });
-  state.stream = stream;
   stream.start().catch((error) => {
     if (stream !== mine || mine.closed) return;  // lost already, and being tried again
     mine.close();
@@ -250,3 +245,5 @@ function frame(now) {
   room.render();
 }
 requestAnimationFrame(frame);
+
+installWatchTestHooks(state, () => ({ room, stream, water, receivers, frames }));

@@ -1,0 +1,18 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// What scripts (the browser tests) may read of a broadcast viewer's page,
+// on window.caustic beside the state the page keeps. `parts` returns the
+// page's current room, stream, water, receivers and paired frames (the
+// stream changes when the page connects again); the stream itself, which
+// holds the link's token and pin, is never handed out.
+export function installWatchTestHooks(state, parts) {
+  // How many receivers the room shows.
+  state.receivers = () => parts().receivers.shown?.length ?? 0;
+  // Frames whose data message met their picture.
+  state.framesPaired = () => parts().frames.paired;
+  // The water's heights as drawn (metres), or null without water.
+  state.waterHeights = () => parts().water?.surface.drawnHeights() ?? null;
+  // The stream's peer connection (its statistics).
+  state.peer = () => parts().stream?.pc;
+  // The room (null until the scene's description came).
+  state.room = () => parts().room;
+}
