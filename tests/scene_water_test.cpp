@@ -83,6 +83,45 @@ TEST(SceneWater, BadValuesAreNamed) {
   expect_rejected(section, "water");
 }
 
+TEST(SceneWater, WaterThatWouldCostTooMuchWorkIsRefused) {
+  // A 10 us step on the finest grid once asked 85 s of solver work for
+  // each frame of a stream, and a minute of its warm-up hours before the
+  // first: grid² / step cell updates a second are bounded (2^26), and the
+  // warm-up's (2^29).
+  json fine = pool_with("grid", 512);
+  fine["water"]["time_step"] = 1e-5;
+  try {
+    scene_from_json(fine, ".");
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), "water.time_step");
+    EXPECT_NE(std::string(e.what()).find("cell updates"), std::string::npos) << e.what();
+  }
+  // The finest grid at its own step streams; a minute of warm-up there is
+  // refused, with the longest it may have.
+  json finest = pool_with("grid", 512);
+  EXPECT_NO_THROW(scene_from_json(finest, "."));
+  finest["water"]["warmup_s"] = 60;
+  try {
+    scene_from_json(finest, ".");
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), "water.warmup_s");
+    EXPECT_NE(std::string(e.what()).find("must be at most 11.3"), std::string::npos) << e.what();
+  }
+  finest["water"]["warmup_s"] = 11;
+  EXPECT_NO_THROW(scene_from_json(finest, "."));
+  // Fast waves on the finest grid: a step too short for the budget, named by the grid.
+  json fast = pool_with("grid", 512);
+  fast["water"]["wave_speed"] = 2.0;
+  try {
+    scene_from_json(fast, ".");
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), "water.grid");
+  }
+}
+
 TEST(SceneWater, ATimeStepBeyondTheBoundIsRefusedWithTheBound) {
   water::WaveParams p;
   const double bound = water::max_time_step(p);

@@ -45,20 +45,28 @@ int frame_wavelengths(const Scene& scene, bool preview, bool still) {
 // wavelengths of its still frame. 2048² rays at 32 wavelengths would take a
 // software renderer about 90 s a frame (docs/performance.md's multipass
 // figures), hold the session's render thread and, past stall_timeout_s,
-// the whole server's watchdog. Counted from what is
-// public (the grid sizes), never from the loaded mesh (an operator's
-// choice, and a secret).
+// the whole server's watchdog. A curved receiver (a lathe, a shape) costs
+// each ray a search of its triangles, about 1.6 rays' work (7 lathes took
+// a 512² frame at 32 wavelengths from 5 to 65 s): it counts as 2. Counted
+// from what is public (the grid sizes, the receivers), never from the
+// loaded mesh (an operator's choice, and a secret).
 void check_frame_cost(const Scene& s) {
   const std::uint64_t k = static_cast<std::uint64_t>(std::max(1, frame_wavelengths(s, false, true)));
   const bool solid = s.object.shape == Shape::solid;
   const bool grid_level = s.render.fidelity == Fidelity::manual && s.render.mesh_resolution > 0;
   if (!solid && !grid_level) return;
+  std::uint64_t curved = 0;
+  for (const ScreenParams& r : s.receivers) curved += r.lathe || r.shaped ? 1 : 0;
   const std::uint64_t side = static_cast<std::uint64_t>(solid ? s.render.light_grid : s.render.mesh_resolution);
-  if (side * side * k <= kMaxFrameRays) return;
+  if (side * side * k * (1 + 2 * curved) <= kMaxFrameRays) return;
   throw SceneError(solid ? "render.light_grid" : "render.mesh_resolution",
                    std::to_string(side) + "² rays at " + std::to_string(k) +
-                       (k == 1 ? " wavelength" : " wavelengths (the still frame's)") + " are more than a frame may trace (" +
-                       std::to_string(kMaxFrameRays) + "); lower it, or render.wavelengths and still_wavelengths");
+                       (k == 1 ? " wavelength" : " wavelengths (the still frame's)") +
+                       (curved ? ", each landing on " + std::to_string(curved) + " curved receiver" +
+                                     (curved == 1 ? "" : "s") + " (2 rays' work each),"
+                               : "") +
+                       " are more than a frame may trace (" + std::to_string(kMaxFrameRays) +
+                       "); lower it, or render.wavelengths and still_wavelengths");
 }
 
 std::vector<SpectralPass> spectral_passes(const Scene& scene, int count) {

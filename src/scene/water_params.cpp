@@ -14,8 +14,18 @@ namespace {
 // loop without end.
 constexpr double kMaxRainRate = 200.0;
 // Warming up is simulated before the first frame, on the thread that loads
-// the scene: a minute of the finest grid is a few seconds of work.
+// the scene; a minute at most, and at most kMaxWarmupUpdates of work.
 constexpr double kMaxWarmup = 60.0;
+// What the solver may be asked, in cell updates (grid² a step), whatever
+// the step: a simulated second, which a stream owes every second of its
+// life (a frame at most Pool::kMaxAdvance of it), and the warm-up, which
+// holds the thread that loads the scene. A cell update cost 7-13 ns on the
+// 2-core machine of docs/performance.md: 2^26 a second is the finest grid
+// at the step its default waves need (512², 1/180 s: 4.7e7) with room to
+// spare, 2^29 about five seconds of warm-up. A 10 us step on that grid
+// once asked 85 s of work for each frame a stream drew.
+constexpr double kMaxUpdatesPerSecond = double(1 << 26);
+constexpr double kMaxWarmupUpdates = double(1 << 29);
 
 std::string text(double v) {
   std::ostringstream s;
@@ -79,6 +89,15 @@ void validate(const WaveParams& p) {
               text(8 * spacing(p)) + " m)");
   require(std::isfinite(p.warmup_s) && p.warmup_s >= 0 && p.warmup_s <= kMaxWarmup, "water.warmup_s",
           "must be 0 to " + text(kMaxWarmup) + " seconds");
+  const double per_second = double(p.grid) * p.grid / step_seconds(p);
+  require(per_second <= kMaxUpdatesPerSecond, p.time_step > 0 ? "water.time_step" : "water.grid",
+          "a second of this water is " + text(per_second) + " cell updates (grid² / step), more than " +
+              text(kMaxUpdatesPerSecond) + ": " +
+              (p.time_step > 0 ? "lengthen the step or coarsen the grid" : "coarsen the grid or slow the waves"));
+  require(p.warmup_s * per_second <= kMaxWarmupUpdates, "water.warmup_s",
+          "must be at most " + text(kMaxWarmupUpdates / per_second) + " s for this grid and step (" +
+              text(per_second) + " cell updates a second, " + text(kMaxWarmupUpdates) +
+              " at most before the first frame)");
 }
 
 void check_drop(const WaveParams& p, double x, double y, double strength, double radius) {
