@@ -40,6 +40,7 @@
 #include "caustic/gst/causticsrc.hpp"
 
 #include "caustic/gst/frame_meta.hpp"
+#include "caustic/height_field.hpp"
 #include "causticsrc_state.hpp"
 
 using caustic::gst::State;
@@ -164,7 +165,7 @@ static gboolean gst_caustic_src_start(GstBaseSrc* src) {
     auto meshes = std::make_shared<caustic::MeshLevels>();
     // Water is warmed up once: its pool's first surface is the mesh.
     if (scene.water) s.pool = std::make_shared<caustic::water::Pool>(*scene.water);
-    meshes->source = s.pool ? s.pool->mesh() : std::make_shared<const caustic::Mesh>(caustic::load_obj(scene.mesh_path()));
+    meshes->source = s.pool ? s.pool->mesh() : std::make_shared<const caustic::Mesh>(caustic::load_face(scene));
     // Only the mesh as loaded here: a scene naming a coarser level is refused.
     s.params = std::make_shared<caustic::ParamStore>(
         scene, [meshes](const caustic::Scene& candidate) { caustic::check_geometry(candidate, *meshes); });

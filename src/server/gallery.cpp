@@ -3,6 +3,7 @@
 
 #include "caustic/engine.hpp"
 #include "caustic/gl_context.hpp"
+#include "caustic/height_field.hpp"
 #include "caustic/image_io.hpp"
 #include "caustic/pool.hpp"
 #include "caustic/receiver_meshes.hpp"
@@ -70,7 +71,7 @@ std::shared_ptr<GalleryEntry> prepare_entry(const std::filesystem::path& file, c
     mesh = std::make_shared<const Mesh>(water::water_mesh(*warmed));
     entry->water = std::move(warmed);
   }
-  entry->mesh = mesh ? std::move(mesh) : std::make_shared<const Mesh>(load_obj(entry->scene.mesh_path()));
+  entry->mesh = mesh ? std::move(mesh) : std::make_shared<const Mesh>(load_face(entry->scene));
   entry->levels = std::make_shared<const MeshLevels>(
       build_mesh_levels(entry->mesh, entry->scene.object.flat_face_normal, coarser_resolutions(*entry->mesh, entry->scene)));
   // Calibrated as rendered: with the screen where following puts it.

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/pool.hpp"
 
+#include "caustic/height_field.hpp"
 #include "caustic/water_mesh.hpp"
 
 #include <algorithm>
@@ -57,7 +58,7 @@ WaveSolver warmed_up(const WaveParams& params) {
 }
 
 Mesh load_scene_mesh(const Scene& scene) {
-  return scene.water ? water_mesh(warmed_up(*scene.water)) : load_obj(scene.mesh_path());
+  return scene.water ? water_mesh(warmed_up(*scene.water)) : load_face(scene);
 }
 
 Pool::Pool(const WaveParams& params) : Pool(warmed_up(params)) {}
