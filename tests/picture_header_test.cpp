@@ -4,6 +4,8 @@
 #include "picture_header.hpp"
 
 #include "caustic/image_io.hpp"
+#include "caustic/jpeg_scans.hpp"
+#include "jpeg_support.hpp"
 
 #include <OpenImageIO/imageio.h>
 
@@ -17,20 +19,8 @@
 namespace caustic::server {
 namespace {
 
-std::string jpeg_bytes(int w, int h, bool progressive) {
-  gchar* dir = g_dir_make_tmp("causticd-jpeg-XXXXXX", nullptr);
-  const std::string file = std::string(dir) + "/p.jpg";
-  g_free(dir);
-  auto out = OIIO::ImageOutput::create(file);
-  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
-  if (progressive) spec.attribute("jpeg:progressive", 1);
-  std::vector<unsigned char> pixels(std::size_t(w) * h * 3, 128);
-  EXPECT_TRUE(out->open(file, spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) && out->close());
-  std::ifstream in(file, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::filesystem::remove_all(std::filesystem::path(file).parent_path());
-  return bytes;
-}
+using caustic::testing::jpeg_bytes;
+using caustic::testing::with_last_scan_repeated;
 
 PictureHeader sniff(const std::string& bytes) {
   return read_picture_header(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size());
@@ -90,6 +80,24 @@ TEST(PictureHeader, APictureCutShortIsSeenFromItsEnd) {
   for (const std::size_t keep : {std::size_t{0}, std::size_t{2}, jpeg.size() / 2, jpeg.size() - 1})
     EXPECT_FALSE(complete(jpeg.substr(0, keep), PictureHeader::Format::jpeg)) << keep;
   EXPECT_FALSE(complete(png, PictureHeader::Format::unknown));
+}
+
+TEST(JpegScans, AreCountedThroughSegmentsAndEntropyCodedData) {
+  const auto count = [](const std::string& bytes, std::size_t limit = kMaxJpegScans) {
+    return jpeg_scans(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), limit);
+  };
+  EXPECT_EQ(count(jpeg_bytes(64, 48, false)), 1u);
+  const std::string progressive = jpeg_bytes(64, 48, true);
+  const std::size_t scans = count(progressive);
+  EXPECT_GT(scans, 1u);
+  EXPECT_LE(scans, 16u);
+  // Its last scan again 100 times: past the limit, and the walk stops there.
+  const std::string bomb = with_last_scan_repeated(progressive, 100);
+  EXPECT_EQ(count(bomb), kMaxJpegScans + 1);
+  EXPECT_EQ(count(bomb, 1000), scans + 100);
+  // Cut anywhere, or not a JPEG: counted as far as it goes, never past the end.
+  for (std::size_t cut = 0; cut < progressive.size(); cut += 7) EXPECT_LE(count(progressive.substr(0, cut)), scans);
+  EXPECT_EQ(count("not a jpeg at all"), 0u);
 }
 
 }  // namespace

@@ -48,6 +48,33 @@ TEST_F(DesignApi, DesignsSurviveARestartExpireUnlessKeptAndTheirOwnerMayDeleteTh
   EXPECT_FALSE(fs::exists(state.path / "designs" / plain));
 }
 
+TEST_F(DesignApi, ADesignDeletedWhileItIsDesignedStaysDeletedAfterAKill) {
+  // Deleted while a worker ran it, the design kept its folder until the
+  // worker ended; a server killed before then designed it again at its
+  // next start, the visitor's picture with it. Bounded: a minute's wait.
+  TempDir state;
+  std::string id;
+  {
+    ServerProcess server({"--set", "state_dir=" + state.path.string(), "--set", "design_resolution=1024"});
+    const json ticket = upload(server, square_png(1024)).json();
+    id = ticket.value("id", "");
+    ASSERT_FALSE(id.empty()) << ticket.dump();
+    const std::string url = server.url() + "/api/v1/designs/" + id;
+    bool designing = false;
+    for (int i = 0; i < 600 && !designing; ++i) {
+      designing = http("GET", url).json().value("state", "") == "designing";
+      if (!designing) g_usleep(100000);
+    }
+    ASSERT_TRUE(designing);
+    EXPECT_EQ(http("DELETE", url, "", "", bearer_token(ticket["token"])).status, 204u);
+    server.signal(SIGKILL);
+    EXPECT_EQ(server.wait_exit(10000), -1);  // killed: no exit status
+  }
+  ServerProcess server(small_designs(state));
+  expect_problem(http("GET", server.url() + "/api/v1/designs/" + id), 404);
+  EXPECT_FALSE(fs::exists(state.path / "designs" / id));
+}
+
 TEST_F(DesignApi, OneDesignsBrokenFilesSkipThatDesignAlone) {
   TempDir state;
   const std::string good = stored_design(state);

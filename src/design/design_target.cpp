@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/design_target.hpp"
 
+#include "caustic/jpeg_scans.hpp"
+
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
 
@@ -73,6 +76,43 @@ void check_gif_screen(const std::filesystem::path& file, const std::string& name
   if (too_large(width, height)) throw TargetError(size_error(name, width, height));
 }
 
+// A JPEG's scans, counted before its decoder sees it (caustic/jpeg_scans.hpp:
+// each scan redoes the decoder's work, and 140,000 held a core for 40 min).
+void check_jpeg_scans(const std::filesystem::path& file, const std::string& name) {
+  std::ifstream in(file, std::ios::binary);
+  std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (bytes.size() < 3 || bytes[0] != 0xff || bytes[1] != 0xd8 || bytes[2] != 0xff) return;
+  if (jpeg_scans(bytes.data(), bytes.size()) > kMaxJpegScans)
+    throw TargetError(name + ": the JPEG holds more than " + std::to_string(kMaxJpegScans) + " scans");
+}
+
+// The picture as it is meant to be seen: a camera that was held on its side
+// stores its rows as the sensor read them and says in EXIF's Orientation
+// (1-8) how to turn them; a phone's portrait was designed lying down.
+RgbHdrImage upright(const RgbHdrImage& stored, int orientation) {
+  if (orientation < 2 || orientation > 8) return stored;
+  const int w = stored.width, h = stored.height;
+  const bool turned = orientation >= 5;  // 5-8 swap the sides
+  RgbHdrImage out{turned ? h : w, turned ? w : h, std::vector<float>(stored.pixels.size())};
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      int sx = x, sy = y;  // the stored pixel shown at (x, y), rows from the top
+      switch (orientation) {
+        case 2: sx = w - 1 - x; break;                      // mirrored
+        case 3: sx = w - 1 - x, sy = h - 1 - y; break;      // upside down
+        case 4: sy = h - 1 - y; break;                      // mirrored upside down
+        case 5: sx = y, sy = x; break;                      // transposed
+        case 6: sx = y, sy = h - 1 - x; break;              // to be turned a quarter clockwise
+        case 7: sx = w - 1 - y, sy = h - 1 - x; break;      // transversed
+        case 8: sx = w - 1 - y, sy = x; break;              // to be turned a quarter anticlockwise
+      }
+      for (int k = 0; k < 3; ++k)
+        out.pixels[3 * (static_cast<std::size_t>(y) * out.width + x) + k] =
+            stored.pixels[3 * (static_cast<std::size_t>(sy) * w + sx) + k];
+    }
+  return out;
+}
+
 }  // namespace
 
 RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
@@ -84,6 +124,7 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   if (std::filesystem::file_size(file, ec) > kMaxTargetFileBytes || ec)
     throw TargetError(name + ": is larger than " + std::to_string(kMaxTargetFileBytes >> 20) + " MiB");
   check_gif_screen(file, name);
+  check_jpeg_scans(file, name);
   std::unique_ptr<OIIO::ImageInput> in;
   try {
     in = OIIO::ImageInput::open(name);
@@ -94,11 +135,16 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw TargetError(name + ": the picture is empty");
+  // A volume's slices would all be read into a buffer sized for one.
+  if (spec.depth > 1) throw TargetError(name + ": is a volume of " + std::to_string(spec.depth) + " slices, not a picture");
   if (too_large(spec.width, spec.height)) throw TargetError(size_error(name, spec.width, spec.height));
-  const int channels = spec.nchannels;
-  std::vector<float> raw(static_cast<std::size_t>(spec.width) * spec.height * channels);
+  // R, G, B and alpha at the most: what lies beyond is never used, and a
+  // file of a few kilobytes may declare hundreds of channels.
+  const int channels = std::min(spec.nchannels, 4);
+  std::vector<float> raw;
   bool read = false;
   try {
+    raw.resize(static_cast<std::size_t>(spec.width) * spec.height * channels);
     read = in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, raw.data());
   } catch (const std::exception& e) {
     throw TargetError(name + ": cannot decode the picture (" + e.what() + ")");
@@ -119,7 +165,7 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
     }
     for (int k = 0; k < 3; ++k) out.pixels[3 * p + k] = static_cast<float>(rgb[k]);
   }
-  return out;
+  return upright(out, spec.get_int_attribute("Orientation", 1));
 }
 
 Image load_target(const std::filesystem::path& file) { return luminance(load_target_rgb(file)); }

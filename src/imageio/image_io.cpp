@@ -4,6 +4,9 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <memory>
+#include <string>
+
 namespace caustic {
 namespace {
 
@@ -73,9 +76,25 @@ std::vector<unsigned char> encode_exr(const RgbHdrImage& image) {
   return encode("exr", spec, image.pixels.data(), OIIO::TypeDesc::FLOAT, OIIO::AutoStride);
 }
 
-HdrImage read_hdr_image(const std::filesystem::path& file) {
+namespace {
+
+// A picture OpenImageIO opened, refused unless it is one flat picture: a
+// volume's slices would all be read into a buffer sized for one.
+std::unique_ptr<OIIO::ImageInput> open_picture(const std::filesystem::path& file) {
   auto in = OIIO::ImageInput::open(file.string());
   if (!in) throw ImageIoError("cannot read " + file.string() + ": " + OIIO::geterror());
+  const auto& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1)
+    throw ImageIoError("cannot read " + file.string() + ": not one flat picture (" + std::to_string(spec.width) + "x" +
+                       std::to_string(spec.height) + "x" + std::to_string(spec.depth) + ", " +
+                       std::to_string(spec.nchannels) + " channels)");
+  return in;
+}
+
+}  // namespace
+
+HdrImage read_hdr_image(const std::filesystem::path& file) {
+  auto in = open_picture(file);
   const auto& spec = in->spec();
   HdrImage img{spec.width, spec.height, std::vector<float>(static_cast<std::size_t>(spec.width) * spec.height)};
   if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, img.pixels.data()))
@@ -84,8 +103,7 @@ HdrImage read_hdr_image(const std::filesystem::path& file) {
 }
 
 RgbHdrImage read_rgb_image(const std::filesystem::path& file) {
-  auto in = OIIO::ImageInput::open(file.string());
-  if (!in) throw ImageIoError("cannot read " + file.string() + ": " + OIIO::geterror());
+  auto in = open_picture(file);
   const auto& spec = in->spec();
   const std::size_t n = static_cast<std::size_t>(spec.width) * spec.height;
   RgbHdrImage img{spec.width, spec.height, std::vector<float>(3 * n)};

@@ -7,6 +7,7 @@
 #include "picture_header.hpp"
 #include "server_state.hpp"
 
+#include "caustic/jpeg_scans.hpp"
 #include "caustic/json_text.hpp"
 
 #include <algorithm>
@@ -137,10 +138,16 @@ void upload(ServerState& s, SoupServerMessage* msg) {
   if (!picture_complete(bytes, size, header.format))
     return refuse(s, msg, SOUP_STATUS_UNSUPPORTED_MEDIA_TYPE,
                   std::string("the body is not a whole ") + media_type(declared) + ": it ends before the picture does");
+  // Each scan of a progressive JPEG is decoded anew: a few thousand held a
+  // worker, and the queue behind it, for minutes (caustic/jpeg_scans.hpp).
+  if (header.format == PictureHeader::Format::jpeg && jpeg_scans(bytes, size) > kMaxJpegScans)
+    return refuse(s, msg, SOUP_STATUS_UNPROCESSABLE_ENTITY,
+                  "the JPEG holds more than " + std::to_string(kMaxJpegScans) + " scans; save it as a baseline JPEG");
   // Charged only for a picture that would be designed: the designs are
   // what costs (refusals are cheap, and the general rate limit covers them).
   int retry = 1;
-  if (!s.design_rate.admit(client_address(msg, s.config.trusted_proxies), s.config.design_uploads_per_hour / 3600.0,
+  const std::string address = client_address(msg, s.config.trusted_proxies);
+  if (!s.design_rate.admit(address, s.config.design_uploads_per_hour / 3600.0,
                            upload_burst(s.config.design_uploads_per_hour), &retry)) {
     ++s.metrics.rate_limited;
     soup_message_headers_replace(response, "Retry-After", std::to_string(retry).c_str());
@@ -152,6 +159,7 @@ void upload(ServerState& s, SoupServerMessage* msg) {
   try {
     ticket = s.designs->submit(std::vector<unsigned char>(bytes, bytes + size), extension(header.format), name, colour);
   } catch (const DesignRefusal& e) {
+    s.design_rate.refund(address);  // nothing will be designed: the upload of the hour is given back
     soup_message_headers_replace(response, "Retry-After", "30");
     return refuse(s, msg, e.status, e.what());
   }

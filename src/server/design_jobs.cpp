@@ -2,6 +2,7 @@
 #include "design_jobs.hpp"
 
 #include "design_files.hpp"
+#include "design_job.hpp"
 
 #include "caustic/engine.hpp"
 #include "caustic/gl_context.hpp"
@@ -13,7 +14,6 @@
 #include <algorithm>
 #include <chrono>
 #include <fstream>
-#include <regex>
 #include <sstream>
 
 #include <sys/resource.h>
@@ -22,31 +22,11 @@
 namespace caustic::server {
 namespace fs = std::filesystem;
 
-struct DesignJobs::Job {
-  enum class State { restoring, queued, designing, ready, failed };
-  std::string id, token, name, extension;
-  bool colour = false;  ///< designed in colour (a tinted face)
-  std::int64_t created = 0;
-  fs::path folder;
-  State state = State::queued;
-  double progress = 0;
-  std::string stage, error;
-  nlohmann::json report;  ///< the public figures only
-  // Ready: what answers need without the scene in memory, and the scene
-  // while a session or the recent list holds it.
-  std::vector<unsigned char> thumbnail;
-  nlohmann::json info;
-  std::weak_ptr<const GalleryEntry> held;
-  bool loading = false;  ///< queued to be read back from its folder
-};
 
 namespace {
 
 struct Stopping {};
 
-std::int64_t unix_now() {
-  return std::chrono::duration_cast<std::chrono::seconds>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
 
 const char* state_name(int s) {
   static const char* const names[] = {"restoring", "queued", "designing", "ready", "failed"};
@@ -59,36 +39,7 @@ DesignJobs::DesignJobs(DesignSettings settings, DesignBackend backend)
     : settings_(std::move(settings)), backend_(std::move(backend)) {
   fs::create_directories(settings_.folder);
   fs::permissions(settings_.folder, fs::perms::owner_all, fs::perm_options::replace);
-  static const std::regex id_pattern("[0-9a-f]{32}");
-  std::vector<std::shared_ptr<Job>> found;
-  // One design's broken files skip that design, never the others: each is
-  // read in a try of its own, and a link that loops is only a name.
-  for (const auto& dir : fs::directory_iterator(settings_.folder)) {
-    const std::string id = dir.path().filename().string();
-    std::error_code ec;
-    if (!std::regex_match(id, id_pattern) || !dir.is_directory(ec)) continue;
-    auto job = std::make_shared<Job>();
-    job->id = id;
-    job->folder = dir.path();
-    try {
-      const auto meta = parse_json_text(read_text(dir.path() / "meta.json"));
-      if (!meta || !meta->is_object()) throw std::runtime_error("meta.json is not a JSON object");
-      job->token = meta->at("token").get<std::string>();
-      job->name = meta->at("name").get<std::string>();
-      job->extension = meta->at("extension").get<std::string>();
-      job->created = meta->at("created").get<std::int64_t>();
-      job->colour = meta->value("colour", false);  // absent in designs stored before colour existed
-      if (job->extension != ".png" && job->extension != ".jpg") throw std::runtime_error("meta.json: bad extension");
-      // An upload's time on this server's clock: far beyond it, the expiry's sum overflowed and removed it.
-      if (job->created < 0 || job->created > unix_now() + 24 * 3600)
-        throw std::runtime_error("meta.json: \"created\" is not a time this server gave");
-      if (!restore(*job)) continue;
-    } catch (const std::exception& e) {
-      log(Level::warning, "design " + id + " skipped: " + e.what());
-      continue;
-    }
-    found.push_back(job);
-  }
+  std::vector<std::shared_ptr<Job>> found = stored();
   // Oldest first: restored scenes, then the interrupted uploads in order.
   std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a->created < b->created; });
   for (const auto& job : found) {
@@ -100,36 +51,6 @@ DesignJobs::DesignJobs(DesignSettings settings, DesignBackend backend)
   for (int i = 0; i < std::max(1, settings_.workers); ++i) workers_.emplace_back([this] { work(); });
 }
 
-// A stored design's state from what its folder holds; false when it holds
-// nothing to go on with. Throws on files that do not read as they should.
-bool DesignJobs::restore(Job& job) {
-  const fs::path& dir = job.folder;
-  std::error_code ec;
-  if (fs::exists(dir / "error.txt", ec)) {
-    job.state = Job::State::failed;
-    // The visitor's words for the failure: short, or the generic ones.
-    job.error = read_text(dir / "error.txt", 4096);
-    if (job.error.empty()) job.error = "the server could not design this picture";
-  } else if (fs::exists(dir / "scene.json", ec) && fs::exists(dir / "report.json", ec)) {
-    job.state = Job::State::restoring;
-    // What answers need was kept beside the scene: ready at once, and the
-    // scene itself is read back only when a session asks for it.
-    const auto info = parse_json_text(read_text(dir / "info.json"));
-    auto thumbnail = read_text(dir / "thumbnail.png");
-    const auto report = parse_json_text(read_text(dir / "report.json"));
-    if (info && info->is_object() && report && report->is_object() && !thumbnail.empty()) {
-      job.state = Job::State::ready;
-      job.info = *info;
-      job.thumbnail.assign(thumbnail.begin(), thumbnail.end());
-      job.report = public_report(*report);
-    }
-  } else if (fs::exists(dir / ("picture" + job.extension), ec)) {
-    job.state = Job::State::queued;  // interrupted by a stop: design it again
-  } else {
-    return false;
-  }
-  return true;
-}
 
 DesignJobs::~DesignJobs() {
   {
@@ -217,7 +138,7 @@ nlohmann::json DesignJobs::describe(const std::string& id) const {
   }
   std::error_code ec;
   if (fs::exists(job.folder / "keep", ec)) out["expires"] = nullptr;
-  else out["expires"] = job.created + settings_.expiry_s;
+  else out["expires"] = expires_at(job);
   return out;
 }
 
@@ -263,22 +184,27 @@ bool DesignJobs::remove(const std::string& id, const std::string& token) {
   std::lock_guard lock(mutex_);
   const auto it = jobs_.find(id);
   if (it == jobs_.end() || token.empty() || !same_secret(token, it->second->token)) return false;
-  // A running job keeps its folder until it ends; it is then thrown away.
+  // A running job keeps its folder until it ends; it is then thrown away,
+  // and the mark says so to a start that comes first.
   auto job = it->second;
   jobs_.erase(it);
   std::erase(queue_, job);
-  if (job->state != Job::State::designing) {
-    std::error_code ec;
-    fs::remove_all(job->folder, ec);
-  }
+  std::error_code ec;
+  if (job->state != Job::State::designing) fs::remove_all(job->folder, ec);
+  else std::ofstream(job->folder / kRemovedMark).put('\n');
   return true;
+}
+
+std::int64_t DesignJobs::expires_at(const Job& job) const {
+  const std::int64_t kept = settings_.expiry_s;
+  return job.created + (job.state == Job::State::failed ? std::min(kept, kFailedKeptS) : kept);
 }
 
 void DesignJobs::expire_locked(std::int64_t now) {
   for (auto it = jobs_.begin(); it != jobs_.end();) {
     const Job& job = *it->second;
     std::error_code ec;
-    const bool old = job.created + settings_.expiry_s <= now;
+    const bool old = expires_at(job) <= now;
     const bool finished =
         job.state == Job::State::ready || job.state == Job::State::failed || job.state == Job::State::restoring;
     if (old && finished && !fs::exists(job.folder / "keep", ec)) {

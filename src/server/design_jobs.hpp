@@ -115,6 +115,10 @@ class DesignJobs {
   // A stored design's state from what its folder holds; false when it holds
   // nothing to go on with. Throws on files that do not read as they should.
   static bool restore(Job& job);
+  // Every design its folder holds (design_restore.cpp), read at the start.
+  std::vector<std::shared_ptr<Job>> stored() const;
+  // When `job` is thrown away (a failed one sooner), unless it is kept.
+  std::int64_t expires_at(const Job& job) const;
   void work();
   void run_job(const std::shared_ptr<Job>& job);
   void expire_locked(std::int64_t now);

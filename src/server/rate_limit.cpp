@@ -1,9 +1,15 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "rate_limit.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace caustic::server {
+
+void RateLimiter::refund(const std::string& address) {
+  if (auto it = buckets_.find(address); it != buckets_.end())
+    it->second.tokens = std::min(it->second.burst, it->second.tokens + 1.0);
+}
 
 bool RateLimiter::admit(const std::string& address, double rate, double burst, int* retry_after_s,
                         Clock::time_point now) {

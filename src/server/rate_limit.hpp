@@ -20,6 +20,10 @@ class RateLimiter {
   bool admit(const std::string& address, double rate, double burst, int* retry_after_s,
              Clock::time_point now = Clock::now());
 
+  /// Gives back the token admit() took from `address` for a request that
+  /// then did nothing (up to its bucket's burst).
+  void refund(const std::string& address);
+
  private:
   struct Bucket {
     double tokens;

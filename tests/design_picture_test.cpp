@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Pictures a designer is given as a camera or a hostile file writes them:
+// turned by their EXIF orientation, a volume where a picture should be,
+// channels beyond colour, and a progressive JPEG whose scans never end.
+#include "caustic/design_target.hpp"
+#include "jpeg_support.hpp"
+#include "refusal.hpp"
+
+#include <OpenImageIO/imageio.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+using namespace caustic;
+using namespace caustic::design;
+
+namespace {
+
+struct Folder {
+  std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("causticd_design_picture_" + std::to_string(::getpid()));
+  Folder() { std::filesystem::create_directories(path); }
+  ~Folder() { std::filesystem::remove_all(path); }
+  std::filesystem::path write(const std::string& name, const std::string& bytes) const {
+    std::ofstream(path / name, std::ios::binary) << bytes;
+    return path / name;
+  }
+};
+
+std::string refused(const std::filesystem::path& file) {
+  return caustic::testing::refusal<TargetError>([&] { load_target_rgb(file); });
+}
+
+// Mean of channel 0 over [x0, x1) x [y0, y1), rows from the top.
+double mean(const RgbHdrImage& image, int x0, int y0, int x1, int y1) {
+  double sum = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) sum += image.pixels[3 * (static_cast<std::size_t>(y) * image.width + x)];
+  return sum / ((x1 - x0) * (y1 - y0));
+}
+
+}  // namespace
+
+TEST(DesignPicture, ACameraPictureIsTurnedAsItsOrientationSays) {
+  // Stored 32 x 16, white in its top left 8 x 8 block, black elsewhere.
+  std::vector<unsigned char> pixels(32 * 16 * 3, 0);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x)
+      for (int c = 0; c < 3; ++c) pixels[(y * 32 + x) * 3 + c] = 255;
+  Folder folder;
+  // Where the white block is shown (x0, y0 of an 8 x 8 block; the sides swap for 5-8).
+  struct Case {
+    int orientation, x0, y0;
+  };
+  for (const Case c : {Case{1, 0, 0}, Case{2, 24, 0}, Case{3, 24, 8}, Case{4, 0, 8}, Case{5, 0, 0}, Case{6, 8, 0},
+                       Case{7, 8, 24}, Case{8, 0, 24}}) {
+    const auto file = folder.write("o.jpg", caustic::testing::jpeg_bytes(32, 16, false, c.orientation, pixels));
+    const RgbHdrImage shown = load_target_rgb(file);
+    const bool turned = c.orientation >= 5;
+    EXPECT_EQ(shown.width, turned ? 16 : 32) << c.orientation;
+    EXPECT_EQ(shown.height, turned ? 32 : 16) << c.orientation;
+    EXPECT_GT(mean(shown, c.x0 + 1, c.y0 + 1, c.x0 + 7, c.y0 + 7), 0.9) << "orientation " << c.orientation;
+    EXPECT_LT(mean(shown, 0, 0, shown.width, shown.height), 0.2) << "orientation " << c.orientation;
+  }
+}
+
+TEST(DesignPicture, AProgressiveJpegOfEndlessScansIsRefusedBeforeItsDecoder) {
+  // 140,000 copies of a 4096² picture's last scan held a core for about 40
+  // minutes; a hundred are enough to be refused, unread.
+  Folder folder;
+  const std::string progressive = caustic::testing::jpeg_bytes(64, 64, true);
+  EXPECT_EQ(refused(folder.write("p.jpg", progressive)), "accepted");
+  const std::string why = refused(folder.write("bomb.jpg", caustic::testing::with_last_scan_repeated(progressive, 100)));
+  EXPECT_NE(why.find("scans"), std::string::npos) << why;
+  // Named as another format, it is the same file.
+  EXPECT_NE(refused(folder.write("bomb.png", caustic::testing::with_last_scan_repeated(progressive, 100))).find("scans"),
+            std::string::npos);
+}
+
+TEST(DesignPicture, AVolumeIsRefusedAndChannelsBeyondColourAreNotRead) {
+  // A DDS volume texture, 8 x 8 x 8 RGBA: its slices were read into a
+  // buffer sized for one (the heap overran, the process aborted).
+  Folder folder;
+  std::string dds = "DDS ";
+  const auto u32 = [&](std::uint32_t v) {
+    for (int b = 0; b < 4; ++b) dds += static_cast<char>((v >> (8 * b)) & 0xff);
+  };
+  for (std::uint32_t v : {124u, 0x1u | 0x2u | 0x4u | 0x1000u | 0x800000u, 8u, 8u, 32u, 8u, 0u}) u32(v);
+  dds += std::string(44, '\0');
+  for (std::uint32_t v : {32u, 0x41u, 0u, 32u, 0x00ff0000u, 0x0000ff00u, 0x000000ffu, 0xff000000u}) u32(v);
+  for (std::uint32_t v : {0x1008u, 0x200000u, 0u, 0u, 0u}) u32(v);
+  dds += std::string(8 * 8 * 8 * 4, '\xff');
+  for (const char* name : {"v.dds", "v.png"}) {
+    const std::string why = refused(folder.write(name, dds));
+    EXPECT_NE(why.find("volume"), std::string::npos) << name << ": " << why;
+  }
+  // Six channels: the first three are the colour, the rest never read.
+  const auto tiff = folder.path / "six.tif";
+  auto out = OIIO::ImageOutput::create(tiff.string());
+  OIIO::ImageSpec spec(16, 16, 6, OIIO::TypeDesc::UINT8);
+  std::vector<unsigned char> pixels(16 * 16 * 6, 0);
+  for (std::size_t p = 0; p < 16 * 16; ++p) pixels[6 * p] = 255, pixels[6 * p + 5] = 255;
+  ASSERT_TRUE(out->open(tiff.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) && out->close());
+  const RgbHdrImage six = load_target_rgb(tiff);
+  EXPECT_NEAR(mean(six, 0, 0, 16, 16), 1.0, 1e-6);
+  EXPECT_NEAR(six.pixels[1], 0.0, 1e-6);
+  EXPECT_NEAR(six.pixels[2], 0.0, 1e-6);
+}
