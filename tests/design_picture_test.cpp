@@ -84,6 +84,19 @@ TEST(DesignPicture, AProgressiveJpegOfEndlessScansIsRefusedBeforeItsDecoder) {
             std::string::npos);
 }
 
+TEST(DesignPicture, AJpegCutShortIsRefusedNotDesignedWithItsRowsGrey) {
+  // Its first half and an end marker: libjpeg fills the rest grey and warns.
+  Folder folder;
+  std::vector<unsigned char> pixels(64 * 64 * 3);
+  for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<unsigned char>((i * 37) % 251);
+  for (const bool progressive : {false, true}) {
+    const std::string whole = caustic::testing::jpeg_bytes(64, 64, progressive, 0, pixels);
+    EXPECT_EQ(refused(folder.write("whole.jpg", whole)), "accepted");
+    const std::string why = refused(folder.write("cut.jpg", whole.substr(0, whole.size() / 2) + "\xff\xd9"));
+    EXPECT_NE(why.find("cut short"), std::string::npos) << (progressive ? "progressive: " : "baseline: ") << why;
+  }
+}
+
 TEST(DesignPicture, AVolumeIsRefusedAndChannelsBeyondColourAreNotRead) {
   // A DDS volume texture, 8 x 8 x 8 RGBA: its slices were read into a
   // buffer sized for one (the heap overran, the process aborted).
@@ -101,6 +114,13 @@ TEST(DesignPicture, AVolumeIsRefusedAndChannelsBeyondColourAreNotRead) {
     const std::string why = refused(folder.write(name, dds));
     EXPECT_NE(why.find("volume"), std::string::npos) << name << ": " << why;
   }
+  // A picture a pixel wide left one pixel of its centre square, refused as black.
+  const auto thin = folder.path / "thin.tif";
+  auto line = OIIO::ImageOutput::create(thin.string());
+  std::vector<unsigned char> white(1 * 400, 255);
+  ASSERT_TRUE(line->open(thin.string(), OIIO::ImageSpec(1, 400, 1, OIIO::TypeDesc::UINT8)) &&
+              line->write_image(OIIO::TypeDesc::UINT8, white.data()) && line->close());
+  EXPECT_NE(refused(thin).find("too thin"), std::string::npos) << refused(thin);
   // Six channels: the first three are the colour, the rest never read.
   const auto tiff = folder.path / "six.tif";
   auto out = OIIO::ImageOutput::create(tiff.string());

@@ -138,6 +138,10 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   // A volume's slices would all be read into a buffer sized for one.
   if (spec.depth > 1) throw TargetError(name + ": is a volume of " + std::to_string(spec.depth) + " slices, not a picture");
   if (too_large(spec.width, spec.height)) throw TargetError(size_error(name, spec.width, spec.height));
+  if (std::min(spec.width, spec.height) < kMinTargetSide)
+    throw TargetError(name + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                      " pixels is too thin (at least " + std::to_string(kMinTargetSide) +
+                      " a side: the design takes its centre square)");
   // R, G, B and alpha at the most: what lies beyond is never used, and a
   // file of a few kilobytes may declare hundreds of channels.
   const int channels = std::min(spec.nchannels, 4);
@@ -150,6 +154,13 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
     throw TargetError(name + ": cannot decode the picture (" + e.what() + ")");
   }
   if (!read) throw TargetError(name + ": cannot decode the picture (" + in->geterror() + ")");
+  // A JPEG cut short decodes, its missing rows grey, with only a warning
+  // (libjpeg's "premature end"): designed, it drew a grey band the report
+  // could not see, since it judges against the decoded picture.
+  std::string warned = in->geterror();
+  std::transform(warned.begin(), warned.end(), warned.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (warned.find("premature end") != std::string::npos)
+    throw TargetError(name + ": the picture is cut short (its data ends before its last row)");
   const bool srgb = encoded_srgb(spec);
   // Colour: the first three channels are R, G, B; grey (1 or 2 channels): the first.
   const bool colour = channels >= 3;

@@ -26,6 +26,9 @@ using Image = HdrImage;
 /// above any useful design resolution.
 inline constexpr int kMaxTargetSide = 16384;
 inline constexpr long long kMaxTargetPixels = 1LL << 26;
+/// Smallest side accepted: the design takes the picture's centre square,
+/// and a picture a pixel wide left one pixel of it (refused as black).
+inline constexpr int kMinTargetSide = 2;
 /// The largest picture file read: a picture's reader probes a file it does
 /// not know by trying every format over the whole of it.
 inline constexpr std::uintmax_t kMaxTargetFileBytes = std::uintmax_t{256} << 20;
