@@ -71,6 +71,10 @@ TEST(Instance, ForwardedForCountsOnlyFromATrustedProxy) {
     EXPECT_EQ(create_from(server.url(), "10.0.0.1"), 429u);
     EXPECT_EQ(create_from(server.url(), "not an address"), 201u);  // counted as the proxy itself
     EXPECT_EQ(create_from(server.url(), "<script>"), 429u);
+    // An IPv6 visitor counts as its /64: another address of it is the same visitor.
+    EXPECT_EQ(create_from(server.url(), "2001:db8:1:2::1"), 201u);
+    EXPECT_EQ(create_from(server.url(), "2001:db8:1:2:abcd::99"), 429u);
+    EXPECT_EQ(create_from(server.url(), "2001:db8:1:3::1"), 201u);
   }
   // Not trusted: a client cannot choose its bucket.
   ServerProcess server({"--set", "max_sessions_per_address=1"});

@@ -2,10 +2,12 @@
 // The token buckets of the request and upload limits, on a clock the test
 // sets: a bucket refills at its rate up to its burst, and one forgotten by
 // the table's sweep is one that was full again, never one still refilling.
+#include "address_group.hpp"
 #include "rate_limit.hpp"
 
 #include <gtest/gtest.h>
 
+using caustic::server::address_group;
 using caustic::server::RateLimiter;
 using namespace std::chrono_literals;
 
@@ -38,4 +40,17 @@ TEST(RateLimiter, AnHourlyLimitIsNotForgottenAfterAMinute) {
   const auto later = t0 + 3h;
   for (int i = 0; i < 4; ++i) EXPECT_TRUE(limiter.admit("a", rate, burst, &retry, later)) << i;
   EXPECT_FALSE(limiter.admit("a", rate, burst, &retry, later));
+}
+
+TEST(AddressGroup, AnIpv6ClientCountsAsItsSlash64AndIpv4AsItself) {
+  // A subscriber's /64 is its own to roam: counted address by address, every
+  // limit per address fell to a client that took a fresh one each time.
+  EXPECT_EQ(address_group("2001:db8:1:2:3:4:5:6"), "2001:db8:1:2::/64");
+  EXPECT_EQ(address_group("2001:db8:1:2:ffff::1"), address_group("2001:db8:1:2::7"));
+  EXPECT_NE(address_group("2001:db8:1:3::1"), address_group("2001:db8:1:2::1"));
+  EXPECT_EQ(address_group("::1"), "::/64");
+  EXPECT_EQ(address_group("192.0.2.1"), "192.0.2.1");
+  EXPECT_NE(address_group("192.0.2.1"), address_group("192.0.2.2"));
+  EXPECT_EQ(address_group("::ffff:192.0.2.1"), "192.0.2.1");  // a dual-stack socket's IPv4 client
+  EXPECT_EQ(address_group("unknown"), "unknown");
 }

@@ -3,6 +3,7 @@
 // /api/v1/designs/{id}: docs/api.md. Everything a picture can be refused
 // for is decided here, before it reaches the queue: who may upload, how
 // often, its media type, its bytes and, from its header alone, its pixels.
+#include "address_group.hpp"
 #include "http_util.hpp"
 #include "picture_header.hpp"
 #include "server_state.hpp"
@@ -146,7 +147,7 @@ void upload(ServerState& s, SoupServerMessage* msg) {
   // Charged only for a picture that would be designed: the designs are
   // what costs (refusals are cheap, and the general rate limit covers them).
   int retry = 1;
-  const std::string address = client_address(msg, s.config.trusted_proxies);
+  const std::string address = address_group(client_address(msg, s.config.trusted_proxies));
   if (!s.design_rate.admit(address, s.config.design_uploads_per_hour / 3600.0,
                            upload_burst(s.config.design_uploads_per_hour), &retry)) {
     ++s.metrics.rate_limited;

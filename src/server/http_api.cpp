@@ -5,6 +5,7 @@
 #include "caustic/scene_warnings.hpp"
 #include "caustic/screen_follow.hpp"
 #include "caustic/spectral.hpp"
+#include "address_group.hpp"
 #include "http_util.hpp"
 #include "log.hpp"
 #include "server_state.hpp"
@@ -163,7 +164,7 @@ void session_route(ServerState& s, SoupServerMessage* msg, const Route& route) {
 // What a mutating request costs: a token from its address's bucket.
 bool within_rate(ServerState& s, SoupServerMessage* msg) {
   int retry = 1;
-  const std::string address = client_address(msg, s.config.trusted_proxies);
+  const std::string address = address_group(client_address(msg, s.config.trusted_proxies));
   if (s.rate_limiter.admit(address, s.config.rate_limit_per_s, s.config.rate_limit_burst, &retry)) return true;
   ++s.metrics.rate_limited;
   soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After",

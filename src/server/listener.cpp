@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "listener.hpp"
 
+#include "address_group.hpp"
 #include "guard_stream.hpp"
 #include "log.hpp"
 
@@ -19,6 +20,7 @@ struct Listener::Connection {
   std::uint64_t id = 0;
   GSocket* socket = nullptr;  // owned until handed over, then watched weakly
   std::string address;
+  std::string group;  // address_group(address): what max_connections_per_address counts
   guint16 port = 0;  // the client's, which with the address names the connection
   bool handed = false;
   std::size_t peeked = 0;
@@ -206,7 +208,7 @@ void Listener::refuse(GSocket* socket, unsigned status, const std::string& detai
 
 void Listener::admit(GSocket* socket) {
   const Peer peer = peer_of(socket);
-  const std::string& address = peer.address;
+  const std::string address = address_group(peer.address);  // what the limit counts
   const int total = static_cast<int>(connections_.size());
   const int from_here = per_address_[address];
   if (total >= limits_.max_connections || from_here >= limits_.max_connections_per_address) {
@@ -223,7 +225,8 @@ void Listener::admit(GSocket* socket) {
   auto c = std::make_unique<Connection>();
   c->id = next_id_++;
   c->socket = socket;
-  c->address = address;
+  c->address = peer.address;
+  c->group = address;
   c->port = peer.port;
   const std::uint64_t id = c->id;
   c->timer = after_ms(alive_, static_cast<guint>(limits_.header_timeout_s * 1000), [id](Listener& l) {
@@ -336,7 +339,7 @@ void Listener::drop(std::uint64_t id) {
     g_socket_close(c.socket, nullptr);
     g_object_unref(c.socket);
   }
-  if (--per_address_[c.address] <= 0) per_address_.erase(c.address);
+  if (--per_address_[c.group] <= 0) per_address_.erase(c.group);
   connections_.erase(it);
 }
 

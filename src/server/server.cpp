@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/server/server.hpp"
 
+#include "address_group.hpp"
 #include "http_util.hpp"
 #include "log.hpp"
 #include "main_queue.hpp"
@@ -21,8 +22,10 @@
 namespace caustic::server {
 
 int ServerState::sessions_held_by(const std::string& address) const {
+  // Counted by address group: one IPv6 client may take any address of its /64.
+  const std::string group = address_group(address);
   int held = 0;
-  for (const auto& [id, session] : sessions) held += session->client_address() == address;
+  for (const auto& [id, session] : sessions) held += address_group(session->client_address()) == group;
   return held;
 }
 
