@@ -60,6 +60,17 @@ TEST(CheckConfig, AcceptsTheShippedFileAndNamesTheKeyOfABrokenOne) {
                         (dir / "twice.conf").string() + ":2"),
             std::string::npos)
       << output;
+  // A state folder that cannot be made (a file stands where it would be):
+  // valid, but uploads would be off, and the key is named.
+  std::ofstream(dir / "a-file") << "x";
+  std::ofstream(dir / "state.conf") << "state_dir = " << (dir / "a-file" / "state").string() << "\n";
+  EXPECT_EQ(run((dir / "state.conf").string(), &output), 0) << output;
+  EXPECT_NE(output.find("warning: state_dir: " + (dir / "a-file" / "state").string() + " cannot be made"),
+            std::string::npos)
+      << output;
+  std::ofstream(dir / "state.conf") << "state_dir = " << (dir / "state").string() << "\n";
+  EXPECT_EQ(run((dir / "state.conf").string(), &output), 0) << output;
+  EXPECT_EQ(output.find("state_dir"), std::string::npos) << output;
   fs::remove_all(dir);
 }
 

@@ -13,8 +13,11 @@
 #include <pthread.h>
 #include <sys/resource.h>
 
+#include <unistd.h>
+
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -127,6 +130,21 @@ int run_serve(ServeOptions opt) {
   return ok;
 }
 
+// Designs are kept under state_dir: a server that cannot write there
+// streams the gallery with uploads off (and logs so); said here first.
+// The folder need not exist yet: its nearest existing parent must let
+// this user make it.
+std::string state_problem(const server::ServerConfig& c) {
+  if (!c.design_uploads) return "";
+  const std::filesystem::path folder = server::state_folder(c);
+  std::filesystem::path p = folder;
+  std::error_code ec;
+  while (!p.empty() && !std::filesystem::exists(p, ec)) p = p.parent_path();
+  if (p.empty()) p = ".";
+  if (std::filesystem::is_directory(p, ec) && ::access(p.c_str(), W_OK | X_OK) == 0) return "";
+  return "state_dir: " + folder.string() + " cannot be made or written by this user: design uploads will be off";
+}
+
 int run_check_config(const std::string& file) {
   try {
     server::ServerConfig config;
@@ -134,6 +152,8 @@ int run_check_config(const std::string& file) {
     server::load_config_file(config, file, &sources);
     server::check_config(config, server::data_dir());
     for (const auto& warning : config.warnings) std::cerr << "causticd check-config: warning: " << warning << "\n";
+    if (const std::string problem = state_problem(config); !problem.empty())
+      std::cerr << "causticd check-config: warning: " << problem << "\n";
   } catch (const server::ConfigError& e) {
     std::cerr << "causticd check-config: " << e.what() << "\n";
     return bad_input;
