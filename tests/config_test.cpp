@@ -159,6 +159,12 @@ TEST(Config, ValuesAreCheckedAndNamed) {
   }
   expect_error(c, "trusted_proxies", "10.0.0.1, ::", "names no one host");
   EXPECT_NO_THROW(set_config_value(c, "ice_addresses", "127.0.0.1, ::1, 10.1.2.3, fe80::1, ::ffff:10.0.0.1"));
+  // Valid, but an address no interface of this host holds offers ICE
+  // nothing: said, naming it (192.0.2.0/24 is documentation's own).
+  ServerConfig fresh;
+  ASSERT_NO_THROW(set_config_value(fresh, "ice_addresses", "127.0.0.1, 192.0.2.77"));
+  ASSERT_EQ(fresh.warnings.size(), 1u);
+  EXPECT_EQ(fresh.warnings[0], "ice_addresses: 192.0.2.77 is on none of this host's interfaces: ICE offers nothing there");
   expect_error(c, "stun_server", "http://x", "stun_server");
   expect_error(c, "stun_server", "stun://a b", "stun_server");
   expect_error(c, "turn_server", "turn://u:p@host:3478 ! filesink", "turn_server");

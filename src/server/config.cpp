@@ -2,6 +2,7 @@
 #include "caustic/server/config.hpp"
 
 #include "ascii.hpp"
+#include "local_addresses.hpp"
 #include "caustic/json_text.hpp"
 
 #include <algorithm>
@@ -192,6 +193,8 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
     c.turn_server = value;
   } else if (key == "ice_addresses") {
     c.ice_addresses = address_list(key, value);
+    for (const auto& a : c.ice_addresses)
+      if (!host_has_address(a)) c.warnings.push_back(key + ": " + a + " is on none of this host's interfaces: ICE offers nothing there");
   } else if (key == "trusted_proxies") {
     c.trusted_proxies = address_list(key, value);
   } else if (key == "janus_admin_url") {
