@@ -23,6 +23,19 @@ TEST(WaterPacing, TheFirstFrameIsFullAndFullFramesGoOnWhileTheyFit) {
   EXPECT_FALSE(pacing.want_full(t0 + milliseconds(66)));
 }
 
+TEST(WaterPacing, AFitEndsASpellOfMissesSoTheNextOverloadIsTriedAgainSoon) {
+  // Misses were never forgotten: after one fit, the next overload's first
+  // retry waited the blind minute instead of the second.
+  WaterPacing pacing(20, seconds(1), seconds(60));
+  pacing.full_drawn(30, t0);  // a miss: tried again after a second
+  EXPECT_TRUE(pacing.want_full(t0 + seconds(1)));
+  pacing.full_drawn(30, t0 + seconds(1));  // a second miss: then once a minute
+  EXPECT_FALSE(pacing.want_full(t0 + seconds(3)));
+  pacing.full_drawn(10, t0 + seconds(61));  // fits again
+  pacing.full_drawn(30, t0 + seconds(62));  // a new overload's first miss
+  EXPECT_TRUE(pacing.want_full(t0 + seconds(63)));
+}
+
 TEST(WaterPacing, CheaperPreviewsPredictThatAFullFrameFitsAgain) {
   WaterPacing pacing(20, seconds(1), seconds(60));
   pacing.full_drawn(30, t0);

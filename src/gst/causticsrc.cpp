@@ -128,19 +128,20 @@ static GstCaps* gst_caustic_src_fixate(GstBaseSrc* src, GstCaps* caps) {
 
 static gboolean gst_caustic_src_set_caps(GstBaseSrc* src, GstCaps* caps) {
   State& s = state_of(src);
-  if (!gst_video_info_from_caps(&s.info, caps) || GST_VIDEO_INFO_FPS_N(&s.info) <= 0) return FALSE;
-  if (GST_VIDEO_INFO_FORMAT(&s.info) == GST_VIDEO_FORMAT_I420) {
+  GstVideoInfo info;
+  if (!gst_video_info_from_caps(&info, caps) || GST_VIDEO_INFO_FPS_N(&info) <= 0) return FALSE;
+  if (GST_VIDEO_INFO_FORMAT(&info) == GST_VIDEO_FORMAT_I420) {
     // The GPU writes the planes packed; GStreamer's layout must be that one.
-    const int w = GST_VIDEO_INFO_WIDTH(&s.info), h = GST_VIDEO_INFO_HEIGHT(&s.info);
+    const int w = GST_VIDEO_INFO_WIDTH(&info), h = GST_VIDEO_INFO_HEIGHT(&info);
     if (w % 8 || h % 2) {
       GST_ELEMENT_ERROR(src, CORE, NEGOTIATION, ("I420 needs a width divisible by 8 and an even height"),
                         ("got %dx%d", w, h));
       return FALSE;
     }
-    s.source.format = caustic::PixelFormat::i420;
-  } else {
-    s.source.format = caustic::PixelFormat::rgba;
   }
+  caustic::gst::renegotiate(s, info);  // the worker goes first when it drew for other caps
+  s.source.format =
+      GST_VIDEO_INFO_FORMAT(&info) == GST_VIDEO_FORMAT_I420 ? caustic::PixelFormat::i420 : caustic::PixelFormat::rgba;
   gst_base_src_set_blocksize(src, static_cast<guint>(GST_VIDEO_INFO_SIZE(&s.info)));
   s.source.frame_interval = std::chrono::nanoseconds(
       gst_util_uint64_scale(GST_SECOND, GST_VIDEO_INFO_FPS_D(&s.info), GST_VIDEO_INFO_FPS_N(&s.info)));
@@ -224,11 +225,13 @@ static gboolean gst_caustic_src_event(GstBaseSrc* src, GstEvent* event) {
 }
 
 static gboolean gst_caustic_src_unlock(GstBaseSrc* src) {
+  state_of(src).flushing = true;  // also ends a wait for the first picture
   state_of(src).due_wait.unlock();
   return TRUE;
 }
 
 static gboolean gst_caustic_src_unlock_stop(GstBaseSrc* src) {
+  state_of(src).flushing = false;
   state_of(src).due_wait.unlock_stop();
   return TRUE;
 }
@@ -250,7 +253,8 @@ static GstFlowReturn gst_caustic_src_create(GstPushSrc* push, GstBuffer** out) {
     if (!s.worker || s.worker->width() != width || s.worker->height() != height) {
       s.worker.reset();
       s.worker = std::make_unique<caustic::gst::FrameWorker>(s.source, params, meshes, width, height, &s.heartbeat,
-                                                             [&s] { s.due_wait.interrupt(); });
+                                                             [&s] { s.due_wait.interrupt(); }, &s.flushing);
+      s.overruns_told = 0;  // the new worker counts its own
     }
     if (const GstFlowReturn r = caustic::gst::next_frame(s, GST_ELEMENT(push), &picture, &due); r != GST_FLOW_OK)
       return r;
@@ -291,6 +295,7 @@ static void gst_caustic_src_finalize(GObject* object) {
   forget_last_sent(*self->state);
   self->state->worker.reset();
   caustic::gst::release(self->state->source);
+  caustic::gst::answer_snapshots(self->state->source);  // with none: the element goes without streaming again
   delete self->state;
   G_OBJECT_CLASS(gst_caustic_src_parent_class)->finalize(object);
 }

@@ -56,6 +56,7 @@ GstFlowReturn next_frame(State& s, GstElement* element, GstBuffer** picture, Gst
     if (s.frame_index > 0)
       if (const GstFlowReturn r = wait_for_frame(s, element, due); r != GST_FLOW_OK) return r;
     *picture = s.worker->latest(std::chrono::nanoseconds(interval));
+    if (!*picture) return GST_FLOW_FLUSHING;  // unlock(): the element is stopping
     // Frame 0 is stamped when its picture is ready and the rest follow at
     // the frame rate, so that a frame's timestamp is when it leaves:
     // GstBaseSrc then waits for exactly that time.
@@ -76,7 +77,28 @@ GstFlowReturn next_frame(State& s, GstElement* element, GstBuffer** picture, Gst
     s.last_sent = gst_buffer_ref(*picture);
   }
   s.last_sent_due = *due;
+  s.send_next = false;  // whatever leaves is the frame a key frame request waited for
   return GST_FLOW_OK;
+}
+
+void renegotiate(State& s, const GstVideoInfo& next) {
+  const GstVideoInfo& now = s.info;
+  const bool same = GST_VIDEO_INFO_FORMAT(&now) == GST_VIDEO_INFO_FORMAT(&next) &&
+                    GST_VIDEO_INFO_WIDTH(&now) == GST_VIDEO_INFO_WIDTH(&next) &&
+                    GST_VIDEO_INFO_HEIGHT(&now) == GST_VIDEO_INFO_HEIGHT(&next) &&
+                    GST_VIDEO_INFO_FPS_N(&now) == GST_VIDEO_INFO_FPS_N(&next) &&
+                    GST_VIDEO_INFO_FPS_D(&now) == GST_VIDEO_INFO_FPS_D(&next);
+  if (s.worker && !same) {
+    // The worker draws in the old format and size and the grid counts at
+    // the old rate: the worker goes (its thread joined, its pictures with
+    // it), and the grid starts again one old interval after the last frame.
+    s.worker.reset();
+    if (s.frame_index > 0) {
+      s.first_due = s.last_sent_due + frame_interval(s);
+      s.first_index = s.frame_index;
+    }
+  }
+  s.info = next;
 }
 
 }  // namespace caustic::gst

@@ -43,6 +43,7 @@ struct State {
   GstBuffer* last_sent = nullptr;
   GstClockTime last_sent_due = 0;
   std::atomic<bool> send_next{false};         // a key frame was asked for: send even if unchanged
+  std::atomic<bool> flushing{false};          // unlock() to unlock_stop(): no wait for a picture
   std::atomic<std::uint64_t> skipped{0};      // unchanged frames not sent (still-interval-ms), any thread
   caustic::gst::DueWait due_wait;
 };
@@ -51,6 +52,11 @@ struct State {
 /// (causticsrc_pacing.cpp): GST_FLOW_OK with *picture and *due (its running
 /// time) set, or the flow that ended the wait. Streaming thread.
 GstFlowReturn next_frame(State& s, GstElement* element, GstBuffer** picture, GstClockTime* due);
+
+/// New caps (causticsrc_pacing.cpp): while streaming, a change of format,
+/// size or rate replaces the worker and restarts the grid after the last
+/// frame sent. Streaming thread.
+void renegotiate(State& s, const GstVideoInfo& next);
 
 /// Gives the stream its water as it starts (causticsrc_api.cpp). Under s.lock.
 void start_water(State& s);

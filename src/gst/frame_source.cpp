@@ -233,7 +233,7 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
     gst_buffer_unmap(buffer, &map);
     if (!ready) {
       gst_buffer_unref(buffer);
-      return gst_buffer_ref(source.picture);
+      return source.picture ? gst_buffer_ref(source.picture) : nullptr;  // the first, its fence slow: none yet
     }
     FrameSource::InFlight shown{tag, source.rendered, 0, source.rendered_level};
     while (!source.in_flight.empty() && source.in_flight.front().tag <= tag) {

@@ -5,9 +5,10 @@ namespace caustic::gst {
 
 FrameWorker::FrameWorker(FrameSource& source, std::shared_ptr<const ParamStore> params,
                          std::shared_ptr<const MeshLevels> meshes, int width, int height,
-                         std::atomic<std::int64_t>* heartbeat, std::function<void()> on_picture)
+                         std::atomic<std::int64_t>* heartbeat, std::function<void()> on_picture,
+                         const std::atomic<bool>* flushing)
     : source_(source), params_(std::move(params)), meshes_(std::move(meshes)), width_(width), height_(height),
-      heartbeat_(heartbeat), on_picture_(std::move(on_picture)), thread_([this] { run(); }) {}
+      heartbeat_(heartbeat), on_picture_(std::move(on_picture)), flushing_(flushing), thread_([this] { run(); }) {}
 
 FrameWorker::~FrameWorker() {
   {
@@ -37,7 +38,7 @@ void FrameWorker::run() {
     lock.lock();
     // Most turns find nothing new: the same picture comes back.
     if (picture == picture_) {
-      gst_buffer_unref(picture);
+      if (picture) gst_buffer_unref(picture);
     } else if (picture) {
       if (picture_) gst_buffer_unref(picture_);
       picture_ = picture;
@@ -68,9 +69,14 @@ GstBuffer* FrameWorker::latest(std::chrono::nanoseconds frame_interval) {
   std::unique_lock lock(lock_);
   kicked_ = true;
   wake_.notify_all();
-  ready_.wait(lock, [this] { return picture_ || !error_.empty(); });
-  if (!picture_) throw std::runtime_error(error_);
-  return gst_buffer_ref(picture_);
+  // The first picture may take a whole render (and the GL context's making):
+  // a stop asked meanwhile (unlock()) ends the wait, looked at every 20 ms.
+  const auto done = [this] { return picture_ || !error_.empty() || (flushing_ && flushing_->load()); };
+  while (!ready_.wait_for(lock, std::chrono::milliseconds(20), done)) {
+  }
+  if (picture_) return gst_buffer_ref(picture_);
+  if (!error_.empty()) throw std::runtime_error(error_);
+  return nullptr;
 }
 
 }  // namespace caustic::gst

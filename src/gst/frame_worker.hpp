@@ -22,15 +22,18 @@ class FrameWorker {
   /// thread comes round its loop: proof, for a watchdog, that it is not stuck.
   /// `on_picture` (may be empty) is called on the thread each time a new
   /// picture is finished, so that it need not wait for the next frame time.
+  /// While `*flushing` (may be null) holds, latest() waits for no picture.
   FrameWorker(FrameSource& source, std::shared_ptr<const ParamStore> params, std::shared_ptr<const MeshLevels> meshes,
-              int width, int height, std::atomic<std::int64_t>* heartbeat, std::function<void()> on_picture = {});
+              int width, int height, std::atomic<std::int64_t>* heartbeat, std::function<void()> on_picture = {},
+              const std::atomic<bool>* flushing = nullptr);
   /// Stops and joins the thread.
   ~FrameWorker();
   FrameWorker(const FrameWorker&) = delete;
   FrameWorker& operator=(const FrameWorker&) = delete;
 
   /// A new reference to the newest finished picture (waiting only for the
-  /// very first); wakes the thread to look at the parameters. Counts an
+  /// very first, and null when flushing cut that wait short); wakes the
+  /// thread to look at the parameters. Counts an
   /// overrun when the thread has been in one render for more than
   /// `frame_interval`. Throws std::runtime_error with the thread's error.
   GstBuffer* latest(std::chrono::nanoseconds frame_interval);
@@ -55,6 +58,7 @@ class FrameWorker {
   std::atomic<std::uint64_t> overruns_{0};
   std::atomic<std::int64_t>* heartbeat_;
   std::function<void()> on_picture_;
+  const std::atomic<bool>* flushing_;
   std::thread thread_;
 };
 

@@ -29,7 +29,9 @@ double WaterPacing::ratio() const {
 void WaterPacing::full_drawn(double ms, Clock::time_point now) {
   full_ms_ = ms;
   full_at_ = now;
-  if (ms > budget_ms_) ++misses_;
+  // A fit ends a spell of misses: the next overload's first retry comes
+  // soon again, not after `blind`.
+  misses_ = ms > budget_ms_ ? misses_ + 1 : 0;
   // Previews drawn before an earlier full frame say nothing of this one's load.
   ratio_from_next_ = !preview_fresh_;
   if (preview_fresh_) learn_ratio(ms / preview_ms_);
