@@ -3,12 +3,17 @@
 // sees without WebRTC (frame.png, frame.exr), a null that resets to the
 // scene's own value, and parse errors that say where the body broke.
 #include "caustic/image_io.hpp"
+#include "raw_http.hpp"
 #include "rest_fixture.hpp"
 
 #include <glib.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <set>
+#include <string>
 
 using caustic::testing::bearer;
 using caustic::testing::expect_problem;
@@ -64,6 +69,65 @@ TEST_F(Rest, FramePngAndExrShowWhatTheSessionRenders) {
   // Only the holder of the session's token sees it; only GET and HEAD.
   expect_problem(http("GET", session_url(s) + "/frame.png", "", "", {{"Authorization", "Bearer nope"}}), 401);
   expect_problem(http("POST", session_url(s) + "/frame.png", "", "", bearer(s)), 405);
+}
+
+namespace {
+
+// The server's peak resident memory so far (VmHWM), in MB.
+double peak_mb(const std::string& pid) {
+  std::ifstream status("/proc/" + pid + "/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  return 0;
+}
+
+}  // namespace
+
+// Requests for the picture made together share one copy and one encoding,
+// made on the session's render thread: forty at once once held forty
+// copies of a colour picture (20 MB each at 1024²) and encoded each on the
+// main loop. At most 16 wait; beyond, 429. Bounded: 40 requests, 15 s each.
+TEST_F(Rest, FrameRequestsMadeTogetherShareOnePicture) {
+  const json s = create("lens");
+  const json colour = {{"object", {{"glass", "bk7"}}}};
+  const Response patched = http("PATCH", session_url(s) + "/params", colour.dump(), "application/merge-patch+json", bearer(s));
+  ASSERT_EQ(patched.status, 200u) << patched.body;
+  for (int i = 0; i < 100 && http("GET", session_url(s) + "/frame.exr", "", "", bearer(s)).status != 200; ++i)
+    g_usleep(100'000);
+  // Past the picture left standing (drawn again half a second after the
+  // change) and the last answer's reuse: the burst asks for one of its own.
+  g_usleep(1'500'000);
+  const double before = peak_mb(server_.pid());
+  const std::string request = "GET " + s["url"].get<std::string>() + "/frame.exr HTTP/1.1\r\nHost: x\r\n" +
+                              "Authorization: Bearer " + s["token"].get<std::string>() + "\r\n\r\n";
+  std::vector<int> sockets;
+  for (int i = 0; i < 40; ++i) {
+    const int fd = caustic::testing::raw_connect(server_.port());
+    ASSERT_GE(fd, 0);
+    caustic::testing::raw_send(fd, request);
+    sockets.push_back(fd);
+  }
+  int pictures = 0;
+  std::set<std::string> bodies;
+  for (const int fd : sockets) {
+    const std::string answer = caustic::testing::raw_read_all(fd, 15000);
+    ::close(fd);
+    const int status = caustic::testing::raw_status(answer);
+    if (status == 429) {
+      EXPECT_EQ(caustic::testing::raw_header(answer, "Retry-After"), "1");
+      EXPECT_NE(answer.find("wait for this session's next picture"), std::string::npos) << answer.substr(0, 400);
+      continue;
+    }
+    ASSERT_EQ(status, 200) << answer.substr(0, 400);
+    ++pictures;
+    bodies.insert(caustic::testing::raw_body(answer));
+  }
+  EXPECT_GE(pictures, 16);
+  // One encoding for those that waited together (a busy machine may read
+  // the forty in a few turns of the render thread).
+  EXPECT_LE(bodies.size(), 3u);
+  // One copy and one EXR (12 MB of floats, 20 MB with the rest): far from forty.
+  EXPECT_LT(peak_mb(server_.pid()) - before, 200.0) << "peak memory grew by " << peak_mb(server_.pid()) - before << " MB";
 }
 
 // A null resets to the scene's own value; a body that is not JSON is told

@@ -2,21 +2,30 @@
 // GET /api/v1/sessions/{id}/frame.png and frame.exr: what the session shows,
 // for a REST client without WebRTC. The picture lives on the session's
 // render thread (the GL context is there), so the request is paused, the
-// render thread copies the picture at its next turn (a few milliseconds),
-// and the answer is written on the main loop. A session that stops first,
-// or a render thread that does not come round within kFrameWait, gets 503.
+// render thread copies and encodes the picture at its next turn (a few
+// milliseconds), once for every request then waiting, and the answer is
+// written on the main loop. A session that stops first, or a render thread
+// that does not come round within kFrameWait, gets 503; requests beyond
+// kMaxFrameWaiters at once, 429. Sixty at once once held sixty copies of a
+// colour picture (1.2 GB) and encoded each on the main loop.
 #include "caustic/gst/causticsrc.hpp"
 #include "caustic/image_io.hpp"
 #include "http_util.hpp"
 #include "log.hpp"
 #include "server_state.hpp"
 
-#include <optional>
+#include <chrono>
+#include <memory>
+#include <utility>
+#include <vector>
 
 namespace caustic::server {
 namespace {
 
 constexpr guint kFrameWaitMs = 2000;
+// Requests of one format that may wait for a session's next picture at once.
+constexpr std::size_t kMaxFrameWaiters = 16;
+constexpr auto kFrameReuse = std::chrono::milliseconds(200);
 
 // One paused request; the main loop alone touches it.
 struct FrameRequest {
@@ -37,53 +46,80 @@ struct FrameRequest {
   }
 };
 
-// `colour`: a spectral frame's HDR image in colour, which frame.exr then
-// carries as R, G, B; null for a grey frame (one channel, Y).
-void finish(FrameRequest& r, const Rgba8Image* ldr, const HdrImage* hdr, const RgbHdrImage* colour = nullptr) {
+// `bytes`: the encoded picture, or null when the session has none (or,
+// `crowded`, when too many requests wait for it already).
+void finish(FrameRequest& r, const std::vector<unsigned char>* bytes, bool crowded = false) {
   if (r.answered) return;
   r.answered = true;
   if (r.timeout) g_source_remove(r.timeout);
   r.timeout = 0;
-  if (!ldr || !hdr) {
+  if (!bytes) {
     soup_message_headers_replace(soup_server_message_get_response_headers(r.msg), "Retry-After", "1");
-    reply_problem(r.msg, r.state->metrics, SOUP_STATUS_SERVICE_UNAVAILABLE, "the session has no picture yet; retry");
+    if (crowded)
+      reply_problem(r.msg, r.state->metrics, 429,
+                    std::to_string(kMaxFrameWaiters) + " requests wait for this session's next picture already; retry");
+    else
+      reply_problem(r.msg, r.state->metrics, SOUP_STATUS_SERVICE_UNAVAILABLE, "the session has no picture yet; retry");
   } else {
-    try {
-      const auto bytes = !r.hdr ? encode_png(*ldr) : colour ? encode_exr(*colour) : encode_exr(*hdr);
-      reply_bytes(r.msg, SOUP_STATUS_OK, r.hdr ? "image/x-exr" : "image/png", bytes.data(), bytes.size());
-      soup_message_headers_replace(soup_server_message_get_response_headers(r.msg), "Cache-Control", "no-store");
-    } catch (const std::exception& e) {
-      log(Level::error, std::string("frame: ") + e.what());
-      reply_problem(r.msg, r.state->metrics, SOUP_STATUS_INTERNAL_SERVER_ERROR, "the picture could not be encoded");
-    }
+    reply_bytes(r.msg, SOUP_STATUS_OK, r.hdr ? "image/x-exr" : "image/png", bytes->data(), bytes->size());
+    soup_message_headers_replace(soup_server_message_get_response_headers(r.msg), "Cache-Control", "no-store");
   }
   soup_server_message_unpause(r.msg);
 }
 
+// The picture in a request's format: PNG, or EXR (a spectral frame's colour
+// HDR image as R, G, B, a grey one's as Y). Null when it cannot be encoded.
+std::shared_ptr<const std::vector<unsigned char>> encoded(bool hdr, const Rgba8Image& ldr, const HdrImage& grey,
+                                                          const RgbHdrImage* colour) {
+  try {
+    return std::make_shared<const std::vector<unsigned char>>(!hdr     ? encode_png(ldr)
+                                                              : colour ? encode_exr(*colour)
+                                                                       : encode_exr(grey));
+  } catch (const std::exception& e) {
+    log(Level::error, std::string("frame: ") + e.what());
+    return nullptr;
+  }
+}
+
 }  // namespace
 
-void Session::snapshot(std::function<void(const Rgba8Image*, const HdrImage*, const RgbHdrImage*)> done) {
+bool Session::frame(bool hdr, FrameBytes done) {
+  FrameBatch& batch = frames_[hdr ? 1 : 0];
+  const auto now = std::chrono::steady_clock::now();
+  // Pictures asked faster than this are the same picture, near enough: a
+  // client polling in a loop costs the render thread an encoding a turn.
+  if (batch.last && now - batch.answered < kFrameReuse) {
+    done(batch.last.get());
+    return true;
+  }
+  // A picture asked for longer ago than any request waits was never
+  // handed over (the session's render thread stuck or gone): those
+  // requests have had their 503, and this one asks again.
+  if (!batch.waiting.empty() && now - batch.asked >= std::chrono::milliseconds(kFrameWaitMs)) batch.waiting.clear();
+  if (batch.waiting.size() >= kMaxFrameWaiters) return false;
+  batch.waiting.push_back(std::move(done));
+  if (batch.waiting.size() > 1) return true;  // the picture already asked for answers this one too
+  batch.asked = now;
   GstElement* src = pipeline_ ? gst_bin_get_by_name(GST_BIN(pipeline_), "src") : nullptr;
-  if (!src) return done(nullptr, nullptr, nullptr);
-  auto shared_done = std::make_shared<decltype(done)>(std::move(done));
-  gst::request_snapshot(src, [weak = weak_from_this(), shared_done](const Rgba8Image* ldr, const HdrImage* hdr,
-                                                                     const RgbHdrImage* colour) {
-    // Render thread: copy, then hand over to the main loop (dropped there
-    // if the session has ended; the request's timeout answers it).
-    struct Pictures {
-      Rgba8Image ldr;
-      HdrImage hdr;
-      std::optional<RgbHdrImage> colour;
-    };
-    auto pictures = ldr && hdr ? std::make_shared<Pictures>(Pictures{*ldr, *hdr, colour ? std::optional(*colour) : std::nullopt})
-                               : nullptr;
+  const auto answer = [weak = weak_from_this(), hdr](std::shared_ptr<const std::vector<unsigned char>> bytes) {
     if (auto me = weak.lock())
-      me->on_main([shared_done, pictures](Session&) {
-        if (!pictures) return (*shared_done)(nullptr, nullptr, nullptr);
-        (*shared_done)(&pictures->ldr, &pictures->hdr, pictures->colour ? &*pictures->colour : nullptr);
+      me->on_main([hdr, bytes](Session& s) {
+        FrameBatch& b = s.frames_[hdr ? 1 : 0];
+        if (bytes) b.last = bytes, b.answered = std::chrono::steady_clock::now();
+        for (const FrameBytes& waiting : std::exchange(b.waiting, {})) waiting(bytes.get());
       });
+  };
+  if (!src) {
+    answer(nullptr);
+    return true;
+  }
+  // On the render thread, once: the copy and the encoding are the
+  // session's own work, not the main loop's, which only writes the bytes.
+  gst::request_snapshot(src, [answer, hdr](const Rgba8Image* ldr, const HdrImage* grey, const RgbHdrImage* colour) {
+    answer(ldr && grey ? encoded(hdr, *ldr, *grey, colour) : nullptr);
   });
   gst_object_unref(src);
+  return true;
 }
 
 void session_frame(ServerState& s, SoupServerMessage* msg, Session& session, bool hdr) {
@@ -104,13 +140,12 @@ void session_frame(ServerState& s, SoupServerMessage* msg, Session& session, boo
       [](gpointer data) -> gboolean {
         FrameRequest& r = **static_cast<std::shared_ptr<FrameRequest>*>(data);
         r.timeout = 0;
-        finish(r, nullptr, nullptr);
+        finish(r, nullptr);
         return G_SOURCE_REMOVE;
       },
       keep, [](gpointer data) { delete static_cast<std::shared_ptr<FrameRequest>*>(data); });
-  session.snapshot([request](const Rgba8Image* ldr, const HdrImage* hdr, const RgbHdrImage* colour) {
-    finish(*request, ldr, hdr, colour);
-  });
+  if (!session.frame(hdr, [request](const std::vector<unsigned char>* bytes) { finish(*request, bytes); }))
+    finish(*request, nullptr, true);
 }
 
 }  // namespace caustic::server

@@ -118,10 +118,15 @@ class Session : public std::enable_shared_from_this<Session> {
   /// The session's water (null for a scene without): drops go here.
   water::Pool* water() const { return pool_.get(); }
 
-  /// The picture the session last rendered and its HDR image, handed to
-  /// `done` on the main loop's thread (null pointers when the session has
-  /// no picture); never called if the session ends first (frame_api.cpp).
-  void snapshot(std::function<void(const Rgba8Image*, const HdrImage*, const RgbHdrImage*)> done);
+  /// The picture the session shows as PNG, or EXR when `hdr`, handed to
+  /// `done` on the main loop's thread (null when the session has no
+  /// picture); never called if the session ends first (frame_api.cpp).
+  /// Requests that wait together share one picture, copied and encoded
+  /// once on the session's render thread, and one answered less than
+  /// kFrameReuse ago serves the next; false (and `done` dropped) when
+  /// kMaxFrameWaiters already wait.
+  using FrameBytes = std::function<void(const std::vector<unsigned char>* bytes)>;
+  bool frame(bool hdr, FrameBytes done);
 
   /// Tells the viewer the session ends (if connected) and stops the pipeline.
   void close(const std::string& reason);
@@ -187,6 +192,14 @@ class Session : public std::enable_shared_from_this<Session> {
   std::uint64_t params_told_ = 0;
   bool room_oversize_said_ = false;
   std::chrono::steady_clock::time_point params_told_at_;
+  // frame()'s requests, a batch for each format (PNG, EXR): those waiting,
+  // when their picture was asked for, and the last answer (main loop only).
+  struct FrameBatch {
+    std::vector<FrameBytes> waiting;
+    std::chrono::steady_clock::time_point asked, answered;
+    std::shared_ptr<const std::vector<unsigned char>> last;
+  };
+  FrameBatch frames_[2];
 };
 
 /// A frame's water surface as the viewer reads it: {"step", "drops", "n",
