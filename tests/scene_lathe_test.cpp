@@ -167,3 +167,21 @@ TEST(SceneLathe, TheHierarchyFindsWhatEveryTriangleWouldGive) {
   }
   EXPECT_GT(hits, 500);  // the rays aim at it: most meet it
 }
+
+TEST(SceneLathe, AReceiverReadAgainIsBuiltOnceAndSharedUntilItChanges) {
+  // A parameter patch reads its whole scene again, twice: every lathe was
+  // built anew each time (seven held the server's main loop 0.3 s a patch).
+  json doc = minimal();
+  doc["receivers"] = {vase()};
+  const Scene first = scene_from_json(doc, ".");
+  const Scene again = scene_from_json(doc, ".");
+  ASSERT_TRUE(first.receivers[0].lathe && again.receivers[0].lathe);
+  EXPECT_EQ(first.receivers[0].lathe->mesh.get(), again.receivers[0].lathe->mesh.get());
+  // Moved, or another profile: a mesh of its own, where it now stands.
+  doc["receivers"][0]["center"] = {41, 0, -30};
+  const Scene moved = scene_from_json(doc, ".");
+  EXPECT_NE(moved.receivers[0].lathe->mesh.get(), first.receivers[0].lathe->mesh.get());
+  EXPECT_NEAR(moved.receivers[0].lathe->mesh->lower().x - first.receivers[0].lathe->mesh->lower().x, 1.0, 1e-9);
+  doc["receivers"][0]["lathe"]["segments"] = 49;
+  EXPECT_NE(scene_from_json(doc, ".").receivers[0].lathe->mesh.get(), moved.receivers[0].lathe->mesh.get());
+}

@@ -94,9 +94,15 @@ TEST(SceneShapeMesh, APatchMovesItWithoutOpeningAFileAndMayNotListOne) {
   const Scene moved = apply_merge_patch(s, patch);
   EXPECT_EQ(moved.receiver_meshes, s.receiver_meshes);  // the same table, not read again
   EXPECT_NEAR(moved.receivers[0].body()->lower().x, 49, 1e-12);
+  // A patch that leaves it where it stands shares its placed triangles
+  // (placed anew, each patch once held the main loop for every shape).
+  EXPECT_EQ(apply_merge_patch(s, {{"object", {{"ior", 1.6}}}}).receivers[0].body(), s.receivers[0].body());
   // A second receiver of the same shape, added by the patch.
   patch["receivers"].push_back(plate_scene()["receivers"][0]);
   EXPECT_EQ(apply_merge_patch(s, patch).receivers.size(), 2u);
+  // The same file read again is another table: never taken for the first's.
+  dir.write("plate.obj", kPlate);
+  EXPECT_NE(scene_from_json(plate_scene(), dir.path()).receivers[0].body(), s.receivers[0].body());
   for (const json& files : {json({{"plate", "plate.obj"}}), json({{"other", "/etc/passwd"}}), json(nullptr)}) {
     try {
       apply_merge_patch(s, {{"receiver_meshes", files}});

@@ -5,6 +5,9 @@
 // name another nor list a file, and every refusal leaves the parameters.
 #include "rest_fixture.hpp"
 
+#include <chrono>
+#include <cmath>
+
 using caustic::testing::bearer;
 using caustic::testing::expect_problem;
 using caustic::testing::http;
@@ -58,4 +61,33 @@ TEST_F(Rest, AShapedReceiverComesWithItsSceneAndNeverItsFile) {
   const json now = http("GET", url, "", "", bearer(s)).json();
   EXPECT_EQ(now["params"]["receivers"][1]["mesh"], "cloth");
   EXPECT_EQ(now["atlas"].size(), 3u);
+}
+
+TEST_F(Rest, ASessionSetsItsReceiversAFewTimesAtOnceThenOnceASecond) {
+  // Receivers set anew may each build triangles and a search tree on the
+  // main loop: seven lathes set at the allowed patch rate once made every
+  // other client wait seconds. Eight at once, then two a second; the tally
+  // allows for a slow machine. Bounded: 30 patches.
+  const json s = create("cloth");
+  const std::string url = session_url(s) + "/params", patch_type = "application/merge-patch+json";
+  json receivers = http("GET", url, "", "", bearer(s)).json()["params"]["receivers"];
+  const auto start = std::chrono::steady_clock::now();
+  int accepted = 0;
+  Response refused;
+  for (int k = 0; k < 30; ++k) {
+    receivers[0]["center"] = {16, 0.5 * k, -29.99};
+    const Response r = http("PATCH", url, json{{"receivers", receivers}}.dump(), patch_type, bearer(s));
+    if (r.status == 429) {
+      refused = r;
+      break;
+    }
+    ASSERT_EQ(r.status, 200u) << r.body;
+    ++accepted;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  expect_problem(refused, 429, "receivers");
+  EXPECT_GE(accepted, 8);
+  EXPECT_LE(accepted, 8 + static_cast<int>(std::ceil(2 * seconds)));
+  // Other patches go on.
+  EXPECT_EQ(http("PATCH", url, R"({"object": {"ior": 1.6}})", patch_type, bearer(s)).status, 200u);
 }

@@ -8,6 +8,7 @@
 #include "glass_json.hpp"
 #include "json_reader.hpp"
 #include "water_json.hpp"
+#include "caustic/receiver_cache.hpp"
 #include "caustic/receiver_meshes.hpp"
 #include "caustic/screen_follow.hpp"
 #include "caustic/spectral.hpp"
@@ -109,11 +110,9 @@ Lathe read_lathe(Reader r) {
 }
 
 // The receiver's shape `name` from the scene's table, placed at s.
-ShapedMesh read_shape(Reader& r, const ScreenParams& s, const ReceiverMeshTable* shapes) {
+ShapedMesh read_shape(Reader& r, const ScreenParams& s, const std::shared_ptr<const ReceiverMeshTable>& shapes) {
   const std::string name = r.string("mesh", "", 64);
-  if (shapes)
-    if (const auto it = shapes->meshes.find(name); it != shapes->meshes.end())
-      return {name, std::make_shared<const ReceiverMesh>(place_receiver_mesh(it->second, s.center, s.normal, s.up))};
+  if (shapes && shapes->meshes.count(name)) return {name, shape_mesh(shapes, name, s.center, s.normal, s.up)};
   // The names are public (a viewer draws the shapes); what was sent is not repeated.
   std::string names;
   if (shapes)
@@ -123,7 +122,7 @@ ShapedMesh read_shape(Reader& r, const ScreenParams& s, const ReceiverMeshTable*
 }
 
 ScreenParams read_screen(Reader r, const std::optional<double>& focus_distance, const ObjectParams& object,
-                         const LightParams& light, const ReceiverMeshTable* shapes) {
+                         const LightParams& light, const std::shared_ptr<const ReceiverMeshTable>& shapes) {
   ScreenParams s;
   // A mirror focused by focus_distance: the screen goes where the reflection goes.
   if (const auto n = reflected_screen_normal(object, light); n && focus_distance && !r.has("normal") && !r.has("center")) {
@@ -161,8 +160,7 @@ ScreenParams read_screen(Reader r, const std::optional<double>& focus_distance, 
       if (r.has(k)) throw SceneError(r.key(k), "a lathe's size is its profile: leave width and height out");
     s.lathe = read_lathe(r.child("lathe"));
     s.width = s.height = 1;
-    s.lathe->mesh = std::make_shared<const ReceiverMesh>(
-        make_lathe(s.lathe->profile, s.lathe->segments, s.center, s.normal, s.up));
+    s.lathe->mesh = lathe_mesh(s.lathe->profile, s.lathe->segments, s.center, s.normal, s.up);
   } else {
     s.width = r.number("width", s.width, 0.0, kMaxCoordinate, true);
     s.height = r.number("height", s.height, 0.0, kMaxCoordinate, true);
@@ -252,7 +250,7 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir,
       throw SceneError("receiver_meshes", "is the scene file's: it cannot change here");
     s.receiver_meshes = loaded ? loaded : std::make_shared<const ReceiverMeshTable>(load_receiver_meshes(*table, base_dir));
   }
-  s.screen = read_screen(r.child("screen"), s.focus_distance, s.object, s.light, s.receiver_meshes.get());
+  s.screen = read_screen(r.child("screen"), s.focus_distance, s.object, s.light, s.receiver_meshes);
   if (s.screen.lathe) throw SceneError("screen.lathe", "the screen is a rectangle; a lathe is one of the receivers");
   if (s.screen.shaped) throw SceneError("screen.mesh", "the screen is a rectangle; a mesh is one of the receivers");
   if (const json* list = r.get("receivers")) {
@@ -261,7 +259,7 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir,
     for (std::size_t i = 0; i < list->size(); ++i) {
       const std::string where = "receivers[" + std::to_string(i) + "]";
       s.receivers.push_back(read_screen(Reader((*list)[i], where), std::nullopt, s.object, s.light,
-                                        s.receiver_meshes.get()));
+                                        s.receiver_meshes));
       if (s.receivers.back().follow_light) throw SceneError(where + ".follow_light", "only the screen follows the light");
     }
   }

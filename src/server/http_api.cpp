@@ -20,6 +20,8 @@ namespace {
 // New sockets for a session that had a viewer: a burst of this many (a
 // page reloaded twice, a second tab taking over), then one every 2 s.
 constexpr double kReconnectBurst = 3, kReconnectsPerS = 0.5;
+// Patches that set a session's receivers: a burst of this many, then two a second.
+constexpr double kReceiverPatchBurst = 8, kReceiverPatchesPerS = 2;
 
 // Keys a session's viewer may not patch: the mesh, its flat face and the
 // gallery text belong to the scene (moving the flat face and watching which
@@ -97,6 +99,19 @@ void thumbnail(ServerState& s, SoupServerMessage* msg, const std::string& id) {
 void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
   nlohmann::json patch;
   if (!read_json_body(s, msg, {"application/merge-patch+json", "application/json"}, &patch)) return;
+  // Receivers set anew may each build triangles and a search tree (a lathe,
+  // a shape: tens of milliseconds on the main loop): a few at once, then
+  // two a second for each session.
+  if (int retry = 1; patch.is_object() && patch.contains("receivers") &&
+                     !s.receiver_rate.admit(session.id(), kReceiverPatchesPerS, kReceiverPatchBurst, &retry)) {
+    ++s.metrics.rate_limited;
+    soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After",
+                                 std::to_string(retry).c_str());
+    return reply_problem(msg, s.metrics, 429,
+                         "receivers: this session sets its receivers too often; retry after " + std::to_string(retry) +
+                             " s",
+                         "receivers");
+  }
   // Compared on the result, not looked up in the patch: a null higher up
   // ("object": null) resets the keys below it too.
   const nlohmann::json before = scene_to_json(session.params().snapshot().scene);

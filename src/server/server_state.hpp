@@ -36,6 +36,7 @@ struct ServerState {
   RateLimiter rate_limiter;
   RateLimiter design_rate;                ///< uploads per address, apart from the other requests
   RateLimiter reconnect_rate;             ///< per session id: the stream rebuilt for a new socket
+  RateLimiter receiver_rate;              ///< per session id: patches that set the receivers
   std::unique_ptr<DesignJobs> designs;    ///< null when the state folder is unusable
   bool draining = false;                  ///< stopping: no new sessions, running ones go on
   std::unique_ptr<CapacityAgent> agent;   ///< when agent_port is set
