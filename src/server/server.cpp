@@ -10,7 +10,6 @@
 #include "caustic/gl_context.hpp"
 
 #include <glib-unix.h>
-#include <malloc.h>
 #include <gst/gst.h>
 
 #include <algorithm>
@@ -86,7 +85,6 @@ void reap(ServerState& st) {
     ++st.metrics.sessions_reclaimed;
     st.end_session(id, why);
   }
-  if (!doomed.empty()) malloc_trim(0);
 }
 
 // True when every session's render thread came round its loop recently: one

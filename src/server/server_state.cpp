@@ -6,6 +6,8 @@
 #include "log.hpp"
 #include "server_state.hpp"
 
+#include <malloc.h>
+
 namespace caustic::server {
 
 int ServerState::sessions_held_by(const std::string& address) const {
@@ -26,9 +28,15 @@ void ServerState::end_session(const std::string& id, const std::string& reason) 
   log(Level::info, "session " + id + " ended: " + reason, (*doomed)->log_context());
   (*doomed)->close(reason);
   end_broadcast(*this, id);
+  // Once it is gone, the heap it held goes back to the system: a session's
+  // frames and copies are tens of megabytes, kept by glibc's arenas (as the
+  // server's peak) until a trim, whichever way the session ended.
   g_idle_add_full(
       G_PRIORITY_DEFAULT_IDLE, [](gpointer) -> gboolean { return G_SOURCE_REMOVE; }, doomed,
-      [](gpointer data) { delete static_cast<std::shared_ptr<Session>*>(data); });
+      [](gpointer data) {
+        delete static_cast<std::shared_ptr<Session>*>(data);
+        malloc_trim(0);
+      });
 }
 
 }  // namespace caustic::server
