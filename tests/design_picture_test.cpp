@@ -92,8 +92,15 @@ TEST(DesignPicture, AJpegCutShortIsRefusedNotDesignedWithItsRowsGrey) {
   for (const bool progressive : {false, true}) {
     const std::string whole = caustic::testing::jpeg_bytes(64, 64, progressive, 0, pixels);
     EXPECT_EQ(refused(folder.write("whole.jpg", whole)), "accepted");
-    const std::string why = refused(folder.write("cut.jpg", whole.substr(0, whole.size() / 2) + "\xff\xd9"));
+    const std::string cut = whole.substr(0, whole.size() / 2) + "\xff\xd9";
+    const std::string why = refused(folder.write("cut.jpg", cut));
     EXPECT_NE(why.find("cut short"), std::string::npos) << (progressive ? "progressive: " : "baseline: ") << why;
+    // A stray byte after the first segment: libjpeg warns of it alone, and
+    // its warning once hid the truncation.
+    const std::size_t app0 = cut.find("\xff\xe0"), end = app0 + 4 + 14;  // JFIF's APP0 is 16 bytes long
+    ASSERT_EQ(cut.substr(app0 + 2, 2), std::string("\x00\x10", 2));
+    const std::string stray = refused(folder.write("stray.jpg", cut.substr(0, end) + std::string(1, '\0') + cut.substr(end)));
+    EXPECT_NE(stray.find("damaged or cut short"), std::string::npos) << stray;
   }
 }
 

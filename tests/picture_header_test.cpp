@@ -12,6 +12,7 @@
 #include <glib.h>
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -95,6 +96,12 @@ TEST(JpegScans, AreCountedThroughSegmentsAndEntropyCodedData) {
   const std::string bomb = with_last_scan_repeated(progressive, 100);
   EXPECT_EQ(count(bomb), kMaxJpegScans + 1);
   EXPECT_EQ(count(bomb, 1000), scans + 100);
+  // A stray byte after a segment, skipped by libjpeg: it hid every scan from the count.
+  const std::size_t app0 = bomb.find("\xff\xe0");
+  ASSERT_NE(app0, std::string::npos);
+  const std::size_t after_app0 = app0 + 2 + ((std::size_t(std::uint8_t(bomb[app0 + 2])) << 8) | std::uint8_t(bomb[app0 + 3]));
+  const std::string stray = bomb.substr(0, after_app0) + std::string(1, '\0') + bomb.substr(after_app0);
+  EXPECT_EQ(count(stray), kMaxJpegScans + 1);
   // Cut anywhere, or not a JPEG: counted as far as it goes, never past the end.
   for (std::size_t cut = 0; cut < progressive.size(); cut += 7) EXPECT_LE(count(progressive.substr(0, cut)), scans);
   EXPECT_EQ(count("not a jpeg at all"), 0u);

@@ -81,7 +81,7 @@ void check_gif_screen(const std::filesystem::path& file, const std::string& name
 void check_jpeg_scans(const std::filesystem::path& file, const std::string& name) {
   std::ifstream in(file, std::ios::binary);
   std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  if (bytes.size() < 3 || bytes[0] != 0xff || bytes[1] != 0xd8 || bytes[2] != 0xff) return;
+  if (bytes.size() < 2 || bytes[0] != 0xff || bytes[1] != 0xd8) return;
   if (jpeg_scans(bytes.data(), bytes.size()) > kMaxJpegScans)
     throw TargetError(name + ": the JPEG holds more than " + std::to_string(kMaxJpegScans) + " scans");
 }
@@ -156,11 +156,13 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   if (!read) throw TargetError(name + ": cannot decode the picture (" + in->geterror() + ")");
   // A JPEG cut short decodes, its missing rows grey, with only a warning
   // (libjpeg's "premature end"): designed, it drew a grey band the report
-  // could not see, since it judges against the decoded picture.
+  // could not see, since it judges against the decoded picture. libjpeg
+  // tells only its first warning, so any corrupt data is refused: a stray
+  // byte's warning once hid the truncation behind it.
   std::string warned = in->geterror();
   std::transform(warned.begin(), warned.end(), warned.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (warned.find("premature end") != std::string::npos)
-    throw TargetError(name + ": the picture is cut short (its data ends before its last row)");
+  if (warned.find("premature end") != std::string::npos || warned.find("corrupt") != std::string::npos)
+    throw TargetError(name + ": the picture is damaged or cut short (" + in->geterror() + "); save it again");
   const bool srgb = encoded_srgb(spec);
   // Colour: the first three channels are R, G, B; grey (1 or 2 channels): the first.
   const bool colour = channels >= 3;

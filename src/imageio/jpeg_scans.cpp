@@ -7,7 +7,10 @@ std::size_t jpeg_scans(const unsigned char* data, std::size_t size, std::size_t 
   std::size_t scans = 0, pos = 2;  // past SOI
   if (size < 2 || data[0] != 0xff || data[1] != 0xd8) return 0;
   while (pos + 1 < size && scans <= limit) {
-    if (data[pos] != 0xff) return scans;  // markers follow one another
+    if (data[pos] != 0xff) {  // stray bytes: libjpeg skips them to the next marker, and so does the count
+      ++pos;
+      continue;
+    }
     const unsigned char marker = data[pos + 1];
     if (marker == 0xff) {  // fill byte
       ++pos;

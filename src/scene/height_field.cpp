@@ -12,14 +12,16 @@
 namespace caustic {
 namespace {
 
-// Sample points: about four a triangle, within these bounds (4 MiB of
-// owners at the most).
+// Sample points: about four a triangle, within these bounds, and at most
+// kMaxSide along either side of a long, thin footprint (16 MiB of owners
+// at the most: a footprint 1 x 1e-14 once asked 2.5 GB).
 constexpr double kPointsPerTriangle = 4;
 constexpr std::size_t kMinPoints = 1 << 12, kMaxPoints = 1 << 20;
-// Rows walked over all triangles, per sample point: a face of long thin
-// triangles (a fan of 100,000 about one vertex walks about 160) is still
-// checked within a second; past this it is refused rather than slow.
-constexpr double kRowsPerPoint = 512;
+constexpr double kMaxSide = 2048;
+// Rows and points walked over all triangles, per sample point: a face of
+// long thin triangles (a fan of 100,000 about one vertex walks about 160)
+// is still checked within a second; past this it is refused, not slow.
+constexpr double kWalkPerPoint = 512;
 
 // Folds up to this share of the footprint pass: the gallery's designed
 // faces fold in slivers where the design bends light hardest (0.008% to
@@ -53,21 +55,34 @@ void check_height_field(const Mesh& mesh, const glm::dvec3& normal) {
     lo = glm::min(lo, flat[i]), hi = glm::max(hi, flat[i]);
   }
   const glm::dvec2 extent = hi - lo;
-  if (!(extent.x > 0) || !(extent.y > 0)) return;  // edge-on: no footprint to overlap
-  // Square cells over the footprint's box; the sample point of a cell is off
+  // Edge-on (a sheet seen along itself, to rounding): no footprint to overlap.
+  if (!(std::min(extent.x, extent.y) > 1e-9 * std::max(extent.x, extent.y))) return;
+  // Cells over the footprint's box, square but for a side of at most
+  // kMaxSide or at least one of them; the sample point of a cell is off
   // its centre by an irrational share, so that a grid's vertices and edges
   // (which lie on round coordinates) do not pass through sample points.
   const double points = std::clamp(kPointsPerTriangle * double(mesh.triangles.size()), double(kMinPoints),
                                    double(kMaxPoints));
-  const double cell = std::sqrt(extent.x * extent.y / points);
-  const int columns = std::max(1, static_cast<int>(std::ceil(extent.x / cell)));
-  const int rows = std::max(1, static_cast<int>(std::ceil(extent.y / cell)));
+  const double side = std::sqrt(extent.x * extent.y / points);
+  const auto count = [&](double length) {
+    return static_cast<int>(std::clamp(std::ceil(length / side), 1.0, kMaxSide));
+  };
+  const int columns = count(extent.x), rows = count(extent.y);
+  const glm::dvec2 cell(extent.x / columns, extent.y / rows);
   const double offset = 0.5 + 0.01 * (std::sqrt(2.0) - 1.0);
   std::vector<std::uint32_t> owner(static_cast<std::size_t>(columns) * rows, kNone);
-  double rows_walked = 0;
+  double walked = 0;
   std::size_t covered = 0, overlapping = 0;  // sample points covered once, and again
   std::pair<std::uint32_t, std::uint32_t> first_pair{kNone, kNone};
-  const double budget = kRowsPerPoint * double(owner.size()) + 16.0 * double(mesh.triangles.size());
+  const double budget = kWalkPerPoint * double(owner.size()) + 16.0 * double(mesh.triangles.size());
+  const auto refuse = [&](bool early) {
+    throw SceneError("mesh", triangle_name(first_pair.first) + " and " + triangle_name(first_pair.second) +
+                                 " (and more: " + (early ? "at least " + share_text(overlapping, owner.size())
+                                                         : share_text(overlapping, covered)) +
+                                 " of the face's footprint) overlap seen along the flat face's normal: a slab's "
+                                 "caustic face must be a height field over its flat face (one layer, no folds "
+                                 "beyond a sliver), or the light through the overlap would be counted twice");
+  };
 
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
     const glm::uvec3& tri = mesh.triangles[t];
@@ -75,14 +90,14 @@ void check_height_field(const Mesh& mesh, const glm::dvec3& normal) {
     const double twice_area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
     if (twice_area == 0) continue;  // edge-on (a wall): it covers no point
     const double y_lo = std::min({a.y, b.y, c.y}), y_hi = std::max({a.y, b.y, c.y});
-    const int first = std::max(0, static_cast<int>(std::ceil((y_lo - lo.y) / cell - offset)));
-    const int last = std::min(rows - 1, static_cast<int>(std::floor((y_hi - lo.y) / cell - offset)));
-    rows_walked += std::max(0, last - first + 1);
-    if (rows_walked > budget)
+    const int first = std::max(0, static_cast<int>(std::ceil((y_lo - lo.y) / cell.y - offset)));
+    const int last = std::min(rows - 1, static_cast<int>(std::floor((y_hi - lo.y) / cell.y - offset)));
+    walked += std::max(0, last - first + 1);
+    if (walked > budget)
       throw SceneError("mesh", "has too many long, thin triangles to check that it is a height field over its flat "
                                "face: split them");
     for (int j = first; j <= last; ++j) {
-      const double y = lo.y + (j + offset) * cell;
+      const double y = lo.y + (j + offset) * cell.y;
       // Where the row's line crosses the triangle: between the crossings of
       // the edges that straddle it.
       double x_lo = std::numeric_limits<double>::infinity(), x_hi = -x_lo;
@@ -92,26 +107,25 @@ void check_height_field(const Mesh& mesh, const glm::dvec3& normal) {
         x_lo = std::min(x_lo, x), x_hi = std::max(x_hi, x);
       }
       if (!(x_lo < x_hi)) continue;
-      const int i_lo = std::max(0, static_cast<int>(std::ceil((x_lo - lo.x) / cell - offset)));
-      const int i_hi = std::min(columns - 1, static_cast<int>(std::floor((x_hi - lo.x) / cell - offset)));
+      const int i_lo = std::max(0, static_cast<int>(std::ceil((x_lo - lo.x) / cell.x - offset)));
+      const int i_hi = std::min(columns - 1, static_cast<int>(std::floor((x_hi - lo.x) / cell.x - offset)));
+      walked += std::max(0, i_hi - i_lo + 1);
       for (int i = i_lo; i <= i_hi; ++i) {
-        const double x = lo.x + (i + offset) * cell;
+        const double x = lo.x + (i + offset) * cell.x;
         if (!(x > x_lo && x < x_hi)) continue;  // strictly inside: a shared edge's point is no one's
         std::uint32_t& o = owner[static_cast<std::size_t>(j) * columns + i];
         if (o == kNone) {
           o = t, ++covered;
         } else if (o != t) {
           if (overlapping++ == 0) first_pair = {o, t};
+          // Past the share of every point there is: refused now, whatever
+          // follows (layers stacked by the thousand were walked whole).
+          if (overlapping > kMaxOverlap * double(owner.size())) refuse(true);
         }
       }
     }
   }
-  if (overlapping > kMaxOverlap * covered)
-    throw SceneError("mesh", triangle_name(first_pair.first) + " and " + triangle_name(first_pair.second) +
-                                 " (and more: " + share_text(overlapping, covered) +
-                                 " of the face's footprint) overlap seen along the flat face's normal: a slab's "
-                                 "caustic face must be a height field over its flat face (one layer, no folds "
-                                 "beyond a sliver), or the light through the overlap would be counted twice");
+  if (overlapping > kMaxOverlap * covered) refuse(false);
 }
 
 Mesh load_face(const Scene& scene) {

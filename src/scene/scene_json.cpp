@@ -250,9 +250,15 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir,
       throw SceneError("receiver_meshes", "is the scene file's: it cannot change here");
     s.receiver_meshes = loaded ? loaded : std::make_shared<const ReceiverMeshTable>(load_receiver_meshes(*table, base_dir));
   }
+  // Refused before it is read: reading builds a lathe's or a shape's
+  // triangles, work a refusal should not cost.
+  if (const json* screen = r.get("screen"); screen && screen->is_object()) {
+    if (screen->contains("lathe"))
+      throw SceneError("screen.lathe", "the screen is a rectangle; a lathe is one of the receivers");
+    if (screen->contains("mesh"))
+      throw SceneError("screen.mesh", "the screen is a rectangle; a mesh is one of the receivers");
+  }
   s.screen = read_screen(r.child("screen"), s.focus_distance, s.object, s.light, s.receiver_meshes);
-  if (s.screen.lathe) throw SceneError("screen.lathe", "the screen is a rectangle; a lathe is one of the receivers");
-  if (s.screen.shaped) throw SceneError("screen.mesh", "the screen is a rectangle; a mesh is one of the receivers");
   if (const json* list = r.get("receivers")) {
     if (!list->is_array() || list->size() > kMaxReceivers)
       throw SceneError("receivers", "must be an array of at most " + std::to_string(kMaxReceivers) + " rectangles");

@@ -17,8 +17,8 @@
 namespace caustic::server {
 namespace {
 
-// New sockets for a session that had a viewer: a burst of this many (a
-// page reloaded twice, a second tab taking over), then one every 2 s.
+// Signalling sockets for a session: a burst of this many (the first, then
+// a page reloaded twice or a second tab taking over), then one every 2 s.
 constexpr double kReconnectBurst = 3, kReconnectsPerS = 0.5;
 // Patches that set a session's receivers: a burst of this many, then two a second.
 constexpr double kReceiverPatchBurst = 8, kReceiverPatchesPerS = 2;
@@ -236,11 +236,11 @@ void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path)
     }
     // A socket that replaces the viewer's rebuilds the whole stream (a
     // pipeline, its encoder and renderer): a loop of them would spend the
-    // machine on rebuilds, so a session may do so a few times at once and
-    // then once every few seconds.
+    // machine on rebuilds. Every handshake counts, the first too (sockets
+    // made side by side all attach after their handshakes): a session
+    // takes a few at once, then one every 2 s.
     int retry = 1;
-    if (it->second->had_viewer() &&
-        !s.reconnect_rate.admit(it->first, kReconnectsPerS, kReconnectBurst, &retry)) {
+    if (!s.reconnect_rate.admit(it->first, kReconnectsPerS, kReconnectBurst, &retry)) {
       ++s.metrics.rate_limited;
       soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After",
                                    std::to_string(retry).c_str());

@@ -96,8 +96,6 @@ class Session : public std::enable_shared_from_this<Session> {
   /// (its viewers are Janus's); idle_since() says since when none has been.
   bool connected() const { return socket_ != nullptr || broadcast(); }
   bool broadcast() const { return options_.broadcast.has_value(); }
-  /// A viewer connected before: another socket would rebuild the stream.
-  bool had_viewer() const { return had_viewer_; }
   /// Notes a sign of life from the session's holder: `request` for a
   /// request with its token or a signalling message, `media` for RTCP
   /// from the viewer's browser.

@@ -17,8 +17,10 @@ inline constexpr std::size_t kMaxJpegScans = 64;
 /// The start-of-scan (SOS) markers in `data` (a JPEG file's bytes), counted
 /// through the marker segments and past each scan's entropy-coded data
 /// (where 0xFF is stuffed with 0x00, and restart markers stand alone).
-/// Counting stops past `limit` (a hostile file need not be walked whole)
-/// and at the end of the data or the first byte that breaks the structure.
+/// Bytes between segments that are no marker are skipped, as libjpeg skips
+/// them (one stray byte once hid every scan behind it from the count).
+/// Counting stops past `limit` (a hostile file need not be walked whole),
+/// at EOI and at the end of the data.
 std::size_t jpeg_scans(const unsigned char* data, std::size_t size, std::size_t limit = kMaxJpegScans);
 
 }  // namespace caustic
