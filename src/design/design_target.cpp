@@ -80,8 +80,11 @@ void check_gif_screen(const std::filesystem::path& file, const std::string& name
 // each scan redoes the decoder's work, and 140,000 held a core for 40 min).
 void check_jpeg_scans(const std::filesystem::path& file, const std::string& name) {
   std::ifstream in(file, std::ios::binary);
+  // Read whole only when it is a JPEG: any other picture is up to
+  // kMaxTargetFileBytes its reader reads again.
+  if (in.get() != 0xff || in.get() != 0xd8) return;
+  in.seekg(0);
   std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  if (bytes.size() < 2 || bytes[0] != 0xff || bytes[1] != 0xd8) return;
   if (jpeg_scans(bytes.data(), bytes.size()) > kMaxJpegScans)
     throw TargetError(name + ": the JPEG holds more than " + std::to_string(kMaxJpegScans) + " scans");
 }

@@ -146,15 +146,12 @@ void upload(ServerState& s, SoupServerMessage* msg) {
                   "the JPEG holds more than " + std::to_string(kMaxJpegScans) + " scans; save it as a baseline JPEG");
   // Charged only for a picture that would be designed: the designs are
   // what costs (refusals are cheap, and the general rate limit covers them).
-  int retry = 1;
   const std::string address = address_group(client_address(msg, s.config.trusted_proxies));
-  if (!s.design_rate.admit(address, s.config.design_uploads_per_hour / 3600.0,
-                           upload_burst(s.config.design_uploads_per_hour), &retry)) {
-    ++s.metrics.rate_limited;
-    soup_message_headers_replace(response, "Retry-After", std::to_string(retry).c_str());
-    return refuse(s, msg, 429,
-                  "your address may upload " + std::to_string(s.config.design_uploads_per_hour) +
-                      " pictures an hour; retry after " + std::to_string(retry) + " s");
+  if (!s.within(s.design_rate, msg, address, s.config.design_uploads_per_hour / 3600.0,
+                upload_burst(s.config.design_uploads_per_hour),
+                "your address may upload " + std::to_string(s.config.design_uploads_per_hour) + " pictures an hour")) {
+    ++s.metrics.designs_refused;
+    return;
   }
   DesignJobs::Ticket ticket;
   try {

@@ -102,16 +102,10 @@ void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
   // Receivers set anew may each build triangles and a search tree (a lathe,
   // a shape: tens of milliseconds on the main loop): a few at once, then
   // two a second for each session.
-  if (int retry = 1; patch.is_object() && patch.contains("receivers") &&
-                     !s.receiver_rate.admit(session.id(), kReceiverPatchesPerS, kReceiverPatchBurst, &retry)) {
-    ++s.metrics.rate_limited;
-    soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After",
-                                 std::to_string(retry).c_str());
-    return reply_problem(msg, s.metrics, 429,
-                         "receivers: this session sets its receivers too often; retry after " + std::to_string(retry) +
-                             " s",
-                         "receivers");
-  }
+  if (patch.is_object() && patch.contains("receivers") &&
+      !s.within(s.receiver_rate, msg, session.id(), kReceiverPatchesPerS, kReceiverPatchBurst,
+                "receivers: this session sets its receivers too often", "receivers"))
+    return;
   // Compared on the result, not looked up in the patch: a null higher up
   // ("object": null) resets the keys below it too.
   const nlohmann::json before = scene_to_json(session.params().snapshot().scene);
@@ -178,14 +172,8 @@ void session_route(ServerState& s, SoupServerMessage* msg, const Route& route) {
 
 // What a mutating request costs: a token from its address's bucket.
 bool within_rate(ServerState& s, SoupServerMessage* msg) {
-  int retry = 1;
-  const std::string address = address_group(client_address(msg, s.config.trusted_proxies));
-  if (s.rate_limiter.admit(address, s.config.rate_limit_per_s, s.config.rate_limit_burst, &retry)) return true;
-  ++s.metrics.rate_limited;
-  soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After",
-                               std::to_string(retry).c_str());
-  reply_problem(msg, s.metrics, 429, "too many requests from your address; retry after " + std::to_string(retry) + " s");
-  return false;
+  return s.within(s.rate_limiter, msg, address_group(client_address(msg, s.config.trusted_proxies)),
+                  s.config.rate_limit_per_s, s.config.rate_limit_burst, "too many requests from your address");
 }
 
 void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path) {
@@ -239,15 +227,9 @@ void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path)
     // machine on rebuilds. Every handshake counts, the first too (sockets
     // made side by side all attach after their handshakes): a session
     // takes a few at once, then one every 2 s.
-    int retry = 1;
-    if (!s.reconnect_rate.admit(it->first, kReconnectsPerS, kReconnectBurst, &retry)) {
-      ++s.metrics.rate_limited;
-      soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After",
-                                   std::to_string(retry).c_str());
-      return closing(), reply_problem(msg, s.metrics, 429,
-                                      "this session's stream was rebuilt for new connections too often; retry after " +
-                                          std::to_string(retry) + " s");
-    }
+    if (!s.within(s.reconnect_rate, msg, it->first, kReconnectsPerS, kReconnectBurst,
+                  "this session's stream was rebuilt for new connections too often"))
+      closing();
     return;
   }
   if (path == "/metrics") {

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // What the server's parts share (server_state.hpp): the sessions an address
-// holds, and a session's end.
+// holds, a session's end, and the answer of a limit.
 #include "address_group.hpp"
 #include "broadcast.hpp"
+#include "http_util.hpp"
 #include "log.hpp"
 #include "server_state.hpp"
 
@@ -37,6 +38,17 @@ void ServerState::end_session(const std::string& id, const std::string& reason) 
         delete static_cast<std::shared_ptr<Session>*>(data);
         malloc_trim(0);
       });
+}
+
+bool ServerState::within(RateLimiter& limiter, SoupServerMessage* msg, const std::string& key, double rate,
+                         double burst, const std::string& why, const std::string& problem_key) {
+  int retry = 1;
+  if (limiter.admit(key, rate, burst, &retry)) return true;
+  ++metrics.rate_limited;
+  soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After",
+                               std::to_string(retry).c_str());
+  reply_problem(msg, metrics, 429, why + "; retry after " + std::to_string(retry) + " s", problem_key);
+  return false;
 }
 
 }  // namespace caustic::server

@@ -52,6 +52,12 @@ struct ServerState {
   void end_session(const std::string& id, const std::string& reason);
   /// How many sessions `address` holds (max_sessions_per_address).
   int sessions_held_by(const std::string& address) const;
+  /// Takes a token from `limiter`'s bucket `key` (`rate` a second, up to
+  /// `burst`); when none is left, answers 429 with Retry-After and
+  /// "`why`; retry after N s" (naming `problem_key` when given), counts it
+  /// as rate-limited and returns false.
+  bool within(RateLimiter& limiter, SoupServerMessage* msg, const std::string& key, double rate, double burst,
+              const std::string& why, const std::string& problem_key = "");
 };
 
 /// Answers /api/v1/designs and /api/v1/designs/{id} (design_api.cpp);
