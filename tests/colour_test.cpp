@@ -46,7 +46,55 @@ TEST(Colour, StandardIlluminantsHaveTheirPublishedWhitePoints) {
   expect_xy(tristimulus({Illuminant::blackbody, 2856}), 0.44757, 0.40745, 2e-4);
   // The Planckian locus at 6500 K (Wyszecki & Stiles, Table 1(3.11)).
   expect_xy(tristimulus({Illuminant::blackbody, 6500}), 0.3135, 0.3237, 3e-4);
-  expect_xy(tristimulus({Illuminant::led}), 0.320, 0.354, 1e-3);
+}
+
+TEST(Colour, TheLedIsItsDocumentedSpectrum) {
+  // "led" is a model, not a standard (docs/physics.md §9): a Gaussian at
+  // 450 nm (FWHM 20 nm) plus 0.6 of one at 560 nm (FWHM 120 nm), integrated
+  // here against the CIE table, and the cool white that gives.
+  const auto gaussian = [](double nm, double centre, double fwhm) {
+    return std::exp(-4 * std::log(2.0) * std::pow((nm - centre) / fwhm, 2));
+  };
+  Xyz sum;
+  for (int nm = 380; nm < 780; ++nm) {
+    const double power = gaussian(nm + 0.5, 450, 20) + 0.6 * gaussian(nm + 0.5, 560, 120);
+    const Xyz c = cie1931(nm + 0.5);
+    sum.x += power * c.x, sum.y += power * c.y, sum.z += power * c.z;
+  }
+  const auto xy = chromaticity(sum);
+  expect_xy(tristimulus({Illuminant::led}), xy[0], xy[1], 1e-9);
+  EXPECT_NEAR(xy[0], 0.320, 1e-3);
+  EXPECT_NEAR(xy[1], 0.354, 1e-3);
+}
+
+TEST(Colour, EachBandsWeightIsItsShareOfTheWhite) {
+  // Equal energy in 8 bands of 50 nm: a band's weight is its CIE integral
+  // in linear sRGB (IEC 61966-2-1's matrix, written out here) over the
+  // whole visible's, channel by channel.
+  const auto rgb = [](const Xyz& c) {
+    return Rgb{3.2406 * c.x - 1.5372 * c.y - 0.4986 * c.z, -0.9689 * c.x + 1.8758 * c.y + 0.0415 * c.z,
+               0.0557 * c.x - 0.2040 * c.y + 1.0570 * c.z};
+  };
+  const auto band = [](int from, int to) {
+    Xyz sum;
+    for (int nm = from; nm < to; ++nm) {
+      const Xyz c = cie1931(nm + 0.5);
+      sum.x += c.x, sum.y += c.y, sum.z += c.z;
+    }
+    return sum;
+  };
+  const Rgb white = rgb(band(380, 780));
+  const auto samples = wavelength_samples({Illuminant::equal}, 8);
+  ASSERT_EQ(samples.size(), 8u);
+  for (int i = 0; i < 8; ++i) {
+    const int from = 380 + 50 * i;
+    const Rgb expected = rgb(band(from, from + 50));
+    EXPECT_EQ(samples[i].from_nm, from);
+    EXPECT_EQ(samples[i].nm, from + 25);
+    EXPECT_NEAR(samples[i].weight.r, expected.r / white.r, 1e-9) << "band " << i;
+    EXPECT_NEAR(samples[i].weight.g, expected.g / white.g, 1e-9) << "band " << i;
+    EXPECT_NEAR(samples[i].weight.b, expected.b / white.b, 1e-9) << "band " << i;
+  }
 }
 
 TEST(Colour, D65IsTheSrgbWhite) {

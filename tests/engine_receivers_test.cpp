@@ -133,14 +133,19 @@ TEST_F(EngineReceivers, ASolidLightsThemToo) {
 }
 
 TEST_F(EngineReceivers, OneEdgeOnToTheLightCatchesNothingAndBreaksNothing) {
-  Scene s = base_scene(128);
-  // A wall beside the slab, its plane along the light: every ray runs parallel to it.
-  s.receivers = {rectangle({12, 0, -20}, {-1, 0, 0}, {0, 0, 1}, 30, 20),
-                 rectangle({0, 0, -40}, {0, 0, 1}, {0, 1, 0}, 30, 30)};
-  const HdrImage img = render(s, slab());
-  EXPECT_TRUE(all_finite(img));
-  EXPECT_EQ(tile_flux(img, s, 1), 0.0);
-  EXPECT_NEAR(tile_flux(img, s, 2), 400.0, 0.04);
+  // A wall, its plane along the light: every ray runs parallel to it.
+  // Beside the slab, and touching its edge (x = 10), where the last column
+  // of vertices' rays run in its plane (0 / 0 for a hit). A plane through
+  // the beam would cross the object's box, which the scene refuses.
+  for (double x : {12.0, 10.0}) {
+    Scene s = base_scene(128);
+    s.receivers = {rectangle({x, 0, -20}, {-1, 0, 0}, {0, 0, 1}, 30, 20),
+                   rectangle({0, 0, -40}, {0, 0, 1}, {0, 1, 0}, 30, 30)};
+    const HdrImage img = render(s, slab());
+    EXPECT_TRUE(all_finite(img)) << "wall at x = " << x;
+    EXPECT_EQ(tile_flux(img, s, 1), 0.0) << "wall at x = " << x;
+    EXPECT_NEAR(tile_flux(img, s, 2), 400.0, 0.04) << "wall at x = " << x;
+  }
 }
 
 TEST_F(EngineReceivers, TheGlowStaysOnTheSurfaceItsLightReached) {
