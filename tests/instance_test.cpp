@@ -1,14 +1,17 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // One instance's side of running behind a proxy: its number in the session
 // URLs (and the plain paths still working), another instance's prefix
-// refused, X-Forwarded-For believed only from a trusted proxy, and ICE
-// candidates kept inside the configured port range.
+// refused, X-Forwarded-For believed only from a trusted proxy, ICE
+// candidates kept inside the configured port range, and the capacity agent
+// telling the proxy its free share and its drain.
+#include "helper_processes.hpp"
 #include "raw_http.hpp"
 #include "server_process.hpp"
 #include "ws_client.hpp"
 
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <regex>
 
 using caustic::testing::bearer;
@@ -25,7 +28,31 @@ unsigned create_from(const std::string& url, const std::string& forwarded_for) {
       .status;
 }
 
+// The capacity agent's one line (HAProxy's agent-check protocol).
+std::string agent_line(int port) {
+  const int fd = ct::raw_connect(port);
+  if (fd < 0) return "no agent on port " + std::to_string(port);
+  std::string line = ct::raw_read_all(fd, 10000);
+  ::close(fd);
+  return line;
+}
+
 }  // namespace
+
+TEST(Instance, TheAgentTellsTheFreeShareAndTheDrain) {
+  const int agent = ct::free_port();
+  ServerProcess server({"--max-sessions", "3", "--set", "agent_port=" + std::to_string(agent), "--set",
+                        "max_sessions_per_address=10", "--set", "drain_timeout_s=120"});
+  EXPECT_EQ(agent_line(agent), "up ready 100%\n");
+  const json s = http("POST", server.url() + "/api/v1/sessions", R"({"scene": "lens"})").json();
+  EXPECT_EQ(agent_line(agent), "up ready 67%\n");  // 2 of 3 free
+  for (int i = 0; i < 2; ++i) http("POST", server.url() + "/api/v1/sessions", R"({"scene": "lens"})");
+  EXPECT_EQ(agent_line(agent), "up ready 0%\n");
+  // Stopped with sessions running: it drains, and says so until it leaves.
+  server.signal(SIGTERM);
+  for (int i = 0; i < 50 && http("GET", server.url() + "/api/v1/health").status != 503; ++i) g_usleep(100000);
+  EXPECT_EQ(agent_line(agent), "up drain\n");
+}
 
 TEST(Instance, SessionUrlsNameTheInstanceAndAnotherInstancesPrefixIsRefused) {
   ServerProcess server({"--set", "instance_index=3"});

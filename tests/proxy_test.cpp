@@ -13,10 +13,17 @@
 #include <gtest/gtest.h>
 
 
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sstream>
 
 using caustic::testing::find_program;
 using caustic::testing::free_port;
@@ -30,6 +37,40 @@ namespace fs = std::filesystem;
 namespace ct = caustic::testing;
 
 namespace {
+
+// Column `field` of HAProxy's "show stat" for `server` of `backend`, asked
+// on its stats socket ("" when it does not answer or has no such row).
+std::string haproxy_stat(const fs::path& socket_path, const std::string& backend, const std::string& server,
+                         const std::string& field) {
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+  sockaddr_un where{};
+  where.sun_family = AF_UNIX;
+  std::strncpy(where.sun_path, socket_path.c_str(), sizeof where.sun_path - 1);
+  if (fd < 0 || ::connect(fd, reinterpret_cast<sockaddr*>(&where), sizeof where) != 0 ||
+      !ct::raw_send(fd, "show stat\n")) {
+    if (fd >= 0) ::close(fd);
+    return "";
+  }
+  std::istringstream csv(ct::raw_read_all(fd, 5000));
+  ::close(fd);
+  const auto split = [](const std::string& line) {
+    std::vector<std::string> cells;
+    std::istringstream in(line);
+    for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
+    return cells;
+  };
+  std::string line;
+  if (!std::getline(csv, line) || line.rfind("# ", 0) != 0) return "";
+  const auto header = split(line.substr(2));
+  const auto column = std::find(header.begin(), header.end(), field);
+  if (column == header.end()) return "";
+  while (std::getline(csv, line)) {
+    const auto row = split(line);
+    const auto at = static_cast<std::size_t>(column - header.begin());
+    if (row.size() > at && row[0] == backend && row[1] == server) return row[at];
+  }
+  return "";
+}
 
 struct Instance {
   int agent_port;
@@ -68,6 +109,8 @@ class Proxied : public ::testing::TestWithParam<std::string> {
     if (GetParam() == "haproxy") {
       replace_all(config, "bind :80", "bind 127.0.0.1:" + std::to_string(port_));
       replace_all(config, "log /dev/log local0", "log stderr local0");
+      // The test's own view of what the agents told HAProxy.
+      replace_all(config, "    maxconn 4096", "    maxconn 4096\n    stats socket " + stats_socket().string() + " mode 600");
       std::ofstream(dir_ / "haproxy.cfg") << config;
       argv = {program, "-db", "-f", (dir_ / "haproxy.cfg").string()};
     } else {
@@ -89,7 +132,17 @@ class Proxied : public ::testing::TestWithParam<std::string> {
         break;
       }
     ASSERT_EQ(http("GET", url() + "/api/v1/scenes").status, 200u) << GetParam() << " does not answer";
-    g_usleep(1500000);  // HAProxy's agents have reported once
+    if (GetParam() == "haproxy") {  // until both agents have reported once
+      bool reported = false;
+      for (int i = 0; i < 100 && !reported; ++i, g_usleep(100000))
+        reported = !agent_said("i1").empty() && !agent_said("i2").empty();
+      ASSERT_TRUE(reported) << "HAProxy heard from no capacity agent";
+    }
+  }
+  fs::path stats_socket() const { return dir_ / "haproxy.sock"; }
+  // What instance `server`'s capacity agent last told HAProxy ("" before it did).
+  std::string agent_said(const std::string& server) const {
+    return haproxy_stat(stats_socket(), "new_sessions", server, "last_agt");
   }
   void TearDown() override {
     proxy_.stop();
@@ -160,7 +213,12 @@ TEST_P(Proxied, AStoppedInstanceDrainsAndNewSessionsGoToTheOther) {
   one.signal(SIGTERM);
   for (int i = 0; i < 50 && http("GET", one.url() + "/api/v1/health").status != 503; ++i) g_usleep(100000);
   ASSERT_EQ(http("GET", one.url() + "/api/v1/health").json()["status"], "draining");
-  g_usleep(1500000);  // the agent has told HAProxy
+  if (GetParam() == "haproxy") {  // the agent has told HAProxy (nginx learns from the 503s alone)
+    std::string status;
+    for (int i = 0; i < 100 && status != "DRAIN (agent)"; ++i, g_usleep(100000))
+      status = haproxy_stat(stats_socket(), "new_sessions", "i1", "status");
+    ASSERT_EQ(status, "DRAIN (agent)") << "HAProxy's view of the draining instance; its agent said " << agent_said("i1");
+  }
 
   // Its running sessions go on, through the proxy.
   for (const json& s : first) {
