@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "broadcast.hpp"
 
+#include "address_group.hpp"
 #include "http_util.hpp"
 #include "janus_admin.hpp"
 #include "log.hpp"
@@ -129,8 +130,11 @@ void create_broadcast(ServerState& s, SoupServerMessage* msg, std::shared_ptr<co
   m.pin = random_hex().substr(0, 16);
   auto pending = std::make_shared<Pending>(msg);
   ServerState* state = &s;
+  const std::string group = address_group(address);
+  ++s.starting[group];
   s.janus->plugin_request(create_request(m, id, codec, s.config), [=](const JanusAdmin::Answer& a) mutable {
     ServerState& st = *state;
+    if (const auto it = st.starting.find(group); it != st.starting.end() && --it->second <= 0) st.starting.erase(it);
     SoupServerMessage* out = pending->msg;
     if (!a.error.empty()) {
       log(Level::error, "broadcast: Janus did not create the mountpoint: " + a.error, {id, entry->id, codec, address});

@@ -16,7 +16,14 @@ int ServerState::sessions_held_by(const std::string& address) const {
   const std::string group = address_group(address);
   int held = 0;
   for (const auto& [id, session] : sessions) held += address_group(session->client_address()) == group;
-  return held;
+  const auto it = starting.find(group);
+  return held + (it == starting.end() ? 0 : it->second);
+}
+
+int ServerState::sessions_taken() const {
+  int taken = static_cast<int>(sessions.size());
+  for (const auto& [group, count] : starting) taken += count;
+  return taken;
 }
 
 void ServerState::end_session(const std::string& id, const std::string& reason) {

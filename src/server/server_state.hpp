@@ -42,6 +42,10 @@ struct ServerState {
   std::unique_ptr<CapacityAgent> agent;   ///< when agent_port is set
   std::unique_ptr<JanusAdmin> janus;      ///< when janus_admin_url is set: broadcasts
   std::map<std::string, Mountpoint> mountpoints;  ///< by session id, for broadcasts
+  /// Broadcasts waiting for Janus to make their mountpoint, by address
+  /// group: held already, so that requests made side by side are refused
+  /// at once rather than each asking Janus for a mountpoint.
+  std::map<std::string, int> starting;
 
   /// A scene for a session: the gallery's, else a finished design's; null
   /// if none, or (`*loading`) while the design is read back into memory.
@@ -50,8 +54,11 @@ struct ServerState {
   /// Removes a session on the next main loop iteration (never from inside
   /// one of its own callbacks).
   void end_session(const std::string& id, const std::string& reason);
-  /// How many sessions `address` holds (max_sessions_per_address).
+  /// How many sessions `address` holds (max_sessions_per_address),
+  /// broadcasts still starting included.
   int sessions_held_by(const std::string& address) const;
+  /// Sessions running and broadcasts starting (max_sessions).
+  int sessions_taken() const;
   /// Takes a token from `limiter`'s bucket `key` (`rate` a second, up to
   /// `burst`); when none is left, answers 429 with Retry-After and
   /// "`why`; retry after N s" (naming `problem_key` when given), counts it

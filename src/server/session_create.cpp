@@ -93,7 +93,7 @@ void create_session(ServerState& s, SoupServerMessage* msg) {
     return reply_problem(msg, s.metrics, SOUP_STATUS_SERVICE_UNAVAILABLE,
                          "this instance is stopping and takes no new sessions");
   }
-  if (static_cast<int>(s.sessions.size()) >= s.config.max_sessions) {
+  if (s.sessions_taken() >= s.config.max_sessions) {
     ++s.metrics.sessions_rejected;
     soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Retry-After", "10");
     return reply_problem(msg, s.metrics, SOUP_STATUS_SERVICE_UNAVAILABLE,
