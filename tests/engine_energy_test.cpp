@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Energy bookkeeping over random poses (docs/physics.md ch. 5): the summed
 // screen flux equals the flux that enters the triangles that reach the
-// screen, computed independently in double precision on the CPU.
+// screen, summed triangle by triangle in double precision on the CPU. The
+// sum shares the per-vertex rays (caustic/vertex_rays.hpp) with the
+// engine: what it checks is the splat's bookkeeping (every triangle's flux
+// spread, none lost or counted twice, folds included), on the GL's shaders
+// or the CPU's raster; the rays' physics have their own oracles.
 #include "gl_test_support.hpp"
 
 #include "caustic/vertex_rays.hpp"
@@ -53,6 +57,7 @@ class Energy : public GlTest {
     const auto mesh = shared(mesh_value);
     std::mt19937 rng(seed);
     double worst = 0;
+    int checked = 0;
     for (int i = 0; i < poses; ++i) {
       Pose pose = random_pose(rng, fresnel);
       FluxSummary expected;
@@ -64,6 +69,7 @@ class Energy : public GlTest {
       if (!frame_screen(pose.scene, *mesh, &expected)) continue;
       const HdrImage img = render(pose.scene, mesh);
       ASSERT_TRUE(all_finite(img)) << pose.label;
+      ++checked;
       const double measured = total_flux(img, pose.scene.screen);
       const double error = std::abs(measured - expected.flux) / expected.flux;
       worst = std::max(worst, error);
@@ -72,7 +78,8 @@ class Energy : public GlTest {
                              << engine_->stats().folded << " folded";
       EXPECT_EQ(engine_->stats().drawn, expected.valid_triangles) << "pose " << i;
     }
-    std::printf("worst relative flux error over %d poses: %.2e\n", poses, worst);
+    std::printf("worst relative flux error over %d of %d poses: %.2e\n", checked, poses, worst);
+    EXPECT_GE(3 * checked, 2 * poses) << "most poses must light the screen";
   }
 };
 
