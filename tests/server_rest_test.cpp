@@ -165,6 +165,7 @@ TEST_F(Rest, PatchErrorsLeaveTheParametersUnchanged) {
       {R"({"object": {"ior": NaN}})", patch_type, bearer(s), 400, ""},
       {R"({"object": {"ior": 1e999}})", patch_type, bearer(s), 400, ""},
       {R"([1])", patch_type, bearer(s), 400, ""},
+      {R"({"object": {"ior": 1.7, "ior": 1.4}})", patch_type, bearer(s), 400, ""},  // which one? neither
       {R"({"object": {"ior": "glass"}})", patch_type, bearer(s), 422, "object.ior"},
       {R"({"object": {"ior": 0.2}})", patch_type, bearer(s), 422, "object.ior"},
       {R"({"light": {"direction": [0, 0, 0]}})", patch_type, bearer(s), 422, "light.direction"},

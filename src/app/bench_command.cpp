@@ -18,11 +18,13 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <type_traits>
 
 namespace caustic::app {
 namespace {
@@ -170,6 +172,25 @@ int run_bench(const BenchOptions& opt) {
   return ok;
 }
 
+// A list flag's values once each, in the order given; "" when they fit, else
+// why not, naming the flag. Bounded: at most 8 values, and the meshes (built
+// before any timing) at most twice the largest's vertices in all.
+template <typename T>
+std::string fit_list(const char* flag, std::vector<T>& values, long long max_vertices = 0) {
+  std::vector<T> once;
+  for (const T& v : values)
+    if (std::find(once.begin(), once.end(), v) == once.end()) once.push_back(v);
+  values = once;
+  if (values.size() > 8) return std::string(flag) + ": at most 8 values";
+  long long vertices = 0;
+  if constexpr (std::is_same_v<T, int>)
+    for (int v : values) vertices += static_cast<long long>(v) * v;
+  if (max_vertices > 0 && vertices > max_vertices)
+    return std::string(flag) + ": at most " + std::to_string(max_vertices) + " vertices in all (" +
+           std::to_string(vertices) + " asked; the meshes are built before the timing)";
+  return "";
+}
+
 }  // namespace
 
 std::function<int()> add_bench_command(CLI::App& app) {
@@ -225,10 +246,22 @@ std::function<int()> add_bench_command(CLI::App& app) {
   cmd->add_option("--sizes", opt->sizes, "Render sizes (pixels per side, multiples of 128)")
       ->delimiter(',')
       ->check(CLI::Range(128, 4096) & CLI::Validator([](std::string& v) {
-                return std::stoi(v) % 128 ? std::string("must be a multiple of 128") : std::string();
+                // Run even when the range check failed: it must not throw on a value that is no number.
+                int n = 0;
+                const auto [end, error] = std::from_chars(v.data(), v.data() + v.size(), n);
+                return error == std::errc() && end == v.data() + v.size() && n % 128 == 0
+                           ? std::string()
+                           : std::string("must be a multiple of 128");
               }, "MULTIPLE OF 128"));
   return [cmd, opt, perf, spectral, multipass, water, water_opt] {
     if (!cmd->parsed()) return -1;
+    for (const std::string& why : {fit_list("--meshes", opt->meshes, 2LL * 2048 * 2048), fit_list("--sizes", opt->sizes),
+                                   fit_list("--grids", water_opt->grids), fit_list("--divisors", water_opt->divisors),
+                                   fit_list("--setups", water_opt->setups)})
+      if (!why.empty()) {
+        std::cerr << "causticd bench: " << why << "\n";
+        return static_cast<int>(bad_input);
+      }
     if (!bench_folder_ready(opt->out)) return static_cast<int>(bad_input);
     try {
       if (*perf) return run_perf_bench({opt->out, opt->frames, opt->meshes, opt->sizes});

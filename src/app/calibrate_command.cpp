@@ -27,7 +27,7 @@ int run_calibrate(const CalibrateCommandOptions& opt) {
   SceneLevels levels;
   if (!load_scene_levels("calibrate", opt.scene, opt.assignments, &scene, &levels)) return bad_input;
   const std::filesystem::path output = opt.output.empty() ? calibration_path(opt.scene) : opt.output;
-  if (!output_writable("calibrate", output)) return bad_input;
+  if (!output_writable("calibrate", output, "--output", scene_inputs(opt.scene, scene))) return bad_input;
   return run_reporting("calibrate", opt.scene, [&] {
     GlContext context(egl_platform_from_environment());
     Engine engine;
@@ -68,7 +68,7 @@ std::function<int()> add_calibrate_command(CLI::App& app) {
   cmd->add_option("--set", opt->assignments, "Override a scene key before calibrating");
   cmd->add_option("--photons", opt->calibrate.photons, "Photons for the reference")
       ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1} << 36));
-  cmd->add_option("--seed", opt->calibrate.seed, "Random seed of the reference");
+  cmd->add_option("--seed", opt->calibrate.seed, "Random seed of the reference")->check(seed_number());
   cmd->add_option("--max-side", opt->calibrate.max_side, "Render size of the longer side")->check(CLI::Range(64, 4096));
   cmd->add_option("--frames", opt->calibrate.frames, "Timed frames per configuration")->check(CLI::Range(1, 50));
   return [cmd, opt] { return cmd->parsed() ? run_calibrate(*opt) : -1; };

@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -18,6 +19,19 @@
 #include <vector>
 
 namespace caustic::app {
+
+/// A random seed: digits alone, 0 to 2^64 - 1 (CLI11 took "-1" as
+/// 2^64 - 1 and wrapped larger numbers).
+inline CLI::Validator seed_number() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        errno = 0;
+        const bool digits = !text.empty() && text.size() <= 20 && text.find_first_not_of("0123456789") == std::string::npos;
+        if (digits) std::strtoull(text.c_str(), nullptr, 10);
+        return digits && errno == 0 ? "" : "must be a whole number in [0, 2^64 - 1]";
+      },
+      "UINT64");
+}
 
 /// Exit statuses shared by every subcommand.
 enum Exit : int { ok = 0, runtime_failure = 1, bad_input = 2 };
@@ -41,9 +55,15 @@ bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
                          const std::vector<std::string>& assignments, Scene* scene, Mesh* mesh);
 
 /// Whether `out` (the file of `flag`) can be written: its folder exists, it
-/// is no folder, and it opens for writing (tried, and left as it was). When
-/// not, says so as "causticd <command>: <flag> <out>: ..." before any work.
-bool output_writable(const char* command, const std::filesystem::path& out, const char* flag = "--output");
+/// is no folder, nothing else than a regular file (a device, a pipe), none
+/// of the command's `inputs`, and it opens for writing (tried, and left as
+/// it was). When not, says so as "causticd <command>: <flag> <out>: ..."
+/// before any work.
+bool output_writable(const char* command, const std::filesystem::path& out, const char* flag = "--output",
+                     const std::vector<std::filesystem::path>& inputs = {});
+
+/// The files a scene was read from: the scene file and its mesh.
+std::vector<std::filesystem::path> scene_inputs(const std::filesystem::path& file, const Scene& scene);
 
 /// Runs `body` and turns what it throws into the exit status: a SceneError
 /// is bad input (the message names `scene`), anything else a runtime failure.

@@ -81,12 +81,15 @@ int check_flags(DesignCommandOptions& o) {
   // A floor far below any glass geometric optics describes (10 um, some 20
   // wavelengths of light): at 1e-300 mm the face's single floats were all 0.
   if (!(std::isfinite(d.size) && d.size >= 0.01 && d.size <= 1e4)) return bad("--size: must be in [0.01, 10000] mm");
-  if (!(std::isfinite(d.focus) && d.focus > 0 && d.focus <= 1e6)) return bad("--focus: must be in (0, 1e6] mm");
+  if (!(std::isfinite(d.focus) && d.focus >= 0.01 && d.focus <= 1e6)) return bad("--focus: must be in [0.01, 1e6] mm");
   if (!(std::isfinite(d.ior) && d.ior > 1 && d.ior <= 4)) return bad("--ior: must be in (1, 4]");
   if (d.resolution < 16 || d.resolution > 2048)
     return bad("--resolution: must be in [16, 1024] (up to 2048 with --force), got " + std::to_string(d.resolution));
   if (d.resolution > 1024 && !o.force)
     return bad("--resolution: " + std::to_string(d.resolution) + " needs --force (above 1024 the solve takes minutes)");
+  if (o.force && d.resolution <= 1024)
+    std::cerr << "causticd design: warning: --force: has no effect at --resolution " << d.resolution
+              << " (it allows more than 1024)\n";
   if (!(std::isfinite(d.black_floor) && d.black_floor >= 1e-6 && d.black_floor < 1))
     return bad("--black-floor: must be in [1e-6, 1)");
   if (!(std::isfinite(d.min_thickness) && d.min_thickness >= 0 && d.min_thickness <= 1e4))
@@ -112,7 +115,8 @@ int check_flags(DesignCommandOptions& o) {
     if (p->empty()) continue;
     // Tried now, not found after a solve of minutes: the file itself and
     // its .part sibling, under which it is first written.
-    if (!output_writable("design", *p, flag) || !output_writable("design", part_name(*p), flag)) return bad_input;
+    if (!output_writable("design", *p, flag, {o.target}) || !output_writable("design", part_name(*p), flag, {o.target}))
+      return bad_input;
     for (std::size_t j = 0; j < i; ++j)
       if (!outputs[j].second->empty() && same(*outputs[j].second, *p))
         return bad(std::string(flag) + " " + p->string() + ": the same file as " + outputs[j].first);
@@ -328,9 +332,10 @@ std::function<int()> add_design_command(CLI::App& app) {
   cmd->add_option("--black-floor", opt->design.black_floor, "Darkest density, relative to the brightest");
   cmd->add_option("--min-thickness", opt->design.min_thickness, "Thinnest glass, mm");
   cmd->add_option("--solid", opt->solid, "Also write the watertight slab (.obj) for milling");
-  cmd->add_flag("--verify", opt->verify, "Also trace the design with the reference photon tracer");
+  CLI::Option* verify = cmd->add_flag("--verify", opt->verify, "Also trace the design with the reference photon tracer");
   cmd->add_option("--photons", opt->photons, "Photons for --verify")
-      ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1} << 34));
+      ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1} << 34))
+      ->needs(verify);
   cmd->add_option("--side-by-side", opt->side_by_side, "PNG: target | engine render (| reference render with --verify)");
   cmd->add_option("--report", opt->report, "JSON file with every figure");
   cmd->add_flag("--no-check", opt->no_check, "Skip the engine render (no OpenGL needed)");

@@ -30,7 +30,7 @@ int run_reference(const ReferenceCommandOptions& opt) {
     std::cerr << "causticd reference: --output " << opt.output.string() << ": the file must end in .exr\n";
     return bad_input;
   }
-  if (!output_writable("reference", opt.output)) return bad_input;
+  if (!output_writable("reference", opt.output, "--output", scene_inputs(opt.scene, scene))) return bad_input;
   ReferenceOptions options;
   options.photons = opt.photons;
   options.seed = opt.seed;
@@ -63,17 +63,8 @@ std::function<int()> add_reference_command(CLI::App& app) {
   cmd->add_option("--scene", opt->scene, "Scene file (JSON)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--output,-o", opt->output, "Output .exr (relative irradiance)")->required();
   cmd->add_option("--photons", opt->photons, "Photons to trace")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
-  // Digits alone: the parser took "-1" as 2^64 - 1 and wrapped larger numbers.
-  cmd->add_option("--seed", opt->seed, "Random seed (same seed, same image)")
-      ->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            errno = 0;
-            const bool digits = !text.empty() && text.size() <= 20 && text.find_first_not_of("0123456789") == std::string::npos;
-            if (digits) std::strtoull(text.c_str(), nullptr, 10);
-            return digits && errno == 0 ? "" : "must be a whole number in [0, 2^64 - 1]";
-          },
-          "UINT64"));
-  cmd->add_option("--threads", opt->threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
+  cmd->add_option("--seed", opt->seed, "Random seed (same seed, same image)")->check(seed_number());
+  cmd->add_option("--threads", opt->threads, "Worker threads (0: all cores; at most the cores)")->check(CLI::Range(0, 1024));
   cmd->add_option("--set", opt->assignments, "Override a scene key, e.g. --set render.fresnel=false");
   return [cmd, opt] { return cmd->parsed() ? run_reference(*opt) : -1; };
 }

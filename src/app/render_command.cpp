@@ -41,9 +41,10 @@ int run_render(const RenderOptions& opt) {
       std::cerr << "causticd render: --output " << out.string() << ": the file must end in .exr or .png\n";
       return bad_input;
     }
-    if (!output_writable("render", out)) return bad_input;
   }
   if (!load_scene_levels("render", opt.scene, assignments, &scene, &levels)) return bad_input;
+  for (const auto& out : opt.outputs)
+    if (!output_writable("render", out, "--output", scene_inputs(opt.scene, scene))) return bad_input;
   const auto mesh = levels.levels.at(scene.render.mesh_resolution);
   return run_reporting("render", opt.scene, [&] {
     GlContext context(egl_platform_from_environment());

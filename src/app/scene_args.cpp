@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <map>
 #include <set>
 
 #include <fcntl.h>
@@ -20,6 +21,18 @@
 namespace caustic::app {
 
 namespace {
+
+// Every key path a patch writes a value to (objects opened, anything else a
+// value), with the value.
+std::map<std::string, nlohmann::json> leaf_keys(const nlohmann::json& patch, const std::string& prefix = "") {
+  std::map<std::string, nlohmann::json> out;
+  if (!patch.is_object() || patch.empty()) {
+    out.emplace(prefix, patch);
+    return out;
+  }
+  for (const auto& [key, value] : patch.items()) out.merge(leaf_keys(value, prefix.empty() ? key : prefix + "." + key));
+  return out;
+}
 
 // What the scene file and the assignments write that is not what renders:
 // a key another setting overrides or leaves unused, and a key assigned
@@ -32,12 +45,18 @@ void warn_overrides(const char* command, const nlohmann::json& file_doc, const s
   for (const auto& w : written)
     for (const auto& [key, detail] : scene_overrides(w, scene))
       if (said.insert(key).second) std::cerr << "causticd " << command << ": warning: " << detail << "\n";
+  // Two assignments that write one key, directly or inside an object one of
+  // them sets whole (post={"gamma":3}, then post.gamma=2).
   for (std::size_t i = 0; i < assignments.size(); ++i)
     for (std::size_t j = i + 1; j < assignments.size(); ++j) {
-      const std::string key = assignments[i].substr(0, assignments[i].find('='));
-      if (key == assignments[j].substr(0, assignments[j].find('=')) && assignments[i] != assignments[j])
+      const auto a = leaf_keys(written[i + 1]), b = leaf_keys(written[j + 1]);
+      for (const auto& [key, value] : a) {
+        const auto later = b.find(key);
+        if (later == b.end() || later->second == value) continue;
         std::cerr << "causticd " << command << ": warning: " << key << ": " << assignments[i] << " is overridden by "
                   << assignments[j] << " (the later one is used)\n";
+        break;
+      }
     }
 }
 
@@ -58,7 +77,8 @@ bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
   }
 }
 
-bool output_writable(const char* command, const std::filesystem::path& out, const char* flag) {
+bool output_writable(const char* command, const std::filesystem::path& out, const char* flag,
+                     const std::vector<std::filesystem::path>& inputs) {
   const auto dir = std::filesystem::absolute(out).parent_path();
   const auto refuse = [&](const std::string& why) {
     std::cerr << "causticd " << command << ": " << flag << " " << out.string() << ": " << why << "\n";
@@ -67,14 +87,27 @@ bool output_writable(const char* command, const std::filesystem::path& out, cons
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec)) return refuse("folder " + dir.string() + " does not exist");
   if (std::filesystem::is_directory(out, ec)) return refuse("is a folder");
+  const bool existed = std::filesystem::exists(out, ec);
+  // A device or a pipe would be replaced by a file (written under another
+  // name, then renamed over it), and an input overwritten by an output.
+  if (existed && !std::filesystem::is_regular_file(out, ec))
+    return refuse("is not a regular file (a device, a pipe or a socket): give a file's name");
+  for (const auto& in : inputs)
+    if (existed && std::filesystem::equivalent(out, in, ec))
+      return refuse("is the command's input " + in.string() + ": it would be overwritten");
   // Tried before the work rather than found after it: a file there is
   // opened for writing (and left as it was), a new one made and removed.
-  const bool existed = std::filesystem::exists(out, ec);
   const int fd = ::open(out.c_str(), O_WRONLY | (existed ? 0 : O_CREAT | O_EXCL) | O_CLOEXEC | O_NONBLOCK, 0644);
   if (fd < 0) return refuse(std::string("cannot be written (") + std::strerror(errno) + ")");
   ::close(fd);
   if (!existed) std::filesystem::remove(out, ec);
   return true;
+}
+
+std::vector<std::filesystem::path> scene_inputs(const std::filesystem::path& file, const Scene& scene) {
+  std::vector<std::filesystem::path> inputs{file};
+  if (!scene.mesh.empty()) inputs.push_back(scene.mesh_path());
+  return inputs;
 }
 
 int run_reporting(const char* command, const std::filesystem::path& scene, const std::function<void()>& body,

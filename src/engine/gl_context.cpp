@@ -77,13 +77,22 @@ struct GlContext::State {
   std::string version;
 };
 
-EglPlatform egl_platform_from_environment() {
+namespace {
+
+EglPlatform platform_named() {
   const char* value = std::getenv("CAUSTICD_EGL_PLATFORM");
   if (!value || !*value || std::strcmp(value, "automatic") == 0) return EglPlatform::automatic;
   if (std::strcmp(value, "device") == 0) return EglPlatform::device;
   if (std::strcmp(value, "surfaceless") == 0) return EglPlatform::surfaceless;
   throw GlContextError(std::string("CAUSTICD_EGL_PLATFORM must be automatic, device or surfaceless, got \"") +
                        value + "\"");
+}
+
+}  // namespace
+
+EglPlatform egl_platform_from_environment() {
+  (void)wanted_device();  // CAUSTICD_EGL_DEVICE checked too, before a context is wanted
+  return platform_named();
 }
 
 GlContext::GlContext(EglPlatform platform) : state_(std::make_unique<State>()) {

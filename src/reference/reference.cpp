@@ -131,7 +131,10 @@ ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const Reference
   const bool point = scene.light.type == LightType::point;
   const double r_ref2 = point ? glm::dot(scene.light.position - placement.center, scene.light.position - placement.center) : 1.0;
 
-  const int threads = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  // Each thread sums into an image of its own: more threads than cores
+  // would buy no speed for their memory (64 at 2048² once took 2.3 GB).
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = options.threads > 0 ? std::min(options.threads, cores) : cores;
   const std::size_t channels = tinted(mesh) ? 3 : 1;
   std::vector<std::vector<double>> tiles(static_cast<std::size_t>(threads),
                                          std::vector<double>(channels * width * height, 0.0));
@@ -189,7 +192,12 @@ ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const Reference
     landed += mine;
   };
   std::vector<std::thread> pool;
-  for (int w = 1; w < threads; ++w) pool.emplace_back(work, w);
+  try {
+    for (int w = 1; w < threads; ++w) pool.emplace_back(work, w);
+  } catch (...) {  // no thread to be had: the started ones finish (a joinable thread destroyed aborts)
+    for (std::thread& t : pool) t.join();
+    throw;
+  }
   std::thread reporter;
   std::atomic<bool> finished{false};
   if (options.progress)

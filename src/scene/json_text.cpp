@@ -6,7 +6,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <optional>
 #include <cerrno>
+#include <string>
 #include <vector>
 
 namespace caustic {
@@ -53,7 +55,8 @@ class LimitedDom : public nlohmann::json_sax<json> {
   json result;
   JsonTextError error_{"", 0};
   bool failed = false;
-  bool too_deep = false;  // the one failure of its own: the nesting limit
+  bool too_deep = false;  // a failure of its own: the nesting limit
+  std::optional<string_t> duplicate;  // the other: a key written twice
 
  private:
   bool fail(const std::string& why) {
@@ -77,6 +80,12 @@ class LimitedDom : public nlohmann::json_sax<json> {
       result = std::move(value);
       last_ = &result;
     } else if (stack_.back()->is_object()) {
+      // Written twice, one of the two would be dropped unsaid (RFC 8259
+      // leaves it to the reader): refused, naming the key.
+      if (stack_.back()->contains(key_)) {
+        duplicate = key_;
+        return fail("the key \"" + printable_name(key_, 64) + "\" is written twice in one object");
+      }
       last_ = &((*stack_.back())[key_] = std::move(value));
     } else {
       stack_.back()->push_back(std::move(value));
@@ -113,6 +122,16 @@ std::size_t too_deep_at(std::string_view text, int max_depth) {
   return 0;
 }
 
+// Where `key` is written a second time, as a quoted name (plain, without
+// escapes); 0 when it is not found so (the error still names it).
+std::size_t second_key_at(std::string_view text, const std::string& key) {
+  const std::string quoted = "\"" + key + "\"";
+  const std::size_t first = text.find(quoted);
+  if (first == std::string_view::npos) return 0;
+  const std::size_t second = text.find(quoted, first + quoted.size());
+  return second == std::string_view::npos ? 0 : second;
+}
+
 }  // namespace
 
 std::optional<nlohmann::json> parse_json_text(std::string_view text, JsonTextError* error, int max_depth) {
@@ -132,6 +151,7 @@ std::optional<nlohmann::json> parse_json_text(std::string_view text, JsonTextErr
       *error = dom.error_;
       if (error->message.empty()) error->message = "not valid JSON";
       if (dom.too_deep) error->offset = too_deep_at(text, max_depth);
+      if (dom.duplicate) error->offset = second_key_at(text, *dom.duplicate);
     }
     return std::nullopt;
   }

@@ -111,6 +111,10 @@ void check_numbers(const std::string& text, const std::string& label, const Mesh
         if (!face_corner(word))
           fail(number, "a face's corner must be v, v/vt, v//vn or v/vt/vn, each a nonzero whole number within an int");
       if (corners < 3) fail(number, "a face needs at least 3 corners");
+      // Said here with its line: the reader keeps a face's corner count in
+      // a byte, so a face of 259 corners would come out as a triangle.
+      if (corners != 3)
+        fail(number, "a face of " + std::to_string(corners) + " vertices; only triangles are allowed");
     }
     if (tag != "v" && tag != "vn" && tag != "vt") {
       p = next;

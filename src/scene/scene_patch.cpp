@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,13 @@ json patch_from_assignment(const std::string& assignment) {
   const std::string text = assignment.substr(eq + 1);
   // A value that is not JSON is the string written: --set object.glass=bk7.
   json value = parse_json_text(text).value_or(json(text));
+  // A scene's keys lie at most a few deep: a longer path names no key, and
+  // is refused before it is built (nested level by level, a path of 20,000
+  // keys once took 40 s).
+  constexpr std::size_t kMaxDepth = 8;
+  if (static_cast<std::size_t>(std::count(path.begin(), path.end(), '.')) >= kMaxDepth)
+    throw SceneError(path.size() > 64 ? path.substr(0, 64) + "..." : path,
+                     "a key path of more than " + std::to_string(kMaxDepth) + " keys names no scene key");
   std::vector<std::string> keys;
   std::size_t begin = 0;
   while (true) {
@@ -68,8 +76,8 @@ json patch_from_assignment(const std::string& assignment) {
     if (dot == std::string::npos) break;
     begin = dot + 1;
   }
-  json patch = value;
-  for (auto it = keys.rbegin(); it != keys.rend(); ++it) patch = json{{*it, patch}};
+  json patch = std::move(value);
+  for (auto it = keys.rbegin(); it != keys.rend(); ++it) patch = json{{*it, std::move(patch)}};
   return patch;
 }
 

@@ -50,7 +50,9 @@ class GlContext {
 /// softpipe), which run on the CPU and on one thread for their geometry stage.
 bool is_software_renderer(const std::string& renderer);
 
-/// Reads CAUSTICD_EGL_PLATFORM (automatic|device|surfaceless); automatic when unset.
+/// Reads CAUSTICD_EGL_PLATFORM (automatic|device|surfaceless); automatic when
+/// unset. Throws GlContextError when it, or CAUSTICD_EGL_DEVICE (an integer
+/// in [-1, 63]), is set to anything else.
 EglPlatform egl_platform_from_environment();
 
 }  // namespace caustic

@@ -17,7 +17,7 @@ namespace caustic {
 struct ReferenceOptions {
   std::uint64_t photons = 1'000'000;  ///< rounded up to a square number of strata
   std::uint64_t seed = 1;             ///< same seed, same image, whatever the thread count
-  int threads = 0;                    ///< 0: one per hardware thread
+  int threads = 0;                    ///< 0: one per hardware thread, and never more
   std::function<void(double done)> progress;  ///< 0..1, from the calling thread
 };
 

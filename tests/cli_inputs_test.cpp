@@ -1,0 +1,132 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// The commands' inputs that once crashed, hung, overwrote a file or went
+// unsaid: each is now refused with exit status 2 and a message naming the
+// flag or key, or warned about, before any work.
+#include "causticd_runner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace fs = std::filesystem;
+using namespace caustic::testing;
+
+namespace {
+
+class CliInputs : public ScratchDirTest {
+ protected:
+  std::string scene(const std::string& name) const { return std::string(CAUSTIC_ASSET_DIR) + "/scenes/" + name + ".json"; }
+  void expect_rejected(const std::string& args, const std::string& fragment) {
+    const CommandResult r = causticd(args);
+    EXPECT_EQ(r.status, 2) << args.substr(0, 300) << "\n" << r.output;
+    EXPECT_NE(r.output.find(fragment), std::string::npos) << args.substr(0, 300) << "\n" << r.output;
+  }
+  std::string small() const { return " --width 32 --height 32"; }
+};
+
+}  // namespace
+
+TEST_F(CliInputs, BenchListsAreCheckedAndBounded) {
+  // "abc" once reached a check that threw out of the parser (an abort).
+  for (const char* sizes : {"abc", "99999999999", "''"}) expect_rejected("bench --out " + dir_.string() + " --sizes " + sizes, "--sizes");
+  expect_rejected("bench --out " + dir_.string() + " --sizes 128,256,384,512,640,768,896,1024,1152", "--sizes: at most 8");
+  // Every mesh is built before the timing: not tens of gigabytes of them.
+  expect_rejected("bench --out " + dir_.string() + " --meshes 2048,2047,2046", "--meshes: at most");
+  EXPECT_FALSE(fs::exists(dir_ / "results.csv"));
+}
+
+TEST_F(CliInputs, AKeyPathNamingNoKeyIsRefusedAtOnce) {
+  // 20,000 keys deep once took 40 s to build, level by level.
+  std::string path = "a";
+  for (int i = 0; i < 20000; ++i) path += ".a";
+  expect_rejected("render --scene " + scene("slab") + " -o " + (dir_ / "x.png").string() + small() + " --set " + path +
+                      "=1",
+                  "a key path of more than 8 keys");
+}
+
+TEST_F(CliInputs, AnOutputIsNeverAnInputNorADevice) {
+  const fs::path copy = dir_ / "slab.json", mesh = dir_ / "slab.obj";
+  fs::copy_file(fs::path(CAUSTIC_ASSET_DIR) / "meshes" / "slab.obj", mesh);
+  std::ofstream(copy) << R"({"mesh": "slab.obj", "object": {"flat_face_offset": 1.0}})";
+  const auto before = fs::file_size(copy), mesh_before = fs::file_size(mesh);
+  expect_rejected("calibrate --scene " + copy.string() + " -o " + copy.string(), "is the command's input");
+  expect_rejected("calibrate --scene " + copy.string() + " -o " + mesh.string(), "is the command's input");
+  EXPECT_EQ(fs::file_size(copy), before);
+  EXPECT_EQ(fs::file_size(mesh), mesh_before);
+  // A device node (here a copy of /dev/null's) is not replaced by a file.
+  const fs::path device = dir_ / "null";
+  if (::mknod(device.c_str(), S_IFCHR | 0666, makedev(1, 3)) == 0) {
+    expect_rejected("calibrate --scene " + copy.string() + " -o " + device.string(), "is not a regular file");
+    EXPECT_TRUE(fs::is_character_file(device));
+  }
+  // The designer's target is an input too.
+  const fs::path logo = fs::path(CAUSTIC_ASSET_DIR) / "designs" / "design-logo.target.png";
+  if (!fs::exists(logo)) GTEST_SKIP() << "built without the designer";
+  const fs::path target = dir_ / "target.png";
+  fs::copy_file(logo, target);
+  const auto target_before = fs::file_size(target);
+  expect_rejected("design --target " + target.string() + " -o " + (dir_ / "face.obj").string() + " --report " +
+                      target.string(),
+                  "is the command's input");
+  EXPECT_EQ(fs::file_size(target), target_before);
+}
+
+TEST_F(CliInputs, AFaceOfManyCornersIsNotReadAsATriangle) {
+  // The reader counts a face's corners in a byte: 259 came out as 3.
+  std::ofstream obj(dir_ / "fan.obj");
+  for (int i = 0; i < 259; ++i) obj << "v " << std::cos(i * 0.0243) << " " << std::sin(i * 0.0243) << " 0\n";
+  obj << "f";
+  for (int i = 1; i <= 259; ++i) obj << " " << i;
+  obj << "\n";
+  obj.close();
+  std::ofstream(dir_ / "fan.json") << R"({"mesh": "fan.obj"})";
+  expect_rejected("render --scene " + (dir_ / "fan.json").string() + " -o " + (dir_ / "x.png").string() + small(),
+                  "a face of 259 vertices; only triangles are allowed");
+}
+
+TEST_F(CliInputs, AKeyWrittenTwiceIsRefusedAndAnAssignmentOverAnotherIsSaid) {
+  std::ofstream(dir_ / "twice.json") << R"({"mesh": ")" << CAUSTIC_ASSET_DIR
+                                     << R"(/meshes/slab.obj", "focus_distance": 80, "focus_distance": 60})";
+  expect_rejected("render --scene " + (dir_ / "twice.json").string() + " -o " + (dir_ / "x.png").string() + small(),
+                  "the key \"focus_distance\" is written twice");
+  const CommandResult r = causticd("render --scene " + scene("slab") + " -o " + (dir_ / "x.png").string() + small() +
+                                   " --set 'post={\"gamma\":3}' --set post.gamma=2");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: post.gamma: post={\"gamma\":3} is overridden by post.gamma=2"), std::string::npos)
+      << r.output;
+}
+
+TEST_F(CliInputs, SeedsAndTheGlDeviceAreCheckedBeforeAnyWork) {
+  for (const char* seed : {"-1", "18446744073709551616"})
+    expect_rejected("calibrate --scene " + scene("slab") + " -o " + (dir_ / "c.json").string() + " --seed " + seed,
+                    "--seed");
+  const CommandResult device = causticd_with_env("CAUSTICD_EGL_DEVICE=abc", "render --scene " + scene("slab") + " -o " +
+                                                                              (dir_ / "x.png").string() + small());
+  EXPECT_EQ(device.status, 2) << device.output;
+  EXPECT_NE(device.output.find("CAUSTICD_EGL_DEVICE must be an integer"), std::string::npos) << device.output;
+  EXPECT_EQ(device.output.find("renderer:"), std::string::npos) << "refused before a context: " << device.output;
+}
+
+TEST_F(CliInputs, TheDesignersFlagsThatDoNothingAreSaid) {
+  const std::string target = std::string(CAUSTIC_ASSET_DIR) + "/designs/design-logo.target.png";
+  if (!fs::exists(target)) GTEST_SKIP() << "built without the designer";
+  const std::string face = " -o " + (dir_ / "face.obj").string() + " --no-check --resolution 16";
+  expect_rejected("design --target " + target + face + " --photons 5000", "--photons");  // needs --verify
+  expect_rejected("design --target " + target + face + " --focus 1e-300", "--focus");
+  const CommandResult forced = causticd("design --target " + target + face + " --force");
+  EXPECT_EQ(forced.status, 0) << forced.output;
+  EXPECT_NE(forced.output.find("warning: --force: has no effect at --resolution 16"), std::string::npos)
+      << forced.output;
+}
+
+TEST_F(CliInputs, AStateDirThatIsAFileIsRefused) {
+  std::ofstream(dir_ / "a-file") << "x";
+  std::ofstream(dir_ / "causticd.conf") << "design_uploads = on\nstate_dir = " << (dir_ / "a-file").string() << "\n";
+  expect_rejected("check-config " + (dir_ / "causticd.conf").string(), "state_dir: ");
+}
