@@ -147,6 +147,7 @@ TEST_F(Rest, NullRestoresTheScenesValueAndParseErrorsSayWhere) {
   const Response broken = http("PATCH", url, "{\n  \"post\": {\n  }\n  ,}", type, bearer(s));
   expect_problem(broken, 400);
   EXPECT_NE(broken.json().value("detail", "").find("at line 4, column 4"), std::string::npos) << broken.body;
+  EXPECT_EQ(http("GET", url, "", "", bearer(s)).json()["params"]["post"], scene_post) << "the refused body changed it";
 }
 
 

@@ -85,9 +85,17 @@ TEST_F(Rest, ASessionSetsItsReceiversAFewTimesAtOnceThenOnceASecond) {
     ++accepted;
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  expect_problem(refused, 429, "receivers");
+  const int allowed = 8 + static_cast<int>(std::ceil(2 * seconds));
+  // A machine so slow that the bucket refilled as fast as it was spent may
+  // end the 30 without a refusal; any other must have been refused.
+  if (accepted < 30 || allowed < 30) expect_problem(refused, 429, "receivers");
   EXPECT_GE(accepted, 8);
-  EXPECT_LE(accepted, 8 + static_cast<int>(std::ceil(2 * seconds)));
+  EXPECT_LE(accepted, allowed);
+  // The refused patch changed nothing: the last accepted one stands.
+  if (accepted > 0 && accepted < 30) {
+    EXPECT_EQ(http("GET", url, "", "", bearer(s)).json()["params"]["receivers"][0]["center"],
+              json({16, 0.5 * (accepted - 1), -29.99}));
+  }
   // Other patches go on.
   EXPECT_EQ(http("PATCH", url, R"({"object": {"ior": 1.6}})", patch_type, bearer(s)).status, 200u);
 }

@@ -116,13 +116,17 @@ TEST_F(Rest, BadDropsAreRefusedAndNamed) {
   EXPECT_EQ(good.json()["drop"], 1);
   // The pool's grid and size are the scene's; so is having water at all.
   const std::string params = session_url(s) + "/params", type = "application/merge-patch+json";
+  const json pool_before = http("GET", params, "", "", bearer(s)).json()["params"];
   expect_problem(http("PATCH", params, R"({"water": {"grid": 64}})", type, bearer(s)), 422, "water.grid");
   expect_problem(http("PATCH", params, R"({"water": {"size": 3}})", type, bearer(s)), 422, "water.size");
   expect_problem(http("PATCH", params, R"({"water": {"rain_rate": -1}})", type, bearer(s)), 422, "water.rain_rate");
+  EXPECT_EQ(http("GET", params, "", "", bearer(s)).json()["params"], pool_before) << "a refused patch changed the pool";
   const json dry = create("wavy");
   expect_problem(http("POST", session_url(dry) + "/drops", R"({"x": 0, "y": 0})", "application/json", bearer(dry)), 409);
   // Water would turn the slab into a surface: refused as that.
+  const json dry_before = http("GET", session_url(dry) + "/params", "", "", bearer(dry)).json()["params"];
   expect_problem(http("PATCH", session_url(dry) + "/params", R"({"water": {}})", type, bearer(dry)), 422, "object.shape");
+  EXPECT_EQ(http("GET", session_url(dry) + "/params", "", "", bearer(dry)).json()["params"], dry_before);
   const Response metrics = http("GET", server_.url() + "/metrics");
   EXPECT_NE(metrics.body.find("causticd_water_drops_total 1\n"), std::string::npos);
 }

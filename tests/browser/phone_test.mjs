@@ -114,6 +114,8 @@ test('a shared link restores the scene, the codec, the visitor\'s settings and t
                 'the refusal on the page');
     assert.match(await bad.textContent('#warnings'), /link's settings were refused: .*object\.ior/);
     assert.ok(!new URL(await bad.evaluate(() => location.href)).searchParams.has('p'), 'the refused settings stay in the address');
+    const ior = await bad.evaluate(() => window.caustic.params?.object?.ior);
+    assert.ok(ior > 1 && ior < 2, `the scene's index stands, not the link's: ${ior}`);
     // A link whose settings name "__proto__": once it reached Object.prototype
     // through the patch's merge and stopped the room from drawing; now the
     // server refuses the key like any other, and the scene streams.
