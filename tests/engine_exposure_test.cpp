@@ -109,11 +109,16 @@ TEST_F(Exposure, AChangeEasesInAndThenSettles) {
   // and the exposure doubles, easing in.
   const double theta = std::numbers::pi / 3;
   s.screen.normal = {std::sin(theta), 0, std::cos(theta)};
-  s.post.exposure_adapt_s = 0.05;
   engine_->set_scene(s, flat);
   engine_->render();
   const double first = engine_->stats().exposure;
+  // A frame moves the exposure by 1 - exp(-dt / 5 s) of the way (in stops),
+  // dt counted at most 0.5 s: under a tenth, however slow the machine. A
+  // change that landed at once would be all the way (twice `before`).
   EXPECT_GE(first, before);
+  EXPECT_LT(first, before * std::sqrt(2.0)) << "the change did not ease in";
+  s.post.exposure_adapt_s = 0.05;  // then settles in a few frames
+  engine_->set_scene(s, flat);
   settle(*engine_);
   EXPECT_FALSE(engine_->dirty()) << "the exposure never settled";
   const double settled = engine_->stats().exposure;

@@ -205,7 +205,12 @@ TEST_F(EngineVsReference, FailureModesStayCloseToTheReference) {
     m.scene.render.intensity = IntensityMode::report;
     const double report = relative_l1(render(m.scene, m.mesh), reference);
     std::printf("| %s | %.2f%% | %.1f%% |\n", m.name, 100 * energy, 100 * report);
-    // Where the reference is this noisy itself, it cannot judge more finely.
-    EXPECT_LT(energy, std::max(m.bound, 1.5 * noise)) << m.name;
+    // The flux that lands, whatever the picture's noise.
+    EXPECT_NEAR(engine_sum / reference_sum, 1.0, 2e-3) << m.name;
+    // A reference as noisy as the bound judges the picture to 1.5 its
+    // noise; one far noisier cannot judge it at all (a point light 0.5 mm
+    // above the face: 64% seed to seed) and is not let loosen its own bound.
+    if (noise < 2 * m.bound) EXPECT_LT(energy, std::max(m.bound, 1.5 * noise)) << m.name;
+    else std::printf("  (%s: the reference's noise is above the bound; only its flux is compared)\n", m.name);
   }
 }

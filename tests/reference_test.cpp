@@ -94,7 +94,11 @@ TEST(Reference, ErrorFallsAsOneOverSqrtPhotons) {
   };
   const double coarse = error(10'000), fine = error(640'000);  // 64x the photons
   std::printf("relative L1: %.4f at 1e4 photons, %.4f at 6.4e5 photons (ratio %.1f)\n", coarse, fine, coarse / fine);
-  EXPECT_LT(fine, coarse / 4);  // at least sqrt(64) / 2
+  // Unbiased, the error falls at least as 1 / sqrt(N) (8x for 64x the
+  // photons; stratified, faster): 6x leaves room for the noise in the
+  // coarse figure, and a bias of a few percent would hold `fine` above it.
+  EXPECT_LT(fine, coarse / 6);
+  EXPECT_LT(fine, 0.05);
 }
 
 TEST(Reference, DeterministicForASeedWhateverTheThreads) {
