@@ -81,6 +81,11 @@ TEST_F(DesignCli, DesignsAFaceWhoseSceneRendersAsWritten) {
   const fs::path png = dir_ / "render.png";
   const CommandResult render = causticd("render --scene " + scene.string() + " -o " + png.string() + " --width 64 --height 64");
   EXPECT_EQ(render.status, 0) << render.output;
+  // As written: its light lands on the screen (the tone-mapped picture is not black).
+  const caustic::HdrImage shown = caustic::read_hdr_image(png);  // the PNG's first channel, 0 to 1
+  int lit = 0;
+  for (float v : shown.pixels) lit += v > 16 / 255.0f;
+  EXPECT_GT(lit, 64 * 64 / 8) << "the designed scene renders dark";
 }
 
 TEST_F(DesignCli, DesignsInColourATintedFaceWhoseRenderIsInColour) {
@@ -163,8 +168,8 @@ TEST_F(DesignCli, RefusesGlassItsSceneCouldNotRenderAndOutputsItCannotWrite) {
   // Each once written with exit 0 and refused by `render` afterwards.
   expect_rejected(t + " --size 1e-300", "--size");
   expect_rejected(t + " --size 10000", "lies within the glass");      // a relief of metres, the screen 200 mm away
-  expect_rejected(t + " --focus 1e-300", "is not finite");            // a face of NaN
-  expect_rejected(t + " --size 2 --focus 1e-6", "lies within the glass");
+  expect_rejected(t + " --focus 1e-300", "--focus: must be in [0.01");  // once a face of NaN, blamed on the picture
+  expect_rejected(t + " --size 2 --focus 0.02", "lies within the glass");
   // Outputs tried before the solve (once found after it, exit 1).
   fs::create_directory(dir_ / "bad-folder.json");
   expect_rejected(t + " --report " + (dir_ / "bad-folder.json").string(),

@@ -226,7 +226,9 @@ TEST(DesignTarget, DecodesSrgbKeepsLinearFloatsAndBoxFiltersExactly) {
   Rgba8Image png{4, 4, std::vector<std::uint8_t>(4 * 4 * 4, 188)};
   write_png(png, dir / "grey.png");
   const double expected = std::pow((188 / 255.0 + 0.055) / 1.055, 2.4);
-  for (float v : load_target(dir / "grey.png").pixels) EXPECT_NEAR(v, expected, 1e-6);
+  const Image grey = load_target(dir / "grey.png");
+  ASSERT_EQ(grey.pixels.size(), 16u);
+  for (float v : grey.pixels) EXPECT_NEAR(v, expected, 1e-6);
   // Float EXR: already linear, read as it is.
   HdrImage exr{6, 4, std::vector<float>(24)};
   for (int p = 0; p < 24; ++p) exr.pixels[p] = 0.25f * (p % 6);

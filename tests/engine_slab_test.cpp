@@ -76,8 +76,14 @@ TEST_F(FlatSlab, ObliqueLightKeepsItsDirectionAndLosesFresnelTwice) {
   s.light.direction = {std::sin(theta), 0, -std::cos(theta)};
   const double n = s.object.ior;
   const double cos_t = std::sqrt(1 - std::pow(std::sin(theta) / n, 2));
-  const double t_in = optics::fresnel_transmittance(std::cos(theta), 1.0, n);
-  const double t_out = optics::fresnel_transmittance(cos_t, n, 1.0);
+  // Unpolarised Fresnel (Hecht, eq. 4.42-4.43), written out: 1 - (r_s^2 + r_p^2) / 2.
+  const auto fresnel_t = [](double cos_i, double cos_t, double n1, double n2) {
+    const double rs = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
+    const double rp = (n2 * cos_i - n1 * cos_t) / (n2 * cos_i + n1 * cos_t);
+    return 1 - 0.5 * (rs * rs + rp * rp);
+  };
+  const double t_in = fresnel_t(std::cos(theta), cos_t, 1.0, n);
+  const double t_out = fresnel_t(cos_t, std::cos(theta), n, 1.0);
   // A parallel beam through parallel faces leaves parallel to the incident
   // light; the screen (normal +z) sees it at cos(theta), shifted sideways.
   const HdrImage img = render(s, slab);
