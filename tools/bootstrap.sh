@@ -72,11 +72,14 @@ if ((${#missing[@]})); then
     "${sudo[@]}" rm -f "$policy"
     trap - EXIT
   fi
-  # Nor started at the next boot: Debian's janus.service would serve its
-  # sample configuration (docs/scaling.md runs the appliance's own).
-  if [[ " ${missing[*]} " == *" janus "* ]] && command -v systemctl >/dev/null; then
-    "${sudo[@]}" systemctl disable --quiet janus.service 2>/dev/null || true
-  fi
+  # Nor started at the next boot, those this install brought: Debian's
+  # janus.service would serve its sample configuration, nginx and HAProxy
+  # would take port 80 (docs/scaling.md runs the appliance's own).
+  for service in janus nginx haproxy; do
+    if [[ " ${missing[*]} " == *" $service "* ]] && command -v systemctl >/dev/null; then
+      "${sudo[@]}" systemctl disable --quiet "$service.service" 2>/dev/null || true
+    fi
+  done
 fi
 
 # The photographs of the built-in designed scenes are scikit-image's test
