@@ -127,3 +127,38 @@ TEST_F(Stability, ReflectiveObjectMirrorsTheLight) {
   const FrameStats st = render_and_balance(s, grid_mesh(plano_convex_lens(40.0, 10.0), 48, 48));
   EXPECT_GT(st.drawn, 0u);
 }
+
+TEST_F(Stability, AFlatMirrorReflectsByTheLawOfReflection) {
+  // A flat 20 x 20 mm mirror lit from below at 11.3 degrees (direction
+  // (0.2, 0, 1)): the law of reflection sends the beam down as (0.2, 0, -1),
+  // so the screen 60 mm below the centre of the mirror gets the mirror's
+  // square, moved 0.2 mm in x for every mm it falls, lit evenly at the cosine
+  // of the incidence (the screen is parallel to the mirror).
+  Scene s = straight_down_scene(4.0, 60.0, 40.0, 256);
+  s.object.material = Material::reflective;
+  s.light.direction = glm::normalize(glm::dvec3(0.2, 0, 1));
+  const auto mirror = shared(grid_mesh(flat_face(10.0), 33, 33));
+  const double face_z = glm::dvec3(place_object(s.object, *mirror).model * glm::dvec4(0, 0, 0, 1)).z;
+  const double shift = 0.2 * (face_z - s.screen.center.z), cos_i = 1 / std::sqrt(1.04);
+  s.screen.center.x = std::round(shift);  // the square whole on the screen, off its centre by the rest
+  const HdrImage img = render(s, mirror);
+  ASSERT_TRUE(all_finite(img));
+  const double pixel = 40.0 / 256;
+  double worst = 0;
+  int inside = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const glm::dvec2 at =
+          pixel_centre(s.screen, img.width, img.height, x, y) + glm::dvec2(s.screen.center.x - shift, 0);
+      const double v = img.at(x, y);
+      if (std::abs(at.x) < 10 - pixel && std::abs(at.y) < 10 - pixel) {
+        worst = std::max(worst, std::abs(v - cos_i));
+        ++inside;
+      } else if (std::abs(at.x) > 10 + pixel || std::abs(at.y) > 10 + pixel) {
+        ASSERT_EQ(v, 0.0f) << "light outside the reflected square at " << at.x << ", " << at.y;
+      }
+    }
+  EXPECT_GT(inside, 9000);
+  EXPECT_LT(worst, 1e-4 * cos_i);
+  EXPECT_NEAR(total_flux(img, s.screen), 400 * cos_i, 1e-3 * 400 * cos_i);
+}
