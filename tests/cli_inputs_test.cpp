@@ -59,7 +59,11 @@ TEST_F(CliInputs, AnOutputIsNeverAnInputNorADevice) {
   expect_rejected("calibrate --scene " + copy.string() + " -o " + mesh.string(), "is the command's input");
   EXPECT_EQ(fs::file_size(copy), before);
   EXPECT_EQ(fs::file_size(mesh), mesh_before);
-  // A device node (here a copy of /dev/null's) is not replaced by a file.
+  // Nor is a pipe, or (as root, who may make one) a device node like /dev/null.
+  const fs::path pipe = dir_ / "pipe";
+  ASSERT_EQ(::mkfifo(pipe.c_str(), 0600), 0);
+  expect_rejected("calibrate --scene " + copy.string() + " -o " + pipe.string(), "is not a regular file");
+  EXPECT_TRUE(fs::is_fifo(pipe));
   const fs::path device = dir_ / "null";
   if (::mknod(device.c_str(), S_IFCHR | 0666, makedev(1, 3)) == 0) {
     expect_rejected("calibrate --scene " + copy.string() + " -o " + device.string(), "is not a regular file");
@@ -95,6 +99,14 @@ TEST_F(CliInputs, AKeyWrittenTwiceIsRefusedAndAnAssignmentOverAnotherIsSaid) {
                                      << R"(/meshes/slab.obj", "focus_distance": 80, "focus_distance": 60})";
   expect_rejected("render --scene " + (dir_ / "twice.json").string() + " -o " + (dir_ / "x.png").string() + small(),
                   "the key \"focus_distance\" is written twice");
+  // Said where the second is written, though the name comes earlier as a value and as another object's key.
+  std::ofstream(dir_ / "later.json") << "{\"name\": \"light\",\n\"light\": {\"type\": \"directional\"},\n"
+                                     << "\"screen\": {\"light\": 1},\n\"light\": {}}";
+  expect_rejected("render --scene " + (dir_ / "later.json").string() + " -o " + (dir_ / "x.png").string() + small(),
+                  "written twice in one object at line 4, column 1");
+  expect_rejected("render --scene " + scene("slab") + " -o " + (dir_ / "x.png").string() + small() +
+                      " --set 'post={\"gamma\":3,\"gamma\":2}'",
+                  "post: not valid JSON: the key \"gamma\" is written twice");
   const CommandResult r = causticd("render --scene " + scene("slab") + " -o " + (dir_ / "x.png").string() + small() +
                                    " --set 'post={\"gamma\":3}' --set post.gamma=2");
   EXPECT_EQ(r.status, 0) << r.output;

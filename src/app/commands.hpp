@@ -58,11 +58,12 @@ bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
 /// is no folder, nothing else than a regular file (a device, a pipe), none
 /// of the command's `inputs`, and it opens for writing (tried, and left as
 /// it was). When not, says so as "causticd <command>: <flag> <out>: ..."
-/// before any work.
+/// before the command renders or writes anything.
 bool output_writable(const char* command, const std::filesystem::path& out, const char* flag = "--output",
                      const std::vector<std::filesystem::path>& inputs = {});
 
-/// The files a scene was read from: the scene file and its mesh.
+/// The files a scene was read from: the scene file, its mesh and the
+/// receivers' meshes it names.
 std::vector<std::filesystem::path> scene_inputs(const std::filesystem::path& file, const Scene& scene);
 
 /// Runs `body` and turns what it throws into the exit status: a SceneError

@@ -2,6 +2,7 @@
 #include "commands.hpp"
 
 #include "caustic/pool.hpp"
+#include "caustic/receiver_meshes.hpp"
 #include "caustic/resample.hpp"
 #include "caustic/screen_follow.hpp"
 
@@ -107,6 +108,8 @@ bool output_writable(const char* command, const std::filesystem::path& out, cons
 std::vector<std::filesystem::path> scene_inputs(const std::filesystem::path& file, const Scene& scene) {
   std::vector<std::filesystem::path> inputs{file};
   if (!scene.mesh.empty()) inputs.push_back(scene.mesh_path());
+  if (scene.receiver_meshes)
+    for (const auto& [name, path] : scene.receiver_meshes->files) inputs.push_back(scene.base_dir / path);
   return inputs;
 }
 

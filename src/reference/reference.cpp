@@ -192,21 +192,21 @@ ReferenceResult trace_grey(const Scene& scene, const Mesh& mesh, const Reference
     landed += mine;
   };
   std::vector<std::thread> pool;
+  std::thread reporter;
+  std::atomic<bool> finished{false};
   try {
     for (int w = 1; w < threads; ++w) pool.emplace_back(work, w);
+    if (options.progress)
+      reporter = std::thread([&] {
+        while (!finished) {
+          options.progress(static_cast<double>(rows_done) / strata);
+          std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        }
+      });
   } catch (...) {  // no thread to be had: the started ones finish (a joinable thread destroyed aborts)
     for (std::thread& t : pool) t.join();
     throw;
   }
-  std::thread reporter;
-  std::atomic<bool> finished{false};
-  if (options.progress)
-    reporter = std::thread([&] {
-      while (!finished) {
-        options.progress(static_cast<double>(rows_done) / strata);
-        std::this_thread::sleep_for(std::chrono::milliseconds(200));
-      }
-    });
   work(0);
   for (auto& t : pool) t.join();
   finished = true;

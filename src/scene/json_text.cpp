@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <map>
 #include <optional>
 #include <cerrno>
 #include <string>
@@ -32,6 +33,7 @@ class LimitedDom : public nlohmann::json_sax<json> {
   bool start_object(std::size_t) override { return open(json::object()); }
   bool key(string_t& k) override {
     key_ = std::move(k);
+    ++keys_seen_[key_];
     return true;
   }
   bool end_object() override { return close(); }
@@ -56,7 +58,9 @@ class LimitedDom : public nlohmann::json_sax<json> {
   JsonTextError error_{"", 0};
   bool failed = false;
   bool too_deep = false;  // a failure of its own: the nesting limit
-  std::optional<string_t> duplicate;  // the other: a key written twice
+  // The other: a key written twice, and which of the text's keys of that
+  // name the second one is (1 for the first key token so named).
+  std::optional<std::pair<string_t, std::size_t>> duplicate;
 
  private:
   bool fail(const std::string& why) {
@@ -83,7 +87,7 @@ class LimitedDom : public nlohmann::json_sax<json> {
       // Written twice, one of the two would be dropped unsaid (RFC 8259
       // leaves it to the reader): refused, naming the key.
       if (stack_.back()->contains(key_)) {
-        duplicate = key_;
+        duplicate = {key_, keys_seen_[key_]};
         return fail("the key \"" + printable_name(key_, 64) + "\" is written twice in one object");
       }
       last_ = &((*stack_.back())[key_] = std::move(value));
@@ -98,6 +102,7 @@ class LimitedDom : public nlohmann::json_sax<json> {
   std::vector<json*> stack_;
   json* last_ = nullptr;
   string_t key_;
+  std::map<string_t, std::size_t> keys_seen_;
 };
 
 // Where the text first opens a bracket deeper than `max_depth`: the SAX
@@ -122,14 +127,18 @@ std::size_t too_deep_at(std::string_view text, int max_depth) {
   return 0;
 }
 
-// Where `key` is written a second time, as a quoted name (plain, without
-// escapes); 0 when it is not found so (the error still names it).
-std::size_t second_key_at(std::string_view text, const std::string& key) {
+// Where the `nth` key named `key` is written: a quoted name (plain, without
+// escapes) followed by a colon; 0 when it is not found so (the error still
+// names the key).
+std::size_t key_at(std::string_view text, const std::string& key, std::size_t nth) {
   const std::string quoted = "\"" + key + "\"";
-  const std::size_t first = text.find(quoted);
-  if (first == std::string_view::npos) return 0;
-  const std::size_t second = text.find(quoted, first + quoted.size());
-  return second == std::string_view::npos ? 0 : second;
+  for (std::size_t at = text.find(quoted); at != std::string_view::npos; at = text.find(quoted, at + 1)) {
+    std::size_t after = at + quoted.size();
+    while (after < text.size() && (text[after] == ' ' || text[after] == '\t' || text[after] == '\n' || text[after] == '\r'))
+      ++after;
+    if (after < text.size() && text[after] == ':' && --nth == 0) return at;
+  }
+  return 0;
 }
 
 }  // namespace
@@ -151,7 +160,7 @@ std::optional<nlohmann::json> parse_json_text(std::string_view text, JsonTextErr
       *error = dom.error_;
       if (error->message.empty()) error->message = "not valid JSON";
       if (dom.too_deep) error->offset = too_deep_at(text, max_depth);
-      if (dom.duplicate) error->offset = second_key_at(text, *dom.duplicate);
+      if (dom.duplicate) error->offset = key_at(text, dom.duplicate->first, dom.duplicate->second);
     }
     return std::nullopt;
   }

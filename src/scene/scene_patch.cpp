@@ -58,8 +58,14 @@ json patch_from_assignment(const std::string& assignment) {
   if (eq == std::string::npos || eq == 0) throw SceneError("", "expected key.path=value, got \"" + assignment + "\"");
   const std::string path = assignment.substr(0, eq);
   const std::string text = assignment.substr(eq + 1);
-  // A value that is not JSON is the string written: --set object.glass=bk7.
-  json value = parse_json_text(text).value_or(json(text));
+  // A value that is not JSON is the string written: --set object.glass=bk7;
+  // one that opens an object or an array was meant as JSON, and its error is said.
+  JsonTextError error;
+  auto parsed = parse_json_text(text, &error);
+  const auto first = text.find_first_not_of(" \t");
+  if (!parsed && first != std::string::npos && (text[first] == '{' || text[first] == '['))
+    throw SceneError(path, "not valid JSON: " + where_json_broke(text, error));
+  json value = parsed ? std::move(*parsed) : json(text);
   // A scene's keys lie at most a few deep: a longer path names no key, and
   // is refused before it is built (nested level by level, a path of 20,000
   // keys once took 40 s).

@@ -131,7 +131,7 @@ void create_broadcast(ServerState& s, SoupServerMessage* msg, std::shared_ptr<co
   auto pending = std::make_shared<Pending>(msg);
   ServerState* state = &s;
   const std::string group = address_group(address);
-  ++s.starting[group];
+  ++s.starting[group];  // until the answer (the callback runs once, whatever Janus does)
   s.janus->plugin_request(create_request(m, id, codec, s.config), [=](const JanusAdmin::Answer& a) mutable {
     ServerState& st = *state;
     if (const auto it = st.starting.find(group); it != st.starting.end() && --it->second <= 0) st.starting.erase(it);

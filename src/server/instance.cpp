@@ -23,7 +23,7 @@ PathOwner strip_instance_prefix(const ServerConfig& config, std::string& path) {
 
 int free_sessions(const ServerState& s) {
   if (s.draining) return 0;
-  return std::max(0, s.config.max_sessions - static_cast<int>(s.sessions.size()));
+  return std::max(0, s.config.max_sessions - s.sessions_taken());  // broadcasts waiting for Janus included
 }
 
 std::string agent_answer(const ServerState& s) {

@@ -26,7 +26,7 @@ SoupMessage* JanusAdmin::message(nlohmann::json request) {
                                {"request", std::move(request)}};
   SoupMessage* msg = soup_message_new("POST", url_.c_str());
   if (!msg) return nullptr;
-  const std::string text = body.dump();
+  const std::string text = dump_json(body);  // never throws (invalid UTF-8 replaced): the callers count on an answer
   GBytes* bytes = g_bytes_new(text.data(), text.size());
   soup_message_set_request_body_from_bytes(msg, "application/json", bytes);
   g_bytes_unref(bytes);

@@ -240,9 +240,11 @@ void Server::run() {
   auto stop = [](gpointer data) -> gboolean {
     auto& st = *static_cast<State*>(data);
     ServerState& s = st.shared;
-    if (s.draining || s.sessions.empty() || s.config.drain_timeout_s == 0) {
+    // A broadcast still waiting for Janus counts: its answer is awaited (and
+    // its mountpoint removed), or Janus would keep one no one removes.
+    if (s.draining || s.sessions_taken() == 0 || s.config.drain_timeout_s == 0) {
       notify("STOPPING=1");
-      log(Level::notice, s.sessions.empty() ? "stopping" : "stopping: closing every session");
+      log(Level::notice, s.sessions_taken() == 0 ? "stopping" : "stopping: closing every session");
       g_main_loop_quit(st.loop);
       return G_SOURCE_CONTINUE;
     }
@@ -256,7 +258,7 @@ void Server::run() {
         250,
         [](gpointer data) -> gboolean {
           auto& st = *static_cast<State*>(data);
-          const std::size_t left = st.shared.sessions.size();
+          const auto left = static_cast<std::size_t>(st.shared.sessions_taken());
           if (left > 0 && std::chrono::steady_clock::now() < st.drain_deadline) return G_SOURCE_CONTINUE;
           log(Level::notice, left > 0 ? "drain timeout: closing the " + std::to_string(left) + " sessions left"
                                       : "drained: every session has ended");
