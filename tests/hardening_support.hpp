@@ -31,6 +31,10 @@ inline std::string signal_path(const json& s) { return s["signal_url"].get<std::
 inline void expect_problem_answer(const std::string& answer, int status) {
   EXPECT_EQ(raw_status(answer), status) << answer.substr(0, 300);
   EXPECT_EQ(raw_header(answer, "Content-Type"), "application/problem+json") << answer.substr(0, 300);
+  // Refused early (before libsoup reads the request) or late, the same safety headers.
+  EXPECT_EQ(raw_header(answer, "X-Content-Type-Options"), "nosniff") << answer.substr(0, 300);
+  EXPECT_EQ(raw_header(answer, "X-Frame-Options"), "DENY") << answer.substr(0, 300);
+  EXPECT_FALSE(raw_header(answer, "Content-Security-Policy").empty()) << answer.substr(0, 300);
   const json body = json::parse(raw_body(answer), nullptr, false);
   ASSERT_TRUE(body.is_object()) << answer.substr(0, 300);
   EXPECT_EQ(body["status"], status);

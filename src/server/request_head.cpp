@@ -211,7 +211,10 @@ std::string canned_problem(unsigned status, const std::string& detail, const std
                                .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   return "HTTP/1.1 " + std::to_string(status) + " " + (phrase ? phrase : "Error") +
          "\r\nContent-Type: application/problem+json\r\nContent-Length: " + std::to_string(body.size()) +
-         "\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nConnection: close\r\n" + extra_headers +
+         "\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nX-Frame-Options: DENY"
+         "\r\nReferrer-Policy: no-referrer\r\nContent-Security-Policy: default-src 'none'"
+         "\r\nAccept-Ranges: none\r\nConnection: close\r\n" +  // as every other answer (http_api.cpp)
+         extra_headers +
          "\r\n" + body;
 }
 
