@@ -49,4 +49,20 @@ class ScratchDirTest : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
+#ifdef CAUSTIC_ASSET_DIR
+/// A scratch folder, the built-in scenes, and a refusal's two marks.
+class CliTest : public ScratchDirTest {
+ protected:
+  static std::string scene(const std::string& name) {
+    return std::string(CAUSTIC_ASSET_DIR) + "/scenes/" + name + ".json";
+  }
+  /// `causticd args` exits 2 with `fragment` in what it says.
+  static void expect_rejected(const std::string& args, const std::string& fragment) {
+    const CommandResult r = causticd(args);
+    EXPECT_EQ(r.status, 2) << args.substr(0, 300) << "\n" << r.output;
+    EXPECT_NE(r.output.find(fragment), std::string::npos) << args.substr(0, 300) << "\n" << r.output;
+  }
+};
+#endif
+
 }  // namespace caustic::testing

@@ -19,15 +19,9 @@ using namespace caustic::testing;
 
 namespace {
 
-class CliInputs : public ScratchDirTest {
+class CliInputs : public CliTest {
  protected:
-  std::string scene(const std::string& name) const { return std::string(CAUSTIC_ASSET_DIR) + "/scenes/" + name + ".json"; }
-  void expect_rejected(const std::string& args, const std::string& fragment) {
-    const CommandResult r = causticd(args);
-    EXPECT_EQ(r.status, 2) << args.substr(0, 300) << "\n" << r.output;
-    EXPECT_NE(r.output.find(fragment), std::string::npos) << args.substr(0, 300) << "\n" << r.output;
-  }
-  std::string small() const { return " --width 32 --height 32"; }
+  static std::string small() { return " --width 32 --height 32"; }
 };
 
 }  // namespace

@@ -20,15 +20,7 @@ using namespace caustic::testing;
 
 namespace {
 
-class Cli : public ScratchDirTest {
- protected:
-  std::string scene(const std::string& name) const { return std::string(CAUSTIC_ASSET_DIR) + "/scenes/" + name + ".json"; }
-  void expect_rejected(const std::string& args, const std::string& fragment) {
-    const CommandResult r = causticd(args);
-    EXPECT_EQ(r.status, 2) << args << "\n" << r.output;
-    EXPECT_NE(r.output.find(fragment), std::string::npos) << args << "\n" << r.output;
-  }
-};
+class Cli : public CliTest {};
 
 }  // namespace
 

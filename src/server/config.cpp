@@ -348,8 +348,7 @@ void check_config(const ServerConfig& c, const std::filesystem::path& data_dir) 
     throw ConfigError("web_dir: " + printable_name(web.string(), 256) + " is not a folder");
   if (!std::filesystem::is_regular_file(data_dir / "pipelines" / (c.codec + ".pipeline"), ec))
     throw ConfigError("codec: no pipeline " + c.codec + ".pipeline in " + (data_dir / "pipelines").string());
-  // A folder this user may not write is said and leaves uploads off; a
-  // file where the folder should be is a mistake in the configuration.
+  // Unwritable, it leaves uploads off (said); a file there is a mistake.
   if (!c.state_dir.empty() && std::filesystem::exists(c.state_dir, ec) && !std::filesystem::is_directory(c.state_dir, ec))
     throw ConfigError("state_dir: " + printable_name(c.state_dir.string(), 256) + " is not a folder");
   check_broadcast_keys(c);
