@@ -48,10 +48,12 @@ void warn_overrides(const char* command, const nlohmann::json& file_doc, const s
       if (said.insert(key).second) std::cerr << "causticd " << command << ": warning: " << detail << "\n";
   // Two assignments that write one key, directly or inside an object one of
   // them sets whole (post={"gamma":3}, then post.gamma=2).
+  std::vector<std::map<std::string, nlohmann::json>> leaves;
+  for (std::size_t i = 0; i < assignments.size(); ++i) leaves.push_back(leaf_keys(written[i + 1]));
   for (std::size_t i = 0; i < assignments.size(); ++i)
     for (std::size_t j = i + 1; j < assignments.size(); ++j) {
-      const auto a = leaf_keys(written[i + 1]), b = leaf_keys(written[j + 1]);
-      for (const auto& [key, value] : a) {
+      const auto& b = leaves[j];
+      for (const auto& [key, value] : leaves[i]) {
         const auto later = b.find(key);
         if (later == b.end() || later->second == value) continue;
         std::cerr << "causticd " << command << ": warning: " << key << ": " << assignments[i] << " is overridden by "

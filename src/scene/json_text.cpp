@@ -6,7 +6,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <map>
 #include <optional>
 #include <cerrno>
 #include <string>
@@ -33,7 +32,7 @@ class LimitedDom : public nlohmann::json_sax<json> {
   bool start_object(std::size_t) override { return open(json::object()); }
   bool key(string_t& k) override {
     key_ = std::move(k);
-    ++keys_seen_[key_];
+    if (watch && key_ == *watch) ++watched;
     return true;
   }
   bool end_object() override { return close(); }
@@ -58,9 +57,11 @@ class LimitedDom : public nlohmann::json_sax<json> {
   JsonTextError error_{"", 0};
   bool failed = false;
   bool too_deep = false;  // a failure of its own: the nesting limit
-  // The other: a key written twice, and which of the text's keys of that
-  // name the second one is (1 for the first key token so named).
-  std::optional<std::pair<string_t, std::size_t>> duplicate;
+  std::optional<string_t> duplicate;  // the other: a key written twice
+  // Keys named `watch` seen so far: a second parse, made only to say where
+  // a duplicate stands, counts them up to it (the first keeps no count).
+  std::optional<string_t> watch;
+  std::size_t watched = 0;
 
  private:
   bool fail(const std::string& why) {
@@ -87,7 +88,7 @@ class LimitedDom : public nlohmann::json_sax<json> {
       // Written twice, one of the two would be dropped unsaid (RFC 8259
       // leaves it to the reader): refused, naming the key.
       if (stack_.back()->contains(key_)) {
-        duplicate = {key_, keys_seen_[key_]};
+        duplicate = key_;
         return fail("the key \"" + printable_name(key_, 64) + "\" is written twice in one object");
       }
       last_ = &((*stack_.back())[key_] = std::move(value));
@@ -102,7 +103,6 @@ class LimitedDom : public nlohmann::json_sax<json> {
   std::vector<json*> stack_;
   json* last_ = nullptr;
   string_t key_;
-  std::map<string_t, std::size_t> keys_seen_;
 };
 
 // Where the text first opens a bracket deeper than `max_depth`: the SAX
@@ -160,7 +160,15 @@ std::optional<nlohmann::json> parse_json_text(std::string_view text, JsonTextErr
       *error = dom.error_;
       if (error->message.empty()) error->message = "not valid JSON";
       if (dom.too_deep) error->offset = too_deep_at(text, max_depth);
-      if (dom.duplicate) error->offset = key_at(text, dom.duplicate->first, dom.duplicate->second);
+      if (dom.duplicate) {
+        LimitedDom again(max_depth);  // stops at the same duplicate, having counted its name's keys
+        again.watch = dom.duplicate;
+        try {
+          json::sax_parse(text.begin(), text.end(), &again, nlohmann::detail::input_format_t::json, true);
+        } catch (const std::exception&) {
+        }
+        error->offset = key_at(text, *dom.duplicate, again.watched);
+      }
     }
     return std::nullopt;
   }
