@@ -74,8 +74,11 @@ GstBuffer* FrameWorker::latest(std::chrono::nanoseconds frame_interval) {
   const auto done = [this] { return picture_ || !error_.empty() || (flushing_ && flushing_->load()); };
   while (!ready_.wait_for(lock, std::chrono::milliseconds(20), done)) {
   }
-  if (picture_) return gst_buffer_ref(picture_);
+  // An error comes before the picture: a thread that failed after its
+  // first picture has stopped, and sending that picture on would freeze the
+  // stream with no word on the bus while changes went unseen.
   if (!error_.empty()) throw std::runtime_error(error_);
+  if (picture_) return gst_buffer_ref(picture_);
   return nullptr;
 }
 

@@ -35,7 +35,8 @@ class FrameWorker {
   /// very first, and null when flushing cut that wait short); wakes the
   /// thread to look at the parameters. Counts an
   /// overrun when the thread has been in one render for more than
-  /// `frame_interval`. Throws std::runtime_error with the thread's error.
+  /// `frame_interval`. Throws std::runtime_error with the thread's error,
+  /// also once a picture was sent: the thread stops at its error.
   GstBuffer* latest(std::chrono::nanoseconds frame_interval);
 
   int width() const { return width_; }
