@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # causticsrc as a loadable plugin: gst-inspect-1.0 finds libgstcaustic.so
-# and lists the documented properties and pad template, and the launch line
-# of docs/api.md runs (on the build's scene) and writes a WebM file that
-# decodes back to the frames asked for, showing a caustic, not a blank.
-#   gst_plugin_test.sh PLUGIN_DIR SCENES_DIR API_MD
+# and lists the documented properties and pad template, the launch lines of
+# the element's own doc comment run, and the launch line of docs/api.md
+# runs (on the build's scene) and writes a WebM file that decodes back to
+# the frames asked for, showing a caustic, not a blank.
+#   gst_plugin_test.sh PLUGIN_DIR SCENES_DIR API_MD ELEMENT_SOURCE
 set -euo pipefail
-plugin_dir="$(realpath "$1")" scenes="$(realpath "$2")" api_md="$(realpath "$3")"
+plugin_dir="$(realpath "$1")" scenes="$(realpath "$2")" api_md="$(realpath "$3")" element_source="$(realpath "$4")"
 fail() {
   echo "FAIL: $*" >&2
   exit 1
@@ -34,6 +35,21 @@ for prop in $documented; do grep -qx "$prop" <<<"$listed" || fail "gst-inspect d
 for prop in $listed; do
   grep -qx "$prop" <<<"$documented" || [[ " $inherited " == *" $prop "* ]] || fail "\"$prop\" is not documented in docs/api.md"
 done
+
+# The doc comment's launch lines, on the scene this build made: a window's
+# sink becomes fakesink and a line without an end gets a few buffers.
+ran=0
+while read -r doc_line; do
+  doc_line="${doc_line//\/usr\/share\/causticd\/assets\/scenes/$scenes}"
+  doc_line="${doc_line//autovideosink/fakesink}"
+  [[ "$doc_line" == *num-buffers=* ]] || doc_line="${doc_line/causticsrc /causticsrc num-buffers=5 }"
+  read -ra words <<<"$doc_line"
+  timeout 300 "${words[@]:0:1}" -q "${words[@]:1}" >doc_launch.txt 2>&1 </dev/null ||
+    fail "the doc comment's launch line failed: $doc_line: $(cat doc_launch.txt)"
+  ran=$((ran + 1))
+done < <(sed -n 's/^ \* \(gst-launch-1.0 causticsrc .*\)$/\1/p' "$element_source")
+((ran >= 2)) || fail "only $ran launch lines in the doc comment of $element_source"
+rm -f out.webm
 
 # The documented launch line, on the scene this build made.
 line="$(grep -m1 '^gst-launch-1.0 causticsrc ' "$api_md")" || fail "no launch line in $api_md"

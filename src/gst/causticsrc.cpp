@@ -8,10 +8,13 @@
  * EGL context of its own (a GPU when there is one, llvmpipe otherwise). It
  * renders again only when the parameters changed and otherwise re-sends the
  * last picture, at the frame rate or, with still-interval-ms, only that
- * often (a force-key-unit event from downstream sends the next frame at
- * once, so that an encoder can answer it, and with early-frames a change
- * after a still spell leaves as soon as it is drawn); every buffer carries a CausticFrameMeta with the parameter
- * version it shows and its fidelity level. While the parameters keep
+ * often. A force-key-unit event that reaches it sends the next frame at
+ * once, so that an encoder can answer it (encoders keep a viewer's request
+ * to themselves: causticd passes it on to the element too), and with
+ * early-frames a change after a still spell leaves as soon as it is drawn.
+ * Every buffer carries a CausticFrameMeta with the parameter version it
+ * shows and its fidelity level. Properties change in the NULL or READY
+ * state only; a new scene file is loaded at the next start. While the parameters keep
  * changing (progressive=true), frames are previews (level 1: a coarser mesh
  * level, the caustic at 1/preview-divisor of the size, no bloom); once they
  * have been still for settle-ms, one full-quality frame (level 0) follows
@@ -21,13 +24,13 @@
  *
  * ## Example launch line
  * |[
- * gst-launch-1.0 causticsrc scene=assets/scenes/lens.json framerate=30/1 ! videoconvert ! autovideosink
+ * gst-launch-1.0 causticsrc scene=/usr/share/causticd/assets/scenes/lens.json framerate=30/1 ! videoconvert ! autovideosink
  * ]|
  * It produces RGBA or I420; I420 is converted on the GPU (BT.601, limited
  * range) and read back at 1.5 bytes a pixel, so an encoder needs no
  * videoconvert in front of it:
  * |[
- * causticsrc scene=... width=1024 height=1024 ! video/x-raw,format=I420 ! vp8enc ! ...
+ * gst-launch-1.0 causticsrc scene=/usr/share/causticd/assets/scenes/lens.json width=1024 height=1024 ! video/x-raw,format=I420 ! vp8enc deadline=1 ! fakesink
  * ]|
  * Outside causticd the element comes from the plugin file libgstcaustic.so
  * (installed in GStreamer's plugin folder, or found through GST_PLUGIN_PATH);
@@ -50,62 +53,12 @@ GST_DEBUG_CATEGORY(caustic_src_debug);  // frame_source.cpp logs into it too
 
 G_DEFINE_TYPE(GstCausticSrc, gst_caustic_src, GST_TYPE_PUSH_SRC)
 
-enum { PROP_0, PROP_SCENE, PROP_WIDTH, PROP_HEIGHT, PROP_FRAMERATE, PROP_RENDERS, PROP_OVERRUNS, PROP_PROGRESSIVE, PROP_SETTLE_MS,
-       PROP_PREVIEW_DIVISOR, PROP_PREVIEW_MESH, PROP_PICTURE_VERSION,
-       PROP_STILL_INTERVAL_MS, PROP_SKIPPED, PROP_WATER_SOLVER, PROP_EARLY_FRAMES };
-
 static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
     "src", GST_PAD_SRC, GST_PAD_ALWAYS,
     GST_STATIC_CAPS("video/x-raw, format=(string){ RGBA, I420 }, width=(int)[16, 8192], height=(int)[16, 8192], "
                     "framerate=(fraction)[1/1, 240/1]"));
 
 static State& state_of(gpointer self) { return *reinterpret_cast<GstCausticSrc*>(self)->state; }
-
-static void gst_caustic_src_set_property(GObject* object, guint id, const GValue* value, GParamSpec* pspec) {
-  State& s = state_of(object);
-  std::lock_guard lock(s.lock);
-  switch (id) {
-    case PROP_SCENE: s.scene_path = g_value_get_string(value) ? g_value_get_string(value) : ""; break;
-    case PROP_WIDTH: s.width = g_value_get_int(value); break;
-    case PROP_HEIGHT: s.height = g_value_get_int(value); break;
-    case PROP_FRAMERATE:
-      s.fps_n = gst_value_get_fraction_numerator(value);
-      s.fps_d = gst_value_get_fraction_denominator(value);
-      break;
-    // Mutable in READY only: the streaming thread reads these without a lock.
-    case PROP_PROGRESSIVE: s.source.progressive.enabled = g_value_get_boolean(value); break;
-    case PROP_SETTLE_MS: s.source.progressive.settle = std::chrono::milliseconds(g_value_get_uint(value)); break;
-    case PROP_PREVIEW_DIVISOR: s.source.progressive.divisor = g_value_get_int(value); break;
-    case PROP_PREVIEW_MESH: s.source.progressive.mesh = g_value_get_int(value); break;
-    case PROP_STILL_INTERVAL_MS: s.still_interval = g_value_get_uint(value) * GST_MSECOND; break;
-    case PROP_WATER_SOLVER: s.source.water_solver = static_cast<caustic::gst::WaterSolver>(g_value_get_enum(value)); break;
-    case PROP_EARLY_FRAMES: s.early_frames = g_value_get_boolean(value) != FALSE; break;
-    default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
-  }
-}
-
-static void gst_caustic_src_get_property(GObject* object, guint id, GValue* value, GParamSpec* pspec) {
-  State& s = state_of(object);
-  std::lock_guard lock(s.lock);
-  switch (id) {
-    case PROP_SCENE: g_value_set_string(value, s.scene_path.c_str()); break;
-    case PROP_WIDTH: g_value_set_int(value, s.width); break;
-    case PROP_HEIGHT: g_value_set_int(value, s.height); break;
-    case PROP_FRAMERATE: gst_value_set_fraction(value, s.fps_n, s.fps_d); break;
-    case PROP_RENDERS: g_value_set_uint64(value, s.source.renders.load()); break;
-    case PROP_OVERRUNS: g_value_set_uint64(value, s.overruns.load()); break;
-    case PROP_PICTURE_VERSION: g_value_set_uint64(value, s.source.picture_version.load()); break;
-    case PROP_PROGRESSIVE: g_value_set_boolean(value, s.source.progressive.enabled); break;
-    case PROP_SETTLE_MS: g_value_set_uint(value, static_cast<guint>(s.source.progressive.settle.count())); break;
-    case PROP_PREVIEW_DIVISOR: g_value_set_int(value, s.source.progressive.divisor); break;
-    case PROP_PREVIEW_MESH: g_value_set_int(value, s.source.progressive.mesh); break;
-    case PROP_STILL_INTERVAL_MS: g_value_set_uint(value, static_cast<guint>(s.still_interval / GST_MSECOND)); break;
-    case PROP_SKIPPED: g_value_set_uint64(value, s.skipped.load()); break;
-    case PROP_WATER_SOLVER: g_value_set_enum(value, static_cast<gint>(s.source.water_solver)); break;
-    case PROP_EARLY_FRAMES: g_value_set_boolean(value, s.early_frames.load()); break;
-    default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
-  }
-}
 
 static GstCaps* gst_caustic_src_fixate(GstBaseSrc* src, GstCaps* caps) {
   State& s = state_of(src);
@@ -171,6 +124,7 @@ static gboolean gst_caustic_src_start(GstBaseSrc* src) {
     s.params = std::make_shared<caustic::ParamStore>(
         scene, [meshes](const caustic::Scene& candidate) { caustic::check_geometry(candidate, *meshes); });
     s.meshes = std::move(meshes);
+    s.from_file = true;
     start_water(s);
   } catch (const std::exception& e) {
     GST_ELEMENT_ERROR(src, RESOURCE, READ, ("Cannot load scene %s", s.scene_path.c_str()), ("%s", e.what()));
@@ -304,69 +258,10 @@ static void gst_caustic_src_class_init(GstCausticSrcClass* klass) {
   auto* gobject = G_OBJECT_CLASS(klass);
   auto* element = GST_ELEMENT_CLASS(klass);
   auto* basesrc = GST_BASE_SRC_CLASS(klass);
-  gobject->set_property = gst_caustic_src_set_property;
-  gobject->get_property = gst_caustic_src_get_property;
+  gobject->set_property = caustic::gst::set_property;
+  gobject->get_property = caustic::gst::get_property;
   gobject->finalize = gst_caustic_src_finalize;
-  const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS | GST_PARAM_MUTABLE_READY);
-  g_object_class_install_property(gobject, PROP_SCENE,
-                                  g_param_spec_string("scene", "Scene", "Scene file (JSON) to render", "", rw));
-  g_object_class_install_property(
-      gobject, PROP_WIDTH, g_param_spec_int("width", "Width", "Width in pixels; 0: the scene's", 0, 8192, 0, rw));
-  g_object_class_install_property(
-      gobject, PROP_HEIGHT, g_param_spec_int("height", "Height", "Height in pixels; 0: the scene's", 0, 8192, 0, rw));
-  g_object_class_install_property(gobject, PROP_FRAMERATE,
-                                  gst_param_spec_fraction("framerate", "Frame rate", "Frames per second", 1, 1, 240,
-                                                          1, 30, 1, rw));
-  g_object_class_install_property(
-      gobject, PROP_RENDERS,
-      g_param_spec_uint64("renders", "Renders", "Caustic passes drawn so far (unchanged frames are re-sent)", 0,
-                          G_MAXUINT64, 0, static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
-  g_object_class_install_property(
-      gobject, PROP_OVERRUNS,
-      g_param_spec_uint64("overruns", "Overruns",
-                          "Frames sent while a render outlasted its frame interval (the previous picture went out again)",
-                          0, G_MAXUINT64, 0, static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
-  g_object_class_install_property(
-      gobject, PROP_PICTURE_VERSION,
-      g_param_spec_uint64("picture-version", "Picture version",
-                          "Parameters version of the newest finished picture (the next frame due takes it)", 0,
-                          G_MAXUINT64, 0, static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
-  g_object_class_install_property(
-      gobject, PROP_PROGRESSIVE,
-      g_param_spec_boolean("progressive", "Progressive", "Cheap previews while the parameters change, then one full frame",
-                           TRUE, rw));
-  g_object_class_install_property(
-      gobject, PROP_SETTLE_MS,
-      g_param_spec_uint("settle-ms", "Settle time", "Stillness (ms) after which the full-quality frame is drawn", 0,
-                        10000, 40, rw));
-  g_object_class_install_property(
-      gobject, PROP_PREVIEW_DIVISOR,
-      g_param_spec_int("preview-divisor", "Preview divisor", "Previews draw the caustic at 1/N of the size per side",
-                       1, 16, 2, rw));
-  g_object_class_install_property(
-      gobject, PROP_PREVIEW_MESH,
-      g_param_spec_int("preview-mesh", "Preview mesh", "Mesh level of previews (vertices per side) when coarser", 2,
-                       2048, 32, rw));
-  g_object_class_install_property(
-      gobject, PROP_STILL_INTERVAL_MS,
-      g_param_spec_uint("still-interval-ms", "Still interval",
-                        "While the picture is unchanged, send it again only this often (ms; a key frame request "
-                        "sends the next frame at once); 0: every frame at the frame rate",
-                        0, 60000, 0, rw));
-  g_object_class_install_property(
-      gobject, PROP_SKIPPED,
-      g_param_spec_uint64("skipped", "Skipped", "Frames not sent because the picture was unchanged (still-interval-ms)",
-                          0, G_MAXUINT64, 0, static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
-  g_object_class_install_property(
-      gobject, PROP_WATER_SOLVER,
-      g_param_spec_enum("water-solver", "Water solver", "Where a scene's water steps: auto, cpu or gl",
-                        caustic::gst::water_solver_type(), 0, rw));
-  g_object_class_install_property(
-      gobject, PROP_EARLY_FRAMES,
-      g_param_spec_boolean("early-frames", "Early frames",
-                           "A picture finished while the stream stands still (still-interval-ms) leaves at once, "
-                           "not at the next frame time, once an interval has passed since the last frame",
-                           TRUE, rw));
+  caustic::gst::install_properties(gobject);
   gst_element_class_set_static_metadata(element, "Caustic source", "Source/Video",
                                         "Renders the caustic of a refractive or reflective object, live",
                                         "causticd developers");

@@ -30,6 +30,7 @@ void set_source(GstElement* causticsrc, std::shared_ptr<ParamStore> params, std:
     s->params = std::move(params);
     s->meshes = std::move(meshes);
     s->pool = std::move(pool);
+    s->from_file = false;
   }
 }
 

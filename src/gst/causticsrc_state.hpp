@@ -27,6 +27,7 @@ struct State {
   std::shared_ptr<caustic::ParamStore> params;
   std::shared_ptr<const caustic::MeshLevels> meshes;
   std::shared_ptr<caustic::water::Pool> pool;  // the stream's water: source.pool, for other threads
+  bool from_file = false;  // params and meshes were loaded from scene_path, not given by set_source()
   std::function<void()> on_overrun;  // set before streaming
   // Streaming thread only (the worker owns `source` while it runs):
   caustic::gst::FrameSource source;
@@ -60,6 +61,12 @@ void renegotiate(State& s, const GstVideoInfo& next);
 
 /// Gives the stream its water as it starts (causticsrc_api.cpp). Under s.lock.
 void start_water(State& s);
+
+/// The element's properties (causticsrc_props.cpp): GObject's set_property
+/// and get_property, and their installation in the class.
+void set_property(GObject* object, guint id, const GValue* value, GParamSpec* pspec);
+void get_property(GObject* object, guint id, GValue* value, GParamSpec* pspec);
+void install_properties(GObjectClass* gobject);
 
 /// The GEnum of the water-solver property: WaterSolver's values, by the
 /// nicks "auto", "cpu" and "gl" (causticsrc_api.cpp).

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // What causticsrc draws with: a GL context and an engine that live on the
-// streaming thread, and the last picture, re-sent while nothing changes.
+// render thread (frame_worker.hpp), and the last picture, re-sent while
+// nothing changes.
 #pragma once
 
 #include "caustic/engine.hpp"
