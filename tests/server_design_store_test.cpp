@@ -75,6 +75,55 @@ TEST_F(DesignApi, ADesignDeletedWhileItIsDesignedStaysDeletedAfterAKill) {
   EXPECT_FALSE(fs::exists(state.path / "designs" / id));
 }
 
+TEST_F(DesignApi, ADesignDeletedWhileItIsDesignedStopsThereAndFreesItsPlace) {
+  // Deleted while it ran, a design once ran to its end for no one, and the
+  // queue counted it free meanwhile. The oracle is order, not time: with a
+  // queue of one the next upload is taken only once the deleted design has
+  // unwound (its folder gone), and that design never wrote its face.
+  TempDir state;
+  ServerProcess server({"--set", "state_dir=" + state.path.string(), "--set", "design_resolution=1024", "--set",
+                        "design_queue=1", "--set", "design_uploads_per_hour=1000"});
+  const json ticket = upload(server, square_png(1024)).json();
+  const std::string id = ticket.value("id", "");
+  ASSERT_FALSE(id.empty()) << ticket.dump();
+  const std::string url = server.url() + "/api/v1/designs/" + id;
+  bool designing = false;
+  for (int i = 0; i < 600 && !designing; ++i) {
+    designing = http("GET", url).json().value("state", "") == "designing";
+    if (!designing) g_usleep(100000);
+  }
+  ASSERT_TRUE(designing);
+  const fs::path folder = state.path / "designs" / id;
+  EXPECT_EQ(http("DELETE", url, "", "", bearer_token(ticket["token"])).status, 204u);
+  bool face_written = false, folder_at_acceptance = true;
+  std::string next;
+  int refused = 0;
+  for (int i = 0; i < 1200 && next.empty(); ++i) {
+    face_written = face_written || fs::exists(folder / "face.obj");
+    const Response r = upload(server, square_png(128));
+    if (r.status == 202u) {
+      next = r.json().value("id", "");
+      // Asked after the answer: taken means the folder had gone before.
+      folder_at_acceptance = fs::exists(folder);
+    } else {
+      ASSERT_EQ(r.status, 503u) << r.body;
+      ++refused;
+      g_usleep(50000);
+    }
+  }
+  ASSERT_FALSE(next.empty()) << "the queue stayed full after its one design was deleted";
+  EXPECT_FALSE(folder_at_acceptance) << "a new upload was taken while the deleted design still held the worker";
+  EXPECT_FALSE(face_written) << "the deleted design ran on to its face";
+  EXPECT_FALSE(fs::exists(folder));
+  std::printf("upload refused %d times while the deleted design unwound\n", refused);
+  std::string next_state;
+  for (int i = 0; i < 600 && next_state != "designing" && next_state != "ready"; ++i) {
+    next_state = http("GET", server.url() + "/api/v1/designs/" + next).json().value("state", "");
+    if (next_state != "designing") g_usleep(100000);
+  }
+  EXPECT_TRUE(next_state == "designing" || next_state == "ready") << next_state;
+}
+
 TEST_F(DesignApi, OneDesignsBrokenFilesSkipThatDesignAlone) {
   TempDir state;
   const std::string good = stored_design(state);

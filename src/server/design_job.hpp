@@ -31,6 +31,18 @@ inline constexpr std::int64_t kFailedKeptS = 3600;
 
 struct DesignJobs::Job {
   enum class State { restoring, queued, designing, ready, failed };
+  /// The state's name in the API. A switch, not a table indexed by the
+  /// enum: a state added above is a compiler warning, not a wrong name.
+  static const char* state_name(State s) {
+    switch (s) {
+      case State::restoring: return "restoring";
+      case State::queued: return "queued";
+      case State::designing: return "designing";
+      case State::ready: return "ready";
+      case State::failed: return "failed";
+    }
+    return "failed";
+  }
   std::string id, token, name, extension;
   bool colour = false;  ///< designed in colour (a tinted face)
   std::int64_t created = 0;

@@ -26,12 +26,9 @@ namespace fs = std::filesystem;
 namespace {
 
 struct Stopping {};
-
-
-const char* state_name(int s) {
-  static const char* const names[] = {"restoring", "queued", "designing", "ready", "failed"};
-  return names[s];
-}
+// Thrown by a design's progress when its owner deleted it: the run unwinds
+// at once instead of designing for no one while the queue waits.
+struct Cancelled {};
 
 }  // namespace
 
@@ -104,8 +101,10 @@ DesignJobs::Ticket DesignJobs::submit(const std::vector<unsigned char>& picture,
 }
 
 int DesignJobs::pending_locked() const {
-  int n = 0;
-  for (const auto& [id, job] : jobs_) n += job->state == Job::State::queued || job->state == Job::State::designing;
+  // The designs running are counted by the workers, not by jobs_: one
+  // deleted while it runs still holds its worker until it has unwound.
+  int n = designing_;
+  for (const auto& [id, job] : jobs_) n += job->state == Job::State::queued;
   return n;
 }
 
@@ -119,7 +118,7 @@ nlohmann::json DesignJobs::describe(const std::string& id) const {
   nlohmann::json out = {{"id", job.id},
                         {"name", job.name},
                         {"colour", job.colour},
-                        {"state", state_name(static_cast<int>(state))},
+                        {"state", Job::state_name(state)},
                         {"progress", job.state == Job::State::ready ? 1.0 : job.progress},
                         {"created", job.created}};
   if (state == Job::State::queued) {
@@ -184,8 +183,9 @@ bool DesignJobs::remove(const std::string& id, const std::string& token) {
   std::lock_guard lock(mutex_);
   const auto it = jobs_.find(id);
   if (it == jobs_.end() || token.empty() || !same_secret(token, it->second->token)) return false;
-  // A running job keeps its folder until it ends; it is then thrown away,
-  // and the mark says so to a start that comes first.
+  // A running job keeps its folder until its next progress report, which
+  // unwinds it and throws the folder away; the mark says so to a start that
+  // comes first.
   auto job = it->second;
   jobs_.erase(it);
   std::erase(queue_, job);
@@ -245,9 +245,16 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
     std::lock_guard lock(mutex_);
     was_ready = job->state == Job::State::ready;
     const bool r = job->state != Job::State::queued;
-    if (!r) job->state = Job::State::designing;
+    if (!r) {
+      job->state = Job::State::designing;
+      ++designing_;
+    }
     return r;
   }();
+  // Every way out of a design frees its place in the queue (mutex_ held).
+  const auto done_designing = [&] {
+    if (!restoring) --designing_;
+  };
   const fs::path picture = job->folder / ("picture" + job->extension);
   std::string error;
   std::shared_ptr<const GalleryEntry> entry;
@@ -262,6 +269,8 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
         // A stop unwinds the design: the picture stays, and the next start
         // designs it again.
         if (stop_) throw Stopping();
+        const auto it = jobs_.find(job->id);
+        if (it == jobs_.end() || it->second != job) throw Cancelled();
         job->progress = p.fraction;
         job->stage = p.stage;
       });
@@ -281,6 +290,15 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
     engine.reset();
     context.release_current();
   } catch (const Stopping&) {
+    std::lock_guard lock(mutex_);
+    done_designing();
+    return;
+  } catch (const Cancelled&) {
+    std::error_code ec;
+    fs::remove_all(job->folder, ec);
+    log(Level::info, "design " + job->id + " stopped: deleted by its owner");
+    std::lock_guard lock(mutex_);
+    done_designing();
     return;
   } catch (const DesignFailure& e) {
     error = e.what();
@@ -291,6 +309,7 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
   std::error_code ec;
   fs::remove(picture, ec);  // the visitor's picture is not kept once designed
   std::lock_guard lock(mutex_);
+  done_designing();
   if (!jobs_.count(job->id)) {  // deleted while it ran
     fs::remove_all(job->folder, ec);
     return;

@@ -136,6 +136,7 @@ class DesignJobs {
   static constexpr std::size_t kRecentScenes = 4;
   std::deque<std::shared_ptr<const GalleryEntry>> recent_;
   bool stop_ = false;
+  int designing_ = 0;  ///< designs the workers run now, deleted ones included
   std::vector<std::thread> workers_;
 };
 
