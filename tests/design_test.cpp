@@ -164,6 +164,59 @@ TEST_F(Designer, NormalIntegrationReproducesThePlanoHyperbolicLens) {
   EXPECT_LT(spots[2], spots[1]);
 }
 
+TEST_F(Designer, ThePicturesTopLeftLightsTheScreensTopLeft) {
+  // Every figure of verify.cpp compares with target_irradiance(), the
+  // designer's own masses: a flip or a transpose in turning the picture into
+  // masses could not show there. Here the picture is written row by row
+  // (row 0 the top) and the light is found on a screen the test places
+  // itself (up +y, right +x, seen from above). The bright patch is the left
+  // half of the top quarter, wider than tall, so that a transpose moves it too.
+  const int n = 32;
+  const double eps = 1e-2, w = 100;
+  Image target{n, n, std::vector<float>(std::size_t(n) * n, 0.0f)};
+  for (int row = 0; row < n / 4; ++row)
+    for (int col = 0; col < n / 2; ++col) target.pixels[std::size_t(row) * n + col] = 0.8f;
+  DesignOptions o = options(n);
+  o.black_floor = eps;
+  o.size = w;
+  const Design d = design_face(target, o);
+  Scene s = straight_down_scene(d.report.flat_offset, o.focus, w, 4 * n);
+  const HdrImage img = render(s, shared(d.face));
+  glm::dvec2 moment(0.0);
+  double flux = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      flux += img.at(x, y);
+      moment += double(img.at(x, y)) * pixel_centre(s.screen, img.width, img.height, x, y);
+    }
+  ASSERT_GT(flux, 0);
+  const glm::dvec2 centroid = moment / flux;
+  // The patch (area a, centre c) holds the share q of the light; the floor
+  // the rest, spread evenly over the rest of the screen, whose centre is
+  // -a c / (1 - a) (the whole screen's centre is 0).
+  const double a = 1.0 / 8, q = a / (a + eps * (1 - a));
+  const glm::dvec2 c(-w / 4, 3 * w / 8);
+  const glm::dvec2 expected = c * (q - (1 - q) * a / (1 - a));
+  std::printf("top-left patch: light's centroid (%.2f, %.2f) mm, expected (%.2f, %.2f)\n", centroid.x, centroid.y,
+              expected.x, expected.y);
+  EXPECT_NEAR(centroid.x, expected.x, w / n) << "within a cell";
+  EXPECT_NEAR(centroid.y, expected.y, w / n) << "within a cell";
+}
+
+TEST(DesignFace, APictureWithANanOrAnInfinityIsRefusedByItsPixel) {
+  // Handed to design_face directly (the loader refuses them on its own): a
+  // NaN once gave a flat face, an infinity "all black".
+  for (const float bad : {std::nanf(""), INFINITY, -INFINITY}) {
+    Image target{8, 8, std::vector<float>(64, 0.5f)};
+    target.pixels[3 * 8 + 5] = bad;
+    DesignOptions o;
+    o.resolution = 8;
+    EXPECT_THROW(design_face(target, o), TargetError);
+    const std::string why = refusal<TargetError>([&] { design_face(target, o); });
+    EXPECT_NE(why.find("pixel (5, 3)"), std::string::npos) << why;
+  }
+}
+
 TEST_F(Designer, EngineFluxEqualsTheEnteringFluxWithoutFresnel) {
   const Design d = design_face(picture(64, smooth_blobs), options(64));
   Scene s = design_scene(d, "designed", 512);

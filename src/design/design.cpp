@@ -44,10 +44,20 @@ Design design_face(const Image& target, const DesignOptions& options, const Prog
   d.options = options;
   d.n = n;
 
+  // A NaN would be skipped by max_element below and turn every density NaN
+  // (a flat face), an infinity would read as "all black": both are refused
+  // by name. The cells are weighted means, so finite pixels give finite cells.
+  if (target.pixels.size() != std::size_t(target.width) * target.height)
+    throw TargetError("the target picture's pixels do not fill its " + std::to_string(target.width) + "x" +
+                      std::to_string(target.height) + " size");
+  for (std::size_t p = 0; p < target.pixels.size(); ++p)
+    if (!std::isfinite(target.pixels[p]))
+      throw TargetError("the target picture's pixel (" + std::to_string(p % target.width) + ", " +
+                        std::to_string(p / target.width) + ") is " + (std::isnan(target.pixels[p]) ? "NaN" : "infinite"));
   // Cell densities rho = max(I / max I, eps); image row 0 is the top (+y).
   const Image cells = box_resample_square(target, n);
   const float brightest = *std::max_element(cells.pixels.begin(), cells.pixels.end());
-  if (!(brightest > 0) || !std::isfinite(brightest)) throw TargetError("the target picture is all black");
+  if (!(brightest > 0)) throw TargetError("the target picture is all black");
   d.mass.resize(std::size_t(n) * n);
   double sum = 0;
   for (int row = 0; row < n; ++row)
