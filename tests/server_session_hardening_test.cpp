@@ -10,6 +10,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 
 using namespace caustic::testing;
 
@@ -219,4 +223,34 @@ TEST(Hardening, TheViewersCandidatesAreBoundedInSizeNumberAndMLine) {
   EXPECT_EQ(errors[2], "ice: at most 64 candidates a connection");
   EXPECT_EQ(sessions_now(server), 1);
   ::close(fd);
+}
+
+TEST(Hardening, APipelineFileWithoutItsNamedElementsFailsItsSessionsNotTheServer) {
+  // The operator's copy of the data folder, its VP8 pipeline without the
+  // encoder's name (the frame probes reach it by name): the server ran with
+  // G_DEBUG=fatal-criticals and died at the first session.
+  const std::filesystem::path data = std::filesystem::path(CAUSTICD_BINARY).parent_path().parent_path() / "share/causticd";
+  char pattern[] = "/tmp/causticd-data-XXXXXX";
+  ASSERT_NE(::mkdtemp(pattern), nullptr);
+  const std::filesystem::path copy = pattern;
+  std::filesystem::create_symlink(data / "assets", copy / "assets");
+  std::filesystem::create_symlink(data / "web", copy / "web");
+  std::filesystem::create_directory(copy / "pipelines");
+  std::filesystem::copy_file(data / "pipelines/h264.pipeline", copy / "pipelines/h264.pipeline");
+  std::ifstream in(data / "pipelines/vp8.pipeline");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t named = text.find("vp8enc name=encoder");
+  ASSERT_NE(named, std::string::npos);
+  text.replace(named, std::string("vp8enc name=encoder").size(), "vp8enc");
+  std::ofstream(copy / "pipelines/vp8.pipeline") << text;
+  {
+    ServerProcess server({}, {{"CAUSTICD_DATA_DIR", copy.string()}});
+    const Response r = http("POST", server.url() + "/api/v1/sessions", R"({"scene": "slab", "codec": "vp8"})");
+    EXPECT_EQ(r.status, 500u) << r.body;
+    EXPECT_EQ(r.content_type, "application/problem+json");
+    EXPECT_EQ(sessions_now(server), 0);
+    // The other codec's file is whole: its sessions start.
+    EXPECT_EQ(http("POST", server.url() + "/api/v1/sessions", R"({"scene": "slab", "codec": "h264"})").status, 201u);
+  }
+  std::filesystem::remove_all(copy);
 }

@@ -2,6 +2,7 @@
 #include "broadcast.hpp"
 
 #include "address_group.hpp"
+#include "h264_level.hpp"
 #include "http_util.hpp"
 #include "janus_admin.hpp"
 #include "log.hpp"
@@ -23,10 +24,10 @@ nlohmann::json create_request(const Mountpoint& m, const std::string& session_id
                           {"iface", c.janus_rtp_address}, {"bufferkf", true}};
   if (codec == "h264") {
     // Chrome answers packetization-mode=0 to an offer without it.
-    const bool level4 = ((c.width + 15) / 16) * ((c.height + 15) / 16) > 3600;
     video["pt"] = 102;
     video["codec"] = "h264";
-    video["fmtp"] = std::string("profile-level-id=") + (level4 ? "42e028" : "42e01f") + ";packetization-mode=1";
+    video["fmtp"] = "profile-level-id=" + profile_level_id(h264_level(c.width, c.height, c.framerate, c.bitrate_kbps)) +
+                    ";packetization-mode=1";
   } else {
     video["pt"] = 96;
     video["codec"] = "vp8";

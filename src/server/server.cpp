@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/server/server.hpp"
 
+#include "h264_level.hpp"
 #include "http_util.hpp"
 #include "log.hpp"
 #include "main_queue.hpp"
@@ -127,6 +128,9 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
   s.data_dir = std::move(data_dir);
   set_log_level(level_from_name(s.config.log_level));
   for (const auto& warning : s.config.warnings) log(Level::warning, warning);
+  if (const auto w = h264_level_warning(s.config.width, s.config.height, s.config.framerate, s.config.bitrate_kbps);
+      !w.empty())
+    log(Level::warning, w);
   // Read by every GL context the process creates, before the first exists.
   if (s.config.egl_device >= 0) setenv("CAUSTICD_EGL_DEVICE", std::to_string(s.config.egl_device).c_str(), 1);
   // A GPU asked for and not there is a configuration error, said as such:
@@ -304,6 +308,8 @@ void Server::reload() {
       ServerConfig next = state_->reloader();
       check_config(next, s.data_dir);
       for (const auto& warning : next.warnings) log(Level::warning, warning);
+      if (const auto w = h264_level_warning(next.width, next.height, next.framerate, next.bitrate_kbps); !w.empty())
+        log(Level::warning, w);
       // Read once, at the start: the listener, the GPU, the design queue,
       // Janus's admin client. A reload keeps them and names each one
       // written anew.

@@ -5,6 +5,7 @@
 #include "caustic/gst/stop_pipeline.hpp"
 #include "caustic/server/data_files.hpp"
 #include "frame_probes.hpp"
+#include "h264_level.hpp"
 #include "main_queue.hpp"
 #include "receive_bins.hpp"
 #include "room_messages.hpp"
@@ -18,6 +19,7 @@
 #include <map>
 #include <mutex>
 #include <random>
+#include <string_view>
 #include <thread>
 
 namespace caustic::server {
@@ -124,7 +126,6 @@ GstPromise* Session::pipeline_promise(GstPromiseChangeFunc change, gpointer data
 
 void Session::build() {
   const ServerConfig& c = *options_.config;
-  const int macroblocks = ((c.width + 15) / 16) * ((c.height + 15) / 16);
   const std::map<std::string, std::string> values = {
       {"width", std::to_string(c.width)},
       {"height", std::to_string(c.height)},
@@ -132,7 +133,7 @@ void Session::build() {
       {"bitrate_bps", std::to_string(c.bitrate_kbps * 1000)},
       {"bitrate_kbps", std::to_string(c.bitrate_kbps)},
       {"keyframe_interval", std::to_string(c.keyframe_interval)},
-      {"h264_level", macroblocks <= 3600 ? "3.1" : "4"}};
+      {"h264_level", h264_level(c.width, c.height, c.framerate, c.bitrate_kbps).name}};
   std::string description = pipeline_description(options_.data_dir, options_.codec, values);
   if (options_.broadcast) {
     // RTP to the Janus mountpoint, RTCP both ways on the next port: Janus
@@ -155,6 +156,19 @@ void Session::build() {
     if (pipeline_) gst_object_unref(pipeline_);
     pipeline_ = nullptr;
     throw std::runtime_error("cannot build the " + options_.codec + " pipeline: " + message);
+  }
+  // The pipeline files are the operator's to edit: elements the server
+  // reaches by name are asked for by name, not found missing as a crash.
+  for (const char* name : {"src", "encoder", "pay"}) {
+    GstElement* element = gst_bin_get_by_name(GST_BIN(pipeline_), name);
+    const bool ok = element && (std::string_view(name) != "src" || G_OBJECT_TYPE_NAME(element) == std::string_view("GstCausticSrc"));
+    if (element) gst_object_unref(element);
+    if (!ok) {
+      gst_object_unref(pipeline_);
+      pipeline_ = nullptr;
+      throw std::runtime_error("the " + options_.codec + " pipeline needs elements named src (a causticsrc), encoder "
+                               "and pay");
+    }
   }
   GstElement* src = gst_bin_get_by_name(GST_BIN(pipeline_), "src");
   gst::set_source(src, params_, scene_->levels, pool_);
