@@ -121,7 +121,8 @@ TEST(DesignPicture, AVolumeIsRefusedAndChannelsBeyondColourAreNotRead) {
     const std::string why = refused(folder.write(name, dds));
     EXPECT_NE(why.find("volume"), std::string::npos) << name << ": " << why;
   }
-  // A picture a pixel wide left one pixel of its centre square, refused as black.
+  // A picture a pixel wide would leave one pixel of its centre square to
+  // design: it is refused as too thin before it is decoded.
   const auto thin = folder.path / "thin.tif";
   auto line = OIIO::ImageOutput::create(thin.string());
   std::vector<unsigned char> white(1 * 400, 255);

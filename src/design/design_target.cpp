@@ -92,28 +92,21 @@ void check_jpeg_scans(const std::filesystem::path& file, const std::string& name
 // The picture as it is meant to be seen: a camera that was held on its side
 // stores its rows as the sensor read them and says in EXIF's Orientation
 // (1-8) how to turn them; a phone's portrait was designed lying down.
-RgbHdrImage upright(const RgbHdrImage& stored, int orientation) {
-  if (orientation < 2 || orientation > 8) return stored;
-  const int w = stored.width, h = stored.height;
-  const bool turned = orientation >= 5;  // 5-8 swap the sides
-  RgbHdrImage out{turned ? h : w, turned ? w : h, std::vector<float>(stored.pixels.size())};
-  for (int y = 0; y < out.height; ++y)
-    for (int x = 0; x < out.width; ++x) {
-      int sx = x, sy = y;  // the stored pixel shown at (x, y), rows from the top
-      switch (orientation) {
-        case 2: sx = w - 1 - x; break;                      // mirrored
-        case 3: sx = w - 1 - x, sy = h - 1 - y; break;      // upside down
-        case 4: sy = h - 1 - y; break;                      // mirrored upside down
-        case 5: sx = y, sy = x; break;                      // transposed
-        case 6: sx = y, sy = h - 1 - x; break;              // to be turned a quarter clockwise
-        case 7: sx = w - 1 - y, sy = h - 1 - x; break;      // transversed
-        case 8: sx = w - 1 - y, sy = x; break;              // to be turned a quarter anticlockwise
-      }
-      for (int k = 0; k < 3; ++k)
-        out.pixels[3 * (static_cast<std::size_t>(y) * out.width + x) + k] =
-            stored.pixels[3 * (static_cast<std::size_t>(sy) * w + sx) + k];
-    }
-  return out;
+bool turned_sides(int orientation) { return orientation >= 5 && orientation <= 8; }  // 5-8 swap the sides
+
+// The stored pixel (sx, sy) shown upright at (x, y), rows from the top.
+void stored_pixel(int orientation, int w, int h, int x, int y, int& sx, int& sy) {
+  sx = x, sy = y;
+  switch (orientation) {
+    case 2: sx = w - 1 - x; break;                      // mirrored
+    case 3: sx = w - 1 - x, sy = h - 1 - y; break;      // upside down
+    case 4: sy = h - 1 - y; break;                      // mirrored upside down
+    case 5: sx = y, sy = x; break;                      // transposed
+    case 6: sx = y, sy = h - 1 - x; break;              // to be turned a quarter clockwise
+    case 7: sx = w - 1 - y, sy = h - 1 - x; break;      // transversed
+    case 8: sx = w - 1 - y, sy = x; break;              // to be turned a quarter anticlockwise
+    default: break;                                     // 1, or a value EXIF does not define: as stored
+  }
 }
 
 }  // namespace
@@ -169,19 +162,28 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   const bool srgb = encoded_srgb(spec);
   // Colour: the first three channels are R, G, B; grey (1 or 2 channels): the first.
   const bool colour = channels >= 3;
-  const std::size_t count = static_cast<std::size_t>(spec.width) * spec.height;
-  RgbHdrImage out{spec.width, spec.height, std::vector<float>(3 * count)};
-  for (std::size_t p = 0; p < count; ++p) {
-    const float* c = &raw[p * channels];
-    double rgb[3] = {c[0], colour ? c[1] : c[0], colour ? c[2] : c[0]};
-    for (double& v : rgb) {
-      if (!std::isfinite(v)) throw TargetError(name + ": the picture holds NaN or infinite values");
-      v = std::max(v, 0.0);
-      if (srgb) v = srgb_to_linear(std::min(v, 1.0));
+  // Turned upright as it is converted: a turned copy afterwards cost another
+  // 12 bytes a pixel on top of the decoded floats and the linear picture.
+  const int orientation = spec.get_int_attribute("Orientation", 1);
+  const int w = spec.width, h = spec.height;
+  const bool turned = turned_sides(orientation);
+  RgbHdrImage out{turned ? h : w, turned ? w : h, std::vector<float>(3 * static_cast<std::size_t>(w) * h)};
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      int sx = 0, sy = 0;
+      stored_pixel(orientation, w, h, x, y, sx, sy);
+      const float* c = &raw[(static_cast<std::size_t>(sy) * w + sx) * channels];
+      double rgb[3] = {c[0], colour ? c[1] : c[0], colour ? c[2] : c[0]};
+      float* to = &out.pixels[3 * (static_cast<std::size_t>(y) * out.width + x)];
+      for (int k = 0; k < 3; ++k) {
+        double v = rgb[k];
+        if (!std::isfinite(v)) throw TargetError(name + ": the picture holds NaN or infinite values");
+        v = std::max(v, 0.0);
+        if (srgb) v = srgb_to_linear(std::min(v, 1.0));
+        to[k] = static_cast<float>(v);
+      }
     }
-    for (int k = 0; k < 3; ++k) out.pixels[3 * p + k] = static_cast<float>(rgb[k]);
-  }
-  return upright(out, spec.get_int_attribute("Orientation", 1));
+  return out;
 }
 
 Image load_target(const std::filesystem::path& file) { return luminance(load_target_rgb(file)); }

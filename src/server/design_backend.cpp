@@ -29,11 +29,21 @@ std::string visitor_reason(const std::string& what, const std::string& file) {
 
 std::shared_ptr<const Mesh> run(const std::filesystem::path& target, const std::filesystem::path& folder, int resolution,
                                 bool colour, const std::function<void(const DesignBackend::Progress&)>& progress) {
+  // Both kept at the design's n x n cells, which is all the designer, the
+  // tint and the check read (resampled again at n, a picture is unchanged):
+  // the full-size picture, 16 bytes a pixel in colour, is freed before the
+  // design's minutes instead of after them.
   design::Image picture;
   RgbHdrImage colours;  // in colour: the face is shaped for the brightest channel, then tinted
   try {
-    if (colour) colours = design::load_target_rgb(target);
-    picture = colour ? design::brightest_channel(colours) : design::load_target(target);
+    if (colour) {
+      const RgbHdrImage full = design::load_target_rgb(target);
+      // The brightest channel of the full picture, as it was designed before.
+      picture = design::box_resample_square(design::brightest_channel(full), resolution);
+      colours = design::box_resample_square(full, resolution);
+    } else {
+      picture = design::box_resample_square(design::load_target(target), resolution);
+    }
   } catch (const design::TargetError& e) {
     throw DesignFailure(visitor_reason(e.what(), target.string()));
   }
