@@ -119,6 +119,10 @@ TEST(FidelityChoice, ASolidTakesTheCoarsestLightGridThatMeetsTheTarget) {
   }
   EXPECT_EQ(choose_fidelity(c, 0.05, levels).config.light_grid, 128);
   EXPECT_EQ(choose_fidelity(c, 0.01, levels).config.light_grid, 256);
+  // Never above the scene's own grid, even where only a finer one meets the
+  // target (a calibration made when the scene's grid was finer).
+  EXPECT_EQ(choose_fidelity(c, 0.01, levels, 128).config.light_grid, 128);
+  EXPECT_FALSE(choose_fidelity(c, 0.01, levels, 128).meets_target);
   const Calibration back = calibration_from_json(nlohmann::json::parse(calibration_to_json(c).dump()));
   EXPECT_EQ(back.entries[1].config, c.entries[1].config);
 
@@ -266,6 +270,18 @@ TEST(Calibration, FingerprintFollowsThePhysicsNotTheChoices) {
   glass.object.ior = 1.6;
   EXPECT_NE(scene_fingerprint(glass, mesh), base);
   EXPECT_NE(scene_fingerprint(s, grid_mesh(plano_convex_lens(41.0, 10.0), 16, 16)), base);
+  // Two vertices moved by +1 mm and -1 mm along the same axis: a weighted
+  // sum of the positions stays as it was, the mesh does not (nor does a
+  // designed face, whose heights sum to about 0, under any such edit).
+  for (int axis = 0; axis < 3; ++axis) {
+    Mesh edited = mesh;
+    edited.positions[10][axis] += 1.0f;
+    edited.positions[200][axis] -= 1.0f;
+    EXPECT_NE(scene_fingerprint(s, edited), base) << "axis " << axis;
+  }
+  Mesh rewired = mesh;  // the same corners, one triangle turned round
+  std::swap(rewired.triangles[5][0], rewired.triangles[5][1]);
+  EXPECT_NE(scene_fingerprint(s, rewired), base);
 }
 
 TEST(MeshLevels, EveryLevelSitsWhereTheLoadedMeshDoes) {

@@ -4,7 +4,9 @@
 #include "caustic/screen_follow.hpp"
 #include "caustic/spectral.hpp"
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <tuple>
 
@@ -47,12 +49,20 @@ std::string scene_fingerprint(const Scene& scene, const Mesh& mesh) {
   for (const char* k : {"width", "height", "fresnel", "fidelity", "accuracy_target", "mesh_resolution", "light_grid"})
     j["render"].erase(k);
   std::uint64_t h = fnv1a(j.dump());
-  // The mesh by its vertex and triangle counts and a sum over its positions.
-  double sum = 0;
-  for (const glm::vec3& p : mesh.positions) sum += p.x + 2.0 * p.y + 3.0 * p.z;
-  char tail[96];
-  std::snprintf(tail, sizeof tail, "%zu/%zu/%.6e", mesh.positions.size(), mesh.triangles.size(), sum);
-  h = fnv1a(tail, h);
+  // The mesh by the bits of every position and corner index: a weighted sum
+  // printed to 7 digits once kept its value when two vertices moved by +d
+  // and -d (and is about 0 for any designed face), so a stale calibration
+  // was taken for the new mesh. Fed byte by byte, low byte first, so that
+  // the fingerprint is the same on any host.
+  const auto word = [&h](std::uint32_t v) {
+    for (int b = 0; b < 4; ++b) h = (h ^ ((v >> (8 * b)) & 0xffu)) * 1099511628211ull;
+  };
+  word(static_cast<std::uint32_t>(mesh.positions.size()));
+  word(static_cast<std::uint32_t>(mesh.triangles.size()));
+  for (const glm::vec3& p : mesh.positions)
+    for (int k = 0; k < 3; ++k) word(std::bit_cast<std::uint32_t>(p[k]));
+  for (const glm::uvec3& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) word(t[k]);
   char out[17];
   std::snprintf(out, sizeof out, "%016llx", static_cast<unsigned long long>(h));
   return out;
@@ -166,13 +176,18 @@ double worst_error(const CalibrationEntry& e) {
   return worst;
 }
 
-FidelityChoice choose_fidelity(const std::optional<Calibration>& calibration, double target, const MeshLevels& levels) {
+FidelityChoice choose_fidelity(const std::optional<Calibration>& calibration, double target, const MeshLevels& levels,
+                               int light_grid) {
   FidelityChoice choice;
   if (!calibration) return choice;
   const CalibrationEntry* cheapest = nullptr;
   const CalibrationEntry* best = nullptr;
   for (const auto& e : calibration->entries) {
     if (e.config.mesh_resolution != 0 && !levels.resampled.count(e.config.mesh_resolution)) continue;
+    // Auto chooses grids up to the scene's own (docs/accuracy.md); the
+    // fingerprint leaves the grid out, so a calibration made when the
+    // scene's grid was finer still matches and offers grids above it.
+    if (light_grid > 0 && e.config.light_grid > light_grid) continue;
     if (!best || worst_error(e) < worst_error(*best)) best = &e;
     if (meets_target(e, target) && (!cheapest || cost(e) < cost(*cheapest))) cheapest = &e;
   }

@@ -92,7 +92,10 @@ struct FidelityChoice {
 /// The cheapest calibrated configuration that meets the target
 /// (meets_target) among the levels `levels` offers; when none does, the one
 /// with the smallest worst_error. Without a calibration: the full model (mesh as loaded, exact, Fresnel).
-FidelityChoice choose_fidelity(const std::optional<Calibration>& calibration, double target, const MeshLevels& levels);
+/// `light_grid`: a solid scene's own light grid; calibrated grids above it
+/// are never chosen (0: no bound, a slab).
+FidelityChoice choose_fidelity(const std::optional<Calibration>& calibration, double target, const MeshLevels& levels,
+                               int light_grid = 0);
 
 /// The keys "auto" decides (section, key): a value written for one of them
 /// is overridden while render.fidelity is "auto", and its writer is told so.
