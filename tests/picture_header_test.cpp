@@ -4,6 +4,7 @@
 #include "picture_header.hpp"
 
 #include "caustic/image_io.hpp"
+#include "caustic/jpeg_markers.hpp"
 #include "caustic/jpeg_scans.hpp"
 #include "jpeg_support.hpp"
 
@@ -13,9 +14,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace caustic::server {
 namespace {
@@ -105,6 +108,51 @@ TEST(JpegScans, AreCountedThroughSegmentsAndEntropyCodedData) {
   // Cut anywhere, or not a JPEG: counted as far as it goes, never past the end.
   for (std::size_t cut = 0; cut < progressive.size(); cut += 7) EXPECT_LE(count(progressive.substr(0, cut)), scans);
   EXPECT_EQ(count("not a jpeg at all"), 0u);
+}
+
+TEST(JpegMarkers, WalkAnEncodersFileFromSegmentToSegmentToItsEnd) {
+  const std::string jpeg = jpeg_bytes(50, 30, false);
+  JpegMarkers markers(reinterpret_cast<const unsigned char*>(jpeg.data()), jpeg.size());
+  std::string seen;
+  std::size_t last = 0;
+  while (const auto segment = markers.next()) {
+    EXPECT_GT(segment->at, last);
+    EXPECT_EQ(std::uint8_t(jpeg[segment->at]), 0xffu);
+    last = segment->at;
+    char hex[4];
+    std::snprintf(hex, sizeof hex, "%02X ", segment->marker);
+    seen += hex;
+  }
+  // JFIF (APP0), tables, the baseline frame, one scan, the end (ITU T.81 B.2).
+  EXPECT_EQ(seen.substr(0, 3), "E0 ") << seen;
+  EXPECT_NE(seen.find("C0 "), std::string::npos) << seen;
+  EXPECT_LT(seen.find("C0 "), seen.find("DA ")) << seen;
+  EXPECT_EQ(seen.find("DA "), seen.rfind("DA ")) << seen;
+  EXPECT_EQ(seen.substr(seen.size() - 3), "D9 ") << seen;
+  EXPECT_EQ(last, jpeg.size() - 2);
+}
+
+TEST(PictureHeader, AStrayByteBeforeTheFrameIsSkippedAsTheDecoderSkipsIt) {
+  // The size read is the one libjpeg (through OpenImageIO) decodes: the
+  // header check and the decoder walk the same markers.
+  const std::string jpeg = jpeg_bytes(50, 30, false);
+  const std::size_t app0 = jpeg.find("\xff\xe0");
+  ASSERT_NE(app0, std::string::npos);
+  const std::size_t after = app0 + 2 + ((std::size_t(std::uint8_t(jpeg[app0 + 2])) << 8) | std::uint8_t(jpeg[app0 + 3]));
+  const std::string stray = jpeg.substr(0, after) + std::string(1, '\0') + jpeg.substr(after);
+  const PictureHeader h = sniff(stray);
+  EXPECT_EQ(h.width, 50u);
+  EXPECT_EQ(h.height, 30u);
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "picture_header_stray.jpg";
+  std::ofstream(file, std::ios::binary) << stray;
+  auto in = OIIO::ImageInput::open(file.string());
+  ASSERT_TRUE(in) << OIIO::geterror();
+  EXPECT_EQ(in->spec().width, 50);
+  EXPECT_EQ(in->spec().height, 30);
+  std::vector<unsigned char> pixels(50 * 30 * 3);
+  EXPECT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data())) << in->geterror();
+  in->close();
+  std::filesystem::remove(file);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "picture_header.hpp"
 
+#include "caustic/jpeg_markers.hpp"
+
 #include <algorithm>
 #include <cstring>
 
@@ -30,32 +32,20 @@ PictureHeader read_picture_header(const unsigned char* data, std::size_t size) {
   }
   if (size >= 3 && data[0] == 0xff && data[1] == 0xd8 && data[2] == 0xff) {
     out.format = PictureHeader::Format::jpeg;
-    std::size_t pos = 2;
-    while (pos + 4 <= size) {
-      if (data[pos] != 0xff) return out;  // markers must follow one another
-      const unsigned char marker = data[pos + 1];
-      if (marker == 0xff) {  // fill byte
-        ++pos;
-        continue;
-      }
-      if (marker == 0xd8 || marker == 0x01 || (marker >= 0xd0 && marker <= 0xd7)) {  // no length
-        pos += 2;
-        continue;
-      }
+    caustic::JpegMarkers markers(data, size);
+    while (const auto segment = markers.next()) {
+      const unsigned char marker = segment->marker;
       if (marker == 0xd9 || marker == 0xda) return out;  // end, or scan data before any frame header
-      const std::uint32_t length = be16(data + pos + 2);
-      if (length < 2) return out;
       // SOF0..SOF15 without DHT (C4), JPG (C8) and DAC (CC): P, Y, X follow the length.
       const bool sof = marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc;
-      if (sof) {
-        if (pos + 9 > size || length < 7) return out;
-        out.height = be16(data + pos + 5);
-        out.width = be16(data + pos + 7);
-        // A height of 0 defers it to a DNL marker after the scan: not taken.
-        if (!out.height || !out.width) out.width = out.height = 0;
-        return out;
-      }
-      pos += 2 + length;
+      if (!sof) continue;
+      const std::size_t pos = segment->at;
+      if (pos + 9 > size || segment->length < 7) return out;
+      out.height = be16(data + pos + 5);
+      out.width = be16(data + pos + 7);
+      // A height of 0 defers it to a DNL marker after the scan: not taken.
+      if (!out.height || !out.width) out.width = out.height = 0;
+      return out;
     }
     return out;
   }

@@ -19,7 +19,8 @@ struct PictureHeader {
 };
 
 /// Sniffs PNG (signature, then IHDR first) or baseline/progressive JPEG
-/// (SOI, then markers up to the first SOFn).
+/// (SOI, then markers up to the first SOFn, walked as the decoder walks
+/// them: caustic/jpeg_markers.hpp).
 PictureHeader read_picture_header(const unsigned char* data, std::size_t size);
 
 /// Whether the bytes run to the format's end: a PNG's last chunk is IEND, a
