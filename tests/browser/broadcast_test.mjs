@@ -184,7 +184,7 @@ test('a broadcast of the vase: each tile of the picture on its own surface', asy
   const link = (await api('POST', session.viewers_url, null, session.token)).body;
   const page = await openViewer(link, { view: 'room' });
   await until(page, () => window.caustic.room() && window.caustic.receivers() === 1, 30, 'the receivers placed');
-  const surfaces = await page.evaluate(() => window.caustic.room().surfaceTiles());
+  const surfaces = await page.evaluate(() => window.caustic.surfaces());
   const { width, height } = holder.params.render;
   assert.deepEqual(surfaces.map((t) => t.repeat), holder.atlas.map((t) => [t.width / width, t.height / height]));
   assert.deepEqual(surfaces.map((t) => t.offset),

@@ -67,7 +67,6 @@ export class JanusStream {
   // of it), and {"receiver", "version"}: each receiver with its tile, on
   // each change and each second.
   listen(channel) {
-    this.channels = (this.channels ?? 0) + 1;
     channel.binaryType = 'arraybuffer';
     channel.onmessage = ({ data }) => {
       const message = JSON.parse(typeof data === 'string' ? data : new TextDecoder().decode(data));

@@ -179,14 +179,6 @@ export class CausticRoom {
     });
   }
 
-  // Each surface's lightmap: where it hangs, its shape and which part of the picture it shows.
-  surfaceTiles() {
-    return [this.lightmap, ...this.receivers.map((r) => r.lightmap)].map((m) => ({
-      centre: m.position.toArray(), offset: m.material.map.offset.toArray(), repeat: m.material.map.repeat.toArray(),
-      shape: m.geometry.type,
-    }));
-  }
-
   // The first view: from the object's side of the screen (of all the
   // surfaces, with receivers), 10 degrees off its normal, close enough that
   // the screen (where the caustic is) fills as much of the view as it can
@@ -314,18 +306,6 @@ export class CausticRoom {
   followHandle() {
     this.drawnPose.position.copy(this.handle.position);
     this.drawnPose.rotation.copy(this.handle.rotation);
-  }
-
-  // Where the slab's middle is drawn, in scene coordinates.
-  drawnCentre() {
-    return this.world.worldToLocal(this.proxy.getWorldPosition(new THREE.Vector3())).toArray();
-  }
-
-  // Where an object of the room is drawn on the page, in CSS pixels.
-  pagePoint(object) {
-    const p = object.getWorldPosition(new THREE.Vector3()).project(this.camera);
-    const r = this.renderer.domElement.getBoundingClientRect();
-    return [r.left + ((p.x + 1) / 2) * r.width, r.top + ((1 - p.y) / 2) * r.height];
   }
 
   render() { this.renderer.render(this.scene, this.camera); }

@@ -4,6 +4,8 @@
 // path as the control it stands for, so a test of the hook tests the page.
 // `parts` returns the viewer's current room, controls, parameter channel,
 // stream and session (they change on reconnect), and its loading steps.
+import { drawnCentre, drawnHeights, pagePoint, surfaceTiles, waterPagePoint } from './test_probes.js';
+
 export function installTestHooks(state, parts) {
   // A light drag: the marker moves, the light follows it.
   state.moveLight = (dx, dy, dz) => {
@@ -30,12 +32,12 @@ export function installTestHooks(state, parts) {
   // Where the light marker and the object's handle are on the page (pointer and touch tests).
   state.pagePoint = (what) => {
     const { room } = parts();
-    return room.pagePoint(what === 'light' ? room.lightMarker : room.handle);
+    return pagePoint(room, what === 'light' ? room.lightMarker : room.handle);
   };
   // The screen's and the receivers' lightmaps: centre, geometry type, tile offset and repeat.
-  state.surfaces = () => parts().room.surfaceTiles();
+  state.surfaces = () => surfaceTiles(parts().room);
   // Where the slab is drawn (scene coordinates of its centre).
-  state.drawnProxy = () => parts().room.drawnCentre();
+  state.drawnProxy = () => drawnCentre(parts().room);
   // The camera: where it is, how far from what it orbits, and an orbit
   // step (radians about the vertical) ending as a drag ends.
   state.cameraPosition = () => parts().room.camera.position.toArray();
@@ -57,11 +59,11 @@ export function installTestHooks(state, parts) {
   // alone at any (x, y), as a click that met the water there would send it.
   // Both resolve to the server's answer { status, body }; a click that
   // missed the water, to null. What was drawn last is window.caustic.water.
-  state.waterHeights = () => parts().water?.surface.drawnHeights() ?? null;
-  state.waterPagePoint = (x, y) => parts().water.surface.pagePoint(x, y);
+  state.waterHeights = () => (parts().water ? drawnHeights(parts().water.surface) : null);
+  state.waterPagePoint = (x, y) => waterPagePoint(parts().water.surface, x, y);
   state.clickWater = (x, y) => {
     const { water } = parts();
-    return water.click(...water.surface.pagePoint(x, y));
+    return water.click(...waterPagePoint(water.surface, x, y));
   };
   state.dropAt = (x, y) => parts().water.drop(x, y);
   // The session's id and codec, never its token.

@@ -4,13 +4,17 @@
 // page's current room, stream, water, receivers and paired frames (the
 // stream changes when the page connects again); the stream itself, which
 // holds the link's token and pin, is never handed out.
+import { drawnHeights, surfaceTiles } from './test_probes.js';
+
 export function installWatchTestHooks(state, parts) {
   // How many receivers the room shows.
   state.receivers = () => parts().receivers.shown?.length ?? 0;
   // Frames whose data message met their picture.
   state.framesPaired = () => parts().frames.paired;
   // The water's heights as drawn (metres), or null without water.
-  state.waterHeights = () => parts().water?.surface.drawnHeights() ?? null;
+  state.waterHeights = () => (parts().water ? drawnHeights(parts().water.surface) : null);
+  // The surfaces' lightmaps (test_probes.js).
+  state.surfaces = () => surfaceTiles(parts().room);
   // The stream's peer connection (its statistics).
   state.peer = () => parts().stream?.pc;
   // The room (null until the scene's description came).

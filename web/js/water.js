@@ -123,15 +123,6 @@ export class WaterSurface {
     this.mesh.geometry.computeBoundingBox();
   }
 
-  /// The heights as drawn (metres, the message's order).
-  drawnHeights() {
-    const position = this.mesh.geometry.attributes.position;
-    const n = this.n, out = [];
-    for (let j = 0; j < n; ++j)
-      for (let i = 0; i < n; ++i) out.push(position.getZ((n - 1 - j) * n + i));
-    return out;
-  }
-
   /// Where a page point (CSS pixels) meets the water, in the water's own
   /// coordinates [x, y], or null when it misses.
   hit(clientX, clientY) {
@@ -146,13 +137,6 @@ export class WaterSurface {
     // The grid's edge is the pool's wall: a hit may round a hair beyond it.
     const half = this.size / 2;
     return [THREE.MathUtils.clamp(p.x, -half, half), THREE.MathUtils.clamp(p.y, -half, half)];
-  }
-
-  /// Where the water's point (x, y) at height z (0: the still surface) is on the page, in CSS pixels.
-  pagePoint(x, y, z = 0) {
-    const p = this.mesh.localToWorld(new THREE.Vector3(x, y, z)).project(this.room.camera);
-    const r = this.room.renderer.domElement.getBoundingClientRect();
-    return [r.left + ((p.x + 1) / 2) * r.width, r.top + ((1 - p.y) / 2) * r.height];
   }
 }
 
