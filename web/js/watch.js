@@ -12,8 +12,9 @@
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { JanusStream } from './janus_stream.js';
-import { retryAfter } from './retry.js';
-import { FrameRate, Quality, softwareWebGL } from './room.js';
+import { FrameRate } from './frame_rate.js';
+import { retryAfter, retryDelay } from './retry.js';
+import { Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
 import { ShownWater } from './water.js';
 import { installWatchTestHooks } from './watch_test_hooks.js';
@@ -22,10 +23,16 @@ const link = new URLSearchParams(location.hash.slice(1));
 const stateLabel = document.getElementById('state');
 const versionLabel = document.getElementById('version');
 const video = document.getElementById('video');
-const flat = link.get('view') === 'video';
+let flat = link.get('view') === 'video';  // also when the room cannot be drawn
 video.hidden = !flat;  // in the room it is the lightmap's texture
 const toggle = document.getElementById('view-toggle');
 toggle.textContent = flat ? '3D room' : 'video only';
+// Tries of the scene's description (the room needs it) before the page
+// settles for the plain video.
+const DESCRIBE_TRIES = 5;
+// The backoff starts over once the pictures have been on screen this long:
+// a stream that dies as it starts is not asked for again at the first pace.
+const STEADY_MS = 5000;
 toggle.addEventListener('click', (event) => {
   event.preventDefault();
   const next = new URLSearchParams(link);
@@ -54,9 +61,21 @@ const sceneId = link.get('scene');
 const validScene = sceneId && /^[a-z0-9_-]{1,64}$/.test(sceneId);
 // The scene's public description: its name, and the slab that stands in
 // for the object (never the real mesh).
-const described = validScene
-  ? fetch(`/api/v1/scenes/${sceneId}`).then((r) => (r.ok ? r.json() : null)).catch(() => null)
-  : Promise.resolve(null);
+async function describe() {
+  for (let attempt = 0; validScene; ++attempt) {
+    try {
+      const response = await fetch(`/api/v1/scenes/${sceneId}`);
+      if (response.ok) return await response.json();
+      if (response.status < 500 && response.status !== 408 && response.status !== 429) return null;  // no such scene
+    } catch {
+      // No answer (the server restarting, a network blip): asked again below.
+    }
+    if (attempt + 1 >= DESCRIBE_TRIES) return null;
+    await new Promise((resolve) => { setTimeout(resolve, retryDelay(attempt)); });
+  }
+  return null;
+}
+const described = describe();
 described.then((scene) => {
   if (!scene) return;
   document.getElementById('title').textContent = scene.name;
@@ -88,6 +107,19 @@ function surfaces(params) {
   return { params: { ...params, receivers: set.map((r) => r.surface) }, atlas: [params.tile, ...set.map((r) => r.tile)] };
 }
 
+// Without a room (no WebGL, no description of the scene) the broadcast
+// is still worth watching: the page shows its plain video instead.
+function showVideoOnly(why) {
+  if (flat) return;
+  console.warn(`the broadcast is shown as plain video: ${why}`);
+  flat = true;
+  state.view = 'video';
+  state.viewError = why;
+  document.getElementById('stage').replaceChildren();
+  video.hidden = false;
+  toggle.textContent = '3D room';
+}
+
 let room = null, orbit = null, water = null, waited = 0;
 async function placeRoom(params, version) {
   if (version < state.paramsVersion) return;  // an older message, overtaken
@@ -99,9 +131,11 @@ async function placeRoom(params, version) {
     // not beyond the next room message (one a second) if one went missing.
     if (params.receiver_count && surfaces(params).atlas === null && (waited += 1) <= 2) return;
     const scene = await described;
-    if (!scene?.proxy || room) return;
+    if (room || flat) return;
+    if (!scene?.proxy) return showVideoOnly('the scene\'s description did not come');
     room = new CausticRoom(document.getElementById('stage'), video, scene.proxy,
                            softwareWebGL() ? Quality.low : Quality.high, scene.receiver_meshes);
+    frameRate.reset();
     const { params: placed, atlas } = surfaces(state.params);
     room.apply(placed, atlas);  // frames the first view
     orbit = new OrbitControls(room.camera, room.renderer.domElement);
@@ -196,6 +230,7 @@ const broadcast = {
 };
 let stream = null;
 let retry = 0;
+const frameRate = new FrameRate();
 if ('requestVideoFrameCallback' in video) {
   video.requestVideoFrameCallback((now) => { state.firstFrameAt = now; });
 }
@@ -207,7 +242,7 @@ function watch() {
   const mine = stream = new JanusStream(broadcast, video, {
     onState: (s, why) => {
       if (stream !== mine) return;
-      if (s === 'live') retry = 0;
+      if (s === 'live') resetRetryWhenSteady(mine);
       if (s === 'lost') scheduleRetry(why);
       else setConnection(s, why);
     },
@@ -216,7 +251,12 @@ function watch() {
       state.level = level;
       versionLabel.textContent = `frame version ${version}${level ? ' (preview)' : ''}`;
     },
-    onParams: (params, version) => { placeRoom(params, version); },
+    onParams: (params, version) => {
+      placeRoom(params, version).catch((error) => {
+        room = null;
+        showVideoOnly(`the 3D room could not be drawn (${error.message})`);
+      });
+    },
     onReceiver: takeReceiver,
     onFrame: (message) => { if (!flat && message.water) frames.add(message); },  // a pool's
   });
@@ -228,6 +268,12 @@ function watch() {
   });
 }
 
+function resetRetryWhenSteady(mine) {
+  const steady = () => setTimeout(() => { if (stream === mine && !mine.closed) retry = 0; }, STEADY_MS);
+  if ('requestVideoFrameCallback' in video) video.requestVideoFrameCallback(steady);
+  else steady();
+}
+
 function scheduleRetry(why) {
   retryAfter(retry++, (left) => setConnection('reconnecting', `${why}; retrying in ${left} s`), watch);
 }
@@ -235,7 +281,6 @@ function scheduleRetry(why) {
 watch();
 addEventListener('pagehide', () => stream?.close());
 
-const frameRate = new FrameRate();
 function frame(now) {
   requestAnimationFrame(frame);
   if (!room) return;
@@ -245,5 +290,7 @@ function frame(now) {
   room.render();
 }
 requestAnimationFrame(frame);
+// A hidden tab draws nothing: that time is not the page's frame rate.
+document.addEventListener('visibilitychange', () => { if (!document.hidden) frameRate.reset(); });
 
 installWatchTestHooks(state, () => ({ room, stream, water, receivers, frames }));
