@@ -13,11 +13,11 @@ function sceneCard(scene) {
   const card = document.createElement('a');
   card.className = 'card';
   card.dataset.scene = scene.id;
-  card.href = `viewer.html?scene=${encodeURIComponent(scene.id)}`;
-  card.addEventListener('click', (event) => {
-    event.preventDefault();
-    location.href = `${card.href}&codec=${codec.value}`;
-  });
+  // The codec chosen is in the link itself, so that a click, a middle
+  // click and Ctrl/Cmd-click (a new tab) all open what the page shows.
+  const link = () => { card.href = `viewer.html?scene=${encodeURIComponent(scene.id)}&codec=${codec.value}`; };
+  link();
+  codec.addEventListener('change', link);
   const img = document.createElement('img');
   img.src = scene.thumbnail;
   img.alt = `Caustic of ${scene.name}`;

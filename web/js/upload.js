@@ -3,6 +3,12 @@
 // POST /api/v1/designs, its progress is polled, and the finished design
 // opens in the viewer like any other scene.
 const POLL_MS = 500;
+// A design takes minutes at most (the server's queue holds a few); past
+// this the page stops asking and says so. Polls that get no answer (a
+// network blip, a proxy between restarts) are asked again, up to a few
+// in a row.
+const FOLLOW_MS = 15 * 60 * 1000;
+const BLIPS_IN_A_ROW = 5;
 
 export function uploadCard(codecOf) {
   const card = document.createElement('form');
@@ -15,7 +21,7 @@ export function uploadCard(codecOf) {
     <label>Name <input name="name" maxlength="64" value="My picture" required></label>
     <label title="Tinted glass: each part of the picture's light keeps its colour">
       <input type="checkbox" name="colour"> In colour</label>
-    <input type="file" name="picture" accept="image/png,image/jpeg" required>
+    <label>Picture <input type="file" name="picture" accept="image/png,image/jpeg" required></label>
     <progress max="1" value="0" hidden></progress>
     <p class="upload-status" role="status"></p>`;
   const file = card.querySelector('input[type=file]');
@@ -42,7 +48,7 @@ export function uploadCard(codecOf) {
       const response = await fetch(`/api/v1/designs?name=${encodeURIComponent(name)}&colour=${colour}`, {
         method: 'POST', headers: { 'Content-Type': picture.type }, body: picture,
       });
-      const answer = await response.json();
+      const answer = /json/i.test(response.headers.get('content-type') ?? '') ? await response.json() : {};
       if (!response.ok) throw new Error(answer.detail ?? `the server answered ${response.status}`);
       const design = await follow(answer.status_url, (d) => {
         bar.value = d.progress;
@@ -69,13 +75,27 @@ export function uploadCard(codecOf) {
 
 // Polls a design until it is ready or failed; `onProgress` sees each state.
 async function follow(url, onProgress) {
-  for (;;) {
-    const response = await fetch(url);
-    const design = await response.json();
-    if (!response.ok) throw new Error(design.detail ?? `the server answered ${response.status}`);
-    if (design.state === 'ready') return design;
-    if (design.state === 'failed') throw new Error(design.error);
-    onProgress(design);
-    await new Promise((resolve) => { setTimeout(resolve, POLL_MS); });
+  const until = performance.now() + FOLLOW_MS;
+  for (let blips = 0; ; ) {
+    if (performance.now() > until) throw new Error('it is taking too long; try again later');
+    let response = null, design = {};
+    try {
+      response = await fetch(url);
+      if (/json/i.test(response.headers.get('content-type') ?? '')) design = await response.json();
+    } catch {
+      // No answer: counted below, asked again.
+    }
+    const transient = !response || response.status >= 500 || response.status === 429;
+    if (transient && ++blips > BLIPS_IN_A_ROW) {
+      throw new Error(response ? `the server answered ${response.status}` : 'the server does not answer');
+    }
+    if (!transient) {
+      blips = 0;
+      if (!response.ok) throw new Error(design.detail ?? `the server answered ${response.status}`);
+      if (design.state === 'ready') return design;
+      if (design.state === 'failed') throw new Error(design.error || 'the designer could not make a lens of this picture');
+      onProgress(design);
+    }
+    await new Promise((resolve) => { setTimeout(resolve, POLL_MS * 2 ** Math.min(blips, 4)); });
   }
 }
