@@ -170,3 +170,86 @@ test('a path that connects but carries no picture says so instead of staying liv
     await context.close();
   });
 });
+
+test('a stream that ends as soon as it is live is asked for again ever more slowly, not every half second', async () => {
+  await withServer(async (server) => {
+    const context = await browser.newContext();
+    const page = await context.newPage();
+    const posts = [];  // when each POST /sessions left the page
+    page.on('request', (r) => {
+      if (r.method() === 'POST' && r.url().endsWith('/api/v1/sessions')) posts.push(Date.now());
+    });
+    const sockets = [];
+    await page.routeWebSocket(() => true, (ws) => {
+      const upstream = ws.connectToServer();
+      ws.onMessage((m) => upstream.send(m));
+      upstream.onMessage((m) => ws.send(m));
+      sockets.push(ws);
+    });
+    await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    // Each stream, once live, is ended at once, as a server that drops it would.
+    const byes = [];
+    const retried = () => byes.map((at) => posts.find((p) => p > at)).filter(Boolean).length;
+    for (const start = Date.now(); retried() < 3 && Date.now() - start < 60000;) {
+      if (sockets.length > byes.length && await page.evaluate(() => window.caustic.connection === 'live')) {
+        sockets.at(-1).send(JSON.stringify({ type: 'bye', reason: 'ended by the test' }));
+        byes.push(Date.now());
+      }
+      await page.waitForTimeout(100);
+    }
+    const waits = byes.map((at) => (posts.find((p) => p > at) ?? NaN) - at);
+    assert.ok(retried() >= 3, `only ${retried()} retries in a minute (waits ${waits})`);
+    // 0.25-0.5 s, 0.5-1 s, 1-2 s: the third retry waits a second at least.
+    assert.ok(waits[2] >= 900, `the retries after a live stream ended waited ${waits} ms: the backoff started over`);
+    await context.close();
+  });
+});
+
+test('an offer the browser cannot take fails the stream, which is tried again', async () => {
+  await withServer(async (server) => {
+    const context = await browser.newContext();
+    const page = await context.newPage();
+    let broken = true;
+    await relaySignalling(page, (m, toServer) => {
+      const message = JSON.parse(m);
+      if (broken && !toServer && message.type === 'offer') return JSON.stringify({ ...message, sdp: 'not a description' });
+      return m;
+    });
+    await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(page, () => /^reconnecting: the video could not be set up/.test(document.getElementById('state').textContent),
+                30, 'the failed offer named');
+    broken = false;
+    await until(page, () => window.caustic.connection === 'live', 60, 'live once the offer passes');
+    await context.close();
+  });
+});
+
+test('a proxy\'s HTML error page and a Retry-After are read as such when a session is asked for', async () => {
+  await withServer(async (server) => {
+    const context = await browser.newContext();
+    const page = await context.newPage();
+    const posts = [];
+    await page.route('**/api/v1/sessions', (route) => {
+      if (route.request().method() !== 'POST') return route.continue();
+      posts.push(Date.now());
+      if (posts.length === 1) return route.fulfill({ status: 502, contentType: 'text/html', body: '<html>Bad Gateway</html>' });
+      if (posts.length === 2) {
+        return route.fulfill({ status: 429, headers: { 'Retry-After': '3' }, contentType: 'application/problem+json',
+                               body: JSON.stringify({ status: 429, detail: 'this address holds 4 sessions' }) });
+      }
+      return route.continue();
+    });
+    const said = [];
+    await page.exposeFunction('noteState', (text) => said.push(text));
+    await page.addInitScript(() => {
+      new MutationObserver(() => window.noteState(document.getElementById('state')?.textContent))
+        .observe(document, { subtree: true, childList: true, characterData: true });
+    });
+    await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'live', 60, 'live after the refusals');
+    assert.ok(said.some((s) => /^reconnecting: the server answered 502; retrying/.test(s)), said.join('\n'));
+    assert.ok(said.some((s) => /this address holds 4 sessions; retrying in 3 s/.test(s)), said.join('\n'));
+    assert.ok(posts[2] - posts[1] >= 2900, `asked again ${posts[2] - posts[1]} ms after a Retry-After of 3 s`);
+    await context.close();
+  });
+});

@@ -260,3 +260,48 @@ test('the synchronous pose holds the drawn slab until its frame arrives', async 
     await page.close();
   });
 });
+
+test('a patch the server refuses for now (429) is said, sent again after Retry-After, and reaches the server', async () => {
+  await withServer(async (server) => {
+    const page = await browser.newPage();
+    const patches = [];  // when each PATCH left the page
+    let token = null, refused = 0;
+    await page.route('**/params', async (route) => {
+      const request = route.request();
+      if (request.method() !== 'PATCH') return route.continue();
+      patches.push(Date.now());
+      token = request.headers().authorization;
+      if (refused++ > 0) return route.continue();
+      return route.fulfill({ status: 429, headers: { 'Retry-After': '1' }, contentType: 'application/problem+json',
+                             body: JSON.stringify({ title: 'Too Many Requests', status: 429, detail: 'too many requests' }) });
+    });
+    const said = [];
+    await page.exposeFunction('noteWarnings', (text) => said.push(text));
+    await page.addInitScript(() => {
+      addEventListener('DOMContentLoaded', () => {
+        const warnings = document.getElementById('warnings');
+        new MutationObserver(() => window.noteWarnings(warnings.textContent))
+          .observe(warnings, { subtree: true, childList: true, characterData: true });
+      });
+    });
+    await page.goto(`${server.url}/viewer.html?scene=wavy&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'live' && window.caustic.shownVersion === 1, 30, 'live');
+    // The second change waits while the first is in flight; when the first
+    // is refused, it goes again with the second merged over it.
+    await page.evaluate(() => {
+      window.caustic.setParams({ post: { gamma: 2.5, bloom_strength: 0.2 } });
+      window.caustic.setParams({ post: { bloom_strength: 0.7 } });
+    });
+    await until(page, () => window.caustic.params.post.gamma === 2.5 && window.caustic.params.post.bloom_strength === 0.7,
+                15, 'both changes applied');
+    assert.ok(said.some((w) => /too many requests; sending it again in 1 s/.test(w)), `the page said: ${said}`);
+    assert.equal(patches.length, 2, `${patches.length} PATCHes: the refused one and its second try expected`);
+    assert.ok(patches[1] - patches[0] >= 900, `sent again after ${patches[1] - patches[0]} ms, not after Retry-After`);
+    const held = await (await fetch(`${server.url}/api/v1/sessions/${await page.evaluate(() => window.caustic.session.id)}/params`,
+                                    { headers: { Authorization: token } })).json();
+    assert.equal(held.params.post.gamma, 2.5);
+    assert.equal(held.params.post.bloom_strength, 0.7);
+    await until(page, () => document.getElementById('warnings').hidden, 5, 'the refusal gone once a patch is taken');
+    await page.close();
+  });
+});

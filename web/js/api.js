@@ -1,9 +1,21 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The REST API: sessions, coalesced parameter patches and drops in a pool's water.
+import { retryAfterMs, retryDelay } from './retry.js';
 
+// Errors may carry `retryAfterMs`: the wait the server asked for (Retry-After).
 export class ServerFull extends Error {}
 // A refusal that asking again will not change (an unknown scene, a bad codec).
 export class Refused extends Error {}
+
+// An answer's body: read as JSON only when it says it is, since a proxy in
+// front of the server answers its own errors (a 502) in HTML.
+async function bodyOf(response) {
+  if (!/json/i.test(response.headers.get('content-type') ?? '')) return {};
+  return response.json().catch(() => ({}));
+}
+
+const detailOf = (response, body) => body.detail ?? `the server answered ${response.status}`;
+const waitOf = (response) => retryAfterMs(response.headers.get('retry-after'));
 
 // `home`: '' or '/i/<n>', the instance that must hold the session (the
 // one that keeps a visitor's design, behind a proxy).
@@ -13,11 +25,20 @@ export async function createSession(scene, codec, home = '') {
     headers: { 'Content-Type': 'application/json' },
     body: JSON.stringify({ scene, codec }),
   });
-  const body = await response.json();
-  if (response.status === 503) throw new ServerFull(body.detail);
+  const body = await bodyOf(response);
+  const error = (Kind) => Object.assign(new Kind(detailOf(response, body)), { retryAfterMs: waitOf(response) });
+  if (response.status === 503) throw error(ServerFull);
   if (response.status >= 400 && response.status < 500 && response.status !== 408 && response.status !== 429)
-    throw new Refused(body.detail ?? `the server answered ${response.status}`);
-  if (!response.ok) throw new Error(body.detail ?? `the server answered ${response.status}`);
+    throw error(Refused);
+  if (!response.ok) throw error(Error);
+  return body;
+}
+
+// The session's parameters as the server holds them ({version, params, ...}).
+export async function getParams(session) {
+  const response = await fetch(`${sessionUrl(session)}/params`, { headers: { Authorization: `Bearer ${session.token}` } });
+  const body = await bodyOf(response);
+  if (!response.ok) throw new Error(detailOf(response, body));
   return body;
 }
 
@@ -42,7 +63,7 @@ export async function postDrop(session, drop) {
     headers: { 'Content-Type': 'application/json', Authorization: `Bearer ${session.token}` },
     body: JSON.stringify(drop),
   });
-  const body = await response.json().catch(() => ({}));
+  const body = await bodyOf(response);
   return { ok: response.ok, status: response.status, body };
 }
 
@@ -61,16 +82,24 @@ function merge(target, patch) {
   return target;
 }
 
+// A patch the server could not take now (too many requests, a proxy
+// between restarts, no answer) goes again after a wait, merged under the
+// changes made meanwhile; after PATCH_TRIES tries it is given up.
+const PATCH_TRIES = 5;
+const TRANSIENT = new Set([408, 429, 502, 503, 504]);
+
 // Sends parameter changes with at most one PATCH in flight: changes that
-// arrive meanwhile are merged, and the latest state wins.
+// arrive meanwhile are merged, and the latest state wins. Callbacks:
+// onApplied(answer, sentAt); onError(problem) for a refusal that asking
+// again would not change; onRetrying(problem, waitMs) before a patch goes
+// again; onGaveUp(problem) when it will not (the server holds what it held).
 export class ParamChannel {
-  constructor(session, { onApplied, onError }) {
-    this.session = session;
+  constructor(session, { onApplied, onError, onRetrying = () => {}, onGaveUp = () => {} }) {
+    Object.assign(this, { session, onApplied, onError, onRetrying, onGaveUp });
     this.pending = null;
     this.inFlight = false;
-    this.onApplied = onApplied;
-    this.onError = onError;
     this.closed = false;
+    this.failures = 0;
   }
 
   set(patch) {
@@ -87,26 +116,40 @@ export class ParamChannel {
   }
 
   async flush() {
-    while (this.pending) {
+    this.inFlight = true;
+    while (this.pending && !this.closed) {
       const patch = this.pending;
       this.pending = null;
-      this.inFlight = true;
       const sentAt = performance.now();
+      let response = null, body = {}, problem;
       try {
-        const response = await fetch(`${sessionUrl(this.session)}/params`, {
+        response = await fetch(`${sessionUrl(this.session)}/params`, {
           method: 'PATCH',
           headers: { 'Content-Type': 'application/merge-patch+json', Authorization: `Bearer ${this.session.token}` },
           body: JSON.stringify(patch),
         });
-        const body = await response.json();
-        if (this.closed) return;
-        if (response.ok) this.onApplied(body, sentAt);
-        else this.onError(body);
+        body = await bodyOf(response);
+        problem = { ...body, status: response.status, detail: detailOf(response, body) };
       } catch (error) {
-        if (!this.closed) this.onError({ detail: error.message });
-      } finally {
-        this.inFlight = false;
+        problem = { detail: `the server does not answer (${error.message})` };
+      }
+      if (this.closed) break;
+      if (response?.ok) {
+        this.failures = 0;
+        this.onApplied(body, sentAt);
+      } else if (response && !TRANSIENT.has(response.status)) {
+        this.failures = 0;
+        this.onError(problem);
+      } else if (++this.failures >= PATCH_TRIES) {
+        this.failures = 0;
+        this.onGaveUp(problem);
+      } else {
+        this.pending = merge(patch, this.pending ?? {});
+        const wait = retryDelay(this.failures - 1, response && waitOf(response));
+        this.onRetrying(problem, wait);
+        await new Promise((resolve) => { setTimeout(resolve, wait); });
       }
     }
+    this.inFlight = false;
   }
 }

@@ -23,6 +23,7 @@ export class ControlModes {
     this.onModeChanged = onModeChanged;
     window.addEventListener('keydown', (e) => {
       if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return;  // typing in the panel
+      if (e.ctrlKey || e.metaKey || e.altKey) return;  // the browser's own (Ctrl+R reloads)
       const next = { l: Modes.light, t: Modes.move, r: Modes.rotate, Escape: Modes.none, 0: Modes.none }[e.key];
       if (next) this.set(next);
     });

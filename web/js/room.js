@@ -135,18 +135,3 @@ export function softwareWebGL() {
 export function pixelRatio(quality) {
   return quality === Quality.high ? Math.min(window.devicePixelRatio, 2) : 0.5;
 }
-
-/// Frames per second over windows of about two seconds.
-export class FrameRate {
-  constructor() { this.frames = 0; this.since = performance.now(); this.fps = null; }
-
-  /// Counts a frame; returns the rate when a window closes, else null.
-  tick(now) {
-    ++this.frames;
-    if (now - this.since < 2000) return null;
-    this.fps = (1000 * this.frames) / (now - this.since);
-    this.frames = 0;
-    this.since = now;
-    return this.fps;
-  }
-}

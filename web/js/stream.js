@@ -53,7 +53,11 @@ export class Stream {
     // server, a dropped network): soon enough to try again at once.
     this.ice = watchIce(this.pc, { onLive: () => this.onLive(), onFail: (why) => this.fail(why),
                                    failOn: ['failed', 'disconnected'] });
-    this.socket.onmessage = (event) => this.onSignal(JSON.parse(event.data));
+    // An offer the browser cannot take would otherwise leave the page
+    // "connecting" for ever: it fails the stream, which is tried again.
+    this.socket.onmessage = (event) => {
+      this.onSignal(event.data).catch((error) => this.fail(`the video could not be set up: ${error.message}`));
+    };
     // The server ends a session whose viewer shows no sign of life; the
     // video's RTCP reports usually suffice, this covers the time before.
     this.socket.onopen = () => {
@@ -88,7 +92,8 @@ export class Stream {
     if (this.socket.readyState === WebSocket.OPEN) this.socket.send(JSON.stringify(message));
   }
 
-  async onSignal(message) {
+  async onSignal(data) {
+    const message = JSON.parse(data);
     if (message.type === 'offer') {
       await this.pc.setRemoteDescription({ type: 'offer', sdp: message.sdp });
       const answer = await this.pc.createAnswer();
@@ -96,7 +101,9 @@ export class Stream {
       this.send({ type: 'answer', sdp: answer.sdp });
       this.ice.arm();
     } else if (message.type === 'ice' && message.candidate) {
-      await this.pc.addIceCandidate({ candidate: message.candidate, sdpMLineIndex: message.sdpMLineIndex });
+      // One candidate the browser cannot use leaves the others (and ICE's own timeout).
+      await this.pc.addIceCandidate({ candidate: message.candidate, sdpMLineIndex: message.sdpMLineIndex })
+        .catch((error) => console.warn('ICE candidate not taken:', error.message));
     } else if (message.type === 'bye') {
       this.fail(message.reason);
     }

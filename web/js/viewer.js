@@ -2,12 +2,14 @@
 // The viewer: starts a session for ?scene=ID&codec=vp8|h264, shows the
 // streamed caustic on the lightmap plane (and a pool's water, water.js), and
 // turns the controls into coalesced parameter patches.
-import GUI from 'lil-gui';
-import { createSession, deleteSession, ParamChannel, Refused, ServerFull } from './api.js';
+import { createSession, deleteSession, getParams, ParamChannel, Refused, ServerFull } from './api.js';
 import { ControlModes } from './controls.js';
+import { FrameRate } from './frame_rate.js';
+import { installHelpAndFullscreen } from './help.js';
 import { LoadingSteps } from './loading.js';
+import { Panel } from './panel.js';
 import { retryAfter } from './retry.js';
-import { FrameRate, Quality, softwareWebGL } from './room.js';
+import { Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
 import { changedParams, sharedParams, sharedView, writeAddress } from './share.js';
 import { showStats } from './stats_overlay.js';
@@ -27,12 +29,23 @@ const statsPanel = document.getElementById('stats');
 const warningsPanel = document.getElementById('warnings');
 const loading = new LoadingSteps(document.getElementById('loading'));
 
+const CODECS = ['vp8', 'h264'];
+const askedCodec = query.get('codec') ?? 'vp8';
 // What the page knows, also read by the browser tests through window.caustic.
 const state = {
-  connection: 'connecting', codec: query.get('codec') ?? 'vp8', params: null, version: 0, shownVersion: 0,
-  sync: false, poses: new Map(), sentAt: new Map(), shownLog: [], latencies: [], framesShown: 0, shownLevel: 0,
+  connection: 'connecting', codec: CODECS.includes(askedCodec) ? askedCodec : 'vp8', params: null, version: 0,
+  shownVersion: 0, sync: false, poses: new Map(), sentAt: new Map(), shownLog: [], latencies: [], framesShown: 0,
+  shownLevel: 0,
 };
+if (state.codec !== askedCodec)
+  state.codecRefused = { key: 'codec', detail: `"${askedCodec}" is not one of ${CODECS.join(', ')}: streaming vp8` };
 window.caustic = state;
+// PATCH-to-screen latencies (the stats overlay's median): the recent ones.
+const LATENCIES_KEPT = 256;
+// A stream that dies soon after it starts (a server that ends it at once)
+// must not be retried at the first step's pace for ever: the backoff
+// starts over only once its pictures have been on screen this long.
+const STEADY_MS = 5000;
 // The room's quality: ?quality=high|low, else low on software WebGL, and
 // high until the page draws fewer than 30 frames a second.
 const forcedQuality = Object.values(Quality).includes(query.get('quality')) ? query.get('quality') : null;
@@ -44,8 +57,7 @@ let shared = sharedParams(query);
 let session = null, stream = null, channel = null, room = null, controls = null, retry = 0;
 // Which connect() counts: each call, and each retry, makes the earlier ones stale.
 let attempts = 0, cancelRetry = null;
-let panel = null, panelParams = null, water = null;  // lil-gui and the object its controllers edit; the pool's water
-const panelColour = { glass: 'none' };  // object.glass as the panel's dropdown shows it
+let panel = null, water = null;
 
 function setConnection(name, detail = '') {
   state.connection = name;
@@ -65,7 +77,7 @@ function patchable(params) {
 // own (a link's refused settings, a refused drop) come first.
 function showWarnings(server = state.serverWarnings ?? []) {
   state.serverWarnings = server;
-  const warnings = [state.linkRefused, state.dropRefused, ...server].filter(Boolean);
+  const warnings = [state.codecRefused, state.linkRefused, state.dropRefused, state.patchRefused, ...server].filter(Boolean);
   state.warnings = warnings;
   warningsPanel.hidden = warnings.length === 0;
   warningsPanel.textContent = warnings.map((w) => `${w.key}: ${w.detail}`).join('\n');
@@ -83,16 +95,17 @@ function onApplied(body, sentAt) {
   showWarnings(body.warnings ?? []);
   if (state.resetting) {
     state.resetting = false;
-    refreshPanel(body.params);
+    panel.refresh(body.params);
     room.apply(body.params, body.atlas);
   }
   rememberAddress();
   state.version = body.version;
   // Latency: from sending the PATCH to the first frame on screen with this
   // version or a later one (the server may skip versions that came in fast).
+  // (An answer read back from the server, sentAt null, was sent by no one.)
   const shown = state.shownLog.find(([version]) => version >= body.version);
-  if (shown) state.latencies.push(shown[1] - sentAt);
-  else state.sentAt.set(body.version, sentAt);
+  if (sentAt !== null && shown) noteLatency(shown[1] - sentAt);
+  else if (sentAt !== null) state.sentAt.set(body.version, sentAt);
   // What the frame of this version shows: the object's pose and the screen
   // rectangle (which may follow the light), drawn when that frame is shown.
   state.poses.set(body.version, { position: body.params.object.position, rotation_deg: body.params.object.rotation_deg,
@@ -117,12 +130,17 @@ function onFrameVersion(version, now, level, surface) {
   if (state.shownLog.length > 256) state.shownLog.shift();
   for (const [pending, sent] of state.sentAt) {
     if (pending > version) continue;
-    state.latencies.push(now - sent);
+    noteLatency(now - sent);
     state.sentAt.delete(pending);
   }
   const pose = state.poses.get(version);
   if (state.sync) room.showPose(pose);
   if (pose) room?.placeSurfaces(pose.surfaces, pose.atlas);
+}
+
+function noteLatency(ms) {
+  state.latencies.push(ms);
+  if (state.latencies.length > LATENCIES_KEPT) state.latencies.shift();
 }
 
 // Starts a session and its stream. Only the latest call counts: one that
@@ -145,7 +163,7 @@ async function connect() {
     const why = error instanceof ServerFull ? error.message
       : error instanceof TypeError ? 'the server does not answer' : error.message;
     setConnection(error instanceof ServerFull ? 'full' : 'reconnecting', why);
-    return scheduleRetry(why);
+    return scheduleRetry(why, error.retryAfterMs);
   }
   if (attempt !== attempts) return void deleteSession(mine);
   session = mine;
@@ -172,11 +190,13 @@ async function start(attempt) {
     // One scene by id: a visitor's design is not in the public list. The
     // list, fetched alongside, names the glasses the panel offers.
     const glasses = fetch(`${home}/api/v1/scenes`).then((r) => r.json()).then((j) => j.glasses ?? []).catch(() => []);
-    const { proxy, receiver_meshes: shapes } =
-      await (await fetch(`${home}/api/v1/scenes/${encodeURIComponent(sceneId)}`)).json();
+    const described = await fetch(`${home}/api/v1/scenes/${encodeURIComponent(sceneId)}`);
+    if (!described.ok) throw new Error(`the scene's description: the server answered ${described.status}`);
+    const { proxy, receiver_meshes: shapes } = await described.json();
     state.glasses = await glasses;
     if (attempt !== attempts) return;  // given back by the retry that overtook it
     room = new CausticRoom(document.getElementById('stage'), video, proxy, firstQuality, shapes);
+    frameRate.reset();  // the load drew nothing: it is not the room's frame rate
     state.quality = room.quality;
     controls = new ControlModes(room, {
       onLightMoved: () => channel.set({ light: room.lightFromMarker(state.params.light.type) }),
@@ -191,7 +211,18 @@ async function start(attempt) {
       water = new PoolWater(room, controls, session.params.params.water, { session: () => session, onRefused });
     state.water = water?.record;
   }
-  channel = new ParamChannel(session, { onApplied, onError: refused });
+  channel = new ParamChannel(session, {
+    onApplied: (body, sentAt) => {
+      state.patchRefused = null;
+      onApplied(body, sentAt);
+    },
+    onError: refused,
+    onRetrying: (problem, ms) => patchWarning(`${problem.detail}; sending it again in ${Math.ceil(ms / 1000)} s`),
+    onGaveUp: (problem) => {
+      patchWarning(`${problem.detail}; the change was given up and the panel shows the server's settings`);
+      resync();
+    },
+  });
   if (state.params) channel.set(patchable(state.params));  // a reconnect keeps what the viewer changed
   else onApplied(session.params, performance.now());
   room.apply(state.params, state.atlas);
@@ -206,7 +237,15 @@ async function start(attempt) {
       controls.orbit.update();
     }
     controls.orbit.addEventListener('end', rememberAddress);
-    buildGui();
+    panel = new Panel(state, {
+      channel: () => channel, room: () => room, controls: () => controls, water: () => water, resetScene, statsPanel,
+      onCodec: () => {
+        // The address keeps the choice: a reload or a shared link streams the same codec.
+        rememberAddress();
+        retry = 1;
+        scheduleRetry();
+      },
+    });
     if (shared) channel.set(shared);
     // The first render compiles every shader: seconds on a slow or loaded
     // machine, during which the page can neither answer the offer nor ping.
@@ -214,17 +253,24 @@ async function start(attempt) {
     room.render();
   }
   loading.begin('connecting');
+  let steady = null;
   const own = stream = new Stream(session, video, {
     onState: (s, reason) => {
       if (stream !== own) return;  // a stream already replaced
       if (s === 'live') {
-        retry = 0;
         setConnection('live');
         if (loading.timer) loading.begin('first frame');
       }
-      if (s === 'lost') { setConnection('reconnecting', reason); scheduleRetry(reason); }
+      if (s === 'lost') {
+        clearTimeout(steady);
+        setConnection('reconnecting', reason);
+        scheduleRetry(reason);
+      }
     },
-    onFrameVersion,
+    onFrameVersion: (...shown) => {
+      steady ??= setTimeout(() => { if (stream === own) retry = 0; }, STEADY_MS);
+      onFrameVersion(...shown);
+    },
     codec: state.codec.toUpperCase(),
   });
   stream.start();
@@ -233,7 +279,7 @@ async function start(attempt) {
 // Tries again after a backoff, counting the seconds down on the page. The
 // session, its stream and its channel end here; a retry already waiting,
 // or a connect() still asking the server, gives way to this one.
-function scheduleRetry(why = '') {
+function scheduleRetry(why = '', serverMs = null) {
   // A closed signalling socket ends the session on the server already: a
   // DELETE would only be refused. Otherwise the DELETE goes first: closing
   // the socket first would end the session under it.
@@ -248,17 +294,35 @@ function scheduleRetry(why = '') {
   cancelRetry?.();
   cancelRetry = retryAfter(retry++, (left) => {
     if (why) setConnection(state.connection, `${why}; retrying in ${left} s`);
-  }, connect);
+  }, connect, serverMs);
 }
 
 // A refused patch: the settings of a shared link are said to be refused
-// (and leave the address), anything else goes to the console.
+// (and leave the address), anything else goes to the console; either way
+// the panel goes back to what the server holds.
 function refused(problem) {
+  resync();
   if (!shared) return console.warn('patch refused:', problem.detail);
   shared = null;
   state.linkRefused = { key: problem.key ?? 'link', detail: `the link's settings were refused: ${problem.detail}` };
   showWarnings();
   rememberAddress();
+}
+
+// A patch the server did not take (yet): said under the header until one is taken.
+function patchWarning(detail) {
+  state.patchRefused = { key: 'settings', detail };
+  showWarnings();
+}
+
+// The panel and the room back to the server's settings, where the page's
+// own did not reach it.
+async function resync() {
+  const mine = session;
+  const body = await getParams(mine).catch(() => null);
+  if (!body || session !== mine || body.version < state.version) return;
+  state.resetting = true;  // as after "Reset scene": the answer sets the panel and the room
+  onApplied(body, null);
 }
 
 // The address bar always holds a link to what is on screen (share.js).
@@ -288,93 +352,9 @@ function resetScene() {
   channel.set({ object: null, light: null, screen: null, render: null, post: null, ...(water && { water: null }) });
 }
 
-// The panel's name for object.glass: a catalogue name, "none", or "custom"
-// for coefficients (shown, not offered).
-const glassName = (glass) => (glass === null || glass === undefined ? 'none' : typeof glass === 'string' ? glass : 'custom');
-
-function refreshPanel(params) {
-  for (const section of ['object', 'light', 'screen', 'render', 'post', 'water'])
-    if (params[section]) Object.assign(panelParams[section], params[section]);
-  panelColour.glass = glassName(params.object.glass);
-  panel.controllersRecursive().forEach((c) => c.updateDisplay());
-}
-
-function buildGui() {
-  const gui = new GUI({ title: 'Caustic' });
-  // A phone's screen is the picture's: the panel starts folded there.
-  if (matchMedia('(max-width: 720px)').matches) gui.close();
-  const p = state.params;
-  panel = gui;
-  panelParams = p;
-  gui.add({ resetView: () => controls.orbit.reset() }, 'resetView').name('Reset view');
-  gui.add({ resetScene }, 'resetScene').name('Reset scene');
-  const send = (section, key) => (value) => channel.set({ [section]: { [key]: value } });
-  const material = gui.addFolder('Material');
-  material.add(p.object, 'material', ['refractive', 'reflective']).onChange(send('object', 'material'));
-  material.add(p.object, 'ior', 1.0, 3.0, 0.01).onChange(send('object', 'ior'));
-  // A glass disperses: the frame turns to colour, one pass per wavelength.
-  // "none" (not null, which would restore the scene's own glass) removes it.
-  panelColour.glass = glassName(p.object.glass);
-  const glasses = ['none', ...(state.glasses ?? [])];
-  if (!glasses.includes(panelColour.glass)) glasses.push(panelColour.glass);
-  material.add(panelColour, 'glass', glasses).name('glass (dispersion)').onChange((glass) => {
-    if (glass !== 'custom') channel.set({ object: { glass } });
-  });
-  const light = gui.addFolder('Light');
-  light.add(p.light, 'type', ['directional', 'point']).onChange((type) => {
-    channel.set({ light: { type, ...room.lightFromMarker(type) } });
-  });
-  light.add(p.light, 'spectrum', ['d65', 'e', 'blackbody', 'led']).name('spectrum (with a glass)')
-    .onChange(send('light', 'spectrum'));
-  light.add(p.light, 'temperature_k', 1000, 40000, 100).name('blackbody (K)').onChange(send('light', 'temperature_k'));
-  const quality = gui.addFolder('Quality');
-  quality.add(p.render, 'fidelity', ['auto', 'manual']).onChange(send('render', 'fidelity'));
-  quality.add(p.render, 'accuracy_target', 0.001, 0.2, 0.001).name('target L1 (auto)').onChange(send('render', 'accuracy_target'));
-  quality.add(p.render, 'mesh_resolution', state.fidelity.levels).name('mesh level (manual)')
-    .onChange((n) => channel.set({ render: { mesh_resolution: Number(n) } }));
-  quality.add(p.render, 'fresnel').name('Fresnel (manual)').onChange(send('render', 'fresnel'));
-  quality.add(p.render, 'wavelengths', 1, 32, 1).name('wavelengths (glass)').onChange(send('render', 'wavelengths'));
-  quality.add(p.render, 'still_wavelengths', 1, 32, 1).name('… when still').onChange(send('render', 'still_wavelengths'));
-  const post = gui.addFolder('Post-processing');
-  post.add(p.post, 'exposure_mode', ['auto', 'manual']).name('exposure').onChange(send('post', 'exposure_mode'));
-  // In "auto" the value is exposure compensation (1 = as metered): a log slider would suit,
-  // but a plain range from 1/20 to 20 keeps lil-gui's own control.
-  post.add(p.post, 'exposure', 0.05, 20, 0.01).name('exposure value / comp.').onChange(send('post', 'exposure'));
-  post.add(p.post, 'tone_map', ['global', 'local']).name('tone map').onChange(send('post', 'tone_map'));
-  post.add(p.post, 'local_strength', 0, 1, 0.01).name('local strength').onChange(send('post', 'local_strength'));
-  post.add(p.post, 'gamma', 0.5, 4, 0.01).onChange(send('post', 'gamma'));
-  post.add(p.post, 'bloom_strength', 0, 2, 0.01).onChange(send('post', 'bloom_strength'));
-  post.add(p.post, 'bloom_threshold', 0, 10, 0.1).onChange(send('post', 'bloom_threshold'));
-  post.add(p.post, 'bloom_radius', 0, 32, 0.5).onChange(send('post', 'bloom_radius'));
-  if (water && p.water) water.addFolder(gui, p.water, (key) => send('water', key));
-  const view = gui.addFolder('Stream');
-  view.add(state, 'codec', ['vp8', 'h264']).onChange(() => {
-    // The address keeps the choice: a reload or a shared link streams the same codec.
-    rememberAddress();
-    retry = 1;
-    scheduleRetry();
-  });
-  view.add(state, 'sync').name('synchronous pose');
-  view.add(state, 'quality', Object.values(Quality)).name('room quality').onChange((q) => room.setQuality(q)).listen();
-  view.add({ stats: false }, 'stats').name('stats overlay').onChange((on) => { statsPanel.hidden = !on; });
-}
-
 showStats(statsPanel, () => stream?.pc, state);
 
-// Help (?) and fullscreen (F): buttons for pointers and touch, keys for keyboards.
-const helpPanel = document.getElementById('help');
-const toggleHelp = () => { helpPanel.hidden = !helpPanel.hidden; };
-const toggleFullscreen = () => {
-  if (document.fullscreenElement) document.exitFullscreen().catch(() => {});
-  else document.documentElement.requestFullscreen?.().catch(() => {});
-};
-document.getElementById('help-button').addEventListener('click', toggleHelp);
-document.getElementById('fullscreen').addEventListener('click', toggleFullscreen);
-window.addEventListener('keydown', (e) => {
-  if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return;  // typing in the panel
-  if (e.key === '?') toggleHelp();
-  if (e.key === 'f' || e.key === 'F') toggleFullscreen();
-});
+installHelpAndFullscreen();
 
 installTestHooks(state, () => ({ room, controls, channel, stream, session, resetScene, water, loading }));
 
@@ -390,7 +370,6 @@ function frame(now) {
     if (!forcedQuality && fps < 30 && room.quality === Quality.high) {
       room.setQuality(Quality.low);
       state.quality = Quality.low;
-      state.qualityChosenAt = fps;
     }
   }
   if (!state.sync) room.followHandle();
@@ -398,4 +377,6 @@ function frame(now) {
   room.render();
 }
 requestAnimationFrame(frame);
+// A hidden tab draws nothing: that time is not the room's frame rate.
+document.addEventListener('visibilitychange', () => { if (!document.hidden) frameRate.reset(); });
 connect();

@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// The viewer's help (?) and fullscreen (F): buttons for pointers and touch,
+// keys for keyboards.
+
+export function installHelpAndFullscreen() {
+  const helpPanel = document.getElementById('help');
+  let helpOpener = null;
+  // The help takes the focus (a screen reader reads it, Tab starts in it)
+  // and gives it back to what had it when it closes.
+  const toggleHelp = () => {
+    helpPanel.hidden = !helpPanel.hidden;
+    if (!helpPanel.hidden) {
+      helpOpener = document.activeElement;
+      helpPanel.focus();
+    } else {
+      helpOpener?.focus?.();
+    }
+  };
+  const toggleFullscreen = () => {
+    if (document.fullscreenElement) document.exitFullscreen().catch(() => {});
+    else document.documentElement.requestFullscreen?.().catch(() => {});
+  };
+  document.getElementById('help-button').addEventListener('click', toggleHelp);
+  document.getElementById('fullscreen').addEventListener('click', toggleFullscreen);
+  window.addEventListener('keydown', (e) => {
+    if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return;  // typing in the panel
+    if (e.ctrlKey || e.metaKey || e.altKey) return;  // the browser's own (Ctrl+F finds in the page)
+    if (e.key === '?' || (e.key === 'Escape' && !helpPanel.hidden)) toggleHelp();
+    if (e.key === 'f' || e.key === 'F') toggleFullscreen();
+  });
+}
