@@ -19,27 +19,6 @@ using nlohmann::json;
 
 namespace {
 
-// A request written byte for byte, for paths an HTTP client would normalise.
-guint raw_get(const std::string& base, const std::string& path) {
-  const auto colon = base.rfind(':');
-  const int port = std::stoi(base.substr(colon + 1));
-  GSocketClient* client = g_socket_client_new();
-  g_socket_client_set_timeout(client, 10);
-  GSocketConnection* conn = g_socket_client_connect_to_host(client, "127.0.0.1", port, nullptr, nullptr);
-  guint status = 0;
-  if (conn) {
-    const std::string request = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
-    g_output_stream_write_all(g_io_stream_get_output_stream(G_IO_STREAM(conn)), request.data(), request.size(),
-                              nullptr, nullptr, nullptr);
-    char buf[64] = {};
-    g_input_stream_read(g_io_stream_get_input_stream(G_IO_STREAM(conn)), buf, sizeof buf - 1, nullptr, nullptr);
-    const std::string head = buf;  // "HTTP/1.1 404 Not Found"
-    if (head.size() > 12) status = static_cast<guint>(std::stoi(head.substr(9, 3)));
-    g_object_unref(conn);
-  }
-  g_object_unref(client);
-  return status;
-}
 
 }  // namespace
 
@@ -291,33 +270,6 @@ TEST(RestLimits, FullServerAnswers503) {
   EXPECT_EQ(http("POST", url, R"({"scene": "lens"})").status, 201u);
   EXPECT_EQ(http("POST", url, R"({"scene": "slab"})").status, 201u);
   expect_problem(http("POST", url, R"({"scene": "wavy"})"), 503);
-}
-
-TEST(StaticFiles, ServeWebAndNothingElse) {
-  namespace fs = std::filesystem;
-  const fs::path web = fs::temp_directory_path() / "causticd_static_test";
-  fs::remove_all(web);
-  fs::create_directories(web / "sub");
-  std::ofstream(web / "index.html") << "<!doctype html><title>ok</title>";
-  std::ofstream(web / "sub" / "app.js") << "console.log(1);";
-  std::ofstream(web / ".secret.txt") << "hidden";
-  fs::create_symlink("/etc/passwd", web / "passwd.txt");
-  fs::create_directory_symlink("/etc", web / "etc");
-  ServerProcess server({"--web-dir", web.string()});
-  const Response index = http("GET", server.url() + "/");
-  EXPECT_EQ(index.status, 200u);
-  EXPECT_EQ(index.content_type, "text/html");
-  EXPECT_EQ(http("GET", server.url() + "/sub/app.js").content_type, "text/javascript");
-  for (const char* path : {"/../../../../etc/passwd", "/%2e%2e/%2e%2e/%2e%2e/etc/passwd", "/%2E%2E%2F%2E%2E%2Fetc%2Fpasswd",
-                           "/sub/..%2f..%2f..%2fetc/passwd", "/passwd.txt", "/etc/passwd", "/.secret.txt",
-                           "/sub%00.html", "/%5c..%5cetc", "/missing.html", "/index.exe", "/index.html/",
-                           "/index.html//", "/sub//app.js"})
-  {
-    // libsoup itself answers 400 to some malformed paths; either way, no file.
-    const guint status = raw_get(server.url(), path);
-    EXPECT_TRUE(status == 404u || status == 400u) << path << ": " << status;
-  }
-  fs::remove_all(web);
 }
 
 TEST(OpenApiDocument, MatchesTheRealResponses) {

@@ -3,8 +3,11 @@
 
 #include "http_util.hpp"
 
-#include <fstream>
-#include <iterator>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdio>
 #include <map>
 #include <sstream>
 
@@ -77,6 +80,52 @@ std::string page_policy(const std::string& html) {
   return policy;
 }
 
+// Pages, scripts and styles: the largest, three.js, is 1.5 MB.
+constexpr off_t kLargestFile = 32 << 20;
+
+// The file's bytes, opened without following a link in its last component
+// (one put there after resolve_static() looked), and its validator: size
+// and modification time, which change with every copy a build makes.
+std::optional<std::string> read_regular(const std::filesystem::path& file, std::string* etag) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return std::nullopt;
+  struct stat st {};
+  std::string bytes;
+  bool ok = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size <= kLargestFile;
+  if (ok) {
+    bytes.resize(static_cast<std::size_t>(st.st_size));
+    std::size_t got = 0;
+    while (got < bytes.size()) {
+      const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
+      if (n <= 0) break;
+      got += static_cast<std::size_t>(n);
+    }
+    ok = got == bytes.size();
+  }
+  ::close(fd);
+  if (!ok) return std::nullopt;
+  char tag[64];
+  std::snprintf(tag, sizeof tag, "\"%llx-%llx.%lx\"", static_cast<unsigned long long>(st.st_size),
+                static_cast<unsigned long long>(st.st_mtim.tv_sec), static_cast<unsigned long>(st.st_mtim.tv_nsec));
+  *etag = tag;
+  return bytes;
+}
+
+// Whether an If-None-Match list names `etag` (RFC 9110 13.1.2: weak
+// comparison, so a W/ prefix matches too; "*" matches any).
+bool not_modified(SoupServerMessage* msg, const std::string& etag) {
+  const char* list = soup_message_headers_get_list(soup_server_message_get_request_headers(msg), "If-None-Match");
+  if (!list) return false;
+  std::istringstream tags(list);
+  for (std::string tag; std::getline(tags, tag, ',');) {
+    tag.erase(0, tag.find_first_not_of(" \t"));
+    tag.erase(tag.find_last_not_of(" \t") + 1);
+    if (tag.rfind("W/", 0) == 0) tag.erase(0, 2);
+    if (tag == etag || tag == "*") return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 void serve_static(const std::filesystem::path& root, const std::string& url_path, SoupServerMessage* msg,
@@ -89,12 +138,23 @@ void serve_static(const std::filesystem::path& root, const std::string& url_path
   const auto file = resolve_static(root, url_path);
   const auto type = file ? types.find(file->extension().string()) : types.end();
   if (!file || type == types.end()) return reply_problem(msg, metrics, SOUP_STATUS_NOT_FOUND, "no such file");
-  std::ifstream in(*file, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (file->extension() == ".html")
-    soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Content-Security-Policy",
-                                 allow_connect(page_policy(bytes), connect_also).c_str());
-  reply_bytes(msg, SOUP_STATUS_OK, type->second, bytes.data(), bytes.size());
+  std::string etag;
+  const auto bytes = read_regular(*file, &etag);
+  if (!bytes) return reply_problem(msg, metrics, SOUP_STATUS_NOT_FOUND, "no such file");
+  SoupMessageHeaders* headers = soup_server_message_get_response_headers(msg);
+  if (not_modified(msg, etag)) {
+    soup_server_message_set_status(msg, SOUP_STATUS_NOT_MODIFIED, nullptr);
+  } else {
+    if (file->extension() == ".html")
+      soup_message_headers_replace(headers, "Content-Security-Policy",
+                                   allow_connect(page_policy(*bytes), connect_also).c_str());
+    reply_bytes(msg, SOUP_STATUS_OK, type->second, bytes->data(), bytes->size());
+  }
+  // Kept, but asked about at each use: a page load after the first costs a
+  // 304 per file, not three.js's megabytes again, and an upgrade's files
+  // are seen at once. (The API's answers stay no-store.)
+  soup_message_headers_replace(headers, "Cache-Control", "no-cache");
+  soup_message_headers_replace(headers, "ETag", etag.c_str());
 }
 
 }  // namespace caustic::server

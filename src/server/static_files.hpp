@@ -19,7 +19,9 @@ namespace caustic::server {
 std::optional<std::filesystem::path> resolve_static(const std::filesystem::path& root, const std::string& url_path);
 
 /// Answers a GET of a file under `root`; pages may also connect to
-/// `connect_also`'s origin (the broadcast server, http_util.hpp).
+/// `connect_also`'s origin (the broadcast server, http_util.hpp). Files
+/// carry an ETag and Cache-Control: no-cache; a request whose
+/// If-None-Match names the file's ETag is answered 304 without the bytes.
 void serve_static(const std::filesystem::path& root, const std::string& url_path, SoupServerMessage* msg,
                   Metrics& metrics, const std::string& connect_also = "");
 

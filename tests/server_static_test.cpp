@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// The web client's files as causticd serves them: from web/ and nothing
+// else, and cached by validation (an ETag, 304 when unchanged) while the
+// API's answers are never stored.
+#include "raw_http.hpp"
+#include "server_process.hpp"
+
+#include <filesystem>
+#include <fstream>
+
+using caustic::testing::http;
+using caustic::testing::Response;
+using caustic::testing::ServerProcess;
+
+namespace {
+
+int port_of(const std::string& base) { return std::stoi(base.substr(base.rfind(':') + 1)); }
+
+// A request written byte for byte, for paths an HTTP client would normalise.
+std::string get(const ServerProcess& server, const std::string& path, const std::string& extra_headers = "") {
+  return caustic::testing::raw_request(port_of(server.url()), "GET " + path +
+                                                                  " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n" +
+                                                                  extra_headers + "\r\n");
+}
+
+}  // namespace
+
+TEST(StaticFiles, ServeWebAndNothingElse) {
+  namespace fs = std::filesystem;
+  const fs::path web = fs::temp_directory_path() / "causticd_static_test";
+  fs::remove_all(web);
+  fs::create_directories(web / "sub");
+  std::ofstream(web / "index.html") << "<!doctype html><title>ok</title>";
+  std::ofstream(web / "sub" / "app.js") << "console.log(1);";
+  std::ofstream(web / ".secret.txt") << "hidden";
+  fs::create_symlink("/etc/passwd", web / "passwd.txt");
+  fs::create_directory_symlink("/etc", web / "etc");
+  ServerProcess server({"--web-dir", web.string()});
+  const Response index = http("GET", server.url() + "/");
+  EXPECT_EQ(index.status, 200u);
+  EXPECT_EQ(index.content_type, "text/html");
+  EXPECT_EQ(http("GET", server.url() + "/sub/app.js").content_type, "text/javascript");
+  for (const char* path : {"/../../../../etc/passwd", "/%2e%2e/%2e%2e/%2e%2e/etc/passwd", "/%2E%2E%2F%2E%2E%2Fetc%2Fpasswd",
+                           "/sub/..%2f..%2f..%2fetc/passwd", "/passwd.txt", "/etc/passwd", "/.secret.txt",
+                           "/sub%00.html", "/%5c..%5cetc", "/missing.html", "/index.exe", "/index.html/",
+                           "/index.html//", "/sub//app.js"})
+  {
+    // libsoup itself answers 400 to some malformed paths; either way, no file.
+    const int status = caustic::testing::raw_status(get(server, path));
+    EXPECT_TRUE(status == 404 || status == 400) << path << ": " << status;
+  }
+  fs::remove_all(web);
+}
+
+TEST(StaticFiles, AreRevalidatedByTheirETagWhileTheApiIsNeverStored) {
+  namespace fs = std::filesystem;
+  const fs::path web = fs::temp_directory_path() / "causticd_static_cache_test";
+  fs::remove_all(web);
+  fs::create_directories(web);
+  std::ofstream(web / "index.html") << "<!doctype html><title>ok</title>";
+  std::ofstream(web / "app.js") << "console.log(1);";
+  ServerProcess server({"--web-dir", web.string()});
+  using caustic::testing::raw_body;
+  using caustic::testing::raw_header;
+  using caustic::testing::raw_status;
+  const std::string first = get(server, "/app.js");
+  ASSERT_EQ(raw_status(first), 200);
+  EXPECT_EQ(raw_body(first), "console.log(1);");
+  EXPECT_EQ(raw_header(first, "Cache-Control"), "no-cache");
+  const std::string etag = raw_header(first, "ETag");
+  ASSERT_GE(etag.size(), 3u);
+  EXPECT_EQ(etag.front(), '"');
+  EXPECT_EQ(etag.back(), '"');
+  // Asked again with its tag (as a browser revalidates, or weakly, or in a
+  // list): 304, no bytes.
+  for (const std::string& match : {etag, "W/" + etag, "\"other\", " + etag}) {
+    const std::string again = get(server, "/app.js", "If-None-Match: " + match + "\r\n");
+    EXPECT_EQ(raw_status(again), 304) << match;
+    EXPECT_EQ(raw_body(again), "") << match;
+    EXPECT_EQ(raw_header(again, "ETag"), etag) << match;
+  }
+  EXPECT_EQ(raw_status(get(server, "/app.js", "If-None-Match: \"other\"\r\n")), 200);
+  // A page's tag is its own, and it keeps its policy.
+  const std::string page = get(server, "/");
+  EXPECT_EQ(raw_status(page), 200);
+  EXPECT_NE(raw_header(page, "ETag"), etag);
+  EXPECT_NE(raw_header(page, "Content-Security-Policy"), "");
+  // Changed (an upgrade's copy): a new tag, and the old one gets the bytes.
+  std::ofstream(web / "app.js") << "console.log(22);";
+  const std::string changed = get(server, "/app.js", "If-None-Match: " + etag + "\r\n");
+  EXPECT_EQ(raw_status(changed), 200);
+  EXPECT_EQ(raw_body(changed), "console.log(22);");
+  EXPECT_NE(raw_header(changed, "ETag"), etag);
+  // The API's answers are never stored, and carry no tag.
+  const std::string health = get(server, "/api/v1/health");
+  EXPECT_EQ(raw_header(health, "Cache-Control"), "no-store");
+  EXPECT_EQ(raw_header(health, "ETag"), "");
+  fs::remove_all(web);
+}
