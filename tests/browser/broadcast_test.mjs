@@ -253,3 +253,32 @@ test('a broadcast of the pool: a viewer draws the shown frames\' water', async (
   await page.close();
   assert.equal((await api('DELETE', session.url, null, session.token)).status, 204);
 });
+
+// Without the scene's description (asked for again a few times, bounded)
+// there is no room to draw: the page shows the plain video, live, rather
+// than an empty stage.
+test('a viewer whose scene description never comes watches the plain video', async () => {
+  const created = await api('POST', '/api/v1/sessions', { scene: 'wavy', mode: 'broadcast' });
+  assert.equal(created.status, 201, JSON.stringify(created.body));
+  const session = created.body;
+  const link = (await api('POST', session.viewers_url, null, session.token)).body;
+  const page = await browser.newPage();
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(e.message));
+  let asked = 0;
+  await page.route('**/api/v1/scenes/*', (route) => {
+    asked += 1;
+    return route.fulfill({ status: 503, contentType: 'application/problem+json', body: '{"status": 503, "detail": "busy"}' });
+  });
+  await page.goto(`${server.url}${link.watch_url}`);
+  await until(page, () => window.caustic.view === 'video', 30, 'the plain video in place of the room');
+  await until(page, () => window.caustic.connection === 'live', 30, 'a live connection');
+  await until(page, framesDecoded, 30, 'a decoded frame');
+  assert.equal(await page.evaluate(() => document.getElementById('video').hidden), false);
+  assert.equal(await page.evaluate(() => window.caustic.room()), null);
+  await page.waitForTimeout(2000);  // more room messages: the description is not asked for again
+  assert.equal(asked, 5);
+  assert.deepEqual(errors, []);
+  await page.close();
+  assert.equal((await api('DELETE', session.url, null, session.token)).status, 204);
+});

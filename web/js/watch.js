@@ -42,15 +42,13 @@ toggle.addEventListener('click', (event) => {
   location.reload();  // the same link's other view: a fresh page
 });
 
-// What the page knows, also read by the browser tests through window.caustic.
-// connectedAt and firstFrameAt (performance.now()) say how long a late
-// joiner waited for its first picture; params is what placed the room.
-const state = { connection: 'connecting', version: 0, level: 0, error: '', connectedAt: 0, firstFrameAt: 0,
-                params: null, paramsVersion: 0, view: flat ? 'video' : 'room', fps: 0 };
+// What the page knows, also read by the browser tests through window.caustic;
+// params is what placed the room.
+const state = { connection: 'connecting', version: 0, level: 0, error: '', params: null, paramsVersion: 0,
+                view: flat ? 'video' : 'room', fps: 0 };
 window.caustic = state;
 
 function setConnection(connection, why = '') {
-  if (connection === 'live' && !state.connectedAt) state.connectedAt = performance.now();
   state.connection = connection;
   state.error = why;
   stateLabel.dataset.state = connection;
@@ -231,9 +229,6 @@ const broadcast = {
 let stream = null;
 let retry = 0;
 const frameRate = new FrameRate();
-if ('requestVideoFrameCallback' in video) {
-  video.requestVideoFrameCallback((now) => { state.firstFrameAt = now; });
-}
 
 // Watches the broadcast; a lost connection, a server that does not answer
 // or a mountpoint not there yet (Janus restarted, the server making it

@@ -7,6 +7,16 @@
 import { drawnHeights, surfaceTiles } from './test_probes.js';
 
 export function installWatchTestHooks(state, parts) {
+  // How long a late joiner waited for its first picture: when the page
+  // first said live and when the video first showed a frame
+  // (performance.now(), 0 until then).
+  state.connectedAt = state.firstFrameAt = 0;
+  const label = document.getElementById('state');
+  new MutationObserver(() => {
+    if (!state.connectedAt && label.dataset.state === 'live') state.connectedAt = performance.now();
+  }).observe(label, { attributes: true, attributeFilter: ['data-state'] });
+  const video = document.getElementById('video');
+  if ('requestVideoFrameCallback' in video) video.requestVideoFrameCallback((now) => { state.firstFrameAt = now; });
   // How many receivers the room shows.
   state.receivers = () => parts().receivers.shown?.length ?? 0;
   // Frames whose data message met their picture.
