@@ -203,6 +203,57 @@ TEST_F(Designer, ThePicturesTopLeftLightsTheScreensTopLeft) {
   EXPECT_NEAR(centroid.y, expected.y, w / n) << "within a cell";
 }
 
+TEST_F(Designer, ATransportThatDidNotConvergeIsFlaggedAsItsRenderShows) {
+  // One bright pixel at a black floor of 10^-6: the transport stalls with
+  // most of the light in the wrong place. The flag is held to the engine's
+  // render (the light that lands, not the transport's own residual), and
+  // an ordinary picture is held to the same both ways.
+  const int n = 32;
+  Image dot{n, n, std::vector<float>(std::size_t(n) * n, 0.0f)};
+  dot.pixels[std::size_t(10) * n + 10] = 1.0f;
+  DesignOptions o;
+  o.resolution = n;
+  o.black_floor = 1e-6;
+  const Design bad = design_face(dot, o);
+  const Verification bad_render = verify_with_engine(bad);
+  std::printf("one pixel: residual %.3f, engine relative L1 %.1f%%\n", bad.report.transport_residual,
+              100 * bad_render.relative_l1);
+  EXPECT_GT(bad_render.relative_l1, kMaxTransportResidual) << "the render itself is far from the picture";
+  EXPECT_FALSE(bad.report.converged);
+  EXPECT_NE(convergence_failure(bad.report).find("did not converge"), std::string::npos) << convergence_failure(bad.report);
+
+  o.black_floor = 1e-2;
+  const Design good = design_face(picture(n, smooth_blobs), o);
+  EXPECT_LT(verify_with_engine(good).relative_l1, kMaxTransportResidual);
+  EXPECT_TRUE(good.report.converged);
+  EXPECT_TRUE(good.report.snell_settled) << good.report.snell_passes << " passes, last change " << good.report.snell_change;
+  EXPECT_EQ(convergence_failure(good.report), "");
+  // Cut off after one exact-Snell pass with a tolerance no pass meets.
+  o.max_snell_passes = 1;
+  o.height_tolerance = 1e-12;
+  const Design cut = design_face(picture(n, smooth_blobs), o);
+  EXPECT_FALSE(cut.report.snell_settled);
+  EXPECT_NE(convergence_failure(cut.report).find("did not settle"), std::string::npos) << convergence_failure(cut.report);
+}
+
+TEST(DesignFace, IterationCountsAndTolerancesOutOfRangeAreRefusedByName) {
+  const Image flat{8, 8, std::vector<float>(64, 0.5f)};
+  const auto refused = [&](const std::function<void(DesignOptions&)>& set) {
+    DesignOptions o;
+    o.resolution = 8;
+    set(o);
+    return refusal<std::invalid_argument>([&] { design_face(flat, o); });
+  };
+  EXPECT_EQ(refused([](DesignOptions&) {}), "accepted");
+  EXPECT_NE(refused([](DesignOptions& o) { o.homotopy_steps = 1000000; }).find("homotopy-steps"), std::string::npos);
+  EXPECT_NE(refused([](DesignOptions& o) { o.max_iterations = 0; }).find("max-iterations"), std::string::npos);
+  EXPECT_NE(refused([](DesignOptions& o) { o.max_iterations = 1 << 30; }).find("max-iterations"), std::string::npos);
+  EXPECT_NE(refused([](DesignOptions& o) { o.max_snell_passes = 1000; }).find("max-snell-passes"), std::string::npos);
+  for (const double bad : {0.0, -1.0, double(NAN), double(INFINITY)})
+    EXPECT_NE(refused([&](DesignOptions& o) { o.height_tolerance = bad; }).find("height-tolerance"), std::string::npos)
+        << bad;
+}
+
 TEST(DesignFace, APictureWithANanOrAnInfinityIsRefusedByItsPixel) {
   // Handed to design_face directly (the loader refuses them on its own): a
   // NaN once gave a flat face, an infinity "all black".

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -28,8 +29,13 @@ void check_options(const DesignOptions& o) {
           "must be in [1e-6, 1)");
   require(std::isfinite(o.min_thickness) && o.min_thickness >= 0 && o.min_thickness <= 1e4, "min-thickness",
           "must be in [0, 10000] mm");
-  require(o.homotopy_steps >= 1 && o.max_iterations >= 1 && o.max_snell_passes >= 1, "iterations", "must be positive");
+  // Upper bounds well beyond any use (6 steps, 400 iterations and 4 passes
+  // by default): what lies past them is a design that never ends.
+  require(o.homotopy_steps >= 1 && o.homotopy_steps <= 100, "homotopy-steps", "must be in [1, 100]");
+  require(o.max_iterations >= 1 && o.max_iterations <= 100000, "max-iterations", "must be in [1, 100000]");
+  require(o.max_snell_passes >= 1 && o.max_snell_passes <= 100, "max-snell-passes", "must be in [1, 100]");
   require(std::isfinite(o.tolerance) && o.tolerance > 0, "tolerance", "must be positive");
+  require(std::isfinite(o.height_tolerance) && o.height_tolerance > 0, "height-tolerance", "must be positive (mm)");
 }
 
 }  // namespace
@@ -91,8 +97,12 @@ Design design_face(const Image& target, const DesignOptions& options, const Prog
     grid.screen.push_back(size * (screen_unit[v] - 0.5));
   }
   if (options.resample) grid = resample_regular(grid, size);
-  d.report.snell_passes =
+  d.report.converged = map.residual <= kMaxTransportResidual;
+  const SnellPasses snell =
       refine_heights(grid, options.focus, options.ior, options.height_tolerance, options.max_snell_passes);
+  d.report.snell_passes = snell.passes;
+  d.report.snell_settled = snell.settled;
+  d.report.snell_change = snell.last_change;
 
   const auto [lo, hi] = std::minmax_element(grid.height.begin(), grid.height.end());
   d.report.relief = *hi - *lo;
@@ -106,6 +116,24 @@ Design design_face(const Image& target, const DesignOptions& options, const Prog
   d.grid = std::move(grid);
   d.report.seconds = seconds();
   return d;
+}
+
+std::string convergence_failure(const FaceReport& r) {
+  char text[320];
+  if (!r.converged) {
+    std::snprintf(text, sizeof text,
+                  "the transport did not converge: %.1f%% of the light still goes to the wrong place after %d "
+                  "iterations (at most %.0f%%)",
+                  100 * r.transport_residual, r.iterations, 100 * kMaxTransportResidual);
+    return text;
+  }
+  if (!r.snell_settled) {
+    std::snprintf(text, sizeof text,
+                  "the face's heights did not settle: the last of %d exact-Snell passes still moved them by %.3g mm",
+                  r.snell_passes, r.snell_change);
+    return text;
+  }
+  return "";
 }
 
 HdrImage target_irradiance(const Design& design) {

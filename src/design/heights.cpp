@@ -70,20 +70,23 @@ std::vector<double> integrate_slopes(const FaceGrid& grid) {
   return b;
 }
 
-int refine_heights(FaceGrid& grid, double focus, double ior, double tolerance, int max_passes) {
-  int passes = 0;
-  while (passes < max_passes) {
+SnellPasses refine_heights(FaceGrid& grid, double focus, double ior, double tolerance, int max_passes) {
+  SnellPasses out;
+  while (out.passes < max_passes) {
     exact_slopes(grid, focus, ior);
     auto h = integrate_slopes(grid);
-    ++passes;
-    double change = 0;
-    for (std::size_t v = 0; v < h.size(); ++v) change = std::max(change, std::abs(h[v] - grid.height[v]));
+    ++out.passes;
+    out.last_change = 0;
+    for (std::size_t v = 0; v < h.size(); ++v) out.last_change = std::max(out.last_change, std::abs(h[v] - grid.height[v]));
     grid.height = std::move(h);
-    if (change < tolerance) break;
+    if (out.last_change < tolerance) {
+      out.settled = true;
+      break;
+    }
   }
   // Normals must match the final heights' rays: recompute the slopes once more.
   exact_slopes(grid, focus, ior);
-  return passes;
+  return out;
 }
 
 }  // namespace caustic::design

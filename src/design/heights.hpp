@@ -35,8 +35,16 @@ void exact_slopes(FaceGrid& grid, double focus, double ior);
 /// size w. Zero mean.
 std::vector<double> integrate_slopes(const FaceGrid& grid);
 
+/// What the exact-Snell passes did: how many ran, and the largest height
+/// change of the last (settled: below the tolerance, not cut off by the cap).
+struct SnellPasses {
+  int passes = 0;
+  double last_change = 0;  ///< mm
+  bool settled = false;
+};
+
 /// Exact slopes and integration repeated until no height moves more than
-/// `tolerance` mm (at most `max_passes`). Returns the passes run.
-int refine_heights(FaceGrid& grid, double focus, double ior, double tolerance, int max_passes);
+/// `tolerance` mm (at most `max_passes`).
+SnellPasses refine_heights(FaceGrid& grid, double focus, double ior, double tolerance, int max_passes);
 
 }  // namespace caustic::design

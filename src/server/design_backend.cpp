@@ -58,10 +58,17 @@ std::shared_ptr<const Mesh> run(const std::filesystem::path& target, const std::
   } catch (const design::TargetError& e) {
     throw DesignFailure(e.what());
   }
+  // A design that did not converge throws a picture other than the one sent.
+  if (const std::string why = design::convergence_failure(d.report); !why.empty())
+    throw DesignFailure(why + "; a picture with less contrast, or more of it lit, can be designed");
   if (colour) design::tint_face(d, colours);
   progress({0.85, "checking"});
   nlohmann::json report = {{"resolution", d.n},
                            {"design_seconds", d.report.seconds},
+                           {"transport_residual", d.report.transport_residual},
+                           {"converged", d.report.converged},
+                           {"snell_passes", d.report.snell_passes},
+                           {"snell_settled", d.report.snell_settled},
                            {"tir_vertices", d.report.tir_vertices},
                            {"max_slope_deg", d.report.max_slope_deg},
                            {"relief_mm", d.report.relief},

@@ -16,6 +16,7 @@
 #include "caustic/mesh.hpp"
 
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace caustic::design {
@@ -59,11 +60,26 @@ struct Progress {
 };
 using ProgressFn = std::function<void(const Progress&)>;
 
+/// The largest transport residual of a design taken as converged. The
+/// residual sum |area - mass| is the share of the light the map sends to
+/// the wrong cells, the relative L1 of the designed irradiance against the
+/// target: allowed the 5% the project holds a render to (render.
+/// accuracy_target's default, docs/accuracy.md). The stall stop leaves
+/// 10^-4 to 3 * 10^-3 on ordinary pictures (docs/design.md).
+inline constexpr double kMaxTransportResidual = 0.05;
+
 /// Figures of the designed face (no rendering involved).
 struct FaceReport {
   double transport_residual = 0;  ///< final sum |area - mass| (1 = the whole lens)
   int iterations = 0;
+  /// transport_residual <= kMaxTransportResidual: the transport (stopped at
+  /// its tolerance, a stall or its iteration cap) reached the picture.
+  bool converged = false;
   int snell_passes = 0;
+  /// The exact-Snell passes stopped because the heights settled (last
+  /// change below height_tolerance), not at max_snell_passes.
+  bool snell_settled = false;
+  double snell_change = 0;        ///< largest height change of the last pass, mm
   int tir_vertices = 0;           ///< vertices whose required normal asks for total internal reflection
   double max_slope_deg = 0;       ///< largest angle of a face normal from +z
   double relief = 0;              ///< max - min height of the freeform face, mm
@@ -82,6 +98,10 @@ struct Design {
   Mesh face;                       ///< freeform face, mm, explicit vertex normals
   FaceReport report;
 };
+
+/// Why a design cannot be trusted, in plain words ("" when it can): the
+/// transport not converged or the exact-Snell passes not settled.
+std::string convergence_failure(const FaceReport& report);
 
 /// Designs the face for `target` (linear luminance, any size; resampled to
 /// options.resolution cells). Throws std::invalid_argument for options out of
