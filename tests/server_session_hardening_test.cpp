@@ -250,7 +250,24 @@ TEST(Hardening, APipelineFileWithoutItsNamedElementsFailsItsSessionsNotTheServer
     EXPECT_EQ(r.content_type, "application/problem+json");
     EXPECT_EQ(sessions_now(server), 0);
     // The other codec's file is whole: its sessions start.
-    EXPECT_EQ(http("POST", server.url() + "/api/v1/sessions", R"({"scene": "slab", "codec": "h264"})").status, 201u);
+    const Response h264 = http("POST", server.url() + "/api/v1/sessions", R"({"scene": "slab", "codec": "h264"})");
+    ASSERT_EQ(h264.status, 201u) << h264.body;
+    const int fd = ws_open(server.port(), signal_path(h264.json()));
+    ASSERT_GE(fd, 0);
+    ASSERT_TRUE(read_until_offer(fd));
+    // Broken in turn while the session runs: a viewer coming back rebuilds
+    // the pipeline, which now fails, and the session ends at once rather
+    // than hold its slot with no stream until the idle reclaim.
+    std::ifstream h264_in(copy / "pipelines/h264.pipeline");
+    std::string h264_text((std::istreambuf_iterator<char>(h264_in)), std::istreambuf_iterator<char>());
+    const std::size_t encoder = h264_text.find("x264enc name=encoder");
+    ASSERT_NE(encoder, std::string::npos);
+    h264_text.replace(encoder, std::string("x264enc name=encoder").size(), "x264enc");
+    std::ofstream(copy / "pipelines/h264.pipeline") << h264_text;
+    const int again = ws_open(server.port(), signal_path(h264.json()));
+    EXPECT_TRUE(wait_sessions(server, 0, 10)) << "the session outlived its failed rebuild";
+    if (again >= 0) ::close(again);
+    ::close(fd);
   }
   std::filesystem::remove_all(copy);
 }

@@ -309,7 +309,18 @@ void handle_signal_socket(SoupServer*, SoupServerMessage* msg, const char* raw_p
                                       "a broadcast is watched through its viewer links");
       return;
     }
-    it->second->attach(socket);
+    // A viewer coming back rebuilds the session's pipeline: when that
+    // fails the session has no stream left, and ends rather than hold its
+    // slot until the idle reclaim.
+    const std::shared_ptr<Session> session = it->second;
+    const std::string id = m[1];
+    try {
+      session->attach(socket);
+    } catch (const std::exception& e) {
+      log(Level::error, std::string("the stream could not be restarted: ") + e.what(), session->log_context());
+      soup_websocket_connection_close(socket, SOUP_WEBSOCKET_CLOSE_SERVER_ERROR, "server error");
+      s.end_session(id, "the stream could not be restarted");
+    }
   } catch (const std::exception& e) {
     log(Level::error, std::string("signalling socket failed: ") + e.what());
     soup_websocket_connection_close(socket, SOUP_WEBSOCKET_CLOSE_SERVER_ERROR, "server error");
