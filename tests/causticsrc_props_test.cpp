@@ -53,4 +53,20 @@ TEST_F(CausticSrc, ASceneSetBetweenTwoRunsIsTheOneTheNextRunShows) {
   EXPECT_EQ(caustic::gst::param_store(src_), before);
 }
 
+TEST_F(CausticSrc, ItsLatencyIsOneFrameIntervalOfTheNegotiatedRate) {
+  // A frame leaves when due with a picture finished before: live, with at
+  // most one interval of latency (the query may come from any thread).
+  start("causticsrc name=src scene=" + scene("slab") + " width=32 height=32 framerate=25/1 ! appsink name=sink");
+  gst_sample_unref(pull());
+  GstQuery* query = gst_query_new_latency();
+  ASSERT_TRUE(gst_element_query(src_, query));
+  gboolean live = FALSE;
+  GstClockTime min = 0, max = 0;
+  gst_query_parse_latency(query, &live, &min, &max);
+  gst_query_unref(query);
+  EXPECT_TRUE(live);
+  EXPECT_EQ(min, GST_SECOND / 25);
+  EXPECT_EQ(max, GST_SECOND / 25);
+}
+
 }  // namespace

@@ -96,6 +96,7 @@ static gboolean gst_caustic_src_set_caps(GstBaseSrc* src, GstCaps* caps) {
   s.source.format =
       GST_VIDEO_INFO_FORMAT(&info) == GST_VIDEO_FORMAT_I420 ? caustic::PixelFormat::i420 : caustic::PixelFormat::rgba;
   gst_base_src_set_blocksize(src, static_cast<guint>(GST_VIDEO_INFO_SIZE(&s.info)));
+  s.frame_duration = gst_util_uint64_scale(GST_SECOND, GST_VIDEO_INFO_FPS_D(&s.info), GST_VIDEO_INFO_FPS_N(&s.info));
   s.source.frame_interval = std::chrono::nanoseconds(
       gst_util_uint64_scale(GST_SECOND, GST_VIDEO_INFO_FPS_D(&s.info), GST_VIDEO_INFO_FPS_N(&s.info)));
   return TRUE;
@@ -157,11 +158,11 @@ static void gst_caustic_src_get_times(GstBaseSrc*, GstBuffer* buffer, GstClockTi
 
 static gboolean gst_caustic_src_query(GstBaseSrc* src, GstQuery* query) {
   State& s = state_of(src);
-  if (GST_QUERY_TYPE(query) == GST_QUERY_LATENCY && GST_VIDEO_INFO_FPS_N(&s.info) > 0) {
+  // Any thread asks, while the streaming thread may be setting new caps:
+  // the interval is read from its own atomic, not from s.info.
+  if (const GstClockTime frame = s.frame_duration; GST_QUERY_TYPE(query) == GST_QUERY_LATENCY && frame > 0) {
     // A frame leaves when due, with a picture finished before that: within
     // one frame interval unless a render overran.
-    const GstClockTime frame =
-        gst_util_uint64_scale(GST_SECOND, GST_VIDEO_INFO_FPS_D(&s.info), GST_VIDEO_INFO_FPS_N(&s.info));
     gst_query_set_latency(query, TRUE, frame, frame);
     return TRUE;
   }

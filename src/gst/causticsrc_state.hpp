@@ -33,6 +33,7 @@ struct State {
   caustic::gst::FrameSource source;
   std::unique_ptr<caustic::gst::FrameWorker> worker;
   GstVideoInfo info;
+  std::atomic<GstClockTime> frame_duration{0};  // of info's rate, for queries from any thread; 0: no caps yet
   guint64 frame_index = 0;
   std::uint64_t overruns_told = 0, renders_logged = 0;
   std::atomic<std::uint64_t> overruns{0};  // read from any thread
