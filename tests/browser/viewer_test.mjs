@@ -123,6 +123,17 @@ for (const codec of ['vp8', 'h264']) {
         await page.click('#help-button');
         await until(page, () => !document.getElementById('help').hidden, 5, 'the help shown by its button');
         await page.click('#help-button');
+        // Escape closes it as well and gives the focus back to what had it.
+        await page.keyboard.press('?');
+        await until(page, () => document.activeElement === document.getElementById('help'), 5, 'the help focused');
+        await page.keyboard.press('Escape');
+        await until(page, () => document.getElementById('help').hidden && document.activeElement?.id === 'help-button', 5,
+                    'the help closed by Escape, the focus back on its button');
+        // A key with Ctrl, Alt or Meta is the browser's: Ctrl+L is not light mode.
+        await page.keyboard.press('Control+l');
+        await page.keyboard.press('Alt+r');
+        await page.waitForTimeout(200);
+        assert.equal(await page.evaluate(() => window.caustic.mode), 'none');
         // Reset scene: the light goes back to where the scene has it.
         assert.notEqual(await page.evaluate(() => JSON.stringify(window.caustic.params.light)), sceneLight);
         await page.evaluate(() => window.caustic.resetScene());
