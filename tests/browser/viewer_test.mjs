@@ -316,3 +316,29 @@ test('a patch the server refuses for now (429) is said, sent again after Retry-A
     await page.close();
   });
 });
+
+test('the upload card rides out a few polls without an answer and says why a design failed', async () => {
+  await withServer(async (server) => {
+    const page = await browser.newPage();
+    await page.route('**/api/v1/designs?*', (route) => route.fulfill({
+      status: 202, contentType: 'application/json', body: JSON.stringify({ id: 'x', status_url: '/api/v1/designs/x' }),
+    }));
+    // A network blip, a proxy's HTML page between restarts, progress, then a failure the server gave no words.
+    const polls = [(r) => r.abort('failed'),
+                   (r) => r.fulfill({ status: 502, contentType: 'text/html', body: '<html>Bad Gateway</html>' }),
+                   (r) => r.fulfill({ status: 200, contentType: 'application/json',
+                                      body: JSON.stringify({ state: 'running', progress: 0.5, stage: 'transport' }) }),
+                   (r) => r.fulfill({ status: 200, contentType: 'application/json',
+                                      body: JSON.stringify({ state: 'failed', progress: 0.5, error: '' }) })];
+    let polled = 0;
+    await page.route('**/api/v1/designs/x', (route) => polls[Math.min(polled++, polls.length - 1)](route));
+    await page.goto(`${server.url}/`);
+    await page.waitForSelector('#upload input[type=file]', { timeout: 15000 });
+    const png = Buffer.from(await (await fetch(`${server.url}/api/v1/scenes/lens/thumbnail.png`)).arrayBuffer());
+    await page.setInputFiles('#upload input[type=file]', { name: 'lens.png', mimeType: 'image/png', buffer: png });
+    await until(page, () => /^Not designed/.test(document.querySelector('.upload-status').textContent), 20, 'the outcome');
+    assert.equal(await page.textContent('.upload-status'), 'Not designed: the designer could not make a lens of this picture');
+    assert.equal(polled, 4);
+    await page.close();
+  });
+});
