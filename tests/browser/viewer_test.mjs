@@ -36,6 +36,13 @@ test('the gallery lists every scene with its rendered thumbnail', async () => {
     mkdirSync(shots, { recursive: true });
     await page.setViewportSize({ width: 1280, height: 900 });
     await page.screenshot({ path: `${shots}/gallery.png`, fullPage: true });
+    // A card is a plain link with the codec in it: a new tab (Ctrl/Cmd-click) opens the same.
+    const href = () => page.getAttribute('.card[data-scene="lens"]', 'href');
+    assert.equal(await href(), 'viewer.html?scene=lens&codec=vp8');
+    await page.selectOption('#codec', 'h264');
+    assert.equal(await href(), 'viewer.html?scene=lens&codec=h264');
+    await page.selectOption('#codec', 'vp8');
+    assert.equal(await page.locator('link[rel=icon]').count(), 1, 'no icon of its own: the browser asks /favicon.ico');
     await page.click('.card[data-scene="lens"]');
     await page.waitForURL(/viewer\.html\?scene=lens&codec=vp8/, { timeout: 10000 });
     await page.close();
