@@ -49,25 +49,30 @@ double mean(const RgbHdrImage& image, int x0, int y0, int x1, int y1) {
 }  // namespace
 
 TEST(DesignPicture, ACameraPictureIsTurnedAsItsOrientationSays) {
-  // Stored 32 x 16, white in its top left 8 x 8 block, black elsewhere.
-  std::vector<unsigned char> pixels(32 * 16 * 3, 0);
-  for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 8; ++x)
-      for (int c = 0; c < 3; ++c) pixels[(y * 32 + x) * 3 + c] = 255;
-  Folder folder;
-  // Where the white block is shown (x0, y0 of an 8 x 8 block; the sides swap for 5-8).
-  struct Case {
-    int orientation, x0, y0;
-  };
-  for (const Case c : {Case{1, 0, 0}, Case{2, 24, 0}, Case{3, 24, 8}, Case{4, 0, 8}, Case{5, 0, 0}, Case{6, 8, 0},
-                       Case{7, 8, 24}, Case{8, 0, 24}}) {
-    const auto file = folder.write("o.jpg", caustic::testing::jpeg_bytes(32, 16, false, c.orientation, pixels));
-    const RgbHdrImage shown = load_target_rgb(file);
-    const bool turned = c.orientation >= 5;
-    EXPECT_EQ(shown.width, turned ? 16 : 32) << c.orientation;
-    EXPECT_EQ(shown.height, turned ? 32 : 16) << c.orientation;
-    EXPECT_GT(mean(shown, c.x0 + 1, c.y0 + 1, c.x0 + 7, c.y0 + 7), 0.9) << "orientation " << c.orientation;
-    EXPECT_LT(mean(shown, 0, 0, shown.width, shown.height), 0.2) << "orientation " << c.orientation;
+  // Stored 32 x 16, white in its top left 8 x 8 block, black elsewhere; and
+  // the same 64 times larger, which is decoded in bands of rows.
+  for (const int k : {1, 64}) {
+    const int w = 32 * k, h = 16 * k;
+    std::vector<unsigned char> pixels(std::size_t(w) * h * 3, 0);
+    for (int y = 0; y < 8 * k; ++y)
+      for (int x = 0; x < 8 * k; ++x)
+        for (int c = 0; c < 3; ++c) pixels[(std::size_t(y) * w + x) * 3 + c] = 255;
+    Folder folder;
+    // Where the white block is shown (x0, y0 of an 8 x 8 block; the sides swap for 5-8).
+    struct Case {
+      int orientation, x0, y0;
+    };
+    for (const Case c : {Case{1, 0, 0}, Case{2, 24, 0}, Case{3, 24, 8}, Case{4, 0, 8}, Case{5, 0, 0}, Case{6, 8, 0},
+                         Case{7, 8, 24}, Case{8, 0, 24}}) {
+      const auto file = folder.write("o.jpg", caustic::testing::jpeg_bytes(w, h, false, c.orientation, pixels));
+      const RgbHdrImage shown = load_target_rgb(file);
+      const bool turned = c.orientation >= 5;
+      EXPECT_EQ(shown.width, turned ? h : w) << c.orientation;
+      EXPECT_EQ(shown.height, turned ? w : h) << c.orientation;
+      EXPECT_GT(mean(shown, k * c.x0 + k, k * c.y0 + k, k * c.x0 + 7 * k, k * c.y0 + 7 * k), 0.9)
+          << "orientation " << c.orientation << ", " << w << "x" << h;
+      EXPECT_LT(mean(shown, 0, 0, shown.width, shown.height), 0.2) << "orientation " << c.orientation;
+    }
   }
 }
 
@@ -86,15 +91,17 @@ TEST(DesignPicture, AProgressiveJpegOfEndlessScansIsRefusedBeforeItsDecoder) {
 
 TEST(DesignPicture, AJpegCutShortIsRefusedNotDesignedWithItsRowsGrey) {
   // Its first half and an end marker: libjpeg fills the rest grey and warns.
+  // 1200 a side is decoded in bands of rows, 64 at once.
   Folder folder;
-  std::vector<unsigned char> pixels(64 * 64 * 3);
-  for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<unsigned char>((i * 37) % 251);
+  for (const int side : {64, 1200})
   for (const bool progressive : {false, true}) {
-    const std::string whole = caustic::testing::jpeg_bytes(64, 64, progressive, 0, pixels);
+    std::vector<unsigned char> pixels(std::size_t(side) * side * 3);
+    for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<unsigned char>((i * 37) % 251);
+    const std::string whole = caustic::testing::jpeg_bytes(side, side, progressive, 0, pixels);
     EXPECT_EQ(refused(folder.write("whole.jpg", whole)), "accepted");
     const std::string cut = whole.substr(0, whole.size() / 2) + "\xff\xd9";
     const std::string why = refused(folder.write("cut.jpg", cut));
-    EXPECT_NE(why.find("cut short"), std::string::npos) << (progressive ? "progressive: " : "baseline: ") << why;
+    EXPECT_NE(why.find("cut short"), std::string::npos) << side << (progressive ? " progressive: " : " baseline: ") << why;
     // A stray byte after the first segment: libjpeg warns of it alone, and
     // its warning once hid the truncation.
     const std::size_t app0 = cut.find("\xff\xe0"), end = app0 + 4 + 14;  // JFIF's APP0 is 16 bytes long

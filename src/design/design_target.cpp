@@ -94,17 +94,18 @@ void check_jpeg_scans(const std::filesystem::path& file, const std::string& name
 // (1-8) how to turn them; a phone's portrait was designed lying down.
 bool turned_sides(int orientation) { return orientation >= 5 && orientation <= 8; }  // 5-8 swap the sides
 
-// The stored pixel (sx, sy) shown upright at (x, y), rows from the top.
-void stored_pixel(int orientation, int w, int h, int x, int y, int& sx, int& sy) {
-  sx = x, sy = y;
+// Where the stored pixel (sx, sy) of a w x h picture is shown upright,
+// rows from the top.
+void upright_pixel(int orientation, int w, int h, int sx, int sy, int& x, int& y) {
+  x = sx, y = sy;
   switch (orientation) {
-    case 2: sx = w - 1 - x; break;                      // mirrored
-    case 3: sx = w - 1 - x, sy = h - 1 - y; break;      // upside down
-    case 4: sy = h - 1 - y; break;                      // mirrored upside down
-    case 5: sx = y, sy = x; break;                      // transposed
-    case 6: sx = y, sy = h - 1 - x; break;              // to be turned a quarter clockwise
-    case 7: sx = w - 1 - y, sy = h - 1 - x; break;      // transversed
-    case 8: sx = w - 1 - y, sy = x; break;              // to be turned a quarter anticlockwise
+    case 2: x = w - 1 - sx; break;                      // mirrored
+    case 3: x = w - 1 - sx, y = h - 1 - sy; break;      // upside down
+    case 4: y = h - 1 - sy; break;                      // mirrored upside down
+    case 5: x = sy, y = sx; break;                      // transposed
+    case 6: x = h - 1 - sy, y = sx; break;              // to be turned a quarter clockwise
+    case 7: x = h - 1 - sy, y = w - 1 - sx; break;      // transversed
+    case 8: x = sy, y = w - 1 - sx; break;              // to be turned a quarter anticlockwise
     default: break;                                     // 1, or a value EXIF does not define: as stored
   }
 }
@@ -141,15 +142,47 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   // R, G, B and alpha at the most: what lies beyond is never used, and a
   // file of a few kilobytes may declare hundreds of channels.
   const int channels = std::min(spec.nchannels, 4);
+  const bool srgb = encoded_srgb(spec);
+  // Colour: the first three channels are R, G, B; grey (1 or 2 channels): the first.
+  const bool colour = channels >= 3;
+  // Converted and turned upright band by band into the one full-size
+  // picture kept: the decoder's floats of the whole picture (up to 16 bytes
+  // a pixel) and a turned copy once lay beside it. A tiled file is read
+  // whole (its reader's scanlines would decode each tile again per band).
+  const int orientation = spec.get_int_attribute("Orientation", 1);
+  const int w = spec.width, h = spec.height;
+  const bool turned = turned_sides(orientation);
+  RgbHdrImage out{turned ? h : w, turned ? w : h, std::vector<float>(3 * static_cast<std::size_t>(w) * h)};
+  const int band = spec.tile_width > 0 ? h : std::clamp(static_cast<int>((1 << 20) / (std::int64_t{w} * channels)), 1, h);
   std::vector<float> raw;
-  bool read = false;
-  try {
-    raw.resize(static_cast<std::size_t>(spec.width) * spec.height * channels);
-    read = in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, raw.data());
-  } catch (const std::exception& e) {
-    throw TargetError(name + ": cannot decode the picture (" + e.what() + ")");
+  for (int y0 = 0; y0 < h; y0 += band) {
+    const int y1 = std::min(h, y0 + band);
+    bool read = false;
+    try {
+      raw.resize(static_cast<std::size_t>(w) * (y1 - y0) * channels);
+      read = band == h ? in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, raw.data())
+                       : in->read_scanlines(0, 0, spec.y + y0, spec.y + y1, spec.z, 0, channels, OIIO::TypeDesc::FLOAT,
+                                            raw.data());
+    } catch (const std::exception& e) {
+      throw TargetError(name + ": cannot decode the picture (" + e.what() + ")");
+    }
+    if (!read) throw TargetError(name + ": cannot decode the picture (" + in->geterror() + ")");
+    for (int sy = y0; sy < y1; ++sy)
+      for (int sx = 0; sx < w; ++sx) {
+        const float* c = &raw[(static_cast<std::size_t>(sy - y0) * w + sx) * channels];
+        const double rgb[3] = {c[0], colour ? c[1] : c[0], colour ? c[2] : c[0]};
+        int x = 0, y = 0;
+        upright_pixel(orientation, w, h, sx, sy, x, y);
+        float* to = &out.pixels[3 * (static_cast<std::size_t>(y) * out.width + x)];
+        for (int k = 0; k < 3; ++k) {
+          double v = rgb[k];
+          if (!std::isfinite(v)) throw TargetError(name + ": the picture holds NaN or infinite values");
+          v = std::max(v, 0.0);
+          if (srgb) v = srgb_to_linear(std::min(v, 1.0));
+          to[k] = static_cast<float>(v);
+        }
+      }
   }
-  if (!read) throw TargetError(name + ": cannot decode the picture (" + in->geterror() + ")");
   // A JPEG cut short decodes, its missing rows grey, with only a warning
   // (libjpeg's "premature end"): designed, it drew a grey band the report
   // could not see, since it judges against the decoded picture. libjpeg
@@ -159,30 +192,6 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   std::transform(warned.begin(), warned.end(), warned.begin(), [](unsigned char c) { return std::tolower(c); });
   if (warned.find("premature end") != std::string::npos || warned.find("corrupt") != std::string::npos)
     throw TargetError(name + ": the picture is damaged or cut short (" + in->geterror() + "); save it again");
-  const bool srgb = encoded_srgb(spec);
-  // Colour: the first three channels are R, G, B; grey (1 or 2 channels): the first.
-  const bool colour = channels >= 3;
-  // Turned upright as it is converted: a turned copy afterwards cost another
-  // 12 bytes a pixel on top of the decoded floats and the linear picture.
-  const int orientation = spec.get_int_attribute("Orientation", 1);
-  const int w = spec.width, h = spec.height;
-  const bool turned = turned_sides(orientation);
-  RgbHdrImage out{turned ? h : w, turned ? w : h, std::vector<float>(3 * static_cast<std::size_t>(w) * h)};
-  for (int y = 0; y < out.height; ++y)
-    for (int x = 0; x < out.width; ++x) {
-      int sx = 0, sy = 0;
-      stored_pixel(orientation, w, h, x, y, sx, sy);
-      const float* c = &raw[(static_cast<std::size_t>(sy) * w + sx) * channels];
-      double rgb[3] = {c[0], colour ? c[1] : c[0], colour ? c[2] : c[0]};
-      float* to = &out.pixels[3 * (static_cast<std::size_t>(y) * out.width + x)];
-      for (int k = 0; k < 3; ++k) {
-        double v = rgb[k];
-        if (!std::isfinite(v)) throw TargetError(name + ": the picture holds NaN or infinite values");
-        v = std::max(v, 0.0);
-        if (srgb) v = srgb_to_linear(std::min(v, 1.0));
-        to[k] = static_cast<float>(v);
-      }
-    }
   return out;
 }
 
