@@ -87,6 +87,15 @@ note "serving $scenes scenes; status: $(prop causticd.service StatusText)"
 journal causticd.service | grep -i "home director" && fail "GLib still warns about the home directory"
 c sh -c 'ls /var/cache/private/causticd/gstreamer-1.0/registry.*.bin' >/dev/null ||
   fail "no GStreamer registry in the cache directory"
+# The design threads (started with the server) lower their priority to
+# nice 10 under the unit's system call filter: setpriority is in
+# @resources, which the filter denies but for it. Field 19 of a thread's
+# stat, the 17th after the command's closing parenthesis.
+pid="$(prop causticd.service MainPID)"
+nices="$(c sh -c "for t in /proc/$pid/task/*/stat; do sed 's/.*) //' \$t | cut -d' ' -f17; done" | sort | uniq -c | tr -s ' \n' ' ')"
+note "threads by nice value (count value): $nices"
+c sh -c "for t in /proc/$pid/task/*/stat; do sed 's/.*) //' \$t | cut -d' ' -f17; done" | grep -x 10 >/dev/null ||
+  fail "no thread of causticd runs at nice 10 (the design threads): $nices"
 
 # --- the plugin file, for any GStreamer program ---------------------------
 note "gst-inspect-1.0 causticsrc and the launch line of docs/api.md"
@@ -292,6 +301,20 @@ wait_down
 boot
 wait_for 180 "causticd is not active after the reboot" active causticd.service
 wait_for 30 "not serving after the reboot" serving 8080
+
+# --- an upgrade restarts what runs -------------------------------------------
+# Reinstalling is an upgrade to postinst (configure with the old version):
+# the running service comes back under a new process of the new binary.
+note "apt-get install --reinstall: the service restarts"
+pid="$(prop causticd.service MainPID)"
+cp "$deb" "$work/root/var/tmp/"
+c sh -c "DEBIAN_FRONTEND=noninteractive apt-get install -y -q --reinstall /var/tmp/$(basename "$deb")" \
+  >"$work/reinstall.log" 2>&1 || fail "apt-get install --reinstall failed: $(tail -20 "$work/reinstall.log")"
+c rm -f "/var/tmp/$(basename "$deb")"
+wait_for 180 "causticd did not restart on the upgrade" restarted "$pid"
+wait_for 30 "not serving after the upgrade" serving 8080
+exe="$(c readlink "/proc/$(prop causticd.service MainPID)/exe")"
+[[ "$exe" != *deleted* ]] || fail "after the upgrade causticd runs a deleted binary: $exe"
 
 # --- purge: nothing left behind -----------------------------------------------
 note "apt-get purge"
