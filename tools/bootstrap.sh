@@ -6,6 +6,17 @@
 # Needs root (or sudo) only when packages are missing.
 set -euo pipefail
 
+# A bare chroot (debootstrap) has no /proc: causticd finds its data through
+# /proc/self/exe, and the tests read /proc. Mounted when root can, else said.
+if [[ ! -e /proc/self/exe ]]; then
+  if [[ $(id -u) -eq 0 ]] && mount -t proc proc /proc 2>/dev/null; then
+    echo "== mounted /proc (it was not mounted)"
+  else
+    echo "bootstrap: /proc is not mounted; mount it (mount -t proc proc /proc) and run again" >&2
+    exit 2
+  fi
+fi
+
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${CAUSTICD_BUILD_DIR:-$here/build}"
 mode="${1:-}"
@@ -97,7 +108,13 @@ if [[ ! -f "$photo_dir/chelsea.png" ]]; then
   # _apt user, when root runs this) may write, then unpacked here.
   fetch="$(mktemp -d)"
   if [[ $(id -u) -eq 0 ]] && id _apt >/dev/null 2>&1; then chown _apt "$fetch"; fi
-  if (cd "$fetch" && apt-get download -q python3-skimage) && dpkg-deb -x "$fetch"/python3-skimage_*.deb "$deps/skimage"; then
+  # Package lists cleaned away (a container image) are fetched once more.
+  download() { (cd "$fetch" && apt-get download -q python3-skimage); }
+  if ! download && [[ $(id -u) -eq 0 ]]; then
+    apt-get update -q >/dev/null 2>&1 || true
+    download || true
+  fi
+  if ls "$fetch"/python3-skimage_*.deb >/dev/null 2>&1 && dpkg-deb -x "$fetch"/python3-skimage_*.deb "$deps/skimage"; then
     rm -rf "$fetch"
   else
     rm -rf "$fetch"
