@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <set>
 #include <string>
 
 namespace fs = std::filesystem;
@@ -244,6 +245,29 @@ TEST_F(Cli, WaterBenchWritesFrameCostsAndTheLastFrames) {
   expect_rejected("bench --water --out " + dir_.string() + " --seconds 0", "--seconds");
   expect_rejected("bench --water --out " + dir_.string() + " --seconds nan", "--seconds");  // once a crash
   expect_rejected("bench --water --perf --out " + dir_.string(), "--water");
+}
+
+TEST_F(Cli, ASolidsOwnLightGridBoundsTheGridAutoChooses) {
+  // A copy of the biconvex lens at a 128^2 light grid, calibrated at 64^2
+  // and 128^2: the scene's own grid, or one written beside it, is the
+  // finest that auto may take (a calibration made at a finer grid stays
+  // usable, the fingerprint leaves the grid out).
+  nlohmann::json j = nlohmann::json::parse(std::ifstream(scene("biconvex")));
+  j["mesh"] = (fs::path(CAUSTIC_ASSET_DIR) / "meshes" / "biconvex.obj").string();
+  j["render"]["light_grid"] = 128;
+  std::ofstream(dir_ / "biconvex.json") << j.dump();
+  const std::string lens = (dir_ / "biconvex.json").string();
+  const CommandResult c = causticd("calibrate --scene " + lens + " --photons 200000 --max-side 64 --frames 1");
+  ASSERT_EQ(c.status, 0) << c.output;
+  const auto cal = nlohmann::json::parse(std::ifstream(dir_ / "biconvex.calibration.json"));
+  std::set<int> grids;
+  for (const auto& e : cal["entries"]) grids.insert(e["light_grid"].get<int>());
+  ASSERT_EQ(grids, (std::set<int>{64, 128})) << c.output;
+  const std::string out = " -o " + (dir_ / "b.png").string() + " --width 64 --height 64";
+  const CommandResult at64 = causticd("render --scene " + lens + out + " --set render.light_grid=64");
+  ASSERT_EQ(at64.status, 0) << at64.output;
+  EXPECT_NE(at64.output.find("light grid 64^2"), std::string::npos) << at64.output;
+  EXPECT_NE(at64.output.find("render.light_grid is only the finest grid"), std::string::npos) << at64.output;
 }
 
 TEST_F(Cli, CalibrateWritesWhatRenderThenUses) {

@@ -48,11 +48,14 @@ int run_calibrate(const CalibrateCommandOptions& opt) {
       if (!out) throw std::runtime_error("cannot write " + partial.string());
     }
     std::filesystem::rename(partial, output);  // readers never see half a file
-    const FidelityChoice choice = choose_fidelity(c, scene.render.accuracy_target, levels.levels);
-    std::printf("auto at target %.3g: mesh %d, point model %s, Fresnel %s, expected L1 %.4f%s\n",
+    const FidelityChoice choice = choose_fidelity(c, scene.render.accuracy_target, levels.levels, light_grid_bound(scene));
+    const std::string grid = choice.config.light_grid > 0
+                                 ? ", light grid " + std::to_string(choice.config.light_grid) + "^2"
+                                 : "";
+    std::printf("auto at target %.3g: mesh %d, point model %s, Fresnel %s%s, expected L1 %.4f%s\n",
                 scene.render.accuracy_target, choice.config.mesh_resolution,
                 point_model_name(choice.config.point_model),
-                choice.config.fresnel ? "on" : "off", choice.expected_l1.value_or(0),
+                choice.config.fresnel ? "on" : "off", grid.c_str(), choice.expected_l1.value_or(0),
                 choice.meets_target ? "" : " (nothing met the target: the most accurate)");
     std::printf("wrote %s\n", output.string().c_str());
   });

@@ -144,7 +144,8 @@ bool load_scene_levels(const char* command, const std::filesystem::path& file,
     const Placement placed = out->levels.place(scene->object);
     *scene = follow_light(*scene, placed);
     out->calibration = load_calibration(calibration_path(file), scene_fingerprint(*scene, *source));
-    *scene = resolve_fidelity(*scene, choose_fidelity(out->calibration, scene->render.accuracy_target, out->levels));
+    *scene = resolve_fidelity(*scene, choose_fidelity(out->calibration, scene->render.accuracy_target, out->levels,
+                                                         light_grid_bound(*scene)));
     return true;
   } catch (const SceneError& e) {
     std::cerr << "causticd " << command << ": " << file.string() << ": " << e.what() << "\n";
@@ -156,10 +157,12 @@ std::string describe_choice(const Scene& scene, const SceneLevels& levels) {
   const auto d = describe_fidelity(scene, *levels.levels.source, levels.levels, levels.calibration);
   char line[300];
   const int n = scene.render.mesh_resolution;
-  std::snprintf(line, sizeof line, "fidelity: %s; mesh %s (%zu vertices), point model %s, Fresnel %s; %s",
+  const std::string grid =
+      scene.object.shape == Shape::solid ? ", light grid " + std::to_string(scene.render.light_grid) + "^2" : "";
+  std::snprintf(line, sizeof line, "fidelity: %s; mesh %s (%zu vertices), point model %s, Fresnel %s%s; %s",
                 d["mode"].get<std::string>().c_str(), n ? (std::to_string(n) + "^2").c_str() : "as loaded",
                 levels.levels.vertices(n), d["point_model"].get<std::string>().c_str(),
-                scene.render.fresnel ? "on" : "off",
+                scene.render.fresnel ? "on" : "off", grid.c_str(),
                 d["expected_relative_l1"].is_number()
                     ? ("expected relative L1 " + std::to_string(100 * d["expected_relative_l1"].get<double>()).substr(0, 5) +
                        "% (target " + std::to_string(100 * scene.render.accuracy_target).substr(0, 4) + "%)")

@@ -176,6 +176,10 @@ double worst_error(const CalibrationEntry& e) {
   return worst;
 }
 
+int light_grid_bound(const Scene& scene) {
+  return scene.object.shape == Shape::solid ? scene.render.light_grid : 0;
+}
+
 FidelityChoice choose_fidelity(const std::optional<Calibration>& calibration, double target, const MeshLevels& levels,
                                int light_grid) {
   FidelityChoice choice;
@@ -209,8 +213,13 @@ std::vector<std::pair<std::string, std::string>> fidelity_overrides(const nlohma
     if (value == part->end() || value->is_null()) continue;
     const std::string name = std::string(section) + "." + key;
     if (name == "render.light_grid" && scene.object.shape != Shape::solid) continue;  // moot: shape_overrides says so
-    out.emplace_back(name, name + " is chosen by render.fidelity \"auto\", which overrides the value written; set "
-                                  "render.fidelity to \"manual\" to use it");
+    // A solid's own grid stays the finest "auto" may take (light_grid_bound).
+    if (name == "render.light_grid")
+      out.emplace_back(name, name + " is only the finest grid render.fidelity \"auto\" may choose, which may be "
+                                    "coarser; set render.fidelity to \"manual\" to use it as written");
+    else
+      out.emplace_back(name, name + " is chosen by render.fidelity \"auto\", which overrides the value written; set "
+                                    "render.fidelity to \"manual\" to use it");
   }
   return out;
 }

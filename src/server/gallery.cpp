@@ -49,7 +49,8 @@ nlohmann::json describe(const GalleryEntry& e) {
 Scene resolve_for(const GalleryEntry& entry, Scene scene) {
   const Placement placed = entry.levels->place(scene.object);
   scene = follow_light(std::move(scene), placed);
-  return resolve_fidelity(scene, choose_fidelity(entry.calibration, scene.render.accuracy_target, *entry.levels));
+  return resolve_fidelity(scene, choose_fidelity(entry.calibration, scene.render.accuracy_target, *entry.levels,
+                                                      light_grid_bound(scene)));
 }
 
 nlohmann::json fidelity_of(const GalleryEntry& entry, const Scene& scene) {

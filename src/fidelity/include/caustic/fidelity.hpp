@@ -97,6 +97,10 @@ struct FidelityChoice {
 FidelityChoice choose_fidelity(const std::optional<Calibration>& calibration, double target, const MeshLevels& levels,
                                int light_grid = 0);
 
+/// choose_fidelity()'s `light_grid` for `scene`: a solid's own grid, 0 for
+/// anything else (its configurations have no grid).
+int light_grid_bound(const Scene& scene);
+
 /// The keys "auto" decides (section, key): a value written for one of them
 /// is overridden while render.fidelity is "auto", and its writer is told so.
 /// render.light_grid only for a solid: a slab has no light grid.
