@@ -208,3 +208,26 @@ TEST_F(DesignCli, RejectsNamesAndDescriptionsTheSceneParserWouldNot) {
                                    std::string(200, 'n') + " --description ''");
   EXPECT_EQ(r.status, 0) << r.output;
 }
+
+TEST_F(DesignCli, ADesignThatDidNotConvergeFailsUnlessAcceptedAndSaysWhy) {
+  // One bright pixel on black at a floor of 1e-6: the transport cannot put
+  // a millionth of the light on most of the picture and stalls far from it.
+  caustic::Rgba8Image img{32, 32, std::vector<std::uint8_t>(32 * 32 * 4, 0)};
+  for (int c = 0; c < 4; ++c) img.pixels[(16 * 32 + 16) * 4 + c] = 255;
+  const fs::path target = dir_ / "target-dot.png";
+  caustic::write_png(img, target);
+  const fs::path face = dir_ / "dot.obj", report = dir_ / "dot-report.json";
+  const std::string args = "design --target " + target.string() + " --resolution 32 --black-floor 1e-6 --no-check -o " +
+                           face.string() + " --report " + report.string();
+  const CommandResult refused = causticd(args);
+  EXPECT_EQ(refused.status, 1) << refused.output;
+  EXPECT_NE(refused.output.find("did not converge"), std::string::npos) << refused.output;
+  EXPECT_FALSE(fs::exists(face));
+  EXPECT_FALSE(fs::exists(report));
+  const CommandResult accepted = causticd(args + " --accept-unconverged");
+  EXPECT_EQ(accepted.status, 0) << accepted.output;
+  EXPECT_NE(accepted.output.find("--accept-unconverged"), std::string::npos) << accepted.output;
+  ASSERT_TRUE(fs::exists(report));
+  const auto written = nlohmann::json::parse(std::ifstream(report));
+  EXPECT_FALSE(written["converged"].get<bool>() && written["snell_settled"].get<bool>()) << written.dump();
+}

@@ -36,7 +36,7 @@ struct DesignCommandOptions {
   std::filesystem::path target, face, scene, solid, report, side_by_side;
   std::optional<std::string> name, description;
   design::DesignOptions design;
-  bool force = false, verify = false, no_check = false, regular = false, colour = false;
+  bool force = false, verify = false, no_check = false, regular = false, colour = false, accept_unconverged = false;
   std::uint64_t photons = 4'000'000;
 };
 
@@ -236,7 +236,8 @@ int run_design(DesignCommandOptions o) {
     nlohmann::json report = {
         {"target", o.target.string()}, {"resolution", d.n}, {"size_mm", o.design.size}, {"focus_mm", o.design.focus},
         {"ior", o.design.ior}, {"black_floor", o.design.black_floor}, {"design_seconds", r.seconds},
-        {"transport_residual", r.transport_residual}, {"iterations", r.iterations}, {"snell_passes", r.snell_passes},
+        {"transport_residual", r.transport_residual}, {"converged", r.converged}, {"iterations", r.iterations},
+        {"snell_passes", r.snell_passes}, {"snell_settled", r.snell_settled},
         {"tir_vertices", r.tir_vertices}, {"max_slope_deg", r.max_slope_deg}, {"relief_mm", r.relief},
         {"min_thickness_mm", r.min_thickness}, {"resampled", o.design.resample}, {"colour", o.colour}};
     const auto scene_dir = std::filesystem::absolute(o.scene).parent_path();
@@ -245,6 +246,17 @@ int run_design(DesignCommandOptions o) {
     if (o.name) scene.name = *o.name;
     if (o.description) scene.description = *o.description;
     check_renders(scene, d, o.design.focus);
+    // A face the solve did not settle on puts light where the picture has
+    // none: said, and not written unless asked for (after the checks of
+    // what the user asked for, which name the flag to change).
+    if (const std::string why = design::convergence_failure(d.report); !why.empty()) {
+      if (!o.accept_unconverged)
+        throw std::runtime_error("the design did not converge: " + why +
+                                 " (a higher --black-floor or a softer picture helps; --accept-unconverged writes it "
+                                 "anyway)");
+      std::cerr << "causticd design: warning: --accept-unconverged: writing a design that did not converge: " << why
+                << "\n";
+    }
     std::optional<design::Verification> engine, reference;
     std::optional<design::ColourVerification> colour;
     if (!o.no_check) {
@@ -330,6 +342,8 @@ std::function<int()> add_design_command(CLI::App& app) {
   cmd->add_option("--resolution", opt->design.resolution, "Cells per side (16..1024; 2048 with --force)");
   cmd->add_flag("--force", opt->force, "Allow resolutions above 1024");
   cmd->add_option("--black-floor", opt->design.black_floor, "Darkest density, relative to the brightest");
+  cmd->add_flag("--accept-unconverged", opt->accept_unconverged,
+                "Write a design whose transport or Snell passes did not converge (exit 1 otherwise)");
   cmd->add_option("--min-thickness", opt->design.min_thickness, "Thinnest glass, mm");
   cmd->add_option("--solid", opt->solid, "Also write the watertight slab (.obj) for milling");
   CLI::Option* verify = cmd->add_flag("--verify", opt->verify, "Also trace the design with the reference photon tracer");
