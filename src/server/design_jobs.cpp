@@ -12,7 +12,9 @@
 #include "session.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -221,7 +223,11 @@ void DesignJobs::expire_locked(std::int64_t now) {
 
 void DesignJobs::work() {
   // Designs yield to the streams: a nice value of 10 on this thread alone.
-  setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 10);
+  // Refused (a system call filter without setpriority), designs compete
+  // with the streams for the cores: said, since nothing else would show it.
+  if (setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 10) != 0)
+    log(Level::warning, std::string("a design thread cannot lower its priority (setpriority: ") +
+                            std::strerror(errno) + "): designs compete with the streams for the cores");
   std::unique_lock lock(mutex_);
   while (!stop_) {
     if (queue_.empty()) {
