@@ -199,6 +199,22 @@ TEST_F(Rest, PatchErrorsLeaveTheParametersUnchanged) {
                  401);
 }
 
+TEST_F(Rest, ASolidsLightGridComesBackFinerWhenATighterTargetAsksForIt) {
+  // The biconvex lens's calibration holds grids of 64^2 and 128^2 (its
+  // own); 64^2 misses 5% at the streamed size. A loose target takes 64^2,
+  // and a tight one must bring 128^2 back: the scene patched is the
+  // resolved one, whose grid is then 64, but the bound is the file's.
+  const json s = create("biconvex");
+  const std::string url = session_url(s) + "/params";
+  const std::string patch_type = "application/merge-patch+json";
+  EXPECT_EQ(s["params"]["fidelity"]["light_grid"], 128) << s["params"]["fidelity"];
+  json p = http("PATCH", url, R"({"render": {"accuracy_target": 0.2}})", patch_type, bearer(s)).json();
+  EXPECT_EQ(p["fidelity"]["light_grid"], 64) << p["fidelity"];
+  p = http("PATCH", url, R"({"render": {"accuracy_target": 0.05}})", patch_type, bearer(s)).json();
+  EXPECT_EQ(p["fidelity"]["light_grid"], 128) << p["fidelity"];
+  EXPECT_EQ(p["fidelity"]["meets_target"], true) << p["fidelity"];
+}
+
 TEST_F(Rest, FidelityAutoIsTheDefaultAndSaysWhatItRenders) {
   const json s = create("lens");
   const std::string url = session_url(s) + "/params";

@@ -213,10 +213,12 @@ std::vector<std::pair<std::string, std::string>> fidelity_overrides(const nlohma
     if (value == part->end() || value->is_null()) continue;
     const std::string name = std::string(section) + "." + key;
     if (name == "render.light_grid" && scene.object.shape != Shape::solid) continue;  // moot: shape_overrides says so
-    // A solid's own grid stays the finest "auto" may take (light_grid_bound).
+    // A solid's own grid (its scene's, --set included) stays the finest
+    // "auto" may take; a patch's is chosen over like the other keys.
     if (name == "render.light_grid")
-      out.emplace_back(name, name + " is only the finest grid render.fidelity \"auto\" may choose, which may be "
-                                    "coarser; set render.fidelity to \"manual\" to use it as written");
+      out.emplace_back(name, name + " is chosen by render.fidelity \"auto\", no finer than the scene's own grid, so "
+                                    "the value written may not be the one used; set render.fidelity to \"manual\" "
+                                    "to use it as written");
     else
       out.emplace_back(name, name + " is chosen by render.fidelity \"auto\", which overrides the value written; set "
                                     "render.fidelity to \"manual\" to use it");

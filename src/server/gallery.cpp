@@ -50,7 +50,7 @@ Scene resolve_for(const GalleryEntry& entry, Scene scene) {
   const Placement placed = entry.levels->place(scene.object);
   scene = follow_light(std::move(scene), placed);
   return resolve_fidelity(scene, choose_fidelity(entry.calibration, scene.render.accuracy_target, *entry.levels,
-                                                      light_grid_bound(scene)));
+                                                      scene.object.shape == Shape::solid ? entry.own_light_grid : 0));
 }
 
 nlohmann::json fidelity_of(const GalleryEntry& entry, const Scene& scene) {
@@ -78,6 +78,7 @@ std::shared_ptr<GalleryEntry> prepare_entry(const std::filesystem::path& file, c
   // Calibrated as rendered: with the screen where following puts it.
   const Scene placed = follow_light(entry->scene, entry->levels->place(entry->scene.object));
   entry->calibration = load_calibration(calibration_path(file), scene_fingerprint(placed, *entry->mesh));
+  entry->own_light_grid = light_grid_bound(entry->scene);
   entry->scene = resolve_for(*entry, entry->scene);
   if (const auto& table = entry->scene.receiver_meshes)
     for (const auto& [name, shape] : table->meshes) entry->shapes[name] = receiver_mesh_json(shape);

@@ -37,6 +37,10 @@ struct GalleryEntry {
   /// scenery a viewer draws the light on, made once. Null when none.
   nlohmann::json shapes;
   bool designed = false;  ///< made by the designer from a picture (listed first), not an optics classic
+  /// A solid's light grid as its file wrote it (0 for anything else): the
+  /// finest auto may choose, for every session, whatever grid auto chose
+  /// before (the scene a session patches is the resolved one).
+  int own_light_grid = 0;
 };
 
 struct Gallery {
