@@ -11,6 +11,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <glib.h>
+#include <unistd.h>
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -143,7 +144,7 @@ TEST(PictureHeader, AStrayByteBeforeTheFrameIsSkippedAsTheDecoderSkipsIt) {
   const PictureHeader h = sniff(stray);
   EXPECT_EQ(h.width, 50u);
   EXPECT_EQ(h.height, 30u);
-  const std::filesystem::path file = std::filesystem::temp_directory_path() / "picture_header_stray.jpg";
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / ("picture_header_stray-" + std::to_string(::getpid()) + ".jpg");
   std::ofstream(file, std::ios::binary) << stray;
   auto in = OIIO::ImageInput::open(file.string());
   ASSERT_TRUE(in) << OIIO::geterror();

@@ -233,6 +233,13 @@ TEST(Hardening, APipelineFileWithoutItsNamedElementsFailsItsSessionsNotTheServer
   char pattern[] = "/tmp/causticd-data-XXXXXX";
   ASSERT_NE(::mkdtemp(pattern), nullptr);
   const std::filesystem::path copy = pattern;
+  struct Gone {  // also when an assertion returns early
+    std::filesystem::path path;
+    ~Gone() {
+      std::error_code ignored;
+      std::filesystem::remove_all(path, ignored);
+    }
+  } gone{copy};
   std::filesystem::create_symlink(data / "assets", copy / "assets");
   std::filesystem::create_symlink(data / "web", copy / "web");
   std::filesystem::create_directory(copy / "pipelines");
@@ -269,5 +276,4 @@ TEST(Hardening, APipelineFileWithoutItsNamedElementsFailsItsSessionsNotTheServer
     if (again >= 0) ::close(again);
     ::close(fd);
   }
-  std::filesystem::remove_all(copy);
 }

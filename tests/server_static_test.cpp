@@ -5,6 +5,8 @@
 #include "raw_http.hpp"
 #include "server_process.hpp"
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -27,7 +29,7 @@ std::string get(const ServerProcess& server, const std::string& path, const std:
 
 TEST(StaticFiles, ServeWebAndNothingElse) {
   namespace fs = std::filesystem;
-  const fs::path web = fs::temp_directory_path() / "causticd_static_test";
+  const fs::path web = fs::temp_directory_path() / ("causticd_static_test-" + std::to_string(::getpid()));
   fs::remove_all(web);
   fs::create_directories(web / "sub");
   std::ofstream(web / "index.html") << "<!doctype html><title>ok</title>";
@@ -54,7 +56,7 @@ TEST(StaticFiles, ServeWebAndNothingElse) {
 
 TEST(StaticFiles, AreRevalidatedByTheirETagWhileTheApiIsNeverStored) {
   namespace fs = std::filesystem;
-  const fs::path web = fs::temp_directory_path() / "causticd_static_cache_test";
+  const fs::path web = fs::temp_directory_path() / ("causticd_static_cache_test-" + std::to_string(::getpid()));
   fs::remove_all(web);
   fs::create_directories(web);
   std::ofstream(web / "index.html") << "<!doctype html><title>ok</title>";
@@ -91,6 +93,16 @@ TEST(StaticFiles, AreRevalidatedByTheirETagWhileTheApiIsNeverStored) {
   EXPECT_EQ(raw_status(changed), 200);
   EXPECT_EQ(raw_body(changed), "console.log(22);");
   EXPECT_NE(raw_header(changed, "ETag"), etag);
+  // A server whose pages may reach a broadcast server: the same page file
+  // with another policy, so another tag (a 304 would keep the old policy).
+  {
+    ServerProcess broadcasting({"--web-dir", web.string(), "--set", "janus_ws_url=ws://127.0.0.1:8188/"});
+    const std::string other = get(broadcasting, "/", "If-None-Match: " + raw_header(page, "ETag") + "\r\n");
+    EXPECT_EQ(raw_status(other), 200);
+    EXPECT_NE(raw_header(other, "ETag"), raw_header(page, "ETag"));
+    EXPECT_NE(raw_header(other, "Content-Security-Policy").find("ws://127.0.0.1:8188"), std::string::npos)
+        << raw_header(other, "Content-Security-Policy");
+  }
   // The API's answers are never stored, and carry no tag.
   const std::string health = get(server, "/api/v1/health");
   EXPECT_EQ(raw_header(health, "Cache-Control"), "no-store");

@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -111,6 +112,13 @@ std::optional<std::string> read_regular(const std::filesystem::path& file, std::
   return bytes;
 }
 
+// FNV-1a, 64 bits: a tag's part for text that is not a file's (a policy).
+std::uint64_t fnv1a(const std::string& text) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
 // Whether an If-None-Match list names `etag` (RFC 9110 13.1.2: weak
 // comparison, so a W/ prefix matches too; "*" matches any).
 bool not_modified(SoupServerMessage* msg, const std::string& etag) {
@@ -141,13 +149,17 @@ void serve_static(const std::filesystem::path& root, const std::string& url_path
   std::string etag;
   const auto bytes = read_regular(*file, &etag);
   if (!bytes) return reply_problem(msg, metrics, SOUP_STATUS_NOT_FOUND, "no such file");
+  const bool page = file->extension() == ".html";
+  const std::string policy = page ? allow_connect(page_policy(*bytes), connect_also) : "";
+  // A page's policy comes with it and changes with the configuration (the
+  // broadcast server it may reach): part of its tag, or a 304 after a
+  // reload would keep the old policy in the browser's cache.
+  if (page) etag.insert(etag.size() - 1, "-" + std::to_string(fnv1a(policy)));
   SoupMessageHeaders* headers = soup_server_message_get_response_headers(msg);
   if (not_modified(msg, etag)) {
     soup_server_message_set_status(msg, SOUP_STATUS_NOT_MODIFIED, nullptr);
   } else {
-    if (file->extension() == ".html")
-      soup_message_headers_replace(headers, "Content-Security-Policy",
-                                   allow_connect(page_policy(*bytes), connect_also).c_str());
+    if (page) soup_message_headers_replace(headers, "Content-Security-Policy", policy.c_str());
     reply_bytes(msg, SOUP_STATUS_OK, type->second, bytes->data(), bytes->size());
   }
   // Kept, but asked about at each use: a page load after the first costs a
