@@ -5,7 +5,9 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 
-import { FrameRate, GAP_MS, WINDOW_MS } from '../../web/js/frame_rate.js';
+import { webModule } from './web_module.mjs';
+
+const { FrameRate, GAP_MS, WINDOW_MS } = await webModule('frame_rate.js');
 
 // Ticks a frame every `interval` ms from `from` for `ms`; the rates reported.
 function run(rate, from, interval, ms) {

@@ -6,7 +6,9 @@
 import assert from 'node:assert/strict';
 import { afterEach, beforeEach, mock, test } from 'node:test';
 
-import { ParamChannel } from '../../web/js/api.js';
+import { webModule } from './web_module.mjs';
+
+const { ParamChannel } = await webModule('api.js');
 
 const session = { id: 's', token: 't', url: '/api/v1/sessions/s' };
 let sent, answers;
@@ -14,7 +16,13 @@ let sent, answers;
 beforeEach(() => {
   sent = [];
   answers = [];
-  mock.timers.enable({ apis: ['setTimeout'] });
+  // Node 20.11 and later take an options object, Debian 12's Node 18.19
+  // (where mock timers began) an array of names: whichever this one takes.
+  try {
+    mock.timers.enable({ apis: ['setTimeout'] });
+  } catch {
+    mock.timers.enable(['setTimeout']);
+  }
   globalThis.fetch = async (url, init) => {
     sent.push(JSON.parse(init.body));
     const answer = answers.shift() ?? { status: 200, body: { version: sent.length } };

@@ -4,7 +4,9 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 
-import { BACKOFF_MAX_MS, RETRY_AFTER_MAX_MS, retryAfterMs, retryDelay } from '../../web/js/retry.js';
+import { webModule } from './web_module.mjs';
+
+const { BACKOFF_MAX_MS, RETRY_AFTER_MAX_MS, retryAfterMs, retryDelay } = await webModule('retry.js');
 
 test('the backoff doubles from 0.5 s to 10 s, each wait between half and all of its step', () => {
   const steps = [500, 1000, 2000, 4000, 8000, 10000, 10000];
