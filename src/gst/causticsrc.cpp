@@ -97,8 +97,7 @@ static gboolean gst_caustic_src_set_caps(GstBaseSrc* src, GstCaps* caps) {
       GST_VIDEO_INFO_FORMAT(&info) == GST_VIDEO_FORMAT_I420 ? caustic::PixelFormat::i420 : caustic::PixelFormat::rgba;
   gst_base_src_set_blocksize(src, static_cast<guint>(GST_VIDEO_INFO_SIZE(&s.info)));
   s.frame_duration = gst_util_uint64_scale(GST_SECOND, GST_VIDEO_INFO_FPS_D(&s.info), GST_VIDEO_INFO_FPS_N(&s.info));
-  s.source.frame_interval = std::chrono::nanoseconds(
-      gst_util_uint64_scale(GST_SECOND, GST_VIDEO_INFO_FPS_D(&s.info), GST_VIDEO_INFO_FPS_N(&s.info)));
+  s.source.frame_interval = std::chrono::nanoseconds(s.frame_duration.load());
   return TRUE;
 }
 
@@ -117,6 +116,7 @@ static gboolean gst_caustic_src_start(GstBaseSrc* src) {
   }
   try {
     const caustic::Scene scene = caustic::load_scene(s.scene_path);
+    s.pool.reset();  // another file's water, from a start that failed after making it, is not this scene's
     auto meshes = std::make_shared<caustic::MeshLevels>();
     // Water is warmed up once: its pool's first surface is the mesh.
     if (scene.water) s.pool = std::make_shared<caustic::water::Pool>(*scene.water);

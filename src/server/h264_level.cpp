@@ -16,7 +16,7 @@ struct Limits {
 };
 
 // ITU-T H.264 (08/2021) Table A-1, levels 3.1 to 5.2. 4.1 differs from 4
-// only in bit rate, and so does 5.2's frame size from 5.1's.
+// only in bit rate, 5.2 from 5.1 only in macroblocks a second.
 constexpr Limits kLevels[] = {
     {"3.1", 31, 108000, 3600, 14000},    {"3.2", 32, 216000, 5120, 20000},   {"4", 40, 245760, 8192, 20000},
     {"4.1", 41, 245760, 8192, 50000},    {"4.2", 42, 522240, 8704, 50000},   {"5", 50, 589824, 22080, 135000},

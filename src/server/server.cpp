@@ -19,7 +19,6 @@
 #include <thread>
 
 namespace caustic::server {
-
 ListenerLimits listener_limits(const ServerConfig& c) {
   ListenerLimits l;
   l.max_connections = c.max_connections;
@@ -50,6 +49,10 @@ struct Server::State {
 };
 
 namespace {
+void log_config_warnings(const ServerConfig& c) {  // its own, and what H.264 cannot hold
+  for (const auto& warning : c.warnings) log(Level::warning, warning);
+  if (const auto w = h264_level_warning(c.width, c.height, c.framerate, c.bitrate_kbps); !w.empty()) log(Level::warning, w);
+}
 
 std::shared_ptr<const Gallery> load_checked_gallery(const std::filesystem::path& dir,
                                                    const std::atomic<bool>* cancel = nullptr) {
@@ -127,10 +130,7 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
   s.api_policy = allow_connect(kContentSecurityPolicy, s.config.janus_ws_url);
   s.data_dir = std::move(data_dir);
   set_log_level(level_from_name(s.config.log_level));
-  for (const auto& warning : s.config.warnings) log(Level::warning, warning);
-  if (const auto w = h264_level_warning(s.config.width, s.config.height, s.config.framerate, s.config.bitrate_kbps);
-      !w.empty())
-    log(Level::warning, w);
+  log_config_warnings(s.config);
   // Read by every GL context the process creates, before the first exists.
   if (s.config.egl_device >= 0) setenv("CAUSTICD_EGL_DEVICE", std::to_string(s.config.egl_device).c_str(), 1);
   // A GPU asked for and not there is a configuration error, said as such:
@@ -307,9 +307,7 @@ void Server::reload() {
     try {
       ServerConfig next = state_->reloader();
       check_config(next, s.data_dir);
-      for (const auto& warning : next.warnings) log(Level::warning, warning);
-      if (const auto w = h264_level_warning(next.width, next.height, next.framerate, next.bitrate_kbps); !w.empty())
-        log(Level::warning, w);
+      log_config_warnings(next);
       // Read once, at the start: the listener, the GPU, the design queue,
       // Janus's admin client. A reload keeps them and names each one
       // written anew.

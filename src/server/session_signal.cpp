@@ -29,7 +29,8 @@ void Session::setup_webrtc() {
   // viewers negotiate with Janus instead, so only a session's own peer.
   GstElement* pay = gst_bin_get_by_name(GST_BIN(pipeline_), "pay");
   if (!add_playout_delay(pay))
-    log(Level::warning, "session " + id_ + ": no payloader named pay; the viewer keeps its playout delay");
+    log(Level::warning, "session " + id_ + ": the payloader took no playout-delay extension; the viewer keeps its "
+                        "playout delay");
   if (pay) gst_object_unref(pay);
   // Every RTCP packet from the viewer's receiver (receiver reports arrive
   // about once a second from any WebRTC peer) proves it is still there.
