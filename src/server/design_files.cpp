@@ -26,7 +26,10 @@ nlohmann::json public_report(const nlohmann::json& r) {
   nlohmann::json out = {{"resolution", r.value("resolution", 0)},
                         {"design_seconds", r.value("design_seconds", 0.0)},
                         {"seconds_total", r.value("seconds_total", 0.0)},
-                        {"tir_vertices", r.value("tir_vertices", 0)}};
+                        {"tir_vertices", r.value("tir_vertices", 0)},
+                        // The share of the light the solve left misplaced: how far
+                        // the glass can be trusted, a figure of the method, not of the mesh.
+                        {"transport_residual", r.value("transport_residual", 0.0)}};
   if (r.contains("engine") && r["engine"].is_object())
     out["engine"] = {{"ssim", r["engine"].value("ssim", 0.0)},
                      {"relative_l1", r["engine"].value("relative_l1", 0.0)},
