@@ -295,6 +295,8 @@ TEST_F(Cli, CalibrateWritesWhatRenderThenUses) {
                                        " --width 64 --height 64 --set light.direction=[0.1,0,-1]");
   EXPECT_NE(moved.output.find("mesh as loaded"), std::string::npos) << moved.output;
   EXPECT_NE(moved.output.find("not calibrated"), std::string::npos) << moved.output;
+  EXPECT_NE(moved.output.find("lens.calibration.json was made for other physics"), std::string::npos) << moved.output;
+  EXPECT_EQ(r.output.find("was made for other physics"), std::string::npos) << r.output;
 
   expect_rejected("calibrate --scene " + lens + " --max-side 10", "--max-side");
   expect_rejected("calibrate --scene " + lens + " --set render.accuracy_target=0", "render.accuracy_target");

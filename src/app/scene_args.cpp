@@ -144,6 +144,8 @@ bool load_scene_levels(const char* command, const std::filesystem::path& file,
     const Placement placed = out->levels.place(scene->object);
     *scene = follow_light(*scene, placed);
     out->calibration = load_calibration(calibration_path(file), scene_fingerprint(*scene, *source));
+    if (const auto note = stale_calibration_note(file, out->calibration); !note.empty())
+      std::cerr << "causticd " << command << ": warning: " << note << "\n";
     *scene = resolve_fidelity(*scene, choose_fidelity(out->calibration, scene->render.accuracy_target, out->levels,
                                                          light_grid_bound(*scene)));
     return true;

@@ -167,6 +167,15 @@ std::optional<Calibration> load_calibration(const std::filesystem::path& file, c
   return c;
 }
 
+std::string stale_calibration_note(const std::filesystem::path& scene_file, const std::optional<Calibration>& loaded) {
+  std::error_code ec;
+  const auto file = calibration_path(scene_file);
+  if (loaded || !std::filesystem::exists(file, ec)) return "";
+  return file.filename().string() + " was made for other physics than these (the scene or its mesh changed, other " +
+         "parameters, or an older causticd): fidelity \"auto\" renders the full model; causticd calibrate --scene " +
+         scene_file.filename().string() + " makes one for them";
+}
+
 bool meets_target(const CalibrationEntry& e, double target) { return worst_error(e) <= target; }
 
 double worst_error(const CalibrationEntry& e) {

@@ -78,6 +78,8 @@ std::shared_ptr<GalleryEntry> prepare_entry(const std::filesystem::path& file, c
   // Calibrated as rendered: with the screen where following puts it.
   const Scene placed = follow_light(entry->scene, entry->levels->place(entry->scene.object));
   entry->calibration = load_calibration(calibration_path(file), scene_fingerprint(placed, *entry->mesh));
+  if (const auto note = stale_calibration_note(file, entry->calibration); !note.empty())
+    log(Level::warning, "scene " + id + ": " + note);
   entry->own_light_grid = light_grid_bound(entry->scene);
   entry->scene = resolve_for(*entry, entry->scene);
   if (const auto& table = entry->scene.receiver_meshes)

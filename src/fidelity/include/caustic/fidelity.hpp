@@ -134,4 +134,9 @@ nlohmann::json describe_fidelity(const Scene& scene, const Mesh& source, const M
 /// The calibration file of a scene file: S.json -> S.calibration.json.
 std::filesystem::path calibration_path(const std::filesystem::path& scene_file);
 
+/// What to say when `scene_file`'s calibration is there but load_calibration()
+/// found it made for other physics (a changed scene or mesh, other
+/// parameters, an older fingerprint): "" when there is none to speak of.
+std::string stale_calibration_note(const std::filesystem::path& scene_file, const std::optional<Calibration>& loaded);
+
 }  // namespace caustic
