@@ -113,7 +113,8 @@ TEST_F(CausticSrc, WaterTooSlowForItsFrameRateComesAsPreviewsAndFullFramesAreTri
   }
   // A software renderer cannot draw 512x512 of water in 1/240 s: after the
   // first (full) picture come previews, and a second after it a full frame
-  // tries again. Bounded in frames and time.
+  // tries again. Bounded in frames and time (a minute: a loaded machine
+  // took 22 s to come round to the retried full frame).
   // The triangles each render set up: a preview's surface is thinned.
   std::mutex lock;
   std::vector<std::uint32_t> triangles;
@@ -125,7 +126,7 @@ TEST_F(CausticSrc, WaterTooSlowForItsFrameRateComesAsPreviewsAndFullFramesAreTri
   constexpr std::uint32_t kFull = 0, kPreview = 1;  // CausticFrameMeta.level
   std::vector<std::uint32_t> levels;  // of each new picture
   std::uint64_t last_step = 0;
-  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   bool tried_again = false;
   for (int i = 0; i < 20000 && !tried_again && std::chrono::steady_clock::now() < until; ++i) {
     const Frame f = take(pull());

@@ -6,7 +6,7 @@ import { test } from 'node:test';
 
 import { webModule } from './web_module.mjs';
 
-const { BACKOFF_MAX_MS, RETRY_AFTER_MAX_MS, retryAfterMs, retryDelay } = await webModule('retry.js');
+const { BACKOFF_MAX_MS, RETRY_AFTER_MAX_MS, retryAfterMs, retryDelay, transient } = await webModule('retry.js');
 
 test('the backoff doubles from 0.5 s to 10 s, each wait between half and all of its step', () => {
   const steps = [500, 1000, 2000, 4000, 8000, 10000, 10000];
@@ -36,4 +36,9 @@ test('Retry-After is read as seconds or a date, and nothing else', () => {
   assert.equal(retryAfterMs('Sun, 06 Dec 2026 12:00:07 GMT', now), 7000);
   assert.equal(retryAfterMs('Sun, 06 Dec 2026 11:00:00 GMT', now), 0);
   for (const bad of [null, undefined, '', 'soon', '-1', '1.5']) assert.equal(retryAfterMs(bad), null, String(bad));
+});
+
+test('asking again is worth it after a timeout, a 429 or any 5xx, and after no other refusal', () => {
+  for (const status of [408, 429, 500, 502, 503, 504]) assert.equal(transient(status), true, String(status));
+  for (const status of [400, 401, 403, 404, 409, 413, 415, 422]) assert.equal(transient(status), false, String(status));
 });

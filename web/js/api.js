@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The REST API: sessions, coalesced parameter patches and drops in a pool's water.
-import { retryAfterMs, retryDelay } from './retry.js';
+import { retryAfterMs, retryDelay, transient } from './retry.js';
 
 // Errors may carry `retryAfterMs`: the wait the server asked for (Retry-After).
 export class ServerFull extends Error {}
@@ -9,7 +9,7 @@ export class Refused extends Error {}
 
 // An answer's body: read as JSON only when it says it is, since a proxy in
 // front of the server answers its own errors (a 502) in HTML.
-async function bodyOf(response) {
+export async function bodyOf(response) {
   if (!/json/i.test(response.headers.get('content-type') ?? '')) return {};
   return response.json().catch(() => ({}));
 }
@@ -28,8 +28,7 @@ export async function createSession(scene, codec, home = '') {
   const body = await bodyOf(response);
   const error = (Kind) => Object.assign(new Kind(detailOf(response, body)), { retryAfterMs: waitOf(response) });
   if (response.status === 503) throw error(ServerFull);
-  if (response.status >= 400 && response.status < 500 && response.status !== 408 && response.status !== 429)
-    throw error(Refused);
+  if (response.status >= 400 && !transient(response.status)) throw error(Refused);
   if (!response.ok) throw error(Error);
   return body;
 }
@@ -86,7 +85,6 @@ function merge(target, patch) {
 // between restarts, no answer) goes again after a wait, merged under the
 // changes made meanwhile; after PATCH_TRIES tries it is given up.
 const PATCH_TRIES = 5;
-const TRANSIENT = new Set([408, 429, 502, 503, 504]);
 
 // Sends parameter changes with at most one PATCH in flight: changes that
 // arrive meanwhile are merged, and the latest state wins. Callbacks:
@@ -137,7 +135,7 @@ export class ParamChannel {
       if (response?.ok) {
         this.failures = 0;
         this.onApplied(body, sentAt);
-      } else if (response && !TRANSIENT.has(response.status)) {
+      } else if (response && !transient(response.status)) {
         this.failures = 0;
         this.onError(problem);
       } else if (++this.failures >= PATCH_TRIES) {

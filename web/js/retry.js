@@ -11,6 +11,11 @@
 export const BACKOFF_MAX_MS = 10000;
 export const RETRY_AFTER_MAX_MS = 60000;
 
+/// Whether asking again may get another answer than `status`: a timeout,
+/// too many requests, or a server (or the proxy before it) failing or
+/// between restarts. Any other 4xx is a refusal that asking again repeats.
+export const transient = (status) => status === 408 || status === 429 || status >= 500;
+
 /// The wait (ms) before try number `attempt` (0 for the first retry): the
 /// backoff with its jitter (`random` in [0, 1)), or what the server asked
 /// for (`serverMs`, null when it named none) if that is longer, capped.

@@ -2,6 +2,9 @@
 // The gallery's "upload your picture" card: the picture goes to
 // POST /api/v1/designs, its progress is polled, and the finished design
 // opens in the viewer like any other scene.
+import { bodyOf } from './api.js';
+import { transient } from './retry.js';
+
 const POLL_MS = 500;
 // A design takes minutes at most (the server's queue holds a few); past
 // this the page stops asking and says so. Polls that get no answer (a
@@ -48,7 +51,7 @@ export function uploadCard(codecOf) {
       const response = await fetch(`/api/v1/designs?name=${encodeURIComponent(name)}&colour=${colour}`, {
         method: 'POST', headers: { 'Content-Type': picture.type }, body: picture,
       });
-      const answer = /json/i.test(response.headers.get('content-type') ?? '') ? await response.json() : {};
+      const answer = await bodyOf(response);
       if (!response.ok) throw new Error(answer.detail ?? `the server answered ${response.status}`);
       const design = await follow(answer.status_url, (d) => {
         bar.value = d.progress;
@@ -81,15 +84,15 @@ async function follow(url, onProgress) {
     let response = null, design = {};
     try {
       response = await fetch(url);
-      if (/json/i.test(response.headers.get('content-type') ?? '')) design = await response.json();
+      design = await bodyOf(response);
     } catch {
       // No answer: counted below, asked again.
     }
-    const transient = !response || response.status >= 500 || response.status === 429;
-    if (transient && ++blips > BLIPS_IN_A_ROW) {
+    const again = !response || transient(response.status);
+    if (again && ++blips > BLIPS_IN_A_ROW) {
       throw new Error(response ? `the server answered ${response.status}` : 'the server does not answer');
     }
-    if (!transient) {
+    if (!again) {
       blips = 0;
       if (!response.ok) throw new Error(design.detail ?? `the server answered ${response.status}`);
       if (design.state === 'ready') return design;

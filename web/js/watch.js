@@ -13,7 +13,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { JanusStream } from './janus_stream.js';
 import { FrameRate } from './frame_rate.js';
-import { retryAfter, retryDelay } from './retry.js';
+import { retryAfter, retryDelay, transient } from './retry.js';
 import { Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
 import { ShownWater } from './water.js';
@@ -64,7 +64,7 @@ async function describe() {
     try {
       const response = await fetch(`/api/v1/scenes/${sceneId}`);
       if (response.ok) return await response.json();
-      if (response.status < 500 && response.status !== 408 && response.status !== 429) return null;  // no such scene
+      if (!transient(response.status)) return null;  // no such scene
     } catch {
       // No answer (the server restarting, a network blip): asked again below.
     }
