@@ -53,6 +53,15 @@ inline json wait_design(const ServerProcess& server, const std::string& id, doub
   return state;
 }
 
+// Polls a design until it is being designed (false: not within 60 s).
+inline bool wait_designing(const ServerProcess& server, const std::string& id) {
+  for (int i = 0; i < 600; ++i) {
+    if (http("GET", server.url() + "/api/v1/designs/" + id).json().value("state", "") == "designing") return true;
+    g_usleep(100000);
+  }
+  return false;
+}
+
 inline void expect_problem(const Response& r, guint status, const std::string& detail_part = "") {
   EXPECT_EQ(r.status, status) << r.body;
   EXPECT_EQ(r.content_type, "application/problem+json") << r.body;

@@ -60,12 +60,7 @@ TEST_F(DesignApi, ADesignDeletedWhileItIsDesignedStaysDeletedAfterAKill) {
     id = ticket.value("id", "");
     ASSERT_FALSE(id.empty()) << ticket.dump();
     const std::string url = server.url() + "/api/v1/designs/" + id;
-    bool designing = false;
-    for (int i = 0; i < 600 && !designing; ++i) {
-      designing = http("GET", url).json().value("state", "") == "designing";
-      if (!designing) g_usleep(100000);
-    }
-    ASSERT_TRUE(designing);
+    ASSERT_TRUE(wait_designing(server, id));
     EXPECT_EQ(http("DELETE", url, "", "", bearer_token(ticket["token"])).status, 204u);
     server.signal(SIGKILL);
     EXPECT_EQ(server.wait_exit(10000), -1);  // killed: no exit status
@@ -87,12 +82,7 @@ TEST_F(DesignApi, ADesignDeletedWhileItIsDesignedStopsThereAndFreesItsPlace) {
   const std::string id = ticket.value("id", "");
   ASSERT_FALSE(id.empty()) << ticket.dump();
   const std::string url = server.url() + "/api/v1/designs/" + id;
-  bool designing = false;
-  for (int i = 0; i < 600 && !designing; ++i) {
-    designing = http("GET", url).json().value("state", "") == "designing";
-    if (!designing) g_usleep(100000);
-  }
-  ASSERT_TRUE(designing);
+  ASSERT_TRUE(wait_designing(server, id));
   const fs::path folder = state.path / "designs" / id;
   EXPECT_EQ(http("DELETE", url, "", "", bearer_token(ticket["token"])).status, 204u);
   bool face_written = false, folder_at_acceptance = true;

@@ -244,12 +244,17 @@ TEST(Hardening, APipelineFileWithoutItsNamedElementsFailsItsSessionsNotTheServer
   std::filesystem::create_symlink(data / "web", copy / "web");
   std::filesystem::create_directory(copy / "pipelines");
   std::filesystem::copy_file(data / "pipelines/h264.pipeline", copy / "pipelines/h264.pipeline");
-  std::ifstream in(data / "pipelines/vp8.pipeline");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::size_t named = text.find("vp8enc name=encoder");
-  ASSERT_NE(named, std::string::npos);
-  text.replace(named, std::string("vp8enc name=encoder").size(), "vp8enc");
-  std::ofstream(copy / "pipelines/vp8.pipeline") << text;
+  // The copy of `codec`'s pipeline with its encoder's name taken away.
+  const auto unname_encoder = [&](const std::string& codec, const std::filesystem::path& from, const std::string& encoder) {
+    std::ifstream in(from / "pipelines" / (codec + ".pipeline"));
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t named = text.find(encoder + " name=encoder");
+    if (named == std::string::npos) return false;
+    text.replace(named, encoder.size() + std::string(" name=encoder").size(), encoder);
+    std::ofstream(copy / "pipelines" / (codec + ".pipeline")) << text;
+    return true;
+  };
+  ASSERT_TRUE(unname_encoder("vp8", data, "vp8enc"));
   {
     ServerProcess server({}, {{"CAUSTICD_DATA_DIR", copy.string()}});
     const Response r = http("POST", server.url() + "/api/v1/sessions", R"({"scene": "slab", "codec": "vp8"})");
@@ -265,12 +270,7 @@ TEST(Hardening, APipelineFileWithoutItsNamedElementsFailsItsSessionsNotTheServer
     // Broken in turn while the session runs: a viewer coming back rebuilds
     // the pipeline, which now fails, and the session ends at once rather
     // than hold its slot with no stream until the idle reclaim.
-    std::ifstream h264_in(copy / "pipelines/h264.pipeline");
-    std::string h264_text((std::istreambuf_iterator<char>(h264_in)), std::istreambuf_iterator<char>());
-    const std::size_t encoder = h264_text.find("x264enc name=encoder");
-    ASSERT_NE(encoder, std::string::npos);
-    h264_text.replace(encoder, std::string("x264enc name=encoder").size(), "x264enc");
-    std::ofstream(copy / "pipelines/h264.pipeline") << h264_text;
+    ASSERT_TRUE(unname_encoder("h264", copy, "x264enc"));
     const int again = ws_open(server.port(), signal_path(h264.json()));
     EXPECT_TRUE(wait_sessions(server, 0, 10)) << "the session outlived its failed rebuild";
     if (again >= 0) ::close(again);

@@ -6,7 +6,6 @@
 #include "caustic/json_text.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 #include <cstdlib>
 #include <fstream>
@@ -14,9 +13,7 @@
 #include <sstream>
 
 #include <arpa/inet.h>
-#include <unistd.h>
-
-extern char** environ;
+#include <unistd.h>  // environ
 
 namespace caustic::server {
 namespace {
