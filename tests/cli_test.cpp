@@ -273,6 +273,17 @@ TEST_F(Cli, ASolidsOwnLightGridBoundsTheGridAutoChooses) {
   const CommandResult own = causticd("render --scene " + lens + out);
   ASSERT_EQ(own.status, 0) << own.output;
   EXPECT_NE(own.output.find("light grid 128^2"), std::string::npos) << own.output;
+  // Calibrated again where auto, with the calibration there, takes 64^2: the
+  // grids measured still run up to the scene's own (each rebuild of the
+  // gallery's calibrations once measured fewer).
+  const CommandResult again =
+      causticd("calibrate --scene " + lens + " --photons 200000 --max-side 64 --frames 1 --set render.accuracy_target=0.2");
+  ASSERT_EQ(again.status, 0) << again.output;
+  EXPECT_NE(again.output.find("light grid 64^2"), std::string::npos) << again.output;
+  grids.clear();
+  const auto recalibrated = nlohmann::json::parse(std::ifstream(dir_ / "biconvex.calibration.json"));
+  for (const auto& e : recalibrated["entries"]) grids.insert(e["light_grid"].get<int>());
+  EXPECT_EQ(grids, (std::set<int>{64, 128})) << again.output;
 }
 
 TEST_F(Cli, CalibrateWritesWhatRenderThenUses) {

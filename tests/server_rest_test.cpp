@@ -200,10 +200,11 @@ TEST_F(Rest, PatchErrorsLeaveTheParametersUnchanged) {
 }
 
 TEST_F(Rest, ASolidsLightGridComesBackFinerWhenATighterTargetAsksForIt) {
-  // The biconvex lens's calibration holds grids of 64^2 and 128^2 (its
-  // own); 64^2 misses 5% at the streamed size. A loose target takes 64^2,
-  // and a tight one must bring 128^2 back: the scene patched is the
-  // resolved one, whose grid is then 64, but the bound is the file's.
+  // The biconvex lens's calibration holds grids of 64^2, 128^2 and 256^2
+  // (its own); 64^2 misses 5% at the streamed size, 128^2 meets it. A
+  // loose target takes 64^2, and 5% again must bring 128^2 back: the scene
+  // patched is the resolved one, whose grid is then 64, but the bound is
+  // the file's.
   const json s = create("biconvex");
   const std::string url = session_url(s) + "/params";
   const std::string patch_type = "application/merge-patch+json";

@@ -26,6 +26,9 @@ int run_calibrate(const CalibrateCommandOptions& opt) {
   Scene scene;
   SceneLevels levels;
   if (!load_scene_levels("calibrate", opt.scene, opt.assignments, &scene, &levels)) return bad_input;
+  // The grids measured run up to the scene's own, not to the one the last
+  // calibration let auto choose (each rebuild would measure fewer).
+  scene.render.light_grid = levels.written_light_grid;
   const std::filesystem::path output = opt.output.empty() ? calibration_path(opt.scene) : opt.output;
   if (!output_writable("calibrate", output, "--output", scene_inputs(opt.scene, scene))) return bad_input;
   return run_reporting("calibrate", opt.scene, [&] {

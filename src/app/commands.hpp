@@ -79,6 +79,10 @@ int run_reporting(const char* command, const std::filesystem::path& scene, const
 struct SceneLevels {
   MeshLevels levels;
   std::optional<Calibration> calibration;
+  /// The light grid as the scene (and its --set) wrote it, before auto
+  /// chose one: what a calibration must measure up to, whatever the last
+  /// calibration let auto choose.
+  int written_light_grid = 0;
 };
 
 /// load_scene_and_mesh, then the levels, then the calibration beside the

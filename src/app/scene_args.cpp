@@ -15,6 +15,7 @@
 #include <iostream>
 #include <map>
 #include <set>
+#include <string_view>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -143,9 +144,13 @@ bool load_scene_levels(const char* command, const std::filesystem::path& file,
     // Calibrated as rendered: with the screen where following puts it.
     const Placement placed = out->levels.place(scene->object);
     *scene = follow_light(*scene, placed);
+    out->written_light_grid = scene->render.light_grid;
     out->calibration = load_calibration(calibration_path(file), scene_fingerprint(*scene, *source));
-    if (const auto note = stale_calibration_note(file, out->calibration); !note.empty())
-      std::cerr << "causticd " << command << ": warning: " << note << "\n";
+    // Not said by calibrate, which is making the new one.
+    if (const auto note = stale_calibration_note(file, out->calibration);
+        !note.empty() && std::string_view(command) != "calibrate")
+      std::cerr << "causticd " << command << ": warning: " << note << (assignments.empty() ? "" : " (with the same --set)")
+                << "\n";
     *scene = resolve_fidelity(*scene, choose_fidelity(out->calibration, scene->render.accuracy_target, out->levels,
                                                          light_grid_bound(*scene)));
     return true;

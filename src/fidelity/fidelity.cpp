@@ -173,7 +173,7 @@ std::string stale_calibration_note(const std::filesystem::path& scene_file, cons
   if (loaded || !std::filesystem::exists(file, ec)) return "";
   return file.filename().string() + " was made for other physics than these (the scene or its mesh changed, other " +
          "parameters, or an older causticd): fidelity \"auto\" renders the full model; causticd calibrate --scene " +
-         scene_file.filename().string() + " makes one for them";
+         scene_file.string() + " makes one for them";
 }
 
 bool meets_target(const CalibrationEntry& e, double target) { return worst_error(e) <= target; }
