@@ -251,7 +251,7 @@ int run_design(DesignCommandOptions o) {
     // what the user asked for, which name the flag to change).
     if (const std::string why = design::convergence_failure(d.report); !why.empty()) {
       if (!o.accept_unconverged)
-        throw std::runtime_error("the design did not converge: " + why +
+        throw std::runtime_error("the design is not written: " + why +
                                  " (a higher --black-floor or a softer picture helps; --accept-unconverged writes it "
                                  "anyway)");
       std::cerr << "causticd design: warning: --accept-unconverged: writing a design that did not converge: " << why

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cstring>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 
 #include <sys/resource.h>
@@ -225,9 +226,13 @@ void DesignJobs::work() {
   // Designs yield to the streams: a nice value of 10 on this thread alone.
   // Refused (a system call filter without setpriority), designs compete
   // with the streams for the cores: said, since nothing else would show it.
-  if (setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 10) != 0)
-    log(Level::warning, std::string("a design thread cannot lower its priority (setpriority: ") +
-                            std::strerror(errno) + "): designs compete with the streams for the cores");
+  if (setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 10) != 0) {
+    static std::once_flag said;  // every thread meets the same filter
+    std::call_once(said, [error = errno] {
+      log(Level::warning, std::string("design threads cannot lower their priority (setpriority: ") +
+                              std::strerror(error) + "): designs compete with the streams for the cores");
+    });
+  }
   std::unique_lock lock(mutex_);
   while (!stop_) {
     if (queue_.empty()) {

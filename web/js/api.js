@@ -81,9 +81,10 @@ function merge(target, patch) {
   return target;
 }
 
-// A patch the server could not take now (too many requests, a proxy
-// between restarts, no answer) goes again after a wait, merged under the
-// changes made meanwhile; after PATCH_TRIES tries it is given up.
+// A patch the server could not take now (a timeout, too many requests, a
+// server error or a proxy between restarts: transient(), or no answer)
+// goes again after a wait, merged under the changes made meanwhile; after
+// PATCH_TRIES tries it is given up.
 const PATCH_TRIES = 5;
 
 // Sends parameter changes with at most one PATCH in flight: changes that

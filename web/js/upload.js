@@ -53,6 +53,7 @@ export function uploadCard(codecOf) {
       });
       const answer = await bodyOf(response);
       if (!response.ok) throw new Error(answer.detail ?? `the server answered ${response.status}`);
+      if (!answer.status_url) throw new Error(`the server answered ${response.status} without a design`);
       const design = await follow(answer.status_url, (d) => {
         bar.value = d.progress;
         say(d.state === 'queued' ? `Waiting in line (position ${d.position})…` : `Designing: ${d.stage ?? d.state}…`);
