@@ -7,6 +7,7 @@
 
 #include "caustic/calibrate.hpp"
 #include "caustic/fidelity.hpp"
+#include "caustic/fnv1a.hpp"
 #include "caustic/image_compare.hpp"
 #include "caustic/reference.hpp"
 #include "caustic/resample.hpp"
@@ -249,6 +250,14 @@ TEST(Calibration, RoundTripsAndNamesWhatIsWrongInAFile) {
     }
   }
   std::filesystem::remove_all(dir);
+}
+
+TEST(Fnv1a, GivesThePublishedTestVectors) {
+  // The FNV authors' test suite (isthe.com/chongo/tech/comp/fnv): the empty
+  // string is the offset basis itself.
+  EXPECT_EQ(caustic::fnv1a(""), 0xcbf29ce484222325ull);
+  EXPECT_EQ(caustic::fnv1a("a"), 0xaf63dc4c8601ec8cull);
+  EXPECT_EQ(caustic::fnv1a("foobar"), 0x85944171f73967e8ull);
 }
 
 TEST(Calibration, FingerprintFollowsThePhysicsNotTheChoices) {

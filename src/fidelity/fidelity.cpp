@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "caustic/fidelity.hpp"
+#include "caustic/fnv1a.hpp"
 #include "caustic/json_text.hpp"
 #include "caustic/screen_follow.hpp"
 #include "caustic/spectral.hpp"
@@ -17,12 +18,6 @@ using nlohmann::json;
 
 constexpr const char* kFormat = "causticd-calibration-1";
 
-
-// FNV-1a, 64 bit: a stable identifier, not a security boundary.
-std::uint64_t fnv1a(const std::string& text, std::uint64_t h = 1469598103934665603ull) {
-  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
 
 std::tuple<std::size_t, int, int, int> cost(const CalibrationEntry& e) {
   return {e.vertices, e.config.light_grid, e.config.point_model == PointModel::exact, e.config.fresnel};
@@ -55,7 +50,7 @@ std::string scene_fingerprint(const Scene& scene, const Mesh& mesh) {
   // was taken for the new mesh. Fed byte by byte, low byte first, so that
   // the fingerprint is the same on any host.
   const auto word = [&h](std::uint32_t v) {
-    for (int b = 0; b < 4; ++b) h = (h ^ ((v >> (8 * b)) & 0xffu)) * 1099511628211ull;
+    for (int b = 0; b < 4; ++b) h = fnv1a_byte(h, static_cast<unsigned char>(v >> (8 * b)));
   };
   word(static_cast<std::uint32_t>(mesh.positions.size()));
   word(static_cast<std::uint32_t>(mesh.triangles.size()));

@@ -3,6 +3,8 @@
 
 #include "http_util.hpp"
 
+#include "caustic/fnv1a.hpp"
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -110,13 +112,6 @@ std::optional<std::string> read_regular(const std::filesystem::path& file, std::
                 static_cast<unsigned long long>(st.st_mtim.tv_sec), static_cast<unsigned long>(st.st_mtim.tv_nsec));
   *etag = tag;
   return bytes;
-}
-
-// FNV-1a, 64 bits: a tag's part for text that is not a file's (a policy).
-std::uint64_t fnv1a(const std::string& text) {
-  std::uint64_t h = 14695981039346656037ull;
-  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
-  return h;
 }
 
 // Whether an If-None-Match list names `etag` (RFC 9110 13.1.2: weak
