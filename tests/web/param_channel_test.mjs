@@ -2,7 +2,8 @@
 // The viewer's parameter channel against a stubbed fetch: a patch the
 // server cannot take now goes again after its Retry-After, merged under
 // the changes made meanwhile; a refusal and a patch tried too often are
-// given up and said; an answer that is not JSON is named by its status.
+// given up and said; an answer that is not JSON is named by its status;
+// a restored section and a change to it after go in order, not merged.
 import assert from 'node:assert/strict';
 import { afterEach, beforeEach, mock, test } from 'node:test';
 
@@ -114,4 +115,35 @@ test('a closed channel sends nothing more, even a patch waiting to go again', as
   await pass(5000);
   assert.equal(sent.length, 1);
   assert.deepEqual(said.applied, []);
+});
+
+test('a section restored and then changed goes as two patches, in order', async () => {
+  const [c, said] = channel();
+  c.set({ post: { gamma: 2.5 } });  // in flight
+  c.set({ light: null, post: null });  // Reset scene
+  c.set({ light: { intensity: 3 } });  // a change at once after it
+  c.set({ light: { elevation_deg: 40 } });
+  await pass(0);
+  assert.deepEqual(sent, [
+    { post: { gamma: 2.5 } },
+    { light: null, post: null },
+    { light: { intensity: 3, elevation_deg: 40 } },
+  ]);
+  assert.equal(said.applied.length, 3);
+});
+
+test('a restore after a change replaces it, and a patch sent again keeps its restore', async () => {
+  answers.push({ status: 503, headers: { 'Retry-After': '1' } });
+  const [c] = channel();
+  c.set({ light: null });  // refused for now
+  c.set({ light: { intensity: 3 } });
+  c.set({ object: { ior: 1.6 } });
+  await pass(0);
+  await pass(1000);
+  assert.deepEqual(sent, [{ light: null }, { light: null }, { light: { intensity: 3 }, object: { ior: 1.6 } }]);
+  c.set({ object: { ior: 1.5 } });  // in flight
+  c.set({ post: { gamma: 1.8 } });
+  c.set({ post: null });
+  await pass(0);
+  assert.deepEqual(sent.slice(3), [{ object: { ior: 1.5 } }, { post: null }]);
 });

@@ -81,21 +81,41 @@ function merge(target, patch) {
   return target;
 }
 
+// Whether `later` merged over `earlier` says what the two say one after the
+// other. It does not where `earlier` restores a section (null) that `later`
+// then sets keys of: merged, the keys would be set without the restore.
+function composable(earlier, later) {
+  return Object.entries(later).every(([key, value]) => {
+    if (!value || typeof value !== 'object' || Array.isArray(value) || !Object.hasOwn(earlier, key)) return true;
+    const before = earlier[key];
+    return before !== null && typeof before === 'object' && !Array.isArray(before) && composable(before, value);
+  });
+}
+
+// `patch` onto the end of `queue`: merged into the last patch where the two
+// compose, else after it.
+function enqueue(queue, patch) {
+  const last = queue.at(-1);
+  if (last && composable(last, patch)) merge(last, patch);
+  else queue.push(merge({}, patch));
+}
+
 // A patch the server could not take now (a timeout, too many requests, a
 // server error or a proxy between restarts: transient(), or no answer)
-// goes again after a wait, merged under the changes made meanwhile; after
-// PATCH_TRIES tries it is given up.
+// goes again after a wait, merged under the changes made meanwhile where
+// they compose; after PATCH_TRIES tries it is given up.
 const PATCH_TRIES = 5;
 
 // Sends parameter changes with at most one PATCH in flight: changes that
-// arrive meanwhile are merged, and the latest state wins. Callbacks:
+// arrive meanwhile are merged (queued behind a restore they would undo),
+// and the latest state wins. Callbacks:
 // onApplied(answer, sentAt); onError(problem) for a refusal that asking
 // again would not change; onRetrying(problem, waitMs) before a patch goes
 // again; onGaveUp(problem) when it will not (the server holds what it held).
 export class ParamChannel {
   constructor(session, { onApplied, onError, onRetrying = () => {}, onGaveUp = () => {} }) {
     Object.assign(this, { session, onApplied, onError, onRetrying, onGaveUp });
-    this.pending = null;
+    this.pending = [];  // patches not sent yet, in order; adjacent ones do not compose
     this.inFlight = false;
     this.closed = false;
     this.failures = 0;
@@ -103,7 +123,7 @@ export class ParamChannel {
 
   set(patch) {
     if (this.closed) return;
-    this.pending = merge(this.pending ?? {}, patch);
+    enqueue(this.pending, patch);
     if (!this.inFlight) this.flush();
   }
 
@@ -111,14 +131,13 @@ export class ParamChannel {
   // way are not reported (they would speak of the old session).
   close() {
     this.closed = true;
-    this.pending = null;
+    this.pending = [];
   }
 
   async flush() {
     this.inFlight = true;
-    while (this.pending && !this.closed) {
-      const patch = this.pending;
-      this.pending = null;
+    while (this.pending.length && !this.closed) {
+      const patch = this.pending.shift();
       const sentAt = performance.now();
       let response = null, body = {}, problem;
       try {
@@ -143,7 +162,9 @@ export class ParamChannel {
         this.failures = 0;
         this.onGaveUp(problem);
       } else {
-        this.pending = merge(patch, this.pending ?? {});
+        const meanwhile = this.pending;
+        this.pending = [patch];
+        for (const later of meanwhile) enqueue(this.pending, later);
         const wait = retryDelay(this.failures - 1, response && waitOf(response));
         this.onRetrying(problem, wait);
         await new Promise((resolve) => { setTimeout(resolve, wait); });
