@@ -121,12 +121,22 @@ TEST_F(ObjFiles, RejectsWhatTheLoaderWouldMisreadOrHoardBeforeItRuns) {
   // triangle limit was checked; now counted first.
   std::string groups = corners;
   for (int i = 0; i < 4097; ++i) groups += "o a\nf 1 2 3\n";
-  expect_error(groups, "line 8196: more than 4096 objects and groups");
+  expect_error(groups, "line 8196: more than 4096 objects, groups and materials");
+  // What the loader keeps of a line, a material switch, a normal or a
+  // texture coordinate grew with the file (200 MB of "l" lines took 4 GB):
+  // refused at its line, or counted against the limits.
+  expect_error(corners + "f 1 2 3\nl 1 2 3 1 2 3\n", "line 5: a line (l) is no triangle");
+  std::string materials = corners + "f 1 2 3\n";
+  for (int i = 0; i < 4097; ++i) materials += "usemtl a\n";
+  expect_error(materials, "line 4101: more than 4096 objects, groups and materials");
   MeshLimits limits;
   limits.max_triangles = 2;
   limits.max_vertices = 3;
   expect_error(corners + "f 1 2 3\nf 1 2 3\nf 1 2 3\n", "line 6: more than 2 faces", limits);
   expect_error(corners + "v 0 0 1\nf 1 2 3\n", "line 4: more than 3 vertices", limits);
+  expect_error(corners + "vn 0 0 1\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\nf 1 2 3\n", "line 7: more than 3 normals", limits);
+  expect_error(corners + "vt 0 0\nvt 0 0\nvt 0 0\nvt 0 0\nf 1 2 3\n", "line 7: more than 3 texture coordinates",
+               limits);
   // What stays: relative and full corners.
   EXPECT_NO_THROW(load_obj(write("ok.obj", corners + "vn 0 0 1\nvt 0 0\nf -3/1/1 -2/1/1 -1//1\n")));
 }
@@ -150,7 +160,7 @@ TEST_F(ObjFiles, RejectsColoursOutOfRangeOrOnSomeVerticesOnly) {
 
 TEST_F(ObjFiles, RejectsBadFiles) {
   expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n", "only triangles");
-  expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2\n", "lines or points");
+  expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2\n", "line 4: a line (l) is no triangle");
   expect_error("v 0 0 0\nv 1 0 0\n", "no triangles");
   expect_error("", "no triangles");
   expect_error("v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n", "line 3");

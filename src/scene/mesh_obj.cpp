@@ -36,8 +36,15 @@ bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y
 // reads "1.5" or "3x" as an index, and keeps every "o" and "g" as a shape
 // of its own (8 million of them, 100 MB of text, took 5 GB before the
 // triangle limit could be checked): indices are checked here, and the
-// statements counted against the limits before the loader runs.
-constexpr std::size_t kMaxGroups = 4096;  // "o" and "g" statements
+// statements counted against the limits before the loader runs. What the
+// loader keeps of the others grows with the file too: an "l" line's
+// corners (6 times its text: 200 MB of them took 4 GB), a warning for each
+// "usemtl" (there is no library), and every "vn" and "vt". A line is
+// refused at once (it is no triangle), material switches are counted with
+// the groups, and normals and texture coordinates are bounded by the
+// vertex limit: each one a face uses makes a vertex of its own (a caustic
+// face reads no texture coordinates, a receiver's atlas needs them).
+constexpr std::size_t kMaxGroups = 4096;  // "o", "g" and "usemtl" statements
 
 // A face's corner: v, v/vt, v//vn or v/vt/vn, each a nonzero integer (a
 // negative one counts back from the last vertex) within an int.
@@ -62,7 +69,7 @@ bool face_corner(const std::string& word) {
 
 void check_numbers(const std::string& text, const std::string& label, const MeshLimits& limits) {
   const double max_coordinate = limits.max_coordinate;
-  std::size_t vertices = 0, faces = 0, groups = 0;
+  std::size_t vertices = 0, faces = 0, groups = 0, normals = 0, texcoords = 0;
   static const char* const kStatements[] = {"v", "vn", "vt", "f", "o", "g", "s", "l", "usemtl"};
   // One pass over the text with no stream a line: a caustic face is
   // megabytes, and every gallery scene's is read at start-up.
@@ -101,8 +108,11 @@ void check_numbers(const std::string& text, const std::string& label, const Mesh
       fail(number, (word_like ? "the statement \"" + tag + "\" is" : std::string("this line's statement is")) +
                        " not supported (v, vn, vt, f, o, g, s, l, usemtl)");
     }
-    if (tag == "o" || tag == "g") {
-      if (++groups > kMaxGroups) fail(number, "more than " + std::to_string(kMaxGroups) + " objects and groups");
+    if (tag == "o" || tag == "g" || tag == "usemtl") {
+      if (++groups > kMaxGroups)
+        fail(number, "more than " + std::to_string(kMaxGroups) + " objects, groups and materials");
+    } else if (tag == "l") {
+      fail(number, "a line (l) is no triangle; only triangles are allowed");
     } else if (tag == "f") {
       if (++faces > limits.max_triangles)
         fail(number, "more than " + std::to_string(limits.max_triangles) + " faces");
@@ -122,6 +132,9 @@ void check_numbers(const std::string& text, const std::string& label, const Mesh
     }
     if (tag == "v" && ++vertices > limits.max_vertices)
       fail(number, "more than " + std::to_string(limits.max_vertices) + " vertices");
+    if ((tag == "vn" && ++normals > limits.max_vertices) || (tag == "vt" && ++texcoords > limits.max_vertices))
+      fail(number, "more than " + std::to_string(limits.max_vertices) + (tag == "vn" ? " normals" : " texture coordinates") +
+                       " (at most one for each vertex the limit allows)");
     double numbers[6];
     std::string colours[3];  // as written, for a colour's error
     std::size_t count = 0;
