@@ -156,6 +156,9 @@ TEST(SceneShapeMesh, BadReceiversAreNamed) {
   rejected(doc, "receiver_meshes.plate", "path of an OBJ file");
   doc["receiver_meshes"]["plate"] = "missing.obj";
   rejected(doc, "receiver_meshes.plate", "cannot read mesh file missing.obj");
+  // A NUL ended the name where the system reads it: this loaded plate.obj.
+  doc["receiver_meshes"]["plate"] = std::string("plate.obj\0junk", 14);
+  rejected(doc, "receiver_meshes.plate", "must not hold control characters");
   // Its atlas on every corner, inside the unit square.
   dir.write("bare.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   doc["receiver_meshes"]["plate"] = "bare.obj";

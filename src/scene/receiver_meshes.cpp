@@ -24,6 +24,10 @@ ReceiverMeshTable load_receiver_meshes(const nlohmann::json& table, const std::f
     const std::string key = "receiver_meshes." + name;
     if (!file.is_string() || file.get<std::string>().empty() || file.get<std::string>().size() > 4096)
       throw SceneError(key, "must be the path of an OBJ file, relative to the scene file");
+    // As for the scene's mesh: a NUL ends the name where the system reads
+    // it ("plate.obj\u0000junk" loaded plate.obj).
+    for (unsigned char ch : file.get<std::string>())
+      if (ch < 0x20 || ch == 0x7f) throw SceneError(key, "must not hold control characters");
     try {
       out.meshes.emplace(name, load_atlas_obj(base_dir / file.get<std::string>(), limits));
     } catch (const SceneError& e) {
