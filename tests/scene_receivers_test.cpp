@@ -27,6 +27,13 @@ TEST(SceneReceivers, RectanglesRoundTrip) {
   EXPECT_EQ(s.receivers[1].normal, glm::dvec3(-1, 0, 0));  // normalised
   EXPECT_EQ(s.receivers[1].up, glm::dvec3(0, 0, 1));
   EXPECT_EQ(scene_from_json(scene_to_json(s), "."), s);
+  // null is the default: a rectangle, not an unknown key (nor, on the screen, a lathe refused).
+  json rectangle = floor_rectangle();
+  rectangle["lathe"] = nullptr;
+  rectangle["mesh"] = nullptr;
+  doc["receivers"] = {rectangle};
+  doc["screen"] = {{"lathe", nullptr}, {"mesh", nullptr}};
+  EXPECT_EQ(scene_from_json(doc, ".").receivers[0].width, 50);
   EXPECT_TRUE(scene_from_json(minimal(), ".").receivers.empty());
   EXPECT_TRUE(scene_to_json(scene_from_json(minimal(), "."))["receivers"].empty());
 }

@@ -150,6 +150,8 @@ TEST(SceneWater, WaterIsASurfaceThatIsNotFitted) {
   json surface = pool();
   surface["object"]["shape"] = "surface";
   EXPECT_EQ(scene_from_json(surface, ".").object.shape, Shape::surface);
+  surface["object"]["shape"] = nullptr;  // the default, which water makes a surface
+  EXPECT_EQ(scene_from_json(surface, ".").object.shape, Shape::surface);
 }
 
 TEST(SceneWater, AMeshBesideWaterIsWarnedAbout) {

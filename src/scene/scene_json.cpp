@@ -162,6 +162,8 @@ ScreenParams read_screen(Reader r, const std::optional<double>& focus_distance, 
     s.width = s.height = 1;
     s.lathe->mesh = lathe_mesh(s.lathe->profile, s.lathe->segments, s.center, s.normal, s.up);
   } else {
+    // A rectangle; a null lathe or mesh is the default, not an unknown key.
+    r.get("lathe"), r.get("mesh");
     s.width = r.number("width", s.width, 0.0, kMaxCoordinate, true);
     s.height = r.number("height", s.height, 0.0, kMaxCoordinate, true);
   }
@@ -236,8 +238,9 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir,
   s.focus_distance = r.optional_number("focus_distance", 0.0, kMaxCoordinate, true);
   s.object = read_object(r.child("object"));
   if (s.water) {
+    // A shape written (null is the default, which water makes a surface) must be the surface.
     const json* object = r.get("object");
-    if (object && object->contains("shape") && s.object.shape != Shape::surface)
+    if (object && object->is_object() && object->value("shape", json()) != nullptr && s.object.shape != Shape::surface)
       throw SceneError("object.shape", "water is a surface: \"surface\" or left out");
     s.object.shape = Shape::surface;
     // Fitting centres the mesh's box, which the waves move: the pool would bob.
@@ -253,9 +256,9 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir,
   // Refused before it is read: reading builds a lathe's or a shape's
   // triangles, work a refusal should not cost.
   if (const json* screen = r.get("screen"); screen && screen->is_object()) {
-    if (screen->contains("lathe"))
+    if (screen->value("lathe", json()) != nullptr)
       throw SceneError("screen.lathe", "the screen is a rectangle; a lathe is one of the receivers");
-    if (screen->contains("mesh"))
+    if (screen->value("mesh", json()) != nullptr)
       throw SceneError("screen.mesh", "the screen is a rectangle; a mesh is one of the receivers");
   }
   s.screen = read_screen(r.child("screen"), s.focus_distance, s.object, s.light, s.receiver_meshes);
