@@ -52,14 +52,18 @@ class NotifySocket {
     const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(ms);
     while (std::chrono::steady_clock::now() < end) {
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
-      if (next(static_cast<int>(std::max<long long>(1, left.count()))).find(what) != std::string::npos) return true;
+      matched_ = next(static_cast<int>(std::max<long long>(1, left.count())));
+      if (matched_.find(what) != std::string::npos) return true;
     }
     return false;
   }
+  /// The datagram wait_for() found (or the last one it saw).
+  const std::string& matched() const { return matched_; }
   const fs::path& path() const { return path_; }
 
  private:
   fs::path path_;
+  std::string matched_;
   GSocket* socket_ = nullptr;
 };
 
@@ -202,6 +206,9 @@ TEST(Service, SigtermDrainsUntilTheLastSessionEnds) {
   viewer.spin([&] { return viewer.heard("offer"); }, 10000);
   server.signal(SIGTERM);
   EXPECT_TRUE(notify.wait_for("STOPPING=1\nSTATUS=draining: 2 sessions", 2000));
+  // The stop's timeout grows by the drain (60 s by default) and its close:
+  // the unit's TimeoutStopSec does not cut a longer drain_timeout_s short.
+  EXPECT_NE(notify.matched().find("\nEXTEND_TIMEOUT_USEC=90000000"), std::string::npos) << notify.matched();
   const auto health = http("GET", server.url() + "/api/v1/health");
   EXPECT_EQ(health.status, 503u);
   EXPECT_EQ(health.json()["status"], "draining");

@@ -49,6 +49,7 @@ struct Server::State {
 };
 
 namespace {
+constexpr unsigned long long kDrainCloseS = 30;  // a drain's end: closing the sessions left, at most
 void log_config_warnings(const ServerConfig& c) {  // its own, and what H.264 cannot hold
   for (const auto& warning : c.warnings) log(Level::warning, warning);
   if (const auto w = h264_level_warning(c.width, c.height, c.framerate, c.bitrate_kbps); !w.empty()) log(Level::warning, w);
@@ -254,7 +255,9 @@ void Server::run() {
     }
     s.draining = true;
     st.drain_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(s.config.drain_timeout_s);
-    notify("STOPPING=1\n" + status_line(s));
+    // systemd extends the unit's TimeoutStopSec by the drain and its close:
+    notify("STOPPING=1\n" + status_line(s) + "\nEXTEND_TIMEOUT_USEC=" +
+           std::to_string((s.config.drain_timeout_s + kDrainCloseS) * 1000000ull));
     log(Level::notice, "draining: no new sessions; the " + std::to_string(s.sessions.size()) +
                            " running go on for at most " + std::to_string(s.config.drain_timeout_s) +
                            " s (a second signal stops at once)");
