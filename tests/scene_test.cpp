@@ -248,6 +248,9 @@ TEST(LoadScene, RefusesWhatTheJsonRulesRefuse) {
   std::ofstream(dir / "lines.json") << "{\n  \"mesh\": \"a.obj\",\n  \"object\": {\"ior\": }\n}\n";
   EXPECT_NE(refused(dir / "lines.json").find("at line 3, column 21 (byte 41)"), std::string::npos)
       << refused(dir / "lines.json");
+  std::ofstream(dir / "huge.json") << "{\"mesh\": \"a.obj\",\n\"focus_distance\": -1e309}";
+  EXPECT_NE(refused(dir / "huge.json").find("a number beyond the range of a double"), std::string::npos)
+      << refused(dir / "huge.json");
   std::ofstream(dir / "deep.json") << R"({"mesh": "a.obj", "x": )" << std::string(100000, '[')
                                    << std::string(100000, ']') << "}";
   EXPECT_NE(refused(dir / "deep.json").find("nested deeper than"), std::string::npos) << refused(dir / "deep.json");

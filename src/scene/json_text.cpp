@@ -44,6 +44,9 @@ class LimitedDom : public nlohmann::json_sax<json> {
     const std::string what = e.what();
     const auto from = what.find("syntax error while parsing");
     std::string message = "not valid JSON";
+    // JSON's grammar has no bound on a number, a double has (1e309 was "not
+    // valid JSON" with no word of why).
+    if (e.id == 406) message = "a number beyond the range of a double (magnitude at most about 1.8e308)";
     if (from != std::string::npos) {
       message = what.substr(from, what.find("; last read", from) - from);
       for (char& ch : message)
