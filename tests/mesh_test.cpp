@@ -43,6 +43,15 @@ class ObjFiles : public ::testing::Test {
     }
   }
 
+  void expect_error_at(const std::filesystem::path& file, const std::string& fragment) {
+    try {
+      load_obj(file);
+      ADD_FAILURE() << "accepted " << file;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  }
+
   std::filesystem::path dir_;
 };
 
@@ -198,7 +207,9 @@ TEST_F(ObjFiles, RejectsBadFiles) {
 
 TEST_F(ObjFiles, MissingFileIsAnError) {
   EXPECT_THROW(load_obj(dir_ / "absent.obj"), SceneError);
-  EXPECT_THROW(load_obj(dir_), SceneError);  // a folder
+  // A folder or a device is said to be one, not "cannot read" as if missing.
+  expect_error_at(dir_, "is a folder, pipe, socket or device, not a file");
+  expect_error_at("/dev/zero", "mesh file zero is a folder, pipe, socket or device");
 }
 
 TEST(Placement, FitSizeCentresAndScalesTheFootprint) {
