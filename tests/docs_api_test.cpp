@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The routes the documents name are the ones docs/openapi.json describes
 // (which the REST tests hold to the server's answers), and api.md's table
-// lists every one of them.
+// lists every one of them with the statuses openapi.json gives it.
 #include "doc_text.hpp"
 
 #include <gtest/gtest.h>
@@ -63,4 +63,28 @@ TEST(DocsApi, TheApiTableListsEveryRoute) {
   for (const auto& cells : doc_table(read_doc(kRoot / "docs" / "api.md"), "## Endpoints"))
     for (const std::string& route : named_routes(cells.at(0))) listed.insert(route);
   EXPECT_EQ(listed, described());
+}
+
+TEST(DocsApi, TheApiTableStatesEachRoutesStatuses) {
+  // "201 `{id, ...}`; 400 malformed JSON, 413, ...": each status the row
+  // names is one openapi.json describes for the route, and the other way round.
+  const auto doc = nlohmann::json::parse(read_doc(kRoot / "docs" / "openapi.json"));
+  static const std::regex status("(^|[^\\w.])([1-5][0-9]{2})(?![\\w.])");
+  int checked = 0;
+  for (const auto& cells : doc_table(read_doc(kRoot / "docs" / "api.md"), "## Endpoints")) {
+    const auto routes = named_routes(cells.at(0));
+    if (routes.empty()) continue;
+    const std::string text = cells.at(1) + " " + cells.at(2);
+    std::set<std::string> stated, described;
+    for (std::sregex_iterator it(text.begin(), text.end(), status), end; it != end; ++it) stated.insert((*it)[2]);
+    const std::string& route = routes[0];
+    const auto space = route.find(' ');
+    std::string method = route.substr(0, space);
+    for (char& c : method) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (const auto& [code, response] : doc["paths"][route.substr(space + 1)][method]["responses"].items())
+      described.insert(code);
+    EXPECT_EQ(stated, described) << route;
+    ++checked;
+  }
+  EXPECT_GT(checked, 10);
 }
