@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Every relative link in the documents leads somewhere: the file exists and
 // a #anchor names a heading of it, as GitHub makes anchors (a heading that
-// grew a list of files once left every link to it dangling).
+// grew a list of files once left every link to it dangling); and every file
+// of the tree a document names in code is there.
 #include "doc_text.hpp"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <regex>
 
 namespace fs = std::filesystem;
 using namespace caustic::testing;
@@ -46,6 +48,44 @@ TEST(DocsLinks, EveryRelativeLinkAndAnchorResolves) {
   }
   // The reader found the links there are, not none.
   EXPECT_GT(checked, 100);
+}
+
+TEST(DocsLinks, EveryFileOfTheTreeNamedExists) {
+  // `src/gst/include/caustic/gst/stop_pipeline.hpp`, `tests/engine_*_test.cpp`:
+  // a path into the tree's folders in a code span, from the root or from
+  // the document's folder (docs/bench/...), a '*' matching one name or more.
+  static const std::regex path(
+      "(^|[^A-Za-z0-9_/.-])((src|tests|tools|bench|web|docs|systemd|janus|proxy|packaging|assets|pipelines|shaders)"
+      "/[A-Za-z0-9_./*-]*[A-Za-z0-9_*])");
+  const auto exists = [](const fs::path& p) {
+    const std::string text = p.lexically_normal().string();
+    const auto star = text.find('*');
+    if (star == std::string::npos) return fs::exists(p);
+    // One star: some file of its folder matches both sides of it.
+    const fs::path folder = fs::path(text.substr(0, star)).parent_path();
+    const std::string head = fs::path(text.substr(0, star)).filename().string(), tail = text.substr(star + 1);
+    if (!fs::is_directory(folder) || tail.find('/') != std::string::npos) return false;
+    for (const auto& entry : fs::directory_iterator(folder)) {
+      const std::string name = entry.path().filename().string();
+      if (name.size() > head.size() + tail.size() && name.rfind(head, 0) == 0 &&
+          name.compare(name.size() - tail.size(), tail.size(), tail) == 0)
+        return true;
+    }
+    return false;
+  };
+  int checked = 0;
+  for (const fs::path& doc : documents()) {
+    const auto lines = prose_lines(read_doc(doc));
+    for (std::size_t i = 0; i < lines.size(); ++i)
+      for (const std::string& span : code_spans(lines[i]))
+        for (std::sregex_iterator it(span.begin(), span.end(), path), end; it != end; ++it) {
+          const std::string named = (*it)[2];
+          ++checked;
+          EXPECT_TRUE(exists(fs::path(CAUSTIC_SOURCE_DIR) / named) || exists(doc.parent_path() / named))
+              << doc.filename().string() << ":" << i + 1 << " names " << named << ", which is not in the tree";
+        }
+  }
+  EXPECT_GT(checked, 50);
 }
 
 TEST(DocsLinks, AnchorsAreGitHubs) {
