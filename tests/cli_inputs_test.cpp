@@ -75,6 +75,14 @@ TEST_F(CliInputs, AnOutputIsNeverAnInputNorADevice) {
   EXPECT_EQ(fs::file_size(target), target_before);
 }
 
+TEST_F(CliInputs, AnOutputNamedTwiceIsRefused) {
+  // Written twice, the file kept only the second picture.
+  expect_rejected("render --scene " + scene("slab") + " -o " + (dir_ / "x.png").string() + " -o " + dir_.string() +
+                      "/./x.png" + small(),
+                  "the same file as --output " + (dir_ / "x.png").string());
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
 TEST_F(CliInputs, AFaceOfManyCornersIsNotReadAsATriangle) {
   // The reader counts a face's corners in a byte: 259 came out as 3.
   std::ofstream obj(dir_ / "fan.obj");

@@ -35,12 +35,25 @@ int run_render(const RenderOptions& opt) {
   std::vector<std::string> assignments = opt.assignments;
   if (opt.width) assignments.push_back("render.width=" + std::to_string(opt.width));
   if (opt.height) assignments.push_back("render.height=" + std::to_string(opt.height));
-  for (const auto& out : opt.outputs) {
+  for (std::size_t i = 0; i < opt.outputs.size(); ++i) {
+    const auto& out = opt.outputs[i];
     const auto ext = out.extension().string();
     if (ext != ".exr" && ext != ".png") {
       std::cerr << "causticd render: --output " << out.string() << ": the file must end in .exr or .png\n";
       return bad_input;
     }
+    // One file written twice keeps only the second: a slip in the command.
+    const auto where = [](const std::filesystem::path& p) {
+      std::error_code ec;
+      const auto resolved = std::filesystem::weakly_canonical(p, ec);
+      return ec ? std::filesystem::absolute(p, ec).lexically_normal() : resolved;
+    };
+    for (std::size_t j = 0; j < i; ++j)
+      if (where(opt.outputs[j]) == where(out)) {
+        std::cerr << "causticd render: --output " << out.string() << ": the same file as --output "
+                  << opt.outputs[j].string() << "\n";
+        return bad_input;
+      }
   }
   if (!load_scene_levels("render", opt.scene, assignments, &scene, &levels)) return bad_input;
   for (const auto& out : opt.outputs)
