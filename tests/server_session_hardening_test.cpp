@@ -225,6 +225,30 @@ TEST(Hardening, TheViewersCandidatesAreBoundedInSizeNumberAndMLine) {
   ::close(fd);
 }
 
+TEST(Hardening, AViewerFloodingUnusableMessagesIsCutOffNotAnsweredForEver) {
+  // Each unusable message was answered with an error that libsoup queued
+  // for a peer that read nothing: 10 MB of 7-byte messages held 300 MB.
+  ServerProcess server;
+  const json s = create_session(server);
+  const int fd = ws_open(server.port(), signal_path(s));
+  ASSERT_GE(fd, 0);
+  ASSERT_TRUE(read_until_offer(fd));
+  for (int i = 0; i < 1000; ++i) ws_send_frame(fd, 1, true, i % 2 ? "x" : R"({"type": "nope"})");
+  ws_send_frame(fd, 2, true, "binary");
+  int errors = 0;
+  std::string bye;
+  for (std::optional<std::string> message; (message = ws_read_text(fd, 20000));) {
+    const json m = json::parse(*message, nullptr, false);
+    if (m.value("type", "") == "error") ++errors;
+    if (m.value("type", "") == "bye") bye = m.value("reason", "");
+  }
+  ::close(fd);
+  EXPECT_EQ(errors, 64) << "each unusable message up to the limit is answered, and no more";
+  EXPECT_EQ(bye, "more than 64 signalling messages the server cannot use");
+  EXPECT_TRUE(wait_sessions(server, 0, 20));
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
+}
+
 TEST(Hardening, APipelineFileWithoutItsNamedElementsFailsItsSessionsNotTheServer) {
   // The operator's copy of the data folder, its VP8 pipeline without the
   // encoder's name (the frame probes reach it by name): the server ran with

@@ -140,6 +140,9 @@ class Session : public std::enable_shared_from_this<Session> {
   // every socket the session lets go is told why.
   void say_bye(const std::string& reason);
   void on_socket_message(const std::string& text);
+  // Answers a message the session cannot use with an `error` saying why;
+  // past kMaxRefusals on one socket, says `bye` and closes it instead.
+  void refuse(const std::string& why);
   void negotiate();
   void offer_created(GstPromise* promise);
   // webrtcbin's word on the answer: `refusal` empty when it took it.
@@ -175,6 +178,7 @@ class Session : public std::enable_shared_from_this<Session> {
   std::string offer_sdp_;  // the offer sent to this pipeline's viewer; "" before it
   unsigned offer_lines_ = 0;  // its m-lines
   int candidates_ = 0;        // the viewer's ICE candidates given to this pipeline
+  int refusals_ = 0;          // messages of this socket answered with an error
   bool answered_ = false;  // an answer went to webrtcbin (and was not refused)
   // Counts the pipelines torn down: a job a pipeline's thread posts
   // carries the count it saw (read off the main thread, hence atomic).

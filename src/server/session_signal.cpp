@@ -143,7 +143,7 @@ void Session::answer_set(const std::string& refusal) {
     // webrtcbin's words may quote the answer: they go to the log, not back.
     answered_ = false;
     log(Level::info, "session " + id_ + ": webrtcbin refused the answer: " + printable_name(refusal, 200), log_context());
-    send({{"type", "error"}, {"message", "answer: the WebRTC stack refused it (its reason is in the server's log)"}});
+    refuse("answer: the WebRTC stack refused it (its reason is in the server's log)");
     return;
   }
   // The transports DTLS runs on: the first sender's, and the data
@@ -210,6 +210,16 @@ void Session::send(const nlohmann::json& message) {
   soup_websocket_connection_send_text(socket_, message.dump().c_str());
 }
 
+void Session::refuse(const std::string& why) {
+  // libsoup queues what it sends without bound: a peer that sends bad
+  // messages and reads nothing made the server hold some 200 bytes for each
+  // 7-byte message it sent (300 MB for a 10 MB flood).
+  if (refusals_ > kMaxRefusals) return;  // closing: the rest are not answered
+  if (++refusals_ > kMaxRefusals)
+    return say_bye("more than " + std::to_string(kMaxRefusals) + " signalling messages the server cannot use");
+  send({{"type", "error"}, {"message", why}});
+}
+
 void Session::say_bye(const std::string& reason) {
   if (!socket_ || soup_websocket_connection_get_state(socket_) != SOUP_WEBSOCKET_STATE_OPEN) return;
   soup_websocket_connection_send_text(socket_, nlohmann::json{{"type", "bye"}, {"reason", reason}}.dump().c_str());
@@ -232,6 +242,7 @@ void Session::attach(SoupWebsocketConnection* socket) {
     build();
   }
   had_viewer_ = true;
+  refusals_ = 0;
   alive_now();
   socket_ = G_TYPE_CHECK_INSTANCE_CAST(g_object_ref(socket), SOUP_TYPE_WEBSOCKET_CONNECTION, SoupWebsocketConnection);
   soup_websocket_connection_set_max_incoming_payload_size(socket_, kMaxSignalMessageBytes);
@@ -241,7 +252,7 @@ void Session::attach(SoupWebsocketConnection* socket) {
         auto s = static_cast<Ref*>(data)->lock();
         if (!s) return;
         if (type != SOUP_WEBSOCKET_DATA_TEXT) {
-          s->send({{"type", "error"}, {"message", "signalling messages are JSON text, not binary"}});
+          s->refuse("signalling messages are JSON text, not binary");
           return;
         }
         gsize size = 0;
@@ -263,23 +274,14 @@ void Session::attach(SoupWebsocketConnection* socket) {
 
 void Session::on_socket_message(const std::string& text) {
   const SignalMessage message = parse_signal_message(text);
-  if (const auto* error = std::get_if<SignalError>(&message)) {
-    send({{"type", "error"}, {"message", error->message}});
-    return;
-  }
+  if (const auto* error = std::get_if<SignalError>(&message)) return refuse(error->message);
   alive_now();
   if (const auto* answer = std::get_if<SignalAnswer>(&message)) {
     // webrtcbin refused a second answer only in its debug log.
-    if (answered_) {
-      send({{"type", "error"}, {"message", "answer: this offer is answered already (a new connection gets a new offer)"}});
-      return;
-    }
+    if (answered_) return refuse("answer: this offer is answered already (a new connection gets a new offer)");
     // webrtcbin takes the answer's m-lines by position, some mismatches
     // with an abort of the whole process: only a fitting answer reaches it.
-    if (const std::string why = answer_mismatch(offer_sdp_, answer->sdp); !why.empty()) {
-      send({{"type", "error"}, {"message", why}});
-      return;
-    }
+    if (const std::string why = answer_mismatch(offer_sdp_, answer->sdp); !why.empty()) return refuse(why);
     answered_ = true;
     fingerprints_ = answer_fingerprints(answer->sdp);
     GstSDPMessage* sdp = nullptr;
@@ -310,10 +312,7 @@ void Session::on_socket_message(const std::string& text) {
     // webrtcbin keeps each candidate it is given (before an answer, or for
     // an m-line it has no transport for) until the next negotiation: only
     // the offer's m-lines take them, and a bounded number a connection.
-    if (ice->mline >= offer_lines_) {
-      send({{"type", "error"}, {"message", "ice: the offer has " + std::to_string(offer_lines_) + " m-lines"}});
-      return;
-    }
+    if (ice->mline >= offer_lines_) return refuse("ice: the offer has " + std::to_string(offer_lines_) + " m-lines");
     if (ice->candidate.empty()) return;  // end of candidates
     if (candidates_ >= kMaxCandidates) {
       if (candidates_ == kMaxCandidates)  // said once; the count stops one past the limit

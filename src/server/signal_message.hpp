@@ -18,6 +18,9 @@ inline constexpr std::size_t kMaxSignalMessageBytes = 64 * 1024;
 /// The longest ICE candidate taken, and how many a connection may send.
 inline constexpr std::size_t kMaxCandidateBytes = 512;
 inline constexpr int kMaxCandidates = 64;
+/// Messages a socket may send that the server cannot use: each is answered
+/// with an error, and the answers queue for a peer that need not read them.
+inline constexpr int kMaxRefusals = 64;
 
 struct SignalAnswer {
   std::string sdp;  ///< checked to be SDP that GStreamer parses
