@@ -35,6 +35,14 @@ TEST_F(CliInputs, BenchListsAreCheckedAndBounded) {
   EXPECT_FALSE(fs::exists(dir_ / "results.csv"));
 }
 
+TEST_F(CliInputs, ABenchFlagTheBenchDoesNotReadIsSaid) {
+  const CommandResult r = causticd("bench --out " + dir_.string() +
+                                   " --perf --meshes 8 --sizes 128 --frames 1 --photons 5000 --source 64");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: --photons: has no effect with --perf"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("warning: --source: has no effect with --perf"), std::string::npos) << r.output;
+}
+
 TEST_F(CliInputs, AKeyPathNamingNoKeyIsRefusedAtOnce) {
   // 20,000 keys deep once took 40 s to build, level by level.
   std::string path = "a";

@@ -262,6 +262,14 @@ std::function<int()> add_bench_command(CLI::App& app) {
         std::cerr << "causticd bench: " << why << "\n";
         return static_cast<int>(bad_input);
       }
+    // A flag the chosen bench never reads would seem to have shaped its rows: said.
+    const char* mode = *perf ? "--perf" : *water ? "--water" : *multipass ? "--multipass" : "--spectral";
+    std::vector<const char*> unread;
+    if (*perf) unread = {"--photons", "--source"};
+    else if (*water) unread = {"--photons", "--source", "--meshes", "--frames"};
+    else if (*multipass || *spectral) unread = {"--source"};
+    for (const char* flag : unread)
+      if (cmd->count(flag)) std::cerr << "causticd bench: warning: " << flag << ": has no effect with " << mode << "\n";
     if (!bench_folder_ready(opt->out)) return static_cast<int>(bad_input);
     try {
       if (*perf) return run_perf_bench({opt->out, opt->frames, opt->meshes, opt->sizes});
