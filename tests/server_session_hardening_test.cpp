@@ -249,6 +249,24 @@ TEST(Hardening, AViewerFloodingUnusableMessagesIsCutOffNotAnsweredForEver) {
   EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
 }
 
+TEST(Hardening, ASignallingMessageUpToTheConfiguredLimitIsTaken) {
+  // The socket's own limit was a fixed 64 KiB: a larger max_ws_message_bytes
+  // let the message past the accept path only for libsoup to cut it off.
+  ServerProcess server({"--set", "max_ws_message_bytes=131072"});
+  const json s = create_session(server);
+  const int fd = ws_open(server.port(), signal_path(s));
+  ASSERT_GE(fd, 0);
+  ASSERT_TRUE(read_until_offer(fd));
+  ws_send_frame(fd, 1, true, json{{"type", "ping"}, {"pad", std::string(100000, 'a')}}.dump());
+  ws_send_frame(fd, 1, true, "x");  // answered only while the socket is open
+  std::string error;
+  for (std::optional<std::string> m; error.empty() && (m = ws_read_text(fd, 20000));)
+    if (const json j = json::parse(*m, nullptr, false); j.value("type", "") == "error") error = j.value("message", "");
+  EXPECT_EQ(error, "a signalling message is a JSON object with a string \"type\"");
+  EXPECT_EQ(sessions_now(server), 1);
+  ::close(fd);
+}
+
 TEST(Hardening, APipelineFileWithoutItsNamedElementsFailsItsSessionsNotTheServer) {
   // The operator's copy of the data folder, its VP8 pipeline without the
   // encoder's name (the frame probes reach it by name): the server ran with

@@ -245,7 +245,10 @@ void Session::attach(SoupWebsocketConnection* socket) {
   refusals_ = 0;
   alive_now();
   socket_ = G_TYPE_CHECK_INSTANCE_CAST(g_object_ref(socket), SOUP_TYPE_WEBSOCKET_CONNECTION, SoupWebsocketConnection);
-  soup_websocket_connection_set_max_incoming_payload_size(socket_, kMaxSignalMessageBytes);
+  // The limit the accept path's guard holds the socket's frames to: with
+  // a fixed 64 KiB here, a larger max_ws_message_bytes cut the socket off
+  // at 64 KiB all the same.
+  soup_websocket_connection_set_max_incoming_payload_size(socket_, options_.config->max_ws_message_bytes);
   socket_message_ = g_signal_connect_data(
       socket_, "message",
       G_CALLBACK((+[](SoupWebsocketConnection*, gint type, GBytes* bytes, gpointer data) {
@@ -273,7 +276,7 @@ void Session::attach(SoupWebsocketConnection* socket) {
 }
 
 void Session::on_socket_message(const std::string& text) {
-  const SignalMessage message = parse_signal_message(text);
+  const SignalMessage message = parse_signal_message(text, options_.config->max_ws_message_bytes);
   if (const auto* error = std::get_if<SignalError>(&message)) return refuse(error->message);
   alive_now();
   if (const auto* answer = std::get_if<SignalAnswer>(&message)) {

@@ -264,9 +264,8 @@ std::string answer_mismatch(std::string_view offer_text, std::string_view answer
   return "";
 }
 
-SignalMessage parse_signal_message(std::string_view text) {
-  if (text.size() > kMaxSignalMessageBytes)
-    return SignalError{"a signalling message is at most " + std::to_string(kMaxSignalMessageBytes) + " bytes"};
+SignalMessage parse_signal_message(std::string_view text, std::size_t max_bytes) {
+  if (text.size() > max_bytes) return SignalError{"a signalling message is at most " + std::to_string(max_bytes) + " bytes"};
   JsonTextError error;
   const auto message = parse_json_text(text, &error, 4);
   if (!message || !message->is_object() || !message->contains("type") || !(*message)["type"].is_string())

@@ -13,7 +13,8 @@
 
 namespace caustic::server {
 
-/// The largest signalling message taken: an SDP answer is a few KiB.
+/// The largest signalling message taken unless the configuration's
+/// max_ws_message_bytes says otherwise: an SDP answer is a few KiB.
 inline constexpr std::size_t kMaxSignalMessageBytes = 64 * 1024;
 /// The longest ICE candidate taken, and how many a connection may send.
 inline constexpr std::size_t kMaxCandidateBytes = 512;
@@ -37,8 +38,8 @@ struct SignalError {
 
 using SignalMessage = std::variant<SignalAnswer, SignalIce, SignalPing, SignalError>;
 
-/// Parses one text message. Never throws.
-SignalMessage parse_signal_message(std::string_view text);
+/// Parses one text message of at most `max_bytes`. Never throws.
+SignalMessage parse_signal_message(std::string_view text, std::size_t max_bytes = kMaxSignalMessageBytes);
 
 /// Why `answer` cannot answer `offer` (both SDP text), or "" when it can:
 /// one m-line for each of the offer's, in the same order, each of the same
