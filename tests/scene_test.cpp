@@ -102,6 +102,9 @@ TEST(SceneJson, RejectsBadValuesNamingTheKey) {
   expect_rejected(with("post", "bloom_radius", 100), "post.bloom_radius");
   expect_rejected(with("post", "bloom_strength", -1), "post.bloom_strength");
   expect_rejected(json{{"mesh", "m.obj"}, {"focus_distance", -1}}, "focus_distance");
+  // Shown in the gallery: no NUL, no escape sequence (as the designer's --name).
+  expect_rejected(json{{"mesh", "m.obj"}, {"name", std::string("a\0b", 3)}}, "name");
+  expect_rejected(json{{"mesh", "m.obj"}, {"description", "\x1b[2Jcleared"}}, "description");
 }
 
 TEST(SceneJson, RejectsUnknownKeysAtEveryLevel) {

@@ -97,6 +97,16 @@ class Reader {
     return s;
   }
 
+  /// A string shown to people (a title, a description): as string(), and
+  /// without control characters, as the designer's --name and an upload's
+  /// name are (a NUL or an escape sequence in a gallery title).
+  std::string text(const std::string& k, std::size_t max_len) {
+    std::string s = string(k, "", max_len);
+    for (unsigned char ch : s)
+      if (ch < 0x20 || ch == 0x7f) throw SceneError(key(k), "must not hold control characters");
+    return s;
+  }
+
   template <typename Enum>
   Enum choice(const std::string& k, Enum fallback, Names<Enum> options) {
     const json* v = get(k);

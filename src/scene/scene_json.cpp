@@ -225,8 +225,8 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir,
   Reader r(j, "");
   Scene s;
   s.base_dir = base_dir;
-  s.name = r.string("name", "", 200);
-  s.description = r.string("description", "", 2000);
+  s.name = r.text("name", 200);
+  s.description = r.text("description", 2000);
   // Water makes its own surface: a mesh it names is ignored (with a warning, scene_warnings.hpp).
   if (r.get("water")) s.water = detail::read_water(r.child("water"));
   if (!r.has("mesh") && !s.water) throw SceneError("mesh", "is required (path of the caustic face OBJ)");
