@@ -10,6 +10,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 using namespace caustic;
 
 namespace {
@@ -203,6 +207,38 @@ TEST_F(ObjFiles, RejectsBadFiles) {
   // Blanks of every kind separate words; a NUL is no blank.
   const char with_nul[] = "v\t0 0 0\nv 1\f0 0\nv 1 1\v0\nv 0 1 0\0\nf 1 2 3\n";
   expect_error(std::string(with_nul, sizeof with_nul - 1), "line 4: \"0");
+}
+
+TEST_F(ObjFiles, TheTextIsHeldOnce) {
+  // The loader's own string reader copied the text: a 1 GiB file held 2 GiB.
+  // A child with room for 128 MiB of text once, and 96 MiB besides, loads it.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "a sanitizer's own memory counts against the address space";
+#endif
+  const auto path = dir_ / "padded.obj";
+  {
+    std::ofstream out(path);
+    out << kSquare;
+    const std::string comment = "#" + std::string(1022, 'x') + "\n";
+    for (int i = 0; i < 128 * 1024; ++i) out << comment;
+  }
+  long pages = 0;
+  std::ifstream("/proc/self/statm") >> pages;
+  const rlim_t room = static_cast<rlim_t>(pages) * static_cast<rlim_t>(sysconf(_SC_PAGESIZE)) + (rlim_t{224} << 20);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const rlimit limit{room, room};
+    setrlimit(RLIMIT_AS, &limit);
+    try {
+      _exit(load_obj(path).triangles.size() == 2 ? 0 : 2);
+    } catch (...) {
+      _exit(1);
+    }
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "status " << status;
 }
 
 TEST_F(ObjFiles, MissingFileIsAnError) {

@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <istream>
+#include <streambuf>
 #include <limits>
 #include <map>
 #include <memory>
@@ -169,6 +171,15 @@ void check_numbers(const std::string& text, const std::string& label, const Mesh
 
 Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool atlas);
 
+// A read-only stream over text already in memory, without a copy.
+class InPlace : public std::streambuf {
+ public:
+  explicit InPlace(const std::string& text) {
+    char* begin = const_cast<char*>(text.data());  // only ever read: no put area
+    setg(begin, begin, begin + text.size());
+  }
+};
+
 }  // namespace
 
 std::vector<glm::vec3> smooth_normals(const std::vector<glm::vec3>& positions,
@@ -250,19 +261,19 @@ Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool 
   if (read.too_large) throw SceneError("mesh", "mesh file " + label + " is larger than the limit");
   const std::string& text = read.text;
   check_numbers(text, label, limits);
-  tinyobj::ObjReaderConfig config;
-  config.triangulate = false;
-  config.vertex_color = false;
-  tinyobj::ObjReader reader;
-  // From memory, with an empty material library: the loader never opens a
-  // file of its own, whatever the text names.
-  if (!reader.ParseFromString(text, "", config)) {
-    std::string err = reader.Error();
+  // From memory, with no material reader: the loader never opens a file of
+  // its own, whatever the text names. The text is read where it lies (the
+  // loader's ParseFromString copies it: a 1 GiB file held 2 GiB).
+  InPlace buffer(text);
+  std::istream stream(&buffer);
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+  std::string warn, err;
+  if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &stream, nullptr, false, false)) {
     while (!err.empty() && err.back() == '\n') err.pop_back();
     throw SceneError("mesh", "mesh file " + label + " is not a valid OBJ: " + (err.empty() ? "parse error" : err));
   }
-  const auto& attrib = reader.GetAttrib();
-  const auto& shapes = reader.GetShapes();
   const std::size_t vertex_count = attrib.vertices.size() / 3;
   // check_numbers made sure every vertex has a colour or none does.
   const bool coloured = attrib.colors.size() == attrib.vertices.size() && !attrib.colors.empty();
