@@ -267,6 +267,39 @@ TEST(Hardening, ASignallingMessageUpToTheConfiguredLimitIsTaken) {
   ::close(fd);
 }
 
+TEST(Hardening, SignallingSocketsAreNotCompressed) {
+  // With permessage-deflate, 48 KB on the wire, within the message limit,
+  // inflated to 50 MB in the server before any limit saw it.
+  ServerProcess server;
+  const json s = create_session(server);
+  const int fd = raw_connect(server.port());
+  ASSERT_GE(fd, 0);
+  raw_send(fd, "GET " + signal_path(s) +
+                   " HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                   "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n"
+                   "Sec-WebSocket-Extensions: permessage-deflate; client_max_window_bits\r\n\r\n");
+  std::string head;
+  char ch;
+  while (head.find("\r\n\r\n") == std::string::npos && head.size() < 4096) {
+    pollfd p{fd, POLLIN, 0};
+    if (::poll(&p, 1, 20000) <= 0 || ::recv(fd, &ch, 1, 0) != 1) break;
+    head += ch;
+  }
+  ASSERT_EQ(raw_status(head), 101) << head;
+  EXPECT_EQ(raw_header(head, "Sec-WebSocket-Extensions"), "") << head;
+  // A frame marked compressed (RSV1) is then a protocol error, not inflated.
+  const std::string stored = std::string("\x00\x01\x00\xfe\xff", 5) + "x";  // a deflate stored block
+  std::string frame = "\xc1";
+  frame += static_cast<char>(0x80 | stored.size());
+  frame += std::string(4, '\0');  // a zero mask
+  raw_send(fd, frame + stored);
+  bool closed = false;
+  raw_read_all(fd, 20000, &closed);
+  ::close(fd);
+  EXPECT_TRUE(closed) << "a compressed frame was taken";
+  EXPECT_TRUE(wait_sessions(server, 0, 20));
+}
+
 TEST(Hardening, APipelineFileWithoutItsNamedElementsFailsItsSessionsNotTheServer) {
   // The operator's copy of the data folder, its VP8 pipeline without the
   // encoder's name (the frame probes reach it by name): the server ran with

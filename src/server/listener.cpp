@@ -90,7 +90,13 @@ guint after_ms(std::weak_ptr<Listener*> owner, guint ms, Fn fn) {
 }  // namespace
 
 Listener::Listener(SoupServer* server, Metrics& metrics, ListenerLimits limits)
-    : server_(server), metrics_(metrics), limits_(limits), alive_(std::make_shared<Listener*>(this)) {}
+    : server_(server), metrics_(metrics), limits_(limits), alive_(std::make_shared<Listener*>(this)) {
+  // The guard holds a socket's messages to max_ws_message_bytes as they
+  // travel: permessage-deflate would inflate them past it unchecked
+  // (libsoup 3.2 held 48 KB on the wire that became 50 MB in memory), and
+  // signalling messages are a few KiB that need no compression.
+  soup_server_remove_websocket_extension(server_, SOUP_TYPE_WEBSOCKET_EXTENSION_DEFLATE);
+}
 
 Listener::~Listener() {
   alive_.reset();
