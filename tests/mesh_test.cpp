@@ -139,6 +139,7 @@ TEST_F(ObjFiles, RejectsWhatTheLoaderWouldMisreadOrHoardBeforeItRuns) {
   // texture coordinate grew with the file (200 MB of "l" lines took 4 GB):
   // refused at its line, or counted against the limits.
   expect_error(corners + "f 1 2 3\nl 1 2 3 1 2 3\n", "line 5: a line (l) is no triangle");
+  expect_error(corners + "f 1 2 3\n#" + std::string(1 << 16, 'x') + "\n", "line 5: longer than 65536 bytes");
   std::string materials = corners + "f 1 2 3\n";
   for (int i = 0; i < 4097; ++i) materials += "usemtl a\n";
   expect_error(materials, "line 4101: more than 4096 objects, groups and materials");

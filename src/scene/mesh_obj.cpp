@@ -38,15 +38,13 @@ bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y
 // reads "1.5" or "3x" as an index, and keeps every "o" and "g" as a shape
 // of its own (8 million of them, 100 MB of text, took 5 GB before the
 // triangle limit could be checked): indices are checked here, and the
-// statements counted against the limits before the loader runs. What the
-// loader keeps of the others grows with the file too: an "l" line's
-// corners (6 times its text: 200 MB of them took 4 GB), a warning for each
-// "usemtl" (there is no library), and every "vn" and "vt". A line is
-// refused at once (it is no triangle), material switches are counted with
-// the groups, and normals and texture coordinates are bounded by the
-// vertex limit: each one a face uses makes a vertex of its own (a caustic
-// face reads no texture coordinates, a receiver's atlas needs them).
+// statements counted against the limits before the loader runs. So are
+// what else it keeps as the file grows: an "l" line's corners (200 MB took
+// 4 GB; refused, no triangle), a warning per "usemtl" (no library), each
+// "vn" and "vt" (bounded by the vertex limit: each one a face uses makes a
+// vertex of its own; a receiver's atlas needs vt, a caustic face not).
 constexpr std::size_t kMaxGroups = 4096;  // "o", "g" and "usemtl" statements
+constexpr std::ptrdiff_t kMaxLineBytes = 1 << 16;
 
 // A face's corner: v, v/vt, v//vn or v/vt/vn, each a nonzero integer (a
 // negative one counts back from the last vertex) within an int.
@@ -88,6 +86,9 @@ void check_numbers(const std::string& text, const std::string& label, const Mesh
     const char* line_end = p;
     while (line_end < end && *line_end != '\n' && *line_end != '\r') ++line_end;
     const char* const next = line_end + (line_end + 1 < end && line_end[0] == '\r' && line_end[1] == '\n' ? 2 : 1);
+    // The loader copies each line, growing its copy by doubling: one line
+    // of 1 GiB (a comment) would take 2 GiB more. A triangle's is ~100 bytes.
+    if (line_end - p > kMaxLineBytes) fail(number, "longer than " + std::to_string(kMaxLineBytes) + " bytes");
     // The words of the line, one at a time.
     const auto next_word = [&]() -> bool {
       while (p < line_end && blank(*p)) ++p;
@@ -171,7 +172,7 @@ void check_numbers(const std::string& text, const std::string& label, const Mesh
 
 Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool atlas);
 
-// A read-only stream over text already in memory, without a copy.
+// A read-only stream over the text in memory.
 class InPlace : public std::streambuf {
  public:
   explicit InPlace(const std::string& text) {
