@@ -91,6 +91,21 @@ TEST_F(CliInputs, AnOutputNamedTwiceIsRefused) {
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
 }
 
+TEST_F(CliInputs, AnEmptyFileNameIsRefusedNotTakenAsLeftOut) {
+  // calibrate -o '' wrote over the calibration beside the scene.
+  const fs::path copy = dir_ / "slab.json";
+  fs::copy_file(fs::path(CAUSTIC_ASSET_DIR) / "meshes" / "slab.obj", dir_ / "slab.obj");
+  std::ofstream(copy) << R"({"mesh": "slab.obj", "object": {"flat_face_offset": 1.0}})";
+  expect_rejected("calibrate --scene " + copy.string() + " -o '' --photons 1000", "--output: must not be empty");
+  EXPECT_FALSE(fs::exists(dir_ / "slab.calibration.json"));
+  const fs::path logo = fs::path(CAUSTIC_ASSET_DIR) / "designs" / "design-logo.target.png";
+  if (!fs::exists(logo)) GTEST_SKIP() << "built without the designer";
+  for (const char* flag : {"--scene-out", "--solid", "--report", "--side-by-side"})
+    expect_rejected("design --target " + logo.string() + " -o " + (dir_ / "face.obj").string() + " " + flag + " ''",
+                    std::string(flag) + ": must not be empty");
+  EXPECT_FALSE(fs::exists(dir_ / "face.obj"));
+}
+
 TEST_F(CliInputs, AFaceOfManyCornersIsNotReadAsATriangle) {
   // The reader counts a face's corners in a byte: 259 came out as 3.
   std::ofstream obj(dir_ / "fan.obj");

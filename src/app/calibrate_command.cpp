@@ -70,7 +70,8 @@ std::function<int()> add_calibrate_command(CLI::App& app) {
   auto opt = std::make_shared<CalibrateCommandOptions>();
   CLI::App* cmd = app.add_subcommand("calibrate", "Measure each fidelity configuration of a scene against the reference");
   cmd->add_option("--scene", opt->scene, "Scene file (JSON)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--output,-o", opt->output, "Calibration file (default: beside the scene, S.calibration.json)");
+  cmd->add_option("--output,-o", opt->output, "Calibration file (default: beside the scene, S.calibration.json)")
+      ->check(not_empty());
   cmd->add_option("--set", opt->assignments, "Override a scene key before calibrating");
   cmd->add_option("--photons", opt->calibrate.photons, "Photons for the reference")
       ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1} << 36));

@@ -33,6 +33,13 @@ inline CLI::Validator seed_number() {
       "UINT64");
 }
 
+/// A file named on the command line: "" is refused, not taken as left out
+/// (calibrate -o "" wrote over the calibration beside the scene).
+inline CLI::Validator not_empty() {
+  return CLI::Validator([](std::string& text) { return text.empty() ? std::string("must not be empty") : std::string(); },
+                        "NOT EMPTY");
+}
+
 /// Exit statuses shared by every subcommand.
 enum Exit : int { ok = 0, runtime_failure = 1, bad_input = 2 };
 

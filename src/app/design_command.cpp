@@ -333,7 +333,7 @@ std::function<int()> add_design_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("design", "Design the freeform face that projects a target picture");
   cmd->add_option("--target", opt->target, "Target picture (PNG, JPEG, EXR, TIFF, ...)")->required();
   cmd->add_option("--output,-o", opt->face, "Freeform face to write (.obj, millimetres, vertex normals)")->required();
-  cmd->add_option("--scene-out", opt->scene, "Scene file to write (.json; default: beside the face)");
+  cmd->add_option("--scene-out", opt->scene, "Scene file to write (.json; default: beside the face)")->check(not_empty());
   cmd->add_option("--name", opt->name, "Scene name shown in the gallery (default: \"Designed caustic\")");
   cmd->add_option("--description", opt->description, "Scene description shown in the gallery");
   cmd->add_option("--size", opt->design.size, "Lens side, mm");
@@ -345,13 +345,13 @@ std::function<int()> add_design_command(CLI::App& app) {
   cmd->add_flag("--accept-unconverged", opt->accept_unconverged,
                 "Write a design whose transport or Snell passes did not converge (exit 1 otherwise)");
   cmd->add_option("--min-thickness", opt->design.min_thickness, "Thinnest glass, mm");
-  cmd->add_option("--solid", opt->solid, "Also write the watertight slab (.obj) for milling");
+  cmd->add_option("--solid", opt->solid, "Also write the watertight slab (.obj) for milling")->check(not_empty());
   CLI::Option* verify = cmd->add_flag("--verify", opt->verify, "Also trace the design with the reference photon tracer");
   cmd->add_option("--photons", opt->photons, "Photons for --verify")
       ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1} << 34))
       ->needs(verify);
-  cmd->add_option("--side-by-side", opt->side_by_side, "PNG: target | engine render (| reference render with --verify)");
-  cmd->add_option("--report", opt->report, "JSON file with every figure");
+  cmd->add_option("--side-by-side", opt->side_by_side, "PNG: target | engine render (| reference render with --verify)")->check(not_empty());
+  cmd->add_option("--report", opt->report, "JSON file with every figure")->check(not_empty());
   cmd->add_flag("--no-check", opt->no_check, "Skip the engine render (no OpenGL needed)");
   cmd->add_flag("--regular-grid", opt->regular, "Resample the face onto a regular lens grid (no sliver triangles)");
   cmd->add_flag("--colour", opt->colour,
