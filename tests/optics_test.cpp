@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 using namespace caustic::optics;
 
@@ -127,4 +128,50 @@ TEST(SolidAngle, SmallDistantTriangleIsProjectedAreaOverDistanceSquared) {
   const double d = 1000.0;
   const double omega = solid_angle({0, 0, d}, {0, 0, 0}, {1e-2, 0, 0}, {0, 1e-2, 0});
   EXPECT_NEAR(omega / (0.5e-4 / (d * d)), 1.0, 1e-6);
+}
+
+TEST(Fresnel, ObliqueReflectanceFollowsFresnelsSineAndTangentLaws) {
+  // R_s = sin²(θi − θt) / sin²(θi + θt), R_p = tan²(θi − θt) / tan²(θi + θt)
+  // (Hecht, Optics, eq. 4.42-4.43 in angle form): the same physics by other
+  // algebra, so a cosine swapped or left unsquared shows. Both ways through
+  // the surface, up to the critical angle from the glass side.
+  for (const auto& [n1, n2] : {std::pair{1.0, 1.5}, std::pair{1.5, 1.0}, std::pair{1.0, 1.333}}) {
+    for (double degrees = 5; degrees < 90; degrees += 5) {
+      const double ti = degrees * kPi / 180, sin_t = n1 / n2 * std::sin(ti);
+      if (sin_t >= 1) continue;
+      const double tt = std::asin(sin_t);
+      const double rs = std::pow(std::sin(ti - tt) / std::sin(ti + tt), 2);
+      const double rp = std::pow(std::tan(ti - tt) / std::tan(ti + tt), 2);
+      const FresnelTerms f = fresnel(std::cos(ti), std::cos(tt), n1, n2);
+      EXPECT_NEAR(f.r_s * f.r_s, rs, 1e-12) << n1 << " to " << n2 << " at " << degrees;
+      EXPECT_NEAR(f.r_p * f.r_p, rp, 1e-12) << n1 << " to " << n2 << " at " << degrees;
+      EXPECT_NEAR(fresnel_transmittance(std::cos(ti), n1, n2), 1 - 0.5 * (rs + rp), 1e-12)
+          << n1 << " to " << n2 << " at " << degrees;
+    }
+  }
+  // Hecht's figures for glass at 45 degrees: R_s 0.092, R_p 0.0085.
+  const double cos_t = std::sqrt(1 - 0.5 / 2.25);
+  EXPECT_NEAR(std::pow(fresnel(std::sqrt(0.5), cos_t, 1.0, 1.5).r_s, 2), 0.0920, 5e-5);
+  EXPECT_NEAR(std::pow(fresnel(std::sqrt(0.5), cos_t, 1.0, 1.5).r_p, 2), 0.0085, 5e-5);
+}
+
+TEST(Fresnel, EqualIndicesAreNoInterfaceEvenAtGrazingIncidence) {
+  // Index-1 glass is a scene the tests use (the inverse-square oracle): a ray
+  // that grazes its face must pass whole, not turn into 0 / 0.
+  for (double cos_i : {1.0, 0.5, 1e-9, 0.0}) {
+    EXPECT_EQ(fresnel_transmittance(cos_i, 1.0, 1.0), 1.0) << cos_i;
+    EXPECT_EQ(fresnel_transmittance(cos_i, 1.5, 1.5), 1.0) << cos_i;
+  }
+  // Unequal indices at grazing incidence and at the critical angle reflect everything.
+  EXPECT_EQ(fresnel(0.0, std::sqrt(1 - 1 / 2.25), 1.0, 1.5).reflectance, 1.0);
+  EXPECT_EQ(fresnel(std::sqrt(1 - 1 / 2.25), 0.0, 1.5, 1.0).reflectance, 1.0);
+}
+
+TEST(SolidAngle, DegenerateAndCoplanarCasesAreTheirLimits) {
+  const Vec3 a(0, 0, 0), b(2, 0, 0), c(0, 2, 0);
+  EXPECT_NEAR(solid_angle({0.5, 0.5, 0}, a, b, c), 2 * kPi, 1e-12);  // in its plane, inside it
+  EXPECT_NEAR(solid_angle({0.5, 0.5, 1e-9}, a, b, c), 2 * kPi, 1e-6);  // the limit from above
+  EXPECT_EQ(solid_angle({3, 3, 0}, a, b, c), 0.0);                    // in its plane, outside it
+  EXPECT_EQ(solid_angle({1, 1, 5}, a, b, {1, 0, 0}), 0.0);             // no area
+  EXPECT_NEAR(critical_angle(1.0), kPi / 2, 1e-15);
 }
