@@ -91,13 +91,15 @@ TEST_F(CliInputs, AnOutputNamedTwiceIsRefused) {
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
 }
 
-TEST_F(CliInputs, AnEmptyFileNameIsRefusedNotTakenAsLeftOut) {
+TEST_F(CliInputs, AnEmptyNameIsRefusedNotTakenAsLeftOut) {
   // calibrate -o '' wrote over the calibration beside the scene.
   const fs::path copy = dir_ / "slab.json";
   fs::copy_file(fs::path(CAUSTIC_ASSET_DIR) / "meshes" / "slab.obj", dir_ / "slab.obj");
   std::ofstream(copy) << R"({"mesh": "slab.obj", "object": {"flat_face_offset": 1.0}})";
   expect_rejected("calibrate --scene " + copy.string() + " -o '' --photons 1000", "--output: must not be empty");
   EXPECT_FALSE(fs::exists(dir_ / "slab.calibration.json"));
+  // An instance name left empty was no instance at all.
+  expect_rejected("serve --instance '' --scenes-dir " + (dir_ / "absent").string(), "--instance: must not be empty");
   const fs::path logo = fs::path(CAUSTIC_ASSET_DIR) / "designs" / "design-logo.target.png";
   if (!fs::exists(logo)) GTEST_SKIP() << "built without the designer";
   for (const char* flag : {"--scene-out", "--solid", "--report", "--side-by-side"})

@@ -198,7 +198,8 @@ std::function<int()> add_serve_command(CLI::App& app) {
       },
       "Sets any config key: --set key=value (repeatable; docs/configuration.md)");
   cmd->add_option("--ice-address", opt->ice_addresses, "Local address ICE may use (repeatable; default: all)");
-  cmd->add_option("--instance", opt->instance, "Instance name of causticd@.service: <port> or <port>-gpu<N>");
+  cmd->add_option("--instance", opt->instance, "Instance name of causticd@.service: <port> or <port>-gpu<N>")
+      ->check(not_empty());
   return [cmd, opt] { return cmd->parsed() ? run_serve(*opt) : -1; };
 }
 
