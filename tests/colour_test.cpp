@@ -2,7 +2,8 @@
 // Colour from spectra, held against the CIE's published derived figures
 // rather than the code's own sums: the white points of illuminants E, A and
 // D65 (CIE 015:2018), points of the spectrum locus, the integral of y-bar,
-// the sRGB white (IEC 61966-2-1). A mistyped table row moves one of them.
+// the sRGB white (IEC 61966-2-1), the 5 nm table's published column sums
+// and D65's tristimulus values. A mistyped table row moves one of them.
 #include "caustic/colour.hpp"
 
 #include <gtest/gtest.h>
@@ -30,6 +31,34 @@ TEST(Colour, TheIntegralOfYBarIsTheCiesFigure) {
   EXPECT_EQ(cie1931(379).y, 0.0);
   EXPECT_EQ(cie1931(781).x, 0.0);
   EXPECT_DOUBLE_EQ(cie1931(555).y, 1.0);  // the peak of photopic vision
+}
+
+TEST(Colour, TheTablesColumnsAddUpToTheirPublishedSums) {
+  // CIE 15:2004 Table T.4 prints the sums of its 5 nm columns, 380-780 nm:
+  // 21.371524, 21.371327, 21.371540. The rows are where cie1931() is exact;
+  // one figure mistyped by 1e-4 shows, where the white points need 1e-2.
+  Xyz sum;
+  for (int nm = 380; nm <= 780; nm += 5) {
+    const Xyz c = cie1931(nm);
+    sum.x += c.x, sum.y += c.y, sum.z += c.z;
+  }
+  EXPECT_NEAR(sum.x, 21.371524, 2e-5);
+  EXPECT_NEAR(sum.y, 21.371327, 2e-5);
+  EXPECT_NEAR(sum.z, 21.371540, 2e-5);
+}
+
+TEST(Colour, D65sRowsGiveItsPublishedTristimulusValues) {
+  // CIE 015:2018 gives D65 with the 1931 observer as X 95.04, Y 100,
+  // Z 108.88; the 5 nm rows from 380 to 780 nm give 95.043 and 108.880. A
+  // row of the D65 table off by 1 % moves Z by 0.08.
+  Xyz sum;
+  for (int nm = 380; nm <= 780; nm += 5) {
+    const double s = power({Illuminant::d65}, nm);
+    const Xyz c = cie1931(nm);
+    sum.x += s * c.x, sum.y += s * c.y, sum.z += s * c.z;
+  }
+  EXPECT_NEAR(100 * sum.x / sum.y, 95.04, 0.01);
+  EXPECT_NEAR(100 * sum.z / sum.y, 108.88, 0.01);
 }
 
 TEST(Colour, TheSpectrumLocusPassesThroughItsTabulatedPoints) {

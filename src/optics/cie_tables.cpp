@@ -8,7 +8,8 @@
 //    ISO 11664-2 / CIE S 014-2, data set doi:10.25039/CIE.DS.hjfjmt59.
 // Values as published, not rounded. tests/colour_test.cpp checks them against the
 // CIE's own derived figures (white points of E, A and D65, the spectrum
-// locus, the integral of y-bar).
+// locus, the integral of y-bar, the columns' published sums, D65's
+// tristimulus values).
 #include "cie_tables.hpp"
 
 namespace caustic::optics::cie {
