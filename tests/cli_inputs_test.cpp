@@ -108,6 +108,14 @@ TEST_F(CliInputs, AnEmptyNameIsRefusedNotTakenAsLeftOut) {
   EXPECT_FALSE(fs::exists(dir_ / "face.obj"));
 }
 
+TEST_F(CliInputs, ACalibrationAManualSceneDoesNotReadIsSaid) {
+  const CommandResult r = causticd("calibrate --scene " + scene("slab") + " -o " + (dir_ / "c.json").string() +
+                                   " --set render.fidelity=manual --photons 1000 --max-side 64 --frames 1");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: render.fidelity is \"manual\": the scene renders as written"), std::string::npos)
+      << r.output;
+}
+
 TEST_F(CliInputs, AFaceOfManyCornersIsNotReadAsATriangle) {
   // The reader counts a face's corners in a byte: 259 came out as 3.
   std::ofstream obj(dir_ / "fan.obj");

@@ -31,6 +31,10 @@ int run_calibrate(const CalibrateCommandOptions& opt) {
   scene.render.light_grid = levels.written_light_grid;
   const std::filesystem::path output = opt.output.empty() ? calibration_path(opt.scene) : opt.output;
   if (!output_writable("calibrate", output, "--output", scene_inputs(opt.scene, scene))) return bad_input;
+  // Made all the same (the scene may turn to "auto" later), but it is not what renders now.
+  if (scene.render.fidelity == Fidelity::manual)
+    std::cerr << "causticd calibrate: warning: render.fidelity is \"manual\": the scene renders as written and "
+                 "reads no calibration until it is \"auto\"\n";
   return run_reporting("calibrate", opt.scene, [&] {
     GlContext context(egl_platform_from_environment());
     Engine engine;
