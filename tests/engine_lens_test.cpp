@@ -21,16 +21,23 @@ TEST_F(PlanoConvexLens, ProfileMatchesTheExactRayMapBeforeFocus) {
   // caustic (the focus ring, where d rs / d r = 0) or of the image of the
   // aperture's edge are left out: there a pixel's average and the value at
   // its centre legitimately differ.
+  // Measured at most 0.05% on either set-up; a triangle under half a pixel
+  // put whole into one pixel gives 1.3 % at 20 mm, and 5 % at 60 mm.
   const double half = 10.0;
   const auto lens = shared(grid_mesh(plano_convex_lens(kRadius, half), 256, 256));
-  for (const double z : {20.0, 40.0, 60.0}) {
-    Scene s = straight_down_scene(4.0, z, lens_screen_size(z, half), 384);
-    const HdrImage img = render(s, lens);
-    ASSERT_TRUE(all_finite(img));
-    const auto [l1, used] = compare_with_ray_map(img, s.screen.width, z, half);
-    std::printf("z = %.0f mm: relative L1 %.4f over %d pixels\n", z, l1, used);
-    EXPECT_GT(used, 10000) << "z = " << z;
-    EXPECT_LT(l1, 0.03) << "relative L1 at z = " << z;
+  for (const TriangleSetup setup : {TriangleSetup::gpu, TriangleSetup::cpu}) {
+    SCOPED_TRACE(setup == TriangleSetup::gpu ? "on the GL" : "on the CPU");
+    engine_->set_triangle_setup(setup);
+    for (const double z : {20.0, 40.0, 60.0}) {
+      Scene s = straight_down_scene(4.0, z, lens_screen_size(z, half), 384);
+      const HdrImage img = render(s, lens);
+      ASSERT_TRUE(all_finite(img));
+      const auto [l1, used] = compare_with_ray_map(img, s.screen.width, z, half);
+      std::printf("%s, z = %.0f mm: relative L1 %.4f over %d pixels\n", setup == TriangleSetup::gpu ? "GL" : "CPU", z,
+                  l1, used);
+      EXPECT_GT(used, 10000) << "z = " << z;
+      EXPECT_LT(l1, 0.005) << "relative L1 at z = " << z;
+    }
   }
 }
 
