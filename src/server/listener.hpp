@@ -25,6 +25,10 @@
 
 namespace caustic::server {
 
+/// Pictures of the largest size (design_max_upload_bytes) that may arrive
+/// at once: the design queue's default length.
+inline constexpr std::uint64_t kUploadsAtOnce = 4;
+
 struct ListenerLimits {
   int max_connections = 512;
   int max_connections_per_address = 64;
@@ -65,6 +69,10 @@ class Listener {
   // `linger`: the client may still be sending a body (LingeringClose).
   void refuse(GSocket* socket, unsigned status, const std::string& detail, const std::string& headers = "",
               bool linger = false);
+  // Why a body larger than max_body_bytes (a picture) may not come now:
+  // one the size of the largest picture at a time from an address, and
+  // kUploadsAtOnce of them in all. Null when it may.
+  const char* upload_refusal(const Connection& c, const RequestHead& head) const;
   void hand_over(std::uint64_t id, const RequestHead& head);
   void drop(std::uint64_t id);
   static void socket_gone(gpointer data, GObject* where);

@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Hardening of picture uploads on their way in: the HTTP library holds a
+// body whole in memory until its handler runs, so the pictures arriving at
+// once are bounded. Black-box over loopback, from several of its addresses.
+#include "hardening_support.hpp"
+
+#include <arpa/inet.h>
+
+using namespace caustic::testing;
+
+namespace {
+
+constexpr std::size_t kLargest = 1 << 20;  // design_max_upload_bytes below
+
+// A connection to the server from 127.0.0.`host` (all of 127/8 is loopback).
+int connect_from(int port, int host) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_in from{}, to{};
+  from.sin_family = to.sin_family = AF_INET;
+  from.sin_addr.s_addr = htonl(0x7f000000u | static_cast<unsigned>(host));
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  to.sin_port = htons(static_cast<uint16_t>(port));
+  if (::bind(fd, reinterpret_cast<sockaddr*>(&from), sizeof from) != 0 ||
+      ::connect(fd, reinterpret_cast<sockaddr*>(&to), sizeof to) != 0) {
+    ::close(fd);
+    return -1;
+  }
+  return fd;
+}
+
+// Starts a picture of `length` bytes and sends `sent` of them.
+int start_upload(int port, int host, std::size_t length, std::size_t sent) {
+  const int fd = connect_from(port, host);
+  if (fd < 0) return fd;
+  raw_send(fd, "POST /api/v1/designs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: image/png\r\nContent-Length: " +
+                   std::to_string(length) + "\r\n\r\n" + std::string(sent, 'p'));
+  return fd;
+}
+
+// The answer to an upload of the largest size from 127.0.0.`host`, asked
+// again (each a new connection, given 2 s) until it is `status` or 20 tries
+// pass: the server sees the connections before it in its own time.
+std::string answer_until(int port, int host, int status) {
+  std::string answer;
+  for (int i = 0; i < 20 && raw_status(answer) != status; ++i) {
+    const int fd = start_upload(port, host, kLargest, kLargest);
+    if (fd < 0) return "no connection from 127.0.0." + std::to_string(host);
+    answer = raw_read_all(fd, 2000);
+    ::close(fd);
+  }
+  return answer;
+}
+
+}  // namespace
+
+TEST(Hardening, PicturesArrivingAtOnceAreBoundedPerAddressAndInAll) {
+  ServerProcess server({"--set", "design_max_upload_bytes=" + std::to_string(kLargest)});
+  // One picture of the largest size arrives slowly from 127.0.0.1: a second
+  // from there must wait, with a reason and when to try again.
+  std::vector<int> holding = {start_upload(server.port(), 1, kLargest, 1000)};
+  ASSERT_GE(holding.back(), 0);
+  std::string answer = answer_until(server.port(), 1, 503);
+  expect_problem_answer(answer, 503);
+  EXPECT_EQ(raw_header(answer, "Retry-After"), "2");
+  EXPECT_NE(answer.find("a picture from your address is still arriving"), std::string::npos) << answer;
+  // Another address still uploads (the bytes are no picture: 415).
+  expect_problem_answer(answer_until(server.port(), 2, 415), 415);
+  // Four slow pictures in all (the limit, kUploadsAtOnce): a fifth address waits too.
+  for (int host = 3; host <= 5; ++host) {
+    holding.push_back(start_upload(server.port(), host, kLargest, 1000));
+    ASSERT_GE(holding.back(), 0);
+  }
+  answer = answer_until(server.port(), 6, 503);
+  expect_problem_answer(answer, 503);
+  EXPECT_NE(answer.find("too many pictures are arriving at once"), std::string::npos) << answer;
+  // Once they are gone, pictures come in again.
+  for (const int fd : holding) ::close(fd);
+  expect_problem_answer(answer_until(server.port(), 6, 415), 415);
+  expect_problem_answer(answer_until(server.port(), 1, 415), 415);
+  EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
+}
