@@ -27,7 +27,7 @@ TEST(Colour, TheIntegralOfYBarIsTheCiesFigure) {
   // ∫ y-bar dλ = 106.857 over 360..830 nm; 380..780 holds all but 0.001 %.
   double sum = 0;
   for (int nm = 380; nm < 780; ++nm) sum += cie1931(nm + 0.5).y;
-  EXPECT_NEAR(sum, 106.857, 0.02);
+  EXPECT_NEAR(sum, 106.857, 0.002);  // measured 106.8565: linear between the 5 nm rows
   EXPECT_EQ(cie1931(379).y, 0.0);
   EXPECT_EQ(cie1931(781).x, 0.0);
   EXPECT_DOUBLE_EQ(cie1931(555).y, 1.0);  // the peak of photopic vision

@@ -33,7 +33,9 @@ struct Rgb {
 };
 
 /// The CIE 1931 2-degree colour-matching functions at `nm`, linearly
-/// interpolated between the 5 nm table rows; zero outside 380..780 nm.
+/// interpolated between the 5 nm table rows (summed in 1 nm steps, ȳ
+/// integrates to within 2e-5 of the CIE's 1 nm table's 106.857); zero
+/// outside 380..780 nm and for NaN.
 Xyz cie1931(double nm);
 /// Chromaticity (x, y) of a colour; (0, 0) for black.
 std::array<double, 2> chromaticity(const Xyz& c);
@@ -58,7 +60,9 @@ struct LightSpectrum {
   bool operator==(const LightSpectrum&) const = default;
 };
 
-/// Relative spectral power of the light at `nm` (arbitrary scale). The LED
+/// Relative spectral power of the light at `nm` (arbitrary scale; D65 is 0
+/// outside its table's 380..780 nm, as the observer is). A blackbody takes
+/// the temperatures wavelength_samples() accepts. The LED
 /// is a model, not a CIE table: a blue InGaN peak (Gaussian, 450 nm, FWHM
 /// 20 nm) plus the broad phosphor band (Gaussian, 560 nm, FWHM 120 nm) at
 /// 0.6 of the blue peak's height: a cool white near 6000 K (x 0.320,
