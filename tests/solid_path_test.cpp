@@ -25,6 +25,16 @@ const Mesh& lens() {
   return mesh;
 }
 
+// Snell's law as the conservation of the ray's component along the surface:
+// it scales by eta = n_from / n_to, the normal component makes up a unit
+// vector. Written here rather than taken from optics::refract, the code
+// under test. `n` is the unit normal, either side.
+glm::dvec3 snell(const glm::dvec3& d, glm::dvec3 n, double eta) {
+  if (glm::dot(n, d) > 0) n = -n;
+  const glm::dvec3 along = eta * (d - glm::dot(d, n) * n);
+  return along - std::sqrt(1 - glm::dot(along, along)) * n;
+}
+
 // Closed form: where a ray straight down at (x, y) crosses the plane z = z_screen
 // after refracting at the upper sphere (centre (0, 0, d/2 - R)) and the lower
 // one (centre (0, 0, -d/2 + R)).
@@ -38,9 +48,9 @@ glm::dvec2 exact_landing(double x, double y, double z_screen) {
     return o + (far ? -b + root : -b - root) * d;
   };
   const Vec3 p1 = sphere(o, d, c1, kR, false);  // entering the upper cap from above
-  d = optics::refract(d, optics::face_against(glm::normalize(p1 - c1), d), 1 / kN)->direction;
+  d = snell(d, glm::normalize(p1 - c1), 1 / kN);
   const Vec3 p2 = sphere(p1, d, c2, kR, true);  // the lower cap: leaving its sphere from inside
-  d = optics::refract(d, optics::face_against(glm::normalize(p2 - c2), d), kN)->direction;
+  d = snell(d, glm::normalize(p2 - c2), kN);
   const Vec3 hit = p2 + ((z_screen - p2.z) / d.z) * d;
   return {hit.x, hit.y};
 }
