@@ -79,3 +79,15 @@ TEST(Hardening, PicturesArrivingAtOnceAreBoundedPerAddressAndInAll) {
   expect_problem_answer(answer_until(server.port(), 1, 415), 415);
   EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
 }
+
+TEST(Hardening, AProxysVisitorsSendPicturesSideBySide) {
+  // Behind a trusted proxy every picture comes from its address: the limit
+  // in all holds, the one per address would have let one visitor at a time.
+  ServerProcess server({"--set", "design_max_upload_bytes=" + std::to_string(kLargest), "--set",
+                        "trusted_proxies=127.0.0.1"});
+  const int slow = start_upload(server.port(), 1, kLargest, 1000);
+  ASSERT_GE(slow, 0);
+  // Its own second picture is not held up (the bytes are no picture: 415).
+  expect_problem_answer(answer_until(server.port(), 1, 415), 415);
+  ::close(slow);
+}

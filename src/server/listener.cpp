@@ -11,6 +11,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <stdexcept>
 
@@ -315,7 +316,9 @@ const char* Listener::upload_refusal(const Connection& c, const RequestHead& hea
     if (other->group == c.group) here += other->upload;
   }
   const std::uint64_t largest = limits_.head.max_upload_bytes;
-  if (here + head.content_length > largest) return "a picture from your address is still arriving";
+  const auto& proxies = limits_.trusted_proxies;
+  const bool proxy = std::find(proxies.begin(), proxies.end(), c.address) != proxies.end();
+  if (!proxy && here + head.content_length > largest) return "a picture from your address is still arriving";
   if (all + head.content_length > kUploadsAtOnce * largest) return "too many pictures are arriving at once";
   return nullptr;
 }

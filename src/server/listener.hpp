@@ -22,6 +22,7 @@
 #include <optional>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace caustic::server {
 
@@ -36,6 +37,7 @@ struct ListenerLimits {
   int body_timeout_s = 30;             ///< head to answer sent, plain HTTP
   int connection_idle_timeout_s = 10;  ///< no byte moving for this long, plain HTTP
   std::uint64_t max_ws_message_bytes = 64 * 1024;
+  std::vector<std::string> trusted_proxies;  ///< many visitors' pictures come from each
   HeadLimits head;
 };
 
