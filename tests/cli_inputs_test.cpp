@@ -147,6 +147,12 @@ TEST_F(CliInputs, AKeyWrittenTwiceIsRefusedAndAnAssignmentOverAnotherIsSaid) {
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("warning: post.gamma: post={\"gamma\":3} is overridden by post.gamma=2"), std::string::npos)
       << r.output;
+  // A later null resets the object an earlier one wrote into.
+  const CommandResult reset = causticd("render --scene " + scene("slab") + " -o " + (dir_ / "x.png").string() +
+                                       small() + " --set post.gamma=3 --set post=null");
+  EXPECT_EQ(reset.status, 0) << reset.output;
+  EXPECT_NE(reset.output.find("warning: post.gamma: post.gamma=3 is overridden by post=null"), std::string::npos)
+      << reset.output;
 }
 
 TEST_F(CliInputs, SeedsAndTheGlDeviceAreCheckedBeforeAnyWork) {

@@ -48,19 +48,27 @@ void warn_overrides(const char* command, const nlohmann::json& file_doc, const s
     for (const auto& [key, detail] : scene_overrides(w, scene))
       if (said.insert(key).second) std::cerr << "causticd " << command << ": warning: " << detail << "\n";
   // Two assignments that write one key, directly or inside an object one of
-  // them sets whole (post={"gamma":3}, then post.gamma=2).
+  // them sets whole (post={"gamma":3}, then post.gamma=2), or that reset the
+  // object the earlier one wrote into (post.gamma=2, then post=null).
+  const auto overrides = [](const std::string& key, const nlohmann::json& value, const std::string& later_key,
+                            const nlohmann::json& later) {
+    if (later_key == key) return later != value;
+    return key.rfind(later_key + ".", 0) == 0 && !later.is_object();
+  };
   std::vector<std::map<std::string, nlohmann::json>> leaves;
   for (std::size_t i = 0; i < assignments.size(); ++i) leaves.push_back(leaf_keys(written[i + 1]));
   for (std::size_t i = 0; i < assignments.size(); ++i)
     for (std::size_t j = i + 1; j < assignments.size(); ++j) {
-      const auto& b = leaves[j];
-      for (const auto& [key, value] : leaves[i]) {
-        const auto later = b.find(key);
-        if (later == b.end() || later->second == value) continue;
-        std::cerr << "causticd " << command << ": warning: " << key << ": " << assignments[i] << " is overridden by "
-                  << assignments[j] << " (the later one is used)\n";
-        break;
-      }
+      const auto say_first = [&] {
+        for (const auto& [key, value] : leaves[i])
+          for (const auto& [later_key, later] : leaves[j])
+            if (overrides(key, value, later_key, later)) {
+              std::cerr << "causticd " << command << ": warning: " << key << ": " << assignments[i]
+                        << " is overridden by " << assignments[j] << " (the later one is used)\n";
+              return;
+            }
+      };
+      say_first();
     }
 }
 
