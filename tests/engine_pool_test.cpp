@@ -6,7 +6,6 @@
 // shadow of the far wall, and every watt of the transmitted beam).
 #include "water_scene.hpp"
 
-#include "caustic/optics.hpp"
 #include "caustic/receivers.hpp"
 
 #include <cmath>
@@ -89,7 +88,7 @@ TEST_F(Pool, UnderALampTheFloorFollowsTheRefractedInverseSquareLaw) {
     const double r = 0.5 * (lo + hi), rho2 = r * r + kHeight * kHeight, cos_i = kHeight / std::sqrt(rho2);
     const double cos_t = std::sqrt(1 - sin_t(r) * sin_t(r));
     const double slope = 1 + kDepth * kHeight * kHeight / (kWater * rho2 * std::sqrt(rho2) * cos_t * cos_t * cos_t);
-    return kHeight * kHeight * optics::fresnel_transmittance(cos_i, 1.0, kWater) * cos_i / rho2 * (r / big_r) / slope;
+    return kHeight * kHeight * transmittance(cos_i, kWater) * cos_i / rho2 * (r / big_r) / slope;
   };
   // Two pixels inside the lit square's image along each axis (the corners
   // of the square land farther out; the test keeps to the disc inside).
@@ -119,7 +118,7 @@ TEST_F(Pool, UnderALampTheFloorFollowsTheRefractedInverseSquareLaw) {
     for (int i = 0; i < kCells; ++i) {
       const double px = -kHalf + (i + 0.5) * cell, py = -kHalf + (j + 0.5) * cell;
       const double rho2 = px * px + py * py + kHeight * kHeight, cos_i = kHeight / std::sqrt(rho2);
-      entered += optics::fresnel_transmittance(cos_i, 1.0, kWater) * cos_i / rho2 * cell * cell;
+      entered += transmittance(cos_i, kWater) * cos_i / rho2 * cell * cell;
     }
   entered *= kHeight * kHeight;
   const double floor = total_flux(img, s.screen);
@@ -147,7 +146,7 @@ TEST_F(Pool, WallsCatchWhatTheFloorDoesNot) {
   const HdrImage img = render(s, shared(grid_mesh(flat_face(kHalf), 129, 129)));
 
   const double sin_t = std::sin(theta) / kWater, tan_t = sin_t / std::sqrt(1 - sin_t * sin_t);
-  const double lit = optics::fresnel_transmittance(std::cos(theta), 1.0, kWater) * std::cos(theta);
+  const double lit = transmittance(std::cos(theta), kWater) * std::cos(theta);
   const double shadow = -kHalf + kDepth * tan_t, margin = 2 * 2 * kEdge / 256;
   const Region floor = region(img, s, 0, [&](glm::dvec2 p) {
     return p.x > shadow + margin && p.x < kEdge - margin && std::abs(p.y) < kHalf - margin;

@@ -37,15 +37,6 @@ std::pair<double, double> patch(const HdrImage& img, const ScreenParams& floor, 
   return {mean, worst};
 }
 
-// Unpolarised Fresnel transmittance from air into a medium of index `n` at
-// incidence cos_i: 1 - (r_s^2 + r_p^2) / 2 (Hecht, Optics, eq. 4.42-4.43),
-// written out here so that the oracle shares no code with the engine's.
-double transmittance(double cos_i, double n) {
-  const double sin_t = std::sqrt(1 - cos_i * cos_i) / n, cos_t = std::sqrt(1 - sin_t * sin_t);
-  const double rs = (cos_i - n * cos_t) / (cos_i + n * cos_t), rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
-  return 1 - 0.5 * (rs * rs + rp * rp);
-}
-
 // The sun's flux that enters `mesh` (placed by `placement`) as the per-
 // vertex method models it (docs/physics.md ch. 5): each triangle's cross-
 // section of the beam times the mean of its corners' transmittances, each

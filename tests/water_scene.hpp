@@ -12,6 +12,15 @@ namespace caustic::testing {
 inline constexpr double kWater = 1.333;
 inline constexpr double kHalf = 10.0;  // the water's footprint, mm
 
+// Unpolarised Fresnel transmittance from air into a medium of index `n` at
+// incidence cos_i: 1 - (r_s^2 + r_p^2) / 2 (Hecht, Optics, eq. 4.42-4.43),
+// written out here so that the oracles share no code with the engine's.
+inline double transmittance(double cos_i, double n) {
+  const double sin_t = std::sqrt(1 - cos_i * cos_i) / n, cos_t = std::sqrt(1 - sin_t * sin_t);
+  const double rs = (cos_i - n * cos_t) / (cos_i + n * cos_t), rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
+  return 1 - 0.5 * (rs * rs + rp * rp);
+}
+
 // A pool: the surface (mesh z = -h, turned over so that world z = h) at
 // z = 0, the floor `depth` below it, 256 px across `floor_size` mm, the sun
 // `theta` from the vertical travelling towards +x.
