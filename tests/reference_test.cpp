@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The reference photon tracer against the analytic oracles, before it is
 // trusted to judge the engine.
+#include "caustic/image_compare.hpp"
 #include "caustic/optics.hpp"
 #include "caustic/reference.hpp"
 #include "caustic/resample.hpp"
@@ -11,6 +12,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 using namespace caustic;
 
@@ -188,4 +190,57 @@ TEST(Resample, KeepsTheTintInterpolatedWhereEachVertexLands) {
     EXPECT_NEAR(glm::length(glm::dvec3(coarse.colours[i]) - ramp(coarse.positions[i])), 0.0, 1e-4) << i;
   EXPECT_NO_THROW(validate_mesh(coarse));
   EXPECT_FALSE(tinted(resample_face(grid_mesh(plano_convex_lens(oracle::kRadius, 10.0), 24, 24), {0, 0, 1}, 9)));
+}
+
+// The measures docs/accuracy.md quotes, against figures worked by hand:
+// box filter means, relative L1 and RMSE of a known difference, and SSIM in
+// its closed forms (constant windows: (2ab + C1) / (a² + b² + C1); a pattern
+// of deviation s against its flat mean: C2 / (s² + C2)).
+TEST(ImageCompare, BoxFilterAndErrorsAreTheirDefinitions) {
+  HdrImage ramp{4, 2, {0, 1, 2, 3, 4, 5, 6, 7}};
+  const HdrImage half = box_down(ramp, 2);
+  ASSERT_EQ(half.width, 2);
+  ASSERT_EQ(half.height, 1);
+  EXPECT_FLOAT_EQ(half.pixels[0], 2.5f);
+  EXPECT_FLOAT_EQ(half.pixels[1], 4.5f);
+  EXPECT_THROW(box_down(ramp, 3), std::invalid_argument);
+  EXPECT_THROW(box_down(ramp, 0), std::invalid_argument);
+
+  // 64 pixels of 2: four 1 too bright, four 0.5 too dark.
+  HdrImage reference{8, 8, std::vector<float>(64, 2.0f)}, image = reference;
+  for (int k = 0; k < 4; ++k) image.pixels[k] += 1.0f, image.pixels[60 + k] -= 0.5f;
+  const ImageError e = compare(image, reference);
+  EXPECT_NEAR(e.relative_l1, 6.0 / 128.0, 1e-12);
+  EXPECT_NEAR(e.relative_rmse, std::sqrt(5.0 / 64.0) / 2.0, 1e-12);
+  EXPECT_NEAR(compare(reference, reference).ssim, 1.0, 1e-12);
+  EXPECT_THROW(compare(image, HdrImage{8, 7, std::vector<float>(56, 1.0f)}), std::invalid_argument);
+  EXPECT_THROW(compare(image, HdrImage{8, 8, std::vector<float>(64, 0.0f)}), std::invalid_argument);
+}
+
+TEST(ImageCompare, SsimHasItsClosedForms) {
+  const double exposure = 1.0, gamma = 2.2, c1 = 1e-4, c2 = 9e-4;
+  const auto shown = [&](double e) { return std::pow(1 - std::exp(-exposure * e), 1 / gamma); };
+  const auto irradiance = [&](double t) { return -std::log(1 - std::pow(t, gamma)) / exposure; };
+  const HdrImage one{16, 16, std::vector<float>(256, 1.0f)}, two{16, 16, std::vector<float>(256, 2.0f)};
+  const double a = shown(1.0), b = shown(2.0);
+  EXPECT_NEAR(tonemapped_ssim(one, two, exposure, gamma), (2 * a * b + c1) / (a * a + b * b + c1), 1e-9);
+  // A checkerboard showing m ± s: every 8 x 8 window holds 32 of each.
+  const double m = 0.5, dev = 0.1;
+  HdrImage board{16, 16, std::vector<float>(256)}, flat{16, 16, std::vector<float>(256, static_cast<float>(irradiance(m)))};
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x)
+      board.pixels[static_cast<std::size_t>(y) * 16 + x] = static_cast<float>(irradiance((x + y) % 2 ? m + dev : m - dev));
+  EXPECT_NEAR(tonemapped_ssim(board, flat, exposure, gamma), c2 / (dev * dev + c2), 1e-5);
+  // Against itself, and against the same board at half the contrast:
+  // (2 k s² + C2) / ((1 + k²) s² + C2) with k = 1/2.
+  EXPECT_NEAR(tonemapped_ssim(board, board, exposure, gamma), 1.0, 1e-12);
+  HdrImage softer = board;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x)
+      softer.pixels[static_cast<std::size_t>(y) * 16 + x] =
+          static_cast<float>(irradiance((x + y) % 2 ? m + dev / 2 : m - dev / 2));
+  EXPECT_NEAR(tonemapped_ssim(board, softer, exposure, gamma), (dev * dev + c2) / (1.25 * dev * dev + c2), 1e-5);
+  EXPECT_THROW(tonemapped_ssim(HdrImage{4, 4, std::vector<float>(16, 1.0f)}, HdrImage{4, 4, std::vector<float>(16, 1.0f)},
+                               exposure, gamma),
+               std::invalid_argument);
 }
