@@ -116,6 +116,18 @@ TEST_F(CliInputs, ACalibrationAManualSceneDoesNotReadIsSaid) {
       << r.output;
 }
 
+TEST_F(CliInputs, ASolidIsNeverResampledOnAGrid) {
+  // A grid level of a closed body is an open sheet: calibrate measured the
+  // level a solid's scene named, and the engine refused it as no closed surface.
+  const std::string calibrate = "calibrate --scene " + scene("biconvex") + " -o " + (dir_ / "c.json").string() +
+                                " --set render.light_grid=16 --photons 1000 --max-side 64 --frames 1";
+  const CommandResult r = causticd(calibrate + " --set render.mesh_resolution=64");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("1 levels"), std::string::npos) << r.output;
+  expect_rejected(calibrate + " --set render.mesh_resolution=64 --set render.fidelity=manual",
+                  "render.mesh_resolution: must be 0 for a solid");
+}
+
 TEST_F(CliInputs, AFaceOfManyCornersIsNotReadAsATriangle) {
   // The reader counts a face's corners in a byte: 259 came out as 3.
   std::ofstream obj(dir_ / "fan.obj");

@@ -32,6 +32,13 @@ TEST(SceneShape, BadShapesAndGridsAreNamed) {
   expect_rejected(with("render", "light_grid", 8), "render.light_grid");
   expect_rejected(with("render", "light_grid", 4096), "render.light_grid");
   expect_rejected(with("render", "light_grid", 12.5), "render.light_grid");
+  // Resampled on a grid, a closed body came out an open sheet: refused as the
+  // mesh ("not a closed surface") when the frame was drawn.
+  json gridded = with("object", "shape", "solid");
+  gridded["render"] = {{"fidelity", "manual"}, {"mesh_resolution", 64}};
+  expect_rejected(gridded, "render.mesh_resolution");
+  gridded["render"]["fidelity"] = "auto";  // auto chooses the level, and warns of the one written
+  EXPECT_EQ(scene_from_json(gridded, ".").render.mesh_resolution, 64);
 }
 
 TEST(SceneShape, KeysTheShapeMakesMootAreWarnedAbout) {

@@ -146,7 +146,9 @@ bool load_scene_levels(const char* command, const std::filesystem::path& file,
     auto source = std::make_shared<const Mesh>(std::move(mesh));
     std::vector<int> resolutions = coarser_resolutions(*source, *scene);
     const int named = scene->render.mesh_resolution;
-    if (named != 0 && std::find(resolutions.begin(), resolutions.end(), named) == resolutions.end())
+    // A solid has no grid levels (a named one is auto's to override, with a warning).
+    if (named != 0 && scene->object.shape != Shape::solid &&
+        std::find(resolutions.begin(), resolutions.end(), named) == resolutions.end())
       resolutions.push_back(named);
     out->levels = build_mesh_levels(source, scene->object.flat_face_normal, resolutions);
     // Calibrated as rendered: with the screen where following puts it.

@@ -273,6 +273,10 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir,
     }
   }
   s.render = read_render(r.child("render"));
+  // A grid level resamples a face over its flat face; a solid's body came out an open sheet the engine refused.
+  if (s.object.shape == Shape::solid && s.render.fidelity == Fidelity::manual && s.render.mesh_resolution != 0)
+    throw SceneError("render.mesh_resolution", "must be 0 for a solid, which is traced as loaded (a grid level "
+                                               "resamples a slab's face)");
   if (!s.receivers.empty() && s.render.intensity == IntensityMode::report)
     throw SceneError("render.intensity", "\"report\" measures against a plane behind the screen alone; with "
                                          "receivers use \"energy\"");
