@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The engine on scenes with closed-form answers (docs/physics.md ch. 7): the
-// flat slab, a point light through index-1 glass, and the render bookkeeping.
+// flat slab, a point light through index-1 glass and through a plate, and
+// the render bookkeeping.
 #include "gl_test_support.hpp"
 
 #include "caustic/optics.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 using namespace caustic;
@@ -129,6 +131,48 @@ TEST_F(PointLight, IndexOneGlassShowsTheInverseSquareLaw) {
         worst = std::max(worst, std::abs(img.at(x, y) - expected) / expected);
       }
     EXPECT_LT(worst, 0.01) << (model == PointModel::exact ? "exact" : "approximate");
+  }
+}
+
+TEST_F(PointLight, ThroughAPlateTheExactEntryFollowsTheRefractedInverseSquareLaw) {
+  // A 2 mm plate of n = 1.5, the light 28 mm above its top, the screen 40 mm
+  // below its bottom. The ray at angle t from the axis runs at t' (sin t =
+  // n sin t') inside and leaves parallel to itself: it lands at
+  // rs(t) = (H + D) tan t + h tan t', and the cone between t and t + dt
+  // spreads over the ring between rs and rs + drs, so
+  // E / E0 = r_ref^2 sin t / (rs drs/dt). Each pixel's t by bisection.
+  const double n = 1.5, light_height = 28.0, thickness = 2.0, below = 40.0;
+  Scene s = straight_down_scene(thickness, below, 60.0, 256);
+  s.object.ior = n;
+  s.light.type = LightType::point;
+  s.light.point_model = PointModel::exact;
+  s.light.position = {0, 0, thickness + light_height};
+  // Each triangle spreads its flux evenly: 0.2 mm cells keep that to 0.3 %.
+  const auto plate = shared(grid_mesh(flat_face(25.0), 256, 256));
+  const auto landing = [&](double t) {
+    return (light_height + below) * std::tan(t) + thickness * std::tan(std::asin(std::sin(t) / n));
+  };
+  const double r_ref2 = s.light.position.z * s.light.position.z;  // to the caustic face's centre
+  const auto expected = [&](double rs) {
+    double lo = 0, hi = 1.2;
+    for (int i = 0; i < 60; ++i) (landing(0.5 * (lo + hi)) < rs ? lo : hi) = 0.5 * (lo + hi);
+    const double t = 0.5 * (lo + hi), dt = 1e-6;
+    return r_ref2 * std::sin(t) / (rs * (landing(t + dt) - landing(t - dt)) / (2 * dt));
+  };
+  // The GL's entry point (32 float halvings) and the CPU's (double).
+  for (const TriangleSetup setup : {TriangleSetup::gpu, TriangleSetup::cpu}) {
+    const char* path = setup == TriangleSetup::gpu ? "GL" : "CPU";
+    engine_->set_triangle_setup(setup);
+    const HdrImage img = render(s, plate);
+    double worst = 0;
+    for (int y = 0; y < img.height; y += 3)
+      for (int x = 0; x < img.width; x += 3) {
+        const double rs = glm::length(pixel_centre(s.screen, img.width, img.height, x, y));
+        if (rs < 1.0) continue;  // the axis, where sin t / rs is 0 / 0
+        worst = std::max(worst, std::abs(img.at(x, y) - expected(rs)) / expected(rs));
+      }
+    std::printf("point light through a plate, %s: worst %.5f of the refracted inverse-square law\n", path, worst);
+    EXPECT_LT(worst, 0.01) << path;
   }
 }
 
