@@ -3,16 +3,29 @@
 
 #include "request_head.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <memory>
 
 namespace caustic::server {
 namespace {
+
+// Frames a signalling socket may send: a burst (an answer and its
+// candidates), then a steady rate (a ping every few seconds). libsoup reads
+// a socket until it would block, so a client that never stopped sending
+// kept the main loop for itself: health took 14 s to answer during 15 s of
+// pings, and ping frames, each answered into a queue the client did not
+// read, slowed it further.
+constexpr double kFrameBurst = 256, kFramesPerS = 20;
 
 struct GuardInput {
   GFilterInputStream parent;
   GSocketConnection* connection;
   std::size_t skip;                          // head bytes still to pass unchecked
   std::unique_ptr<WebSocketGuard>* frames;   // null: plain HTTP
+  double frame_tokens;                       // what the socket may still send (kFrameBurst)
+  std::uint64_t frames_paid;                 // frames taken from them so far
+  std::chrono::steady_clock::time_point refilled;
 };
 struct GuardInputClass {
   GFilterInputStreamClass parent_class;
@@ -39,6 +52,16 @@ gssize inspect(GuardInput* self, const void* buffer, gssize n, GError** error) {
   WebSocketGuard& guard = **self->frames;
   if (!guard.feed(bytes + from, static_cast<std::size_t>(n) - from)) {
     g_set_error_literal(error, G_IO_ERROR, G_IO_ERROR_MESSAGE_TOO_LARGE, guard.error().c_str());
+    return -1;
+  }
+  const auto now = std::chrono::steady_clock::now();
+  const double elapsed = std::chrono::duration<double>(now - self->refilled).count();
+  self->frame_tokens = std::min(kFrameBurst, self->frame_tokens + elapsed * kFramesPerS);
+  self->refilled = now;
+  self->frame_tokens -= static_cast<double>(guard.frames() - self->frames_paid);
+  self->frames_paid = guard.frames();
+  if (self->frame_tokens < 0) {
+    g_set_error_literal(error, G_IO_ERROR, G_IO_ERROR_FAILED, "more WebSocket frames than a signalling socket takes");
     return -1;
   }
   return n;
@@ -104,6 +127,9 @@ void guard_input_init(GuardInput* self) {
   self->connection = nullptr;
   self->skip = 0;
   self->frames = nullptr;
+  self->frame_tokens = kFrameBurst;
+  self->frames_paid = 0;
+  self->refilled = std::chrono::steady_clock::now();
 }
 
 }  // namespace

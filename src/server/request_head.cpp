@@ -234,6 +234,7 @@ bool WebSocketGuard::header_done() {
   }
   const unsigned opcode = header_[0] & 0x0f;
   const bool fin = header_[0] & 0x80;
+  ++frames_;
   if (opcode >= 8) {
     if (length > 125 || !fin) error_ = "a WebSocket control frame must be whole and at most 125 bytes";
   } else {

@@ -60,6 +60,8 @@ class WebSocketGuard {
   /// Feeds received bytes; false (and error()) once the limits are broken.
   bool feed(const unsigned char* data, std::size_t size);
   const std::string& error() const { return error_; }
+  /// Frames begun so far, control frames included.
+  std::uint64_t frames() const { return frames_; }
 
  private:
   bool header_done();
@@ -68,6 +70,7 @@ class WebSocketGuard {
   std::size_t header_have_ = 0, header_need_ = 2;
   std::uint64_t payload_left_ = 0;
   std::uint64_t message_bytes_ = 0;
+  std::uint64_t frames_ = 0;
   bool in_payload_ = false;
   std::string error_;
 };
