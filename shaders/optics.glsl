@@ -8,8 +8,15 @@ vec3 faceAgainst(vec3 n, vec3 i) { return dot(n, i) < 0.0 ? n : -n; }
 
 // Snell refraction. Returns false on total internal reflection; otherwise
 // writes the transmitted direction and the Fresnel power transmittance
-// (unpolarised) for light from index n1 into n2.
+// (unpolarised) for light from index n1 into n2. Equal indices are no
+// interface: the ray goes on whole (the formulas are 0 / 0 at grazing
+// incidence and, within float rounding of it, reflect everything).
 bool refractFresnel(vec3 i, vec3 n, float n1, float n2, out vec3 t, out float transmittance) {
+  if (n1 == n2) {
+    t = i;
+    transmittance = 1.0;
+    return true;
+  }
   float eta = n1 / n2;
   float cosI = -dot(n, i);
   float k = 1.0 - eta * eta * (1.0 - cosI * cosI);

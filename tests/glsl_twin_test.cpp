@@ -47,6 +47,15 @@ TEST_F(GlslTwin, RefractionFresnelEntryAndSolidAngleAgreeWithCpp) {
     c.tri_b = c.tri_a + glm::vec4(0.6f + 0.5f * u(rng), 0.3f * u(rng), 0.1f * u(rng), 0);
     c.tri_c = c.tri_a + glm::vec4(0.3f * u(rng), 0.6f + 0.5f * u(rng), 0.1f * u(rng), 0);
   }
+  // Equal indices are no interface, grazing included: there the formulas
+  // are 0 / 0, and within rounding of it they reflect everything.
+  const std::size_t equal = cases.size() - 3;
+  for (std::size_t k = equal; k < cases.size(); ++k) {
+    const float z = k == equal ? 0.0f : k == equal + 1 ? 1e-6f : -1e-4f;
+    cases[k].incident = glm::vec4(glm::normalize(glm::vec3(1, 0, z)), 0);
+    cases[k].normal = glm::vec4(0, 0, 1, 0);
+    cases[k].indices = glm::vec4(1, 1, 1, 0);
+  }
   gl::Program kernel({{GL_COMPUTE_SHADER, {"optics.glsl"}, read_file(CAUSTIC_TEST_GLSL "/optics_twin.comp")}});
   gl::Buffer buffer;
   glNamedBufferStorage(buffer.id(), static_cast<GLsizeiptr>(cases.size() * sizeof(Case)), cases.data(),
@@ -83,4 +92,9 @@ TEST_F(GlslTwin, RefractionFresnelEntryAndSolidAngleAgreeWithCpp) {
     EXPECT_NEAR(glm::length(glm::dvec3(c.entry) - *entry), 0.0, 2e-4) << "case " << k;
   }
   EXPECT_GT(tir, 100);  // the random set reaches total internal reflection
+  for (std::size_t k = equal; k < out.size(); ++k) {
+    EXPECT_EQ(out[k].results.x, 1.0f) << "case " << k;
+    EXPECT_EQ(out[k].results.y, 1.0f) << "case " << k << ": equal indices transmit everything";
+    EXPECT_NEAR(glm::length(glm::vec3(out[k].refracted) - glm::vec3(out[k].incident)), 0.0f, 1e-6f) << "case " << k;
+  }
 }
