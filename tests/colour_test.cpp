@@ -78,7 +78,7 @@ TEST(Colour, StandardIlluminantsHaveTheirPublishedWhitePoints) {
 }
 
 TEST(Colour, TheLedIsItsDocumentedSpectrum) {
-  // "led" is a model, not a standard (docs/physics.md §9): a Gaussian at
+  // "led" is a model, not a standard (docs/physics.md §10): a Gaussian at
   // 450 nm (FWHM 20 nm) plus 0.6 of one at 560 nm (FWHM 120 nm), integrated
   // here against the CIE table, and the cool white that gives.
   const auto gaussian = [](double nm, double centre, double fwhm) {

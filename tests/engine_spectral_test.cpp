@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
-// Spectral frames against closed forms (docs/physics.md §9): white light
+// Spectral frames against closed forms (docs/physics.md §10): white light
 // through a flat slab stays white; a wedge of BK7 sends each colour channel
 // where Snell's law sends its wavelengths, and near the critical angle the
 // blue is lost to total internal reflection before the red.
