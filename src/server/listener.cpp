@@ -93,10 +93,9 @@ guint after_ms(std::weak_ptr<Listener*> owner, guint ms, Fn fn) {
 
 Listener::Listener(SoupServer* server, Metrics& metrics, ListenerLimits limits)
     : server_(server), metrics_(metrics), limits_(limits), alive_(std::make_shared<Listener*>(this)) {
-  // The guard holds a socket's messages to max_ws_message_bytes as they
-  // travel: permessage-deflate would inflate them past it unchecked
-  // (libsoup 3.2 held 48 KB on the wire that became 50 MB in memory), and
-  // signalling messages are a few KiB that need no compression.
+  // The guard holds a socket's messages to max_ws_message_bytes on the wire;
+  // permessage-deflate would inflate them past it unchecked (libsoup 3.2 made
+  // 50 MB of 48 KB), and signalling messages are a few KiB.
   soup_server_remove_websocket_extension(server_, SOUP_TYPE_WEBSOCKET_EXTENSION_DEFLATE);
 }
 
@@ -305,10 +304,8 @@ void Listener::peek(std::uint64_t id) {
 }
 
 const char* Listener::upload_refusal(const Connection& c, const RequestHead& head) const {
-  // The library holds a body whole in memory until its handler runs: 40
-  // clients sending 8 MiB pictures all but their last bytes held 324 MB
-  // for the body timeout, again and again. So pictures arriving at once
-  // are bounded, from one address and in all.
+  // The library holds a body whole until its handler runs: 40 clients sending
+  // 8 MiB pictures but their last bytes held 324 MB for the body timeout.
   if (head.content_length <= limits_.head.max_body_bytes) return nullptr;
   std::uint64_t all = 0, here = 0;
   for (const auto& [id, other] : connections_) {
@@ -316,9 +313,9 @@ const char* Listener::upload_refusal(const Connection& c, const RequestHead& hea
     if (other->group == c.group) here += other->upload;
   }
   const std::uint64_t largest = limits_.head.max_upload_bytes;
-  const auto& proxies = limits_.trusted_proxies;
-  const bool proxy = std::find(proxies.begin(), proxies.end(), c.address) != proxies.end();
-  if (!proxy && here + head.content_length > largest) return "a picture from your address is still arriving";
+  const auto& trusted = limits_.trusted_proxies;  // many visitors share a proxy's address
+  if (std::find(trusted.begin(), trusted.end(), c.address) == trusted.end() && here + head.content_length > largest)
+    return "a picture from your address is still arriving";
   if (all + head.content_length > kUploadsAtOnce * largest) return "too many pictures are arriving at once";
   return nullptr;
 }
