@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
-// Hardening of picture uploads on their way in: the HTTP library holds a
-// body whole in memory until its handler runs, so the pictures arriving at
-// once are bounded. Black-box over loopback, from several of its addresses.
+// Hardening of bodies on their way in: the HTTP library holds a body whole
+// in memory until its handler runs, so the pictures arriving at once are
+// bounded; a body that stops coming is answered 408 before the close.
+// Black-box over loopback, from several of its addresses.
 #include "hardening_support.hpp"
 
 #include <arpa/inet.h>
@@ -90,4 +91,25 @@ TEST(Hardening, AProxysVisitorsSendPicturesSideBySide) {
   // Its own second picture is not held up (the bytes are no picture: 415).
   expect_problem_answer(answer_until(server.port(), 1, 415), 415);
   ::close(slow);
+}
+
+// A body that stops half-way, cut off by either timeout: the client is told
+// which (a 408 problem), not just disconnected. One connection each.
+TEST(Hardening, ABodyThatStopsComingIsAnswered408) {
+  for (const char* timeout : {"body_timeout_s", "connection_idle_timeout_s"}) {
+    const bool idle = std::string(timeout) == "connection_idle_timeout_s";
+    ServerProcess server({"--set", std::string(idle ? "body_timeout_s" : "connection_idle_timeout_s") + "=60",
+                          "--set", std::string(timeout) + "=1"});
+    const int fd = raw_connect(server.port());
+    ASSERT_GE(fd, 0);
+    raw_send(fd, "POST /api/v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+                 "Content-Length: 100\r\n\r\n{\"scene\": ");
+    bool closed = false;
+    const std::string answer = raw_read_all(fd, 20000, &closed);
+    ::close(fd);
+    EXPECT_TRUE(closed) << timeout;
+    expect_problem_answer(answer, 408);
+    EXPECT_NE(raw_body(answer).find(timeout), std::string::npos) << answer;
+    EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
+  }
 }

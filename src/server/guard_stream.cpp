@@ -3,9 +3,12 @@
 
 #include "request_head.hpp"
 
+#include <sys/socket.h>
+
 #include <algorithm>
 #include <chrono>
 #include <memory>
+#include <string>
 
 namespace caustic::server {
 namespace {
@@ -26,6 +29,9 @@ struct GuardInput {
   double frame_tokens;                       // what the socket may still send (kFrameBurst)
   std::uint64_t frames_paid;                 // frames taken from them so far
   std::chrono::steady_clock::time_point refilled;
+  std::uint64_t request_bytes;               // plain HTTP: head and body
+  std::uint64_t read_bytes;                  // what the library read so far
+  bool timed_out;                            // a 408 was sent
 };
 struct GuardInputClass {
   GFilterInputStreamClass parent_class;
@@ -40,9 +46,26 @@ G_DEFINE_TYPE_WITH_CODE(GuardInput, guard_input, G_TYPE_FILTER_INPUT_STREAM,
 GuardInput* self_of(gpointer p) { return reinterpret_cast<GuardInput*>(p); }
 GInputStream* base_of(gpointer p) { return g_filter_input_stream_get_base_stream(G_FILTER_INPUT_STREAM(p)); }
 
+// A 408 on the socket, once, while the request is still arriving.
+bool time_out(GuardInput* self, const char* timeout) {
+  if (self->frames || self->timed_out || self->read_bytes >= self->request_bytes || !self->connection) return false;
+  self->timed_out = true;
+  const std::string answer = canned_problem(
+      408, std::string("the request did not arrive in time (") + timeout + "); it was cut off");
+  GSocket* socket = g_socket_connection_get_socket(self->connection);
+  (void)::send(g_socket_get_fd(socket), answer.data(), answer.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
+  return true;
+}
+
 // Checks what a read returned before the library sees it.
 gssize inspect(GuardInput* self, const void* buffer, gssize n, GError** error) {
-  if (n <= 0 || !self->frames) return n;
+  if (!self->frames) {
+    if (n > 0) self->read_bytes += static_cast<std::uint64_t>(n);
+    else if (n < 0 && error && *error && g_error_matches(*error, G_IO_ERROR, G_IO_ERROR_TIMED_OUT))
+      time_out(self, "connection_idle_timeout_s");
+    return n;
+  }
+  if (n <= 0) return n;
   const auto* bytes = static_cast<const unsigned char*>(buffer);
   std::size_t from = 0;
   if (self->skip) {
@@ -130,16 +153,19 @@ void guard_input_init(GuardInput* self) {
   self->frame_tokens = kFrameBurst;
   self->frames_paid = 0;
   self->refilled = std::chrono::steady_clock::now();
+  self->request_bytes = self->read_bytes = 0;
+  self->timed_out = false;
 }
 
 }  // namespace
 
 GIOStream* guarded_stream_new(GSocketConnection* connection, std::size_t websocket_after,
-                              std::uint64_t max_message_bytes) {
+                              std::uint64_t max_message_bytes, std::uint64_t request_bytes) {
   GIOStream* io = G_IO_STREAM(connection);
   auto* input = self_of(g_object_new(guard_input_get_type(), "base-stream", g_io_stream_get_input_stream(io),
                                      "close-base-stream", TRUE, nullptr));
   input->connection = G_SOCKET_CONNECTION(g_object_ref(connection));
+  input->request_bytes = request_bytes;
   if (websocket_after) {
     input->skip = websocket_after;
     // Frames are at most the message limit too: one frame is one message.
@@ -149,6 +175,11 @@ GIOStream* guarded_stream_new(GSocketConnection* connection, std::size_t websock
   GIOStream* stream = g_simple_io_stream_new(G_INPUT_STREAM(input), g_io_stream_get_output_stream(io));
   g_object_unref(input);
   return stream;
+}
+
+bool guarded_stream_time_out(GIOStream* stream, const char* timeout) {
+  GInputStream* input = g_io_stream_get_input_stream(stream);
+  return G_TYPE_CHECK_INSTANCE_TYPE(input, guard_input_get_type()) && time_out(self_of(input), timeout);
 }
 
 }  // namespace caustic::server

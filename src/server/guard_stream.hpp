@@ -15,8 +15,17 @@ namespace caustic::server {
 
 /// A new stream for the HTTP library over `connection` (a reference is
 /// taken). `websocket_after`: 0 for plain HTTP; otherwise the byte count of
-/// the request head, after which frames are checked.
+/// the request head, after which frames are checked. `request_bytes`, for
+/// plain HTTP: the head's and the body's length together.
 GIOStream* guarded_stream_new(GSocketConnection* connection, std::size_t websocket_after,
-                              std::uint64_t max_message_bytes);
+                              std::uint64_t max_message_bytes, std::uint64_t request_bytes = 0);
+
+/// On a plain HTTP stream of guarded_stream_new() whose request has not all
+/// arrived, answers 408 (a problem naming `timeout`) straight on the socket
+/// and returns true; false otherwise. The library answers only once it has
+/// read the request, so nothing of its own comes before; a client that
+/// stalls mid-body is told why it is cut off, not just cut off. A read the
+/// socket's idle timeout ends does the same by itself.
+bool guarded_stream_time_out(GIOStream* stream, const char* timeout);
 
 }  // namespace caustic::server

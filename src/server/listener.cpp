@@ -29,6 +29,8 @@ struct Listener::Connection {
   GSource* io = nullptr;
   guint timer = 0;     // head deadline, re-check, drain limit or answer deadline
   guint recheck = 0;
+  GWeakRef stream{};   // the library's once handed over: a late request is answered 408 on it
+  ~Connection() { g_weak_ref_clear(&stream); }
 };
 
 namespace {
@@ -333,7 +335,9 @@ void Listener::hand_over(std::uint64_t id, const RequestHead& head) {
   // body waits for the client's delayed ACK (40 ms) on every answer.
   g_socket_set_option(socket, IPPROTO_TCP, TCP_NODELAY, TRUE, nullptr);
   GSocketConnection* connection = g_socket_connection_factory_create_connection(socket);
-  GIOStream* stream = guarded_stream_new(connection, head.websocket ? head.head_bytes : 0, limits_.max_ws_message_bytes);
+  GIOStream* stream = guarded_stream_new(connection, head.websocket ? head.head_bytes : 0, limits_.max_ws_message_bytes,
+                                         head.head_bytes + head.content_length);
+  g_weak_ref_set(&c.stream, stream);
   GSocketAddress* local = g_socket_get_local_address(socket, nullptr);
   GSocketAddress* remote = g_socket_get_remote_address(socket, nullptr);
   // From here the stream owns the socket; the record only watches it.
@@ -353,8 +357,12 @@ void Listener::hand_over(std::uint64_t id, const RequestHead& head) {
     if (it == l.connections_.end()) return;
     it->second->timer = 0;
     ++l.metrics_.connections_timed_out;
-    // Shutting the socket down makes the library's next read or write fail,
-    // and it lets the connection go.
+    // A request still arriving is told why (408); then shutting the socket
+    // down makes the library's next read or write fail, and it lets go.
+    if (GIOStream* stream = static_cast<GIOStream*>(g_weak_ref_get(&it->second->stream))) {
+      if (guarded_stream_time_out(stream, "body_timeout_s")) ++l.metrics_.http_errors;
+      g_object_unref(stream);
+    }
     if (it->second->socket) g_socket_shutdown(it->second->socket, TRUE, TRUE, nullptr);
   });
 }
