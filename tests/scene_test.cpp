@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Scene JSON: defaults, round trip, merge patches, --set assignments and
 // every kind of bad input, each rejected with the offending key named.
+#include "caustic/json_text.hpp"
 #include "caustic/param_store.hpp"
 #include "caustic/scene.hpp"
 #include "caustic/scene_warnings.hpp"
@@ -257,6 +258,22 @@ TEST(LoadScene, RefusesWhatTheJsonRulesRefuse) {
   std::ofstream(dir / "deep.json") << R"({"mesh": "a.obj", "x": )" << std::string(100000, '[')
                                    << std::string(100000, ']') << "}";
   EXPECT_NE(refused(dir / "deep.json").find("nested deeper than"), std::string::npos) << refused(dir / "deep.json");
+  // A few bytes a value, ~130 built: a 16 MiB file of them held 750 MB.
+  // The object, "a.obj" and the array are 3 values; each {} one more.
+  const std::string many = R"({"mesh": "a.obj", "x": [)";
+  const auto values = [&](std::size_t n) {
+    std::string text = many;
+    for (std::size_t i = 4; i < n; ++i) text += "{},";
+    return text + "{}]}";
+  };
+  std::ofstream(dir / "many.json") << values(kMaxJsonValues + 1);
+  const std::string at = "(byte " + std::to_string(many.size() + 3 * (kMaxJsonValues - 3)) + ")";
+  EXPECT_NE(refused(dir / "many.json").find("more than 100000 values in one JSON text at line 1"), std::string::npos)
+      << refused(dir / "many.json").substr(0, 300);
+  EXPECT_NE(refused(dir / "many.json").find(at), std::string::npos) << refused(dir / "many.json").substr(0, 300) << at;
+  std::ofstream(dir / "enough.json") << values(kMaxJsonValues);  // refused for its key, not its count
+  EXPECT_EQ(refused(dir / "enough.json").find("values in one JSON text"), std::string::npos)
+      << refused(dir / "enough.json").substr(0, 300);
   {
     std::ofstream out(dir / "big.json", std::ios::binary);
     out << R"({"mesh": "a.obj", "description": ")" << std::string(kMaxSceneFileBytes, 'a') << "\"}";

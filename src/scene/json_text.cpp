@@ -60,6 +60,7 @@ class LimitedDom : public nlohmann::json_sax<json> {
   JsonTextError error_{"", 0};
   bool failed = false;
   bool too_deep = false;  // a failure of its own: the nesting limit
+  bool too_many = false;  // another: kMaxJsonValues
   std::optional<string_t> duplicate;  // the other: a key written twice
   // Keys named `watch` seen so far: a second parse, made only to say where
   // a duplicate stands, counts them up to it (the first keeps no count).
@@ -84,6 +85,8 @@ class LimitedDom : public nlohmann::json_sax<json> {
     return true;
   }
   bool put(json value) {
+    if (++values_ > kMaxJsonValues)
+      return too_many = true, fail("more than " + std::to_string(kMaxJsonValues) + " values in one JSON text");
     if (stack_.empty()) {
       result = std::move(value);
       last_ = &result;
@@ -106,6 +109,7 @@ class LimitedDom : public nlohmann::json_sax<json> {
   std::vector<json*> stack_;
   json* last_ = nullptr;
   string_t key_;
+  std::size_t values_ = 0;
 };
 
 // Where the text first opens a bracket deeper than `max_depth`: the SAX
@@ -126,6 +130,33 @@ std::size_t too_deep_at(std::string_view text, int max_depth) {
     } else if (ch == ']' || ch == '}') {
       --depth;
     }
+  }
+  return 0;
+}
+
+// Where the value after the first `max` begins, for the error to say (the
+// SAX callbacks carry no position): values are counted as the parser takes
+// them, a string being a key when a colon follows it.
+std::size_t too_many_at(std::string_view text, std::size_t max) {
+  std::size_t values = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char ch = text[i];
+    const std::size_t start = i;
+    if (ch == '"') {
+      for (++i; i < text.size() && text[i] != '"'; ++i)
+        if (text[i] == '\\') ++i;
+      std::size_t after = i + 1;
+      while (after < text.size() && (text[after] == ' ' || text[after] == '\t' || text[after] == '\n' || text[after] == '\r'))
+        ++after;
+      if (after < text.size() && text[after] == ':') continue;  // a key
+    } else if (ch == '-' || (ch >= '0' && ch <= '9') || (ch >= 'a' && ch <= 'z')) {
+      while (i + 1 < text.size() && text[i + 1] != ',' && text[i + 1] != ']' && text[i + 1] != '}' &&
+             text[i + 1] != ' ' && text[i + 1] != '\n' && text[i + 1] != '\r' && text[i + 1] != '\t')
+        ++i;
+    } else if (ch != '{' && ch != '[') {
+      continue;
+    }
+    if (++values > max) return start;
   }
   return 0;
 }
@@ -163,6 +194,7 @@ std::optional<nlohmann::json> parse_json_text(std::string_view text, JsonTextErr
       *error = dom.error_;
       if (error->message.empty()) error->message = "not valid JSON";
       if (dom.too_deep) error->offset = too_deep_at(text, max_depth);
+      if (dom.too_many) error->offset = too_many_at(text, kMaxJsonValues);
       if (dom.duplicate) {
         LimitedDom again(max_depth);  // stops at the same duplicate, having counted its name's keys
         again.watch = dom.duplicate;

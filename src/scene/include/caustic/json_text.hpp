@@ -6,6 +6,8 @@
 // - it treats a NUL byte as the end of the input, so "{...}\0junk" parses;
 // - it nests without limit, and every later recursive walk (merge patch,
 //   dump, destruction) then needs stack in proportion;
+// - it builds any number of values, at up to ~130 bytes each where the
+//   text spends 3 ("[{},{},..."): a 16 MiB scene file held 750 MB;
 // - it throws, and an exception that crosses a C callback kills the process.
 #pragma once
 
@@ -21,14 +23,18 @@ namespace caustic {
 
 /// Nesting deeper than any scene, patch or signalling message needs.
 inline constexpr int kMaxJsonDepth = 32;
+/// Values (objects, arrays, strings, numbers, literals) in one text: a
+/// scene, calibration or report holds a few hundred to a few thousand.
+inline constexpr std::size_t kMaxJsonValues = 100000;
 
 struct JsonTextError {
   std::string message;  ///< ASCII only: never echoes the input's bytes
   std::size_t offset;   ///< byte offset where the text broke (0-based)
 };
 
-/// Parses `text`; arrays and objects may nest at most `max_depth` deep. NUL
-/// bytes, invalid UTF-8, trailing content and excess depth are errors.
+/// Parses `text`; arrays and objects may nest at most `max_depth` deep and
+/// hold kMaxJsonValues values in all. NUL bytes, invalid UTF-8, trailing
+/// content, excess depth and excess values are errors.
 /// Never throws: returns std::nullopt and fills `*error` (when given).
 std::optional<nlohmann::json> parse_json_text(std::string_view text, JsonTextError* error = nullptr,
                                               int max_depth = kMaxJsonDepth);
