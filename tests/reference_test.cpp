@@ -80,13 +80,22 @@ TEST(Reference, PlanoConvexLensMatchesTheExactRayMap) {
   }
 }
 
-TEST(Reference, ErrorFallsAsOneOverSqrtPhotons) {
-  // Flux through a point light's index-1 window: E / E0 = r_ref^2 cos / r^2,
-  // known exactly, so the Monte Carlo error itself can be measured.
+namespace {
+// A point light over an index-1 window (glass that bends nothing), 32²
+// pixels of a 40 mm screen: light whose landing is known in closed form.
+Scene point_light_over_air() {
   Scene s = straight_down(2.0, 40.0, 40.0, 32, false);
   s.object.ior = 1.0;
   s.light.type = LightType::point;
   s.light.position = {0.3, -0.2, 30};
+  return s;
+}
+}  // namespace
+
+TEST(Reference, ErrorFallsAsOneOverSqrtPhotons) {
+  // Flux through a point light's index-1 window: E / E0 = r_ref^2 cos / r^2,
+  // known exactly, so the Monte Carlo error itself can be measured.
+  const Scene s = point_light_over_air();
   const Mesh window = grid_mesh(flat_face(25.0), 8, 8);
   auto error = [&](std::uint64_t n) {
     const ReferenceResult r = trace_reference(s, window, photons(n));
@@ -118,10 +127,7 @@ TEST(Reference, APointLightsFluxIsTheSolidAngleOfTheScreen) {
   // seen from the light, in closed form: the sum over its corners of
   // ±atan(x y / (d √(x² + y² + d²))). Summed over the image, the photons'
   // noise averages out, and a bias of a percent shows.
-  Scene s = straight_down(2.0, 40.0, 40.0, 32, false);
-  s.object.ior = 1.0;
-  s.light.type = LightType::point;
-  s.light.position = {0.3, -0.2, 30};
+  const Scene s = point_light_over_air();
   const Mesh window = grid_mesh(flat_face(25.0), 8, 8);
   const ReferenceResult r = trace_reference(s, window, photons(640'000));
   const double pixel = (40.0 / 32) * (40.0 / 32);
