@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
-// OBJ reading and writing for the caustic face, with the validation every
-// consumer of a Mesh relies on.
+// OBJ reading for the caustic face and receiver shapes, with the validation
+// every consumer of a Mesh relies on (writing: mesh_obj_write.cpp).
 #include "caustic/mesh.hpp"
 
 #include "caustic/json_text.hpp"
@@ -373,32 +373,5 @@ Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool 
 }
 
 }  // namespace
-
-void write_obj(const Mesh& mesh, const std::filesystem::path& file) {
-  std::unique_ptr<FILE, int (*)(FILE*)> out(std::fopen(file.string().c_str(), "w"), &std::fclose);
-  if (!out) throw std::runtime_error("cannot write " + file.string());
-  std::fprintf(out.get(), "# %s, %zu vertices, %zu triangles\n", mesh.uvs.empty() ? "caustic face" : "receiver shape",
-               mesh.positions.size(), mesh.triangles.size());
-  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-    const auto& p = mesh.positions[i];
-    if (tinted(mesh)) {
-      const auto& c = mesh.colours[i];
-      std::fprintf(out.get(), "v %.9g %.9g %.9g %.7g %.7g %.7g\n", p.x, p.y, p.z, c.x, c.y, c.z);
-    } else {
-      std::fprintf(out.get(), "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
-    }
-  }
-  for (const auto& n : mesh.normals) std::fprintf(out.get(), "vn %.7g %.7g %.7g\n", n.x, n.y, n.z);
-  for (const auto& uv : mesh.uvs) std::fprintf(out.get(), "vt %.9g %.9g\n", uv.x, uv.y);
-  const bool atlas = !mesh.uvs.empty();
-  for (const auto& t : mesh.triangles) {
-    if (atlas)
-      std::fprintf(out.get(), "f %u/%u/%u %u/%u/%u %u/%u/%u\n", t.x + 1, t.x + 1, t.x + 1, t.y + 1, t.y + 1, t.y + 1,
-                   t.z + 1, t.z + 1, t.z + 1);
-    else
-      std::fprintf(out.get(), "f %u//%u %u//%u %u//%u\n", t.x + 1, t.x + 1, t.y + 1, t.y + 1, t.z + 1, t.z + 1);
-  }
-  if (std::ferror(out.get())) throw std::runtime_error("error while writing " + file.string());
-}
 
 }  // namespace caustic

@@ -4,6 +4,7 @@
 #include "address_group.hpp"
 #include "guard_stream.hpp"
 #include "log.hpp"
+#include "peer.hpp"
 
 #include <netinet/in.h>
 #include <netinet/tcp.h>
@@ -39,30 +40,6 @@ struct Gone {
   std::weak_ptr<Listener*> owner;
   std::uint64_t id;
 };
-
-// A client's address as text ("unknown" without one) and its port: with
-// both, one connection among several from the same host.
-struct Peer {
-  std::string address = "unknown";
-  guint16 port = 0;
-};
-
-Peer peer_of(GSocketAddress* remote) {
-  Peer peer;
-  if (!remote || !G_IS_INET_SOCKET_ADDRESS(remote)) return peer;
-  gchar* s = g_inet_address_to_string(g_inet_socket_address_get_address(G_INET_SOCKET_ADDRESS(remote)));
-  peer.address = s;
-  g_free(s);
-  peer.port = g_inet_socket_address_get_port(G_INET_SOCKET_ADDRESS(remote));
-  return peer;
-}
-
-Peer peer_of(GSocket* socket) {
-  GSocketAddress* remote = g_socket_get_remote_address(socket, nullptr);
-  const Peer peer = peer_of(remote);
-  if (remote) g_object_unref(remote);
-  return peer;
-}
 
 void clear_source(GSource*& source) {
   if (!source) return;

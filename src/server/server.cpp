@@ -19,20 +19,6 @@
 #include <thread>
 
 namespace caustic::server {
-ListenerLimits listener_limits(const ServerConfig& c) {
-  ListenerLimits l;
-  l.max_connections = c.max_connections;
-  l.max_connections_per_address = c.max_connections_per_address;
-  l.header_timeout_s = c.header_timeout_s;
-  l.body_timeout_s = c.body_timeout_s;
-  l.connection_idle_timeout_s = c.connection_idle_timeout_s;
-  l.max_ws_message_bytes = c.max_ws_message_bytes;
-  l.trusted_proxies = c.trusted_proxies;
-  l.head.max_body_bytes = c.max_body_bytes;
-  l.head.upload_path = "/api/v1/designs";
-  l.head.max_upload_bytes = static_cast<std::size_t>(c.design_max_upload_bytes);
-  return l;
-}
 
 struct Server::State {
   ServerState shared;
