@@ -134,6 +134,9 @@ std::size_t too_deep_at(std::string_view text, int max_depth) {
   return 0;
 }
 
+// JSON's whitespace (RFC 8259: space, tab, line feed, carriage return).
+bool json_space(char ch) { return ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r'; }
+
 // Where the value after the first `max` begins, for the error to say (the
 // SAX callbacks carry no position): values are counted as the parser takes
 // them, a string being a key when a colon follows it.
@@ -146,12 +149,10 @@ std::size_t too_many_at(std::string_view text, std::size_t max) {
       for (++i; i < text.size() && text[i] != '"'; ++i)
         if (text[i] == '\\') ++i;
       std::size_t after = i + 1;
-      while (after < text.size() && (text[after] == ' ' || text[after] == '\t' || text[after] == '\n' || text[after] == '\r'))
-        ++after;
+      while (after < text.size() && json_space(text[after])) ++after;
       if (after < text.size() && text[after] == ':') continue;  // a key
     } else if (ch == '-' || (ch >= '0' && ch <= '9') || (ch >= 'a' && ch <= 'z')) {
-      while (i + 1 < text.size() && text[i + 1] != ',' && text[i + 1] != ']' && text[i + 1] != '}' &&
-             text[i + 1] != ' ' && text[i + 1] != '\n' && text[i + 1] != '\r' && text[i + 1] != '\t')
+      while (i + 1 < text.size() && text[i + 1] != ',' && text[i + 1] != ']' && text[i + 1] != '}' && !json_space(text[i + 1]))
         ++i;
     } else if (ch != '{' && ch != '[') {
       continue;
@@ -168,8 +169,7 @@ std::size_t key_at(std::string_view text, const std::string& key, std::size_t nt
   const std::string quoted = "\"" + key + "\"";
   for (std::size_t at = text.find(quoted); at != std::string_view::npos; at = text.find(quoted, at + 1)) {
     std::size_t after = at + quoted.size();
-    while (after < text.size() && (text[after] == ' ' || text[after] == '\t' || text[after] == '\n' || text[after] == '\r'))
-      ++after;
+    while (after < text.size() && json_space(text[after])) ++after;
     if (after < text.size() && text[after] == ':' && --nth == 0) return at;
   }
   return 0;
