@@ -109,3 +109,25 @@ TEST(StaticFiles, AreRevalidatedByTheirETagWhileTheApiIsNeverStored) {
   EXPECT_EQ(raw_header(health, "ETag"), "");
   fs::remove_all(web);
 }
+
+// A browser copies the headers of a 304 onto the response it kept (RFC 9111
+// 4.3.4): a page's must carry the page's own policy, whose hash admits its
+// import map, not the API's, which would block it after a reload.
+TEST(StaticFiles, ANotModifiedPageKeepsItsPolicy) {
+  namespace fs = std::filesystem;
+  const fs::path web = fs::temp_directory_path() / ("causticd_static_304_test-" + std::to_string(::getpid()));
+  fs::remove_all(web);
+  fs::create_directories(web);
+  std::ofstream(web / "index.html") << "<!doctype html><script type=\"importmap\">{\"imports\": {}}</script>";
+  ServerProcess server({"--web-dir", web.string()});
+  using caustic::testing::raw_header;
+  using caustic::testing::raw_status;
+  const std::string first = get(server, "/");
+  ASSERT_EQ(raw_status(first), 200);
+  const std::string policy = raw_header(first, "Content-Security-Policy");
+  ASSERT_NE(policy.find("'sha256-"), std::string::npos) << policy;
+  const std::string again = get(server, "/", "If-None-Match: " + raw_header(first, "ETag") + "\r\n");
+  ASSERT_EQ(raw_status(again), 304);
+  EXPECT_EQ(raw_header(again, "Content-Security-Policy"), policy);
+  fs::remove_all(web);
+}

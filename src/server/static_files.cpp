@@ -154,9 +154,11 @@ void serve_static(const std::filesystem::path& root, const std::string& url_path
   if (not_modified(msg, etag)) {
     soup_server_message_set_status(msg, SOUP_STATUS_NOT_MODIFIED, nullptr);
   } else {
-    if (page) soup_message_headers_replace(headers, "Content-Security-Policy", policy.c_str());
     reply_bytes(msg, SOUP_STATUS_OK, type->second, bytes->data(), bytes->size());
   }
+  // A 304 too: a browser copies its headers onto the page it kept (RFC 9111
+  // 4.3.4), and the API's policy there would block the page's import map.
+  if (page) soup_message_headers_replace(headers, "Content-Security-Policy", policy.c_str());
   // Kept, but asked about at each use: a page load after the first costs a
   // 304 per file, not three.js's megabytes again, and an upgrade's files
   // are seen at once. (The API's answers stay no-store.)
