@@ -131,3 +131,29 @@ TEST(StaticFiles, ANotModifiedPageKeepsItsPolicy) {
   EXPECT_EQ(raw_header(again, "Content-Security-Policy"), policy);
   fs::remove_all(web);
 }
+
+// A 304's Content-Length, if any, is the 200's (RFC 9110 8.6): a cache may
+// copy it onto the file it kept, and 0 there would empty the file.
+TEST(StaticFiles, ANotModifiedFileTellsItsOwnLength) {
+  namespace fs = std::filesystem;
+  const fs::path web = fs::temp_directory_path() / ("causticd_static_length_test-" + std::to_string(::getpid()));
+  fs::remove_all(web);
+  fs::create_directories(web);
+  std::ofstream(web / "app.js") << "console.log(1);";
+  ServerProcess server({"--web-dir", web.string()});
+  using caustic::testing::raw_header;
+  using caustic::testing::raw_status;
+  const std::string first = get(server, "/app.js");
+  ASSERT_EQ(raw_status(first), 200);
+  EXPECT_EQ(raw_header(first, "Content-Length"), "15");
+  for (const std::string method : {"GET", "HEAD"}) {
+    const std::string again = caustic::testing::raw_request(
+        port_of(server.url()), method + " /app.js HTTP/1.1\r\nHost: 127.0.0.1\r\nIf-None-Match: " +
+                                   raw_header(first, "ETag") + "\r\n\r\n");
+    EXPECT_EQ(raw_status(again), 304) << method;
+    const std::string length = raw_header(again, "Content-Length");
+    EXPECT_TRUE(length.empty() || length == "15") << method << ": " << length;
+    EXPECT_EQ(caustic::testing::raw_body(again), "") << method;
+  }
+  fs::remove_all(web);
+}

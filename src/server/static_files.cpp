@@ -153,6 +153,10 @@ void serve_static(const std::filesystem::path& root, const std::string& url_path
   SoupMessageHeaders* headers = soup_server_message_get_response_headers(msg);
   if (not_modified(msg, etag)) {
     soup_server_message_set_status(msg, SOUP_STATUS_NOT_MODIFIED, nullptr);
+    // The library would write the empty body's length, 0, which a cache
+    // may copy onto the file it kept; only the 200's own may be sent
+    // (RFC 9110 8.6).
+    soup_message_headers_set_content_length(headers, bytes->size());
   } else {
     reply_bytes(msg, SOUP_STATUS_OK, type->second, bytes->data(), bytes->size());
   }
