@@ -221,8 +221,12 @@ void CpuPost::map_plane(const PostParams& post, const std::vector<float>& hdr, i
   if (bloom) glow(post, hdr, width, height);
   const bool same = width == out_width && height == out_height;
   const auto across = taps(width, out_width), down = taps(height, out_height);
-  auto glow_across = taps(glow_width_, out_width), glow_down = taps(glow_height_, out_height);
+  // The glow's taps only with a glow: without one its size is 0 (or a
+  // previous frame's), and taps() of 0 texels would clamp to [0, -1].
+  std::vector<Tap> glow_across, glow_down;
   if (bloom) {
+    glow_across = taps(glow_width_, out_width);
+    glow_down = taps(glow_height_, out_height);
     const int shrink = glow_shrink(post.bloom_radius);
     confine(glow_across, cuts_.x, width, shrink);
     confine(glow_down, cuts_.y, height, shrink);
