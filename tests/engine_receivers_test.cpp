@@ -44,7 +44,8 @@ Scene base_scene(int pixels) {
 double tile_flux(const HdrImage& img, const Scene& s, std::size_t surface) {
   const auto tiles = atlas_layout(img.width, img.height, 1 + s.receivers.size());
   const auto& t = tiles[surface];
-  const auto& r = receiving_surfaces(s)[surface];
+  const auto surfaces = receiving_surfaces(s);
+  const auto& r = surfaces[surface];
   double sum = 0;
   for (int y = t.y; y < t.y + t.height; ++y)
     for (int x = t.x; x < t.x + t.width; ++x) sum += img.pixels[static_cast<std::size_t>(y) * img.width + x];
