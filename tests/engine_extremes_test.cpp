@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Scenes at the edges of what the scene format allows, each held to a result
+// worked out by hand rather than to the engine's own bookkeeping: the
+// largest index's Fresnel loss, a slab a micrometre and a hundred metres
+// wide, two receivers that cross each other, and a plate of glass seen
+// edge-on by the light.
+#include "gl_test_support.hpp"
+
+#include <cstdio>
+#include <numbers>
+
+using namespace caustic;
+using namespace caustic::testing;
+
+namespace {
+
+// The mean of the pixels whose centres lie within `half` of the screen's
+// centre, and the largest value of those farther than `outside` from it.
+struct Shadow {
+  double inside_min = 1e300, inside_max = -1e300, outside_max = 0;
+};
+
+Shadow read_shadow(const HdrImage& img, const ScreenParams& screen, double half, double outside) {
+  Shadow s;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const glm::dvec2 at = pixel_centre(screen, img.width, img.height, x, y);
+      const double v = img.at(x, y);
+      if (std::abs(at.x) < half && std::abs(at.y) < half) {
+        s.inside_min = std::min(s.inside_min, v);
+        s.inside_max = std::max(s.inside_max, v);
+      } else if (std::abs(at.x) > outside || std::abs(at.y) > outside) {
+        s.outside_max = std::max(s.outside_max, v);
+      }
+    }
+  return s;
+}
+
+// A height field that is a plane z = c: a face of a plate.
+HeightField plane_at(double c, double half) {
+  return {[c](double, double) { return c; }, [](double, double) { return glm::dvec2(0.0); }, half, half};
+}
+
+ScreenParams rectangle(glm::dvec3 centre, glm::dvec3 normal, glm::dvec3 up, double width, double height) {
+  ScreenParams r;
+  r.center = centre;
+  r.normal = glm::normalize(normal);
+  r.up = glm::normalize(up);
+  r.width = width;
+  r.height = height;
+  return r;
+}
+
+}  // namespace
+
+class Extremes : public GlTest {};
+
+TEST_F(Extremes, TheLargestIndexPassesFresnelsShareOfTheLight) {
+  // n = 10, the largest the scene format allows, at normal incidence:
+  // R = ((n - 1) / (n + 1))^2 = (9 / 11)^2 at each face, so a slab passes
+  // (1 - R)^2 = (40 / 121)^2 = 0.109282...; every pixel of its shadow reads it.
+  Scene s = straight_down_scene(3.0, 50.0, 25.6, 256);
+  s.render.fresnel = true;
+  s.object.ior = 10.0;
+  const double t = (40.0 / 121) * (40.0 / 121);
+  const HdrImage img = render(s, shared(grid_mesh(flat_face(10.0), 64, 64)));
+  ASSERT_TRUE(all_finite(img));
+  const Shadow shadow = read_shadow(img, s.screen, 9.9, 10.1);
+  EXPECT_NEAR(shadow.inside_min, t, 1e-5);
+  EXPECT_NEAR(shadow.inside_max, t, 1e-5);
+  EXPECT_EQ(shadow.outside_max, 0.0);
+  EXPECT_NEAR(total_flux(img, s.screen), 400 * t, 1e-3 * 400 * t);
+}
+
+TEST_F(Extremes, ASlabReadsTheSameFromAMicrometreToAHundredMetres) {
+  // Units are free (docs/scene-format.md): the flat slab's shadow reads
+  // 0.96^2 (Fresnel, n = 1.5) whatever its size, under light tilted 30
+  // degrees about x onto a screen across the beam, and the flux is its
+  // face across the beam times 0.9216 there too: no tolerance in the
+  // method may be an absolute length.
+  for (const double half : {5e-7, 5e4}) {
+    const double tilt = std::numbers::pi / 6;
+    Scene s = straight_down_scene(0.1 * half, 5 * half, 2.4 * half, 240);
+    s.render.fresnel = true;
+    s.light.direction = {0, -std::sin(tilt), -std::cos(tilt)};
+    s.screen.normal = -s.light.direction;
+    s.screen.center = 5 * half * s.light.direction;
+    s.screen.up = {0, std::cos(tilt), -std::sin(tilt)};
+    const HdrImage img = render(s, shared(grid_mesh(flat_face(half), 48, 48)));
+    ASSERT_TRUE(all_finite(img)) << half;
+    // Across the beam the square's shadow is 2 half wide and 2 half cos(tilt)
+    // high; Fresnel at 30 degrees in and 19.47 out, written out here.
+    const double cos_t = std::sqrt(1 - 0.25 / 2.25), n = 1.5, cos_i = std::cos(tilt);
+    const double rs = (cos_i - n * cos_t) / (cos_i + n * cos_t), rp = (cos_t - n * cos_i) / (cos_t + n * cos_i);
+    const double face = 1 - (rs * rs + rp * rp) / 2, through = face * face;  // the same angles on the way out
+    const double flux = total_flux(img, s.screen), area = 4 * half * half * cos_i;
+    EXPECT_NEAR(flux / area, through, 1e-3 * through) << "half width " << half;
+    // The middle of the shadow, 0.6 half from its top and bottom edges.
+    const Shadow middle = read_shadow(img, s.screen, 0.25 * half, 1.05 * half);
+    EXPECT_NEAR(middle.inside_min, through, 1e-4) << "half width " << half;
+    EXPECT_NEAR(middle.inside_max, through, 1e-4) << "half width " << half;
+    EXPECT_LT(middle.outside_max, 1e-9) << "half width " << half;  // beside the shadow: rounding at most
+  }
+}
+
+TEST_F(Extremes, TwoReceiversThatCrossEachOtherShareTheLightAtTheirCrossing) {
+  // Two planes tilted 30 degrees either way cross in a line under the
+  // middle of the slab: light straight down meets the higher one first, so
+  // each takes the half of the slab above it, 200 mm^2, at cos(30) by
+  // Lambert's law. The column of triangles whose corners part at the
+  // crossing (0.3125 x 20 mm^2) is all that may go to either.
+  Scene s = straight_down_scene(1, 50, 10, 256);
+  s.screen.center = {0, 300, -50};  // parked where no light goes
+  const double a = std::numbers::pi / 6;
+  s.receivers = {rectangle({0, 0, -30}, {std::sin(a), 0, std::cos(a)}, {0, 1, 0}, 30, 30),
+                 rectangle({0, 0, -30}, {-std::sin(a), 0, std::cos(a)}, {0, 1, 0}, 30, 30)};
+  const HdrImage img = render(s, fine_slab());
+  ASSERT_TRUE(all_finite(img));
+  const auto tiles = atlas_layout(img.width, img.height, 3);
+  const double pixel = (30.0 / tiles[1].width) * (30.0 / tiles[1].height);
+  const double left = tile_sum(img, tiles[1]) * pixel, right = tile_sum(img, tiles[2]) * pixel;
+  EXPECT_EQ(tile_sum(img, tiles[0]), 0.0);
+  EXPECT_NEAR(left + right, 400.0, 0.04);
+  EXPECT_NEAR(left, 200.0, 6.25);
+  EXPECT_NEAR(right, 200.0, 6.25);
+  // Each lit half in its own tile: the slab's x = -5 lands on the first at
+  // 5 / cos(30) to the left of its centre (its right is up x normal), the
+  // slab's x = +5 on the second as far to its right.
+  for (const int i : {1, 2}) {
+    const AtlasTile& t = tiles[static_cast<std::size_t>(i)];
+    const double local = (i == 1 ? -5 : 5) / std::cos(a);
+    const int x = t.x + static_cast<int>((local + 15) / 30 * t.width), y = t.y + t.height / 2;
+    EXPECT_NEAR(img.at(x, y), std::cos(a), 1e-3) << "receiver " << i - 1;
+  }
+}
+
+TEST_F(Extremes, APlateEdgeOnToTheLightPassesWhatFallsOnItsEdge) {
+  // A 10 x 10 x 2 mm plate (object.shape "solid"), light along x: parallel
+  // to its large faces, it enters the side wall at x = -5 and leaves the one
+  // at x = +5, both at normal incidence, two interfaces. Fresnel off, the
+  // screen across the beam gets the wall's 10 x 2 mm^2 at irradiance 1; the
+  // large faces, met only at grazing along the wall's edges, take none.
+  Scene s = straight_down_scene(0, 40, 16, 256);
+  s.object.flat_face_offset.reset();
+  s.object.shape = Shape::solid;
+  s.render.light_grid = 256;
+  s.light.direction = {1, 0, 0};
+  s.screen.center = {40, 0, 0};
+  s.screen.normal = {-1, 0, 0};
+  s.screen.up = {0, 0, 1};
+  const HdrImage img = render(s, shared(closed_body(plane_at(1, 5), plane_at(-1, 5), 17)));
+  ASSERT_TRUE(all_finite(img));
+  const double flux = total_flux(img, s.screen);
+  std::printf("edge-on plate: %.5f of the wall's 20 mm^2\n", flux / 20);
+  // The strips one grid cell wide along the wall's edges (each 0.4% of it here) are sampled: measured 7e-5 over.
+  EXPECT_NEAR(flux, 20.0, 2e-3 * 20);
+  EXPECT_LE(flux, 20.0 * (1 + 1e-3));
+  // The middle of the wall's image, 1 mm high (the plate's 2 mm, 0.5 mm in).
+  double low = 1e300, high = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const glm::dvec2 at = pixel_centre(s.screen, img.width, img.height, x, y);
+      const double v = img.at(x, y);
+      if (std::abs(at.x) < 4.5 && std::abs(at.y) < 0.5) {
+        low = std::min(low, v);
+        high = std::max(high, v);
+      } else if (std::abs(at.x) > 5.2 || std::abs(at.y) > 1.2) {
+        EXPECT_LT(v, 1e-9) << "light beside the wall's image at " << at.x << ", " << at.y;
+      }
+    }
+  EXPECT_NEAR(low, 1.0, 1e-3);
+  EXPECT_NEAR(high, 1.0, 1e-3);
+}
