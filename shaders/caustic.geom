@@ -59,6 +59,7 @@ layout(std430, binding = 0) buffer TriangleCounters {
 // Below this many square pixels a triangle's corners are too close for a
 // stable area; its flux goes to the pixel under its centroid.
 const float kCollapsed = 1e-4;
+const float kMaxReportRatio = 1e12;
 
 float signedArea(vec2 a, vec2 b, vec2 c) {
   vec2 e1 = b - a, e2 = c - a;
@@ -109,7 +110,9 @@ void main() {
   float flux;
   if (uReportIntensity) {
     float planeArea = abs(signedArea(vin[0].plane, vin[1].plane, vin[2].plane));
-    flux = transmittance * screenArea / max(planeArea, 1e-12) * screenArea;
+    // Capped relative to the triangle, as the CPU's set-up does: no absolute area stands for zero.
+    float ratio = screenArea < kMaxReportRatio * planeArea ? screenArea / planeArea : kMaxReportRatio;
+    flux = transmittance * ratio * screenArea;
   } else if (uPointLight) {
     flux = transmittance * uReferenceDistance2 *
            solidAngle(uLightPos, vin[0].footprint, vin[1].footprint, vin[2].footprint);

@@ -2,7 +2,7 @@
 // Scenes at the edges of what the scene format allows, each held to a result
 // worked out by hand rather than to the engine's own bookkeeping: the
 // largest index's Fresnel loss, a slab a micrometre and a hundred metres
-// wide, two receivers that cross each other, and a plate of glass seen
+// wide (in energy and in the report's area ratio), two receivers that cross each other, and a plate of glass seen
 // edge-on by the light.
 #include "gl_test_support.hpp"
 
@@ -101,6 +101,25 @@ TEST_F(Extremes, ASlabReadsTheSameFromAMicrometreToAHundredMetres) {
     EXPECT_NEAR(middle.inside_max, through, 1e-4) << "half width " << half;
     EXPECT_LT(middle.outside_max, 1e-9) << "half width " << half;  // beside the shadow: rounding at most
   }
+}
+
+TEST_F(Extremes, TheReportsAreaRatioIsOneForAParallelBeamAtAnySize) {
+  // "report" divides the triangle's area on the screen by its area on a
+  // virtual plane behind it: a parallel beam straight through a flat slab
+  // keeps its triangles' areas, so the ratio reads 1 whatever the units.
+  for (const double half : {5e-7, 5e4})
+    for (const TriangleSetup setup : {TriangleSetup::gpu, TriangleSetup::cpu}) {
+      SCOPED_TRACE(setup == TriangleSetup::gpu ? "on the GL" : "on the CPU");
+      Scene s = straight_down_scene(0.1 * half, 5 * half, 2.4 * half, 120);
+      s.render.intensity = IntensityMode::report;
+      s.render.report_plane_distance = half;
+      engine_->set_triangle_setup(setup);
+      const HdrImage img = render(s, shared(grid_mesh(flat_face(half), 32, 32)));
+      ASSERT_TRUE(all_finite(img)) << half;
+      const Shadow shadow = read_shadow(img, s.screen, 0.95 * half, 1.05 * half);
+      EXPECT_NEAR(shadow.inside_min, 1.0, 1e-3) << "half width " << half;
+      EXPECT_NEAR(shadow.inside_max, 1.0, 1e-3) << "half width " << half;
+    }
 }
 
 TEST_F(Extremes, TwoReceiversThatCrossEachOtherShareTheLightAtTheirCrossing) {

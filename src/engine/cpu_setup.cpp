@@ -15,6 +15,8 @@ namespace {
 // Below this many square pixels a triangle's corners are too close for a
 // stable area; its flux goes to the pixel under its centroid (caustic.geom).
 constexpr double kCollapsed = 1e-4;
+// The largest screen-to-plane area ratio "report" gives (shaders/caustic.geom's too).
+constexpr double kMaxReportRatio = 1e12;
 
 // Triangles and vertices per core at the least: a share thinner than that
 // costs more to hand over than it saves.
@@ -111,7 +113,11 @@ class Setup {
     double flux;
     if (scene_.render.intensity == IntensityMode::report) {
       const double plane_area = std::abs(signed_area(v0.plane, v1.plane, v2.plane));
-      flux = transmittance * screen_area / std::max(plane_area, 1e-12) * screen_area;
+      // The area ratio, capped where the virtual plane focuses, relative to
+      // the triangle: units are free, and an absolute floor (1e-12) was a
+      // micrometre-wide slab's whole triangle, darkening its picture 1e5-fold.
+      const double ratio = screen_area < kMaxReportRatio * plane_area ? screen_area / plane_area : kMaxReportRatio;
+      flux = transmittance * ratio * screen_area;
     } else if (scene_.light.type == LightType::point) {
       flux = transmittance * reference_distance2_ *
              optics::solid_angle(scene_.light.position, v0.footprint, v1.footprint, v2.footprint);
