@@ -30,7 +30,8 @@ export function uploadCard(codecOf) {
   const file = card.querySelector('input[type=file]');
   const bar = card.querySelector('progress');
   const status = card.querySelector('.upload-status');
-  const say = (text) => { status.textContent = text; };
+  // A live region: written only when the words change, or each poll would read them again.
+  const say = (text) => { if (status.textContent !== text) status.textContent = text; };
   // Enter in the name field would submit the form and reload the page.
   card.addEventListener('submit', (event) => event.preventDefault());
 

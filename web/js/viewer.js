@@ -12,6 +12,7 @@ import { retryAfter } from './retry.js';
 import { Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
 import { changedParams, sharedParams, sharedView, writeAddress } from './share.js';
+import { showState } from './state_label.js';
 import { showStats } from './stats_overlay.js';
 import { Stream } from './stream.js';
 import { installTestHooks } from './test_hooks.js';
@@ -59,10 +60,9 @@ let session = null, stream = null, channel = null, room = null, controls = null,
 let attempts = 0, cancelRetry = null;
 let panel = null, water = null;
 
-function setConnection(name, detail = '') {
+function setConnection(name, detail = '', countdown = '') {
   state.connection = name;
-  stateLabel.dataset.state = name;
-  stateLabel.textContent = detail ? `${name}: ${detail}` : name;
+  showState(stateLabel, name, detail, countdown);
 }
 
 // Everything in the scene format a viewer may patch.
@@ -80,7 +80,8 @@ function showWarnings(server = state.serverWarnings ?? []) {
   const warnings = [state.codecRefused, state.linkRefused, state.dropRefused, state.patchRefused, ...server].filter(Boolean);
   state.warnings = warnings;
   warningsPanel.hidden = warnings.length === 0;
-  warningsPanel.textContent = warnings.map((w) => `${w.key}: ${w.detail}`).join('\n');
+  const text = warnings.map((w) => `${w.key}: ${w.detail}`).join('\n');
+  if (warningsPanel.textContent !== text) warningsPanel.textContent = text;  // a live region: read when it changes
 }
 
 function onApplied(body, sentAt) {
@@ -293,7 +294,7 @@ function scheduleRetry(why = '', serverMs = null) {
   attempts += 1;
   cancelRetry?.();
   cancelRetry = retryAfter(retry++, (left) => {
-    if (why) setConnection(state.connection, `${why}; retrying in ${left} s`);
+    if (why) setConnection(state.connection, why, `retrying in ${left} s`);
   }, connect, serverMs);
 }
 

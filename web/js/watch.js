@@ -16,6 +16,7 @@ import { FrameRate } from './frame_rate.js';
 import { retryAfter, retryDelay, transient } from './retry.js';
 import { Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
+import { showState } from './state_label.js';
 import { ShownWater } from './water.js';
 import { installWatchTestHooks } from './watch_test_hooks.js';
 
@@ -48,11 +49,10 @@ const state = { connection: 'connecting', version: 0, level: 0, error: '', param
                 view: flat ? 'video' : 'room', fps: 0 };
 window.caustic = state;
 
-function setConnection(connection, why = '') {
+function setConnection(connection, why = '', countdown = '') {
   state.connection = connection;
-  state.error = why;
-  stateLabel.dataset.state = connection;
-  stateLabel.textContent = why ? `${connection}: ${why}` : connection;
+  state.error = countdown ? `${why}; ${countdown}` : why;
+  showState(stateLabel, connection, why, countdown);
 }
 
 const sceneId = link.get('scene');
@@ -270,7 +270,7 @@ function resetRetryWhenSteady(mine) {
 }
 
 function scheduleRetry(why) {
-  retryAfter(retry++, (left) => setConnection('reconnecting', `${why}; retrying in ${left} s`), watch);
+  retryAfter(retry++, (left) => setConnection('reconnecting', why, `retrying in ${left} s`), watch);
 }
 
 watch();
