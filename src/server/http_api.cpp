@@ -271,12 +271,12 @@ void not_allowed(ServerState& s, SoupServerMessage* msg, const char* allow) {
   reply_problem(msg, s.metrics, SOUP_STATUS_METHOD_NOT_ALLOWED, std::string("this resource allows ") + allow);
 }
 
-void handle_http(SoupServer*, SoupServerMessage* msg, const char* raw_path, GHashTable*, gpointer data) {
+void handle_http(SoupServer*, SoupServerMessage* msg, const char*, GHashTable*, gpointer data) {
   auto& s = *static_cast<ServerState*>(data);
   // Nothing may leave a C callback as an exception: it would end the
   // process. A failure here is the server's fault, and says so.
   try {
-    std::string path = raw_path ? raw_path : "";
+    std::string path = request_path(msg);  // "%2F" names no route, and static files decode once
     if (strip_instance_prefix(s.config, path) == PathOwner::other_instance)
       return reply_problem(msg, s.metrics, 421, "this is not the instance that path names");
     route_http(s, msg, path);
@@ -289,13 +289,13 @@ void handle_http(SoupServer*, SoupServerMessage* msg, const char* raw_path, GHas
   }
 }
 
-void handle_signal_socket(SoupServer*, SoupServerMessage* msg, const char* raw_path, SoupWebsocketConnection* socket,
+void handle_signal_socket(SoupServer*, SoupServerMessage* msg, const char*, SoupWebsocketConnection* socket,
                           gpointer data) {
   auto& s = *static_cast<ServerState*>(data);
   try {
     static const std::regex signal_path("^/api/v1/sessions/([0-9a-f]{32})/signal$");
     std::smatch m;
-    std::string path = raw_path ? raw_path : "";
+    std::string path = request_path(msg);  // as handle_http routes it
     strip_instance_prefix(s.config, path);  // another's prefix then matches no session
     const std::string token = query_token(msg);
     auto it = std::regex_match(path, m, signal_path) ? s.sessions.find(m[1]) : s.sessions.end();

@@ -33,6 +33,25 @@ void reply_problem(SoupServerMessage* msg, Metrics& metrics, guint status, const
   reply_bytes(msg, status, "application/problem+json", text.data(), text.size());
 }
 
+std::string request_path(SoupServerMessage* msg) {
+  const char* raw = g_uri_get_path(soup_server_message_get_uri(msg));
+  const std::string path = raw ? raw : "";
+  std::string out;
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    const int hi = path[i] == '%' && i + 2 < path.size() ? g_ascii_xdigit_value(path[i + 1]) : -1;
+    const int lo = hi >= 0 ? g_ascii_xdigit_value(path[i + 2]) : -1;
+    if (lo < 0) {
+      out += path[i];
+      continue;
+    }
+    const char c = static_cast<char>(hi * 16 + lo);
+    if (g_ascii_isalnum(c) || c == '-' || c == '.' || c == '_' || c == '~') out += c;
+    else out += '%', out += g_ascii_toupper(path[i + 1]), out += g_ascii_toupper(path[i + 2]);
+    i += 2;
+  }
+  return out;
+}
+
 std::string bearer_token(SoupServerMessage* msg) {
   const char* value = soup_message_headers_get_one(soup_server_message_get_request_headers(msg), "Authorization");
   if (!value) return "";

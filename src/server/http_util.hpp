@@ -18,6 +18,12 @@ void reply_problem(SoupServerMessage* msg, Metrics& metrics, guint status, const
 void reply_bytes(SoupServerMessage* msg, guint status, const std::string& content_type, const void* data,
                  std::size_t size);
 
+/// The request's path as it was sent, still percent-encoded, with the
+/// escapes of unreserved characters decoded and the others' hex digits in
+/// upper case (RFC 3986 6.2.2). The library hands handlers its path decoded,
+/// where "%2F" is a separator and a file's "%25" is decoded twice.
+std::string request_path(SoupServerMessage* msg);
+
 /// The bearer token of the request, or "" (the scheme is case-insensitive,
 /// RFC 9110 11.1).
 std::string bearer_token(SoupServerMessage* msg);

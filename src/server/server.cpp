@@ -148,7 +148,9 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
     // The gallery still streams; uploads answer that designs cannot be stored.
     log(Level::warning, "designs are off: cannot use " + designs.string() + ": " + e.what());
   }
-  s.soup = soup_server_new("server-header", "causticd", nullptr);
+  // Paths stay percent-encoded (request_path()): decoded, "%2F" would be a
+  // separator, and a file's "%25" would be decoded again by the file server.
+  s.soup = soup_server_new("server-header", "causticd", "raw-paths", TRUE, nullptr);
   g_signal_connect(s.soup, "request-started", G_CALLBACK(on_request_started), &s);
   g_signal_connect(s.soup, "request-read", G_CALLBACK(on_request_read), &s);
   s.listener = std::make_unique<Listener>(s.soup, s.metrics, listener_limits(s.config));

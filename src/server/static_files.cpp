@@ -18,8 +18,12 @@ namespace caustic::server {
 
 std::optional<std::filesystem::path> resolve_static(const std::filesystem::path& root, const std::string& url_path) {
   namespace fs = std::filesystem;
-  // libsoup hands over the path still percent-encoded: decode once, and
-  // refuse anything that decodes to a separator trick or a control byte.
+  // The path comes still percent-encoded (request_path()): decode once, and
+  // refuse anything that decodes to a separator trick or a control byte. An
+  // encoded slash would name a file with "/" in its name: there is none.
+  for (std::size_t at = url_path.find('%'); at != std::string::npos; at = url_path.find('%', at + 1))
+    if (at + 2 < url_path.size() && url_path[at + 1] == '2' && (url_path[at + 2] == 'F' || url_path[at + 2] == 'f'))
+      return std::nullopt;
   gchar* decoded_c = g_uri_unescape_string(url_path.c_str(), nullptr);
   if (!decoded_c) return std::nullopt;
   const std::string decoded = decoded_c;

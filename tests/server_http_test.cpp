@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// HTTP's own rules as the API and the file server keep them, written byte
+// for byte: how a path's escapes are read, which request targets are taken.
+#include "raw_http.hpp"
+#include "rest_fixture.hpp"
+#include "server_process.hpp"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+using caustic::testing::raw_body;
+using caustic::testing::raw_header;
+using caustic::testing::raw_request;
+using caustic::testing::raw_status;
+using caustic::testing::Rest;
+using caustic::testing::ServerProcess;
+
+namespace {
+
+std::string request(const ServerProcess& server, const std::string& method, const std::string& target,
+                    const std::string& extra_headers = "") {
+  return raw_request(server.port(), method + " " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\n" + extra_headers + "\r\n");
+}
+
+}  // namespace
+
+// An escape names a character within its segment (RFC 3986 2.2): "%2F" is
+// no separator, and "%25" is a percent sign, decoded once. An escaped
+// unreserved character is that character (6.2.2.2).
+TEST(HttpPaths, EscapesAreDecodedOnceAndAnEncodedSlashSeparatesNothing) {
+  namespace fs = std::filesystem;
+  const fs::path web = fs::temp_directory_path() / ("causticd_http_paths_test-" + std::to_string(::getpid()));
+  fs::remove_all(web);
+  fs::create_directories(web / "sub");
+  std::ofstream(web / "index.html") << "<!doctype html><title>ok</title>";
+  std::ofstream(web / "sub" / "app.js") << "console.log(1);";
+  ServerProcess server({"--web-dir", web.string()});
+  EXPECT_EQ(raw_status(request(server, "GET", "/sub/app.js")), 200);
+  EXPECT_EQ(raw_status(request(server, "GET", "/s%75b/app%2Ejs")), 200);
+  EXPECT_EQ(raw_status(request(server, "GET", "/api/v1/scenes/l%65ns")), 200);
+  EXPECT_EQ(raw_status(request(server, "GET", "/api/v1/%68ealth")), 200);
+  for (const char* target : {"/sub%2Fapp.js", "/sub%2fapp.js", "/index%252ehtml", "/sub%252Fapp.js",
+                             "/api/v1/scenes%2Flens", "/api/v1/scenes/lens%2Fthumbnail.png", "/api%2Fv1%2Fhealth"})
+    EXPECT_EQ(raw_status(request(server, "GET", target)), 404) << target;
+  fs::remove_all(web);
+}
