@@ -33,6 +33,81 @@ const overlap = ([a, b]) => {
   return r.left < s.right && s.left < r.right && r.top < s.bottom && s.top < r.bottom;
 };
 
+test('the viewer by keyboard: tab order, the help dialog, orbit, zoom, and moving the light and the object', async () => {
+  await withServer(async (server) => {
+    const context = await browser.newContext({ viewport: { width: 1280, height: 800 } });
+    const page = await context.newPage();
+    await page.goto(`${server.url}/viewer.html?scene=wavy&codec=vp8`);
+    await until(page, live, 60, 'live');
+    assert.equal(await page.locator('header#hud').count(), 1);
+    assert.equal(await page.locator('main canvas[role=img][aria-label]').count(), 1, 'the 3D view has no text alternative');
+    assert.equal(await page.getAttribute('.lil-gui.lil-root', 'aria-label'), 'Settings');
+    // Tab goes through the header, the toolbar, then the panel.
+    const order = [];
+    for (let i = 0; i < 9; ++i) {
+      await page.keyboard.press('Tab');
+      order.push(await page.evaluate(focused));
+    }
+    assert.deepEqual(order, ['Gallery', 'share', 'fullscreen', 'help-button', 'none', 'light', 'move', 'rotate', 'Caustic']);
+
+    // The help: opened from its button by Enter, it takes the focus; Escape
+    // closes it, gives the focus back, and leaves the mode as it was.
+    await page.keyboard.press('l');
+    await page.focus('#help-button');
+    await page.keyboard.press('Enter');
+    assert.equal(await page.getAttribute('#help-button', 'aria-expanded'), 'true');
+    assert.equal(await page.evaluate(() => document.activeElement.id), 'help');
+    await page.keyboard.press('Escape');
+    assert.ok(await page.locator('#help').isHidden());
+    assert.equal(await page.evaluate(() => document.activeElement.id), 'help-button');
+    assert.equal(await page.evaluate(() => window.caustic.mode), 'light', 'Escape closing the help also changed the mode');
+    // Its Close button does the same for a pointer or a finger.
+    await page.keyboard.press('Space');
+    assert.ok(await page.locator('#help').isVisible());
+    await page.click('#help-close');
+    assert.ok(await page.locator('#help').isHidden());
+
+    // Light mode: an arrow moves the light's marker, and the server turns the light.
+    await page.evaluate(() => document.activeElement.blur());
+    const light = await page.evaluate(() => ({ direction: window.caustic.params.light.direction, version: window.caustic.version }));
+    await page.keyboard.press('ArrowRight');
+    await page.keyboard.press('ArrowRight');
+    await until(page, (v) => window.caustic.version > v, 30, 'the light moved by keys', light.version);
+    assert.notDeepEqual(await page.evaluate(() => window.caustic.params.light.direction), light.direction);
+    // Move mode: Page Up raises the object; rotate mode: an arrow turns it.
+    await page.keyboard.press('t');
+    const object = await page.evaluate(() => ({ ...window.caustic.params.object, version: window.caustic.version }));
+    await page.keyboard.press('PageUp');
+    await until(page, (v) => window.caustic.version > v, 30, 'the object moved by keys', object.version);
+    assert.notDeepEqual(await page.evaluate(() => window.caustic.params.object.position), object.position);
+    await page.keyboard.press('r');
+    const turned = await page.evaluate(() => window.caustic.version);
+    await page.keyboard.press('ArrowLeft');
+    await until(page, (v) => window.caustic.version > v, 30, 'the object turned by keys', turned);
+    assert.notDeepEqual(await page.evaluate(() => window.caustic.params.object.rotation_deg), object.rotation_deg);
+
+    // Orbit mode: the arrows turn the view (the address follows it), + and - zoom.
+    await page.keyboard.press('0');
+    const view = () => new URL(location.href).searchParams.get('view');
+    const before = await page.evaluate(view);
+    await page.keyboard.press('ArrowLeft');
+    await page.keyboard.press('ArrowUp');
+    assert.notEqual(await page.evaluate(view), before, 'the arrows did not turn the view');
+    const far = await page.evaluate(() => window.caustic.cameraDistance());
+    await page.keyboard.press('+');
+    const near = await page.evaluate(() => window.caustic.cameraDistance());
+    assert.ok(near < far, `+ left the camera at ${near} from ${far}`);
+    await page.keyboard.press('-');
+    assert.ok(await page.evaluate(() => window.caustic.cameraDistance()) > near, '- did not zoom out');
+    // Keys pressed in the panel's fields are the field's, not the view's.
+    const stay = await page.evaluate(view);
+    await page.locator('.lil-gui .lil-controller', { hasText: 'gamma' }).locator('input').focus();
+    await page.keyboard.press('ArrowLeft');
+    assert.equal(await page.evaluate(view), stay);
+    await context.close();
+  });
+});
+
 test('a retry\'s countdown is seen but not read out each second', async () => {
   await withServer(async (server) => {
     const page = await browser.newPage();

@@ -5,6 +5,8 @@
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { TransformControls } from 'three/addons/controls/TransformControls.js';
 
+import { installViewKeys } from './keyboard_view.js';
+
 export const Modes = Object.freeze({ none: 'none', light: 'light', move: 'move', rotate: 'rotate' });
 
 export class ControlModes {
@@ -27,6 +29,7 @@ export class ControlModes {
       const next = { l: Modes.light, t: Modes.move, r: Modes.rotate, Escape: Modes.none, 0: Modes.none }[e.key];
       if (next) this.set(next);
     });
+    installViewKeys(this, { onLightMoved, onObjectMoved });
     // The toolbar: the same modes for touch and pointer.
     this.buttons = [...document.querySelectorAll('#modes [data-mode]')];
     for (const button of this.buttons) button.addEventListener('click', () => this.set(button.dataset.mode));

@@ -33,6 +33,9 @@ export class Panel {
     const { state, parts, colour } = this;
     const channel = () => parts.channel();
     const gui = this.gui = new GUI({ title: 'Caustic' });
+    // A landmark for screen readers: the settings, beside the header and the view.
+    gui.domElement.setAttribute('role', 'region');
+    gui.domElement.setAttribute('aria-label', 'Settings');
     // A phone's screen is the picture's: the panel starts folded there.
     if (matchMedia('(max-width: 720px)').matches) gui.close();
     const p = this.params = state.params;

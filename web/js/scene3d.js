@@ -42,6 +42,9 @@ export class CausticRoom {
     this.shapes = shapes;
     this.renderer = new THREE.WebGLRenderer({ antialias: quality === Quality.high, preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(pixelRatio(quality));
+    // A picture to a screen reader; what it shows is in the page's title and state.
+    this.renderer.domElement.setAttribute('role', 'img');
+    this.renderer.domElement.setAttribute('aria-label', '3D view of the scene: the screen with its caustic, the glass and the light');
     container.append(this.renderer.domElement);
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color(0x181c20);

@@ -13,6 +13,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { JanusStream } from './janus_stream.js';
 import { FrameRate } from './frame_rate.js';
+import { installViewKeys } from './keyboard_view.js';
 import { retryAfter, retryDelay, transient } from './retry.js';
 import { Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
@@ -139,6 +140,7 @@ async function placeRoom(params, version) {
     orbit = new OrbitControls(room.camera, room.renderer.domElement);
     orbit.target.copy(room.target);
     orbit.update();
+    installViewKeys({ mode: 'none', orbit }, {});  // arrows turn, + and - zoom, as in the viewer
     frames.watch();
   } else {
     const { params: placed, atlas } = surfaces(state.params);
