@@ -129,3 +129,35 @@ test('a retry\'s countdown is seen but not read out each second', async () => {
     await page.close();
   });
 });
+
+test('no WebGL, no WebRTC and no server are said in words, with nothing left counting', async () => {
+  await withServer(async (server) => {
+    const context = await browser.newContext();
+    const noGl = await context.newPage();
+    await noGl.addInitScript(() => {
+      const getContext = HTMLCanvasElement.prototype.getContext;
+      HTMLCanvasElement.prototype.getContext = function (kind, ...rest) {
+        return /webgl/.test(kind) ? null : getContext.call(this, kind, ...rest);
+      };
+    });
+    await noGl.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(noGl, () => window.caustic.connection === 'error', 30, 'the error');
+    assert.match(await noGl.textContent('#state'), /cannot draw the 3D view \(WebGL/);
+    assert.ok(await noGl.locator('#loading').isHidden(), 'the loading steps go on counting after the error');
+
+    const noRtc = await context.newPage();
+    await noRtc.addInitScript(() => { delete window.RTCPeerConnection; });
+    await noRtc.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    await until(noRtc, () => window.caustic.connection === 'error', 30, 'the error');
+    assert.match(await noRtc.textContent('#state'), /cannot receive the video stream \(it has no WebRTC/);
+    assert.ok(await noRtc.locator('#loading').isHidden());
+
+    // A gallery whose server does not answer says so, and what to do.
+    const down = await context.newPage();
+    await down.route('**/api/v1/scenes', (route) => route.abort());
+    await down.goto(`${server.url}/`);
+    await until(down, () => /Cannot load/.test(document.getElementById('gallery-status').textContent), 20, 'the failure');
+    assert.match(await down.textContent('#gallery-status'), /the server does not answer\. Reload the page/);
+    await context.close();
+  });
+});

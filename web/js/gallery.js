@@ -39,7 +39,10 @@ async function load() {
     classics.previousElementSibling.hidden = !classics.children.length;
     status.textContent = `${scenes.length} scenes`;
   } catch (error) {
-    status.textContent = `Cannot load the scenes: ${error.message}`;
+    // fetch's own words ("Failed to fetch") say nothing to a visitor.
+    const why = error instanceof TypeError ? 'the server does not answer' : error.message;
+    status.textContent = `Cannot load the scenes: ${why}. Reload the page to try again.`;
+    status.classList.add('error');
   }
 }
 

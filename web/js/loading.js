@@ -31,6 +31,17 @@ export class LoadingSteps {
     this.steps = [];
   }
 
+  /// The start failed for good: the list goes away, its steps kept for the tests.
+  stop() {
+    if (!this.timer) return;
+    this.finish(performance.now());
+    clearInterval(this.timer);
+    this.timer = null;
+    this.element.hidden = true;
+    this.last = this.summary();
+    this.steps = [];
+  }
+
   finish(now) {
     const current = this.steps.at(-1);
     if (current && current.end === undefined) current.end = now;

@@ -15,6 +15,7 @@ import { changedParams, sharedParams, sharedView, writeAddress } from './share.j
 import { showState } from './state_label.js';
 import { showStats } from './stats_overlay.js';
 import { Stream } from './stream.js';
+import { missingSupport } from './support.js';
 import { installTestHooks } from './test_hooks.js';
 import { PoolWater } from './water.js';
 
@@ -63,6 +64,7 @@ let panel = null, water = null;
 function setConnection(name, detail = '', countdown = '') {
   state.connection = name;
   showState(stateLabel, name, detail, countdown);
+  if (name === 'error') loading.stop();  // nothing more is on its way
 }
 
 // Everything in the scene format a viewer may patch.
@@ -148,6 +150,8 @@ function noteLatency(ms) {
 // a newer call (a codec changed twice, a retry) overtook while the server
 // made its session gives that session back at once.
 async function connect() {
+  const missing = missingSupport();
+  if (missing) return setConnection('error', missing);
   const attempt = ++attempts;
   setConnection(retry ? 'reconnecting' : 'connecting');
   loading.begin('session');

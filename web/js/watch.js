@@ -18,6 +18,7 @@ import { retryAfter, retryDelay, transient } from './retry.js';
 import { Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
 import { showState } from './state_label.js';
+import { missingSupport } from './support.js';
 import { ShownWater } from './water.js';
 import { installWatchTestHooks } from './watch_test_hooks.js';
 
@@ -236,6 +237,8 @@ const frameRate = new FrameRate();
 // or a mountpoint not there yet (Janus restarted, the server making it
 // again) is tried again after a backoff, a refused link is not.
 function watch() {
+  const missing = missingSupport({ room: false });  // without WebGL the page shows the plain video
+  if (missing) return setConnection('error', missing);
   const mine = stream = new JanusStream(broadcast, video, {
     onState: (s, why) => {
       if (stream !== mine) return;
