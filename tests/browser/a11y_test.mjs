@@ -33,6 +33,49 @@ const overlap = ([a, b]) => {
   return r.left < s.right && s.left < r.right && r.top < s.bottom && s.top < r.bottom;
 };
 
+test('the gallery: landmarks, headings in order, named pictures and controls, the keyboard and a phone', async () => {
+  await withServer(async (server) => {
+    const context = await browser.newContext({ viewport: { width: 360, height: 640 } });
+    const page = await context.newPage();
+    await page.goto(`${server.url}/`);
+    await until(page, () => document.querySelectorAll('.card[data-scene]').length >= 11, 30, 'the cards');
+    assert.equal(await page.getAttribute('html', 'lang'), 'en');
+    assert.equal(await page.locator('main').count(), 1);
+    // h1, then each group's h2, then its cards' h3: no level skipped or repeated.
+    const levels = await page.$$eval('h1, h2, h3, h4', (hs) => hs.filter((h) => h.offsetParent).map((h) => Number(h.tagName[1])));
+    assert.equal(levels[0], 1);
+    levels.forEach((level, i) => assert.ok(i === 0 || level <= levels[i - 1] + 1, `heading levels ${levels.join()}`));
+    assert.ok(await page.$$eval('.card[data-scene] h3', (hs) => hs.length) >= 11, 'a card\'s name is its group\'s sub-heading');
+    // Each thumbnail says what it shows; each card's link is named by its scene.
+    const cards = await page.$$eval('.card[data-scene]', (cs) => cs.map((c) => ({
+      alt: c.querySelector('img').alt, name: c.querySelector('h3').textContent, text: c.textContent })));
+    for (const { alt, name, text } of cards) {
+      assert.ok(alt.includes(name), `the thumbnail of ${name} says "${alt}"`);
+      assert.ok(text.includes(name));
+    }
+    // Every form control has a name (the upload's progress bar too).
+    const unnamed = await page.$$eval('input, select, progress, button', (controls) => controls.filter((c) =>
+      !c.labels?.length && !c.getAttribute('aria-label') && !c.getAttribute('aria-labelledby')).map((c) => c.outerHTML));
+    assert.deepEqual(unnamed, []);
+    // A phone's width scrolls down only.
+    assert.ok(await page.evaluate(() => document.documentElement.scrollWidth <= innerWidth), 'the gallery scrolls sideways');
+    // The keyboard: the codec, the upload's fields, then the cards, each showing its focus.
+    const order = [];
+    for (let i = 0; i < 6; ++i) {
+      await page.keyboard.press('Tab');
+      order.push(await page.evaluate(() => document.activeElement.id || document.activeElement.name || document.activeElement.dataset.scene));
+    }
+    assert.deepEqual(order.slice(0, 4), ['codec', 'name', 'colour', 'picture']);
+    assert.ok(order[4], `Tab after the upload lands on ${order[4]}`);
+    while (!(await page.evaluate(() => document.activeElement.classList.contains('card')))) await page.keyboard.press('Tab');
+    const outline = await page.evaluate(() => getComputedStyle(document.activeElement).outlineStyle);
+    assert.notEqual(outline, 'none', 'a focused card shows no focus');
+    mkdirSync(shots, { recursive: true });
+    await page.screenshot({ path: `${shots}/a11y-gallery-phone.png` });
+    await context.close();
+  });
+});
+
 test('the viewer by keyboard: tab order, the help dialog, orbit, zoom, and moving the light and the object', async () => {
   await withServer(async (server) => {
     const context = await browser.newContext({ viewport: { width: 1280, height: 800 } });

@@ -21,7 +21,7 @@ function sceneCard(scene) {
   const img = document.createElement('img');
   img.src = scene.thumbnail;
   img.alt = `Caustic of ${scene.name}`;
-  const title = document.createElement('h2');
+  const title = document.createElement('h3');  // under its group's h2
   title.textContent = scene.name;
   const text = document.createElement('p');
   text.textContent = scene.description;

@@ -19,13 +19,13 @@ export function uploadCard(codecOf) {
   card.id = 'upload';
   card.innerHTML = `
     <div class="drop"><span>Your picture, as glass</span></div>
-    <h2>Upload your picture</h2>
+    <h3>Upload your picture</h3>
     <p>A PNG or JPEG becomes a lens whose caustic draws it; it opens here when it is ready.</p>
     <label>Name <input name="name" maxlength="64" value="My picture" required></label>
     <label title="Tinted glass: each part of the picture's light keeps its colour">
       <input type="checkbox" name="colour"> In colour</label>
     <label>Picture <input type="file" name="picture" accept="image/png,image/jpeg" required></label>
-    <progress max="1" value="0" hidden></progress>
+    <progress max="1" value="0" aria-label="Design progress" hidden></progress>
     <p class="upload-status" role="status"></p>`;
   const file = card.querySelector('input[type=file]');
   const bar = card.querySelector('progress');
