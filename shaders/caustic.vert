@@ -45,6 +45,15 @@ out VertexData {
   float surface;       // which surface the ray landed on; -1: none
 } vout;
 
+// The ray would meet the caustic face from the wrong side: from within the
+// glass (which lies on the flat face's side of it) for light arriving from
+// outside, or from without for light inside. It crossed the face elsewhere
+// first, so the vertex lies in the face's own shadow (raymodel's twin).
+bool wrongSide(vec3 ray, vec3 n, bool inside) {
+  float side = dot(ray, n) * dot(uFlatNormal, n);
+  return inside ? side > 0.0 : side < 0.0;
+}
+
 void main() {
   vec3 v = (uModel * vec4(aPosition, 1.0)).xyz;
   vec3 n = normalize(uRotation * aNormal);
@@ -68,11 +77,12 @@ void main() {
     if (uPointLight && uExactPointModel) inside = normalize(v - footprint);
     else footprint = v + inside * ((uFlatOffset - dot(v, uFlatNormal)) / dot(inside, uFlatNormal));
     transmittance *= tFace;
-    ok = refractFresnel(inside, faceAgainst(n, inside), uIor, 1.0, dir, tFace);
+    ok = !wrongSide(inside, n, true) && refractFresnel(inside, faceAgainst(n, inside), uIor, 1.0, dir, tFace);
     transmittance *= tFace;
   } else {
     vec3 inside;
     ok = refractFresnel(incident, faceAgainst(n, incident), 1.0, uIor, inside, tFace);
+    ok = ok && (uImmersed || !wrongSide(incident, n, false));
     transmittance *= tFace;
     dir = inside;
     if (!uImmersed) {  // a slab's light leaves by the flat face; a surface's stays in

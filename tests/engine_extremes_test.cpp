@@ -190,3 +190,38 @@ TEST_F(Extremes, APlateEdgeOnToTheLightPassesWhatFallsOnItsEdge) {
   EXPECT_NEAR(low, 1.0, 1e-3);
   EXPECT_NEAR(high, 1.0, 1e-3);
 }
+
+TEST_F(Extremes, LightThatCannotMeetTheCausticFaceLandsNothing) {
+  // A face tilted 70 degrees (z = -tan(70) x, descending toward +x) under a
+  // flat face at z = 3, glass of n = 1.0001 (at 1.5 the rays below would
+  // reflect totally at the face anyway). Light 45 degrees from overhead
+  // toward +x goes on inside at 45 degrees: along it z + tan(70) x grows by
+  // tan(70) sin(45) - cos(45) = 1.24 a unit, so the light inside only draws
+  // away from the face and none of it leaves through it. The same face with
+  // the flat face toward the screen and light from below toward -x: there
+  // z + tan(70) x falls along the light, which would meet the face only
+  // from within the glass, having entered elsewhere (by the slab's side,
+  // which is not part of it).
+  const double apex = -70 * std::numbers::pi / 180, a = std::numbers::pi / 4;
+  const auto face = shared(grid_mesh(wedge(apex, 1.0, 1.0), 17, 17));
+  for (const bool flat_first : {true, false}) {
+    SCOPED_TRACE(flat_first ? "flat face first" : "caustic face first");
+    Scene s = straight_down_scene(3.0, 60.0, 400.0, 128);
+    s.object.ior = 1.0001;
+    s.light.direction = flat_first ? glm::dvec3(std::sin(a), 0, -std::cos(a)) : glm::dvec3(-std::sin(a), 0, std::cos(a));
+    if (!flat_first) {  // the screen above, facing down
+      s.screen.center = {0, 0, 60};
+      s.screen.normal = {0, 0, -1};
+    }
+    for (const TriangleSetup setup : {TriangleSetup::gpu, TriangleSetup::cpu}) {
+      SCOPED_TRACE(setup == TriangleSetup::gpu ? "on the GL" : "on the CPU");
+      engine_->set_triangle_setup(setup);
+      const HdrImage img = render(s, face);
+      ASSERT_TRUE(all_finite(img));
+      EXPECT_EQ(total_flux(img, s.screen), 0.0);
+      EXPECT_EQ(engine_->stats().drawn, 0u);
+      EXPECT_EQ(engine_->stats().dropped, 2u * 16 * 16);
+    }
+    EXPECT_EQ(summarize_flux(s, *face, place_object(s.object, *face)).valid_triangles, 0u);
+  }
+}

@@ -8,6 +8,19 @@
 
 namespace caustic {
 
+namespace {
+
+// A slab's glass lies on the flat face's side of its caustic face. A ray
+// that would meet the face at v from the wrong side (the light outside
+// arriving from within the glass, or the light inside from without) has
+// crossed the face elsewhere first: v lies in the face's own shadow, and
+// counting it would count the light that crossed there a second time.
+bool meets_face_from_wrong_side(const glm::dvec3& ray, const glm::dvec3& n, const glm::dvec3& flat_normal, bool inside) {
+  const double side = glm::dot(ray, n) * glm::dot(flat_normal, n);
+  return inside ? side > 0.0 : side < 0.0;
+}
+
+}  // namespace
 
 bool flat_face_first(const Scene& scene, const Placement& placement) {
   if (scene.object.shape == Shape::surface) return false;  // the light meets the surface, whichever side
@@ -40,12 +53,14 @@ ExitRay exit_ray(const Scene& scene, const Placement& placement, double ior, con
     if (!in) return ray;
     t *= fresnel_transmittance(in->cos_i, 1.0, ior);
     const Vec3 inside = exact ? glm::normalize(v - ray.footprint) : in->direction;
+    if (meets_face_from_wrong_side(inside, n, flat.normal, true)) return ray;
     if (!exact) ray.footprint = v + inside * (-flat.signed_distance(v) / glm::dot(inside, flat.normal));
     const auto out = refract(inside, face_against(n, inside), ior);
     if (!out) return ray;
     t *= fresnel_transmittance(out->cos_i, ior, 1.0);
     dir = out->direction;
   } else {
+    if (scene.object.shape != Shape::surface && meets_face_from_wrong_side(incident, n, flat.normal, false)) return ray;
     const auto in = refract(incident, face_against(n, incident), 1.0 / ior);
     if (!in) return ray;
     t *= fresnel_transmittance(in->cos_i, 1.0, ior);
