@@ -46,3 +46,22 @@ TEST(HttpPaths, EscapesAreDecodedOnceAndAnEncodedSlashSeparatesNothing) {
     EXPECT_EQ(raw_status(request(server, "GET", target)), 404) << target;
   fs::remove_all(web);
 }
+
+// A server must take the absolute form of a request target (RFC 9112
+// 3.2.2); its path is judged as any other.
+TEST(HttpTargets, TheAbsoluteFormIsServedAsItsPath) {
+  ServerProcess server;
+  const std::string authority = "127.0.0.1:" + std::to_string(server.port());
+  const std::string health = request(server, "GET", "http://" + authority + "/api/v1/health");
+  EXPECT_EQ(raw_status(health), 200) << health;
+  EXPECT_NE(raw_body(health).find("\"status\":\"ok\""), std::string::npos) << health;
+  EXPECT_EQ(raw_status(request(server, "GET", "HTTP://" + authority + "/api/v1/scenes/lens")), 200);
+  EXPECT_EQ(raw_status(request(server, "GET", "http://" + authority + "/api/v1/nothing")), 404);
+  // Its path is held to the same rules, and it needs one.
+  for (const std::string& target : {"http://" + authority + "/a/%2e%2e/index.html", "http://" + authority,
+                                    "http://user@" + authority + "/api/v1/health", "ftp://" + authority + "/"}) {
+    const std::string answer = request(server, "GET", target);
+    EXPECT_EQ(raw_status(answer), 400) << target;
+    EXPECT_EQ(raw_header(answer, "Content-Type"), "application/problem+json") << target;
+  }
+}

@@ -120,12 +120,25 @@ RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) 
   const auto sp2 = sp1 == std::string_view::npos ? sp1 : line.find(' ', sp1 + 1);
   if (sp1 == std::string_view::npos || sp2 == std::string_view::npos || line.find(' ', sp2 + 1) != std::string_view::npos)
     return refuse(400, "the request line must be: method, target and version, separated by single spaces");
-  const std::string_view method = line.substr(0, sp1), target = line.substr(sp1 + 1, sp2 - sp1 - 1),
-                         version = line.substr(sp2 + 1);
+  const std::string_view method = line.substr(0, sp1), version = line.substr(sp2 + 1);
+  std::string_view target = line.substr(sp1 + 1, sp2 - sp1 - 1);
   if (method.empty() || method.size() > 32) return refuse(400, "the method must be 1 to 32 token characters");
   for (unsigned char c : method)
     if (!is_tchar(c)) return refuse(400, "the method must be 1 to 32 token characters");
-  if (target.empty() || target[0] != '/') return refuse(400, "the request target must be a path starting with /");
+  // A server must take the absolute form too (RFC 9112 3.2.2), which a
+  // client sends to what it takes for a proxy: its authority, then the
+  // path that is judged as any other.
+  for (const std::string_view scheme : {"http://", "https://"})
+    if (target.size() > scheme.size() && iequals(target.substr(0, scheme.size()), scheme)) {
+      const std::string_view rest = target.substr(scheme.size());
+      const auto slash = rest.find('/');
+      if (slash == std::string_view::npos || !host_ok(rest.substr(0, slash)))
+        return refuse(400, "an absolute request target must be http://, a host name or address, and a path");
+      target = rest.substr(slash);
+      break;
+    }
+  if (target.empty() || target[0] != '/')
+    return refuse(400, "the request target must be a path starting with /, or an absolute http URI");
   if (const char* why = target_problem(target)) return refuse(400, why);
   if (version != "HTTP/1.1" && version != "HTTP/1.0") return refuse(400, "only HTTP/1.0 and HTTP/1.1 are served");
   // CONNECT takes an authority, not a path; this server is no proxy.
