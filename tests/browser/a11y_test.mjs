@@ -151,6 +151,71 @@ test('the viewer by keyboard: tab order, the help dialog, orbit, zoom, and movin
   });
 });
 
+test('the viewer seen: contrast over the picture, a pressed mode not by colour alone, a phone, large text, less motion',
+     async () => {
+  await withServer(async (server) => {
+    const context = await browser.newContext({ viewport: { width: 360, height: 640 }, isMobile: true, hasTouch: true });
+    const page = await context.newPage();
+    await page.emulateMedia({ reducedMotion: 'reduce' });
+    await page.goto(`${server.url}/viewer.html?scene=wavy&codec=vp8`);
+    await until(page, live, 60, 'live');
+    // The header's words against its background laid over white (the
+    // brightest picture under it), each state's colour: 4.5:1 at least.
+    const ratios = await page.evaluate(() => {
+      const rgb = (text) => text.match(/[\d.]+/g).map(Number);
+      const lum = ([r, g, b]) => [r, g, b].map((c) => { c /= 255; return c <= 0.03928 ? c / 12.92 : ((c + 0.055) / 1.055) ** 2.4; })
+        .reduce((s, c, i) => s + c * [0.2126, 0.7152, 0.0722][i], 0);
+      const [r, g, b, a = 1] = rgb(getComputedStyle(document.getElementById('hud')).backgroundColor);
+      const back = [r, g, b].map((c) => c * a + 255 * (1 - a));
+      const label = document.getElementById('state');
+      const out = {};
+      for (const state of ['connecting', 'live', 'reconnecting', 'full', 'error']) {
+        label.dataset.state = state;
+        const [l1, l2] = [lum(rgb(getComputedStyle(label).color)), lum(back)];
+        out[state] = (Math.max(l1, l2) + 0.05) / (Math.min(l1, l2) + 0.05);
+      }
+      label.dataset.state = window.caustic.connection;
+      return out;
+    });
+    for (const [state, ratio] of Object.entries(ratios)) assert.ok(ratio >= 4.5, `"${state}" at ${ratio.toFixed(2)}:1`);
+    const pressed = await page.$eval('#modes [aria-pressed="true"]', (b) => getComputedStyle(b).boxShadow);
+    assert.notEqual(pressed, 'none', 'the pressed mode differs by its colour only');
+
+    // A phone: no sideways scroll, the folded panel clear of the toolbar,
+    // the help inside the screen (scrolling within itself).
+    assert.ok(await page.evaluate(() => document.documentElement.scrollWidth <= innerWidth));
+    assert.ok(!(await page.evaluate(overlap, ['.lil-gui.lil-root', '#modes'])), 'the folded panel lies over the toolbar');
+    // Less motion: folding the panel (lil-gui's transition class) does not slide.
+    const slide = await page.$eval('.lil-gui.lil-root', (root) => {
+      root.classList.add('lil-transition');
+      const seconds = parseFloat(getComputedStyle(root.querySelector('.lil-children')).transitionDuration);
+      root.classList.remove('lil-transition');
+      return seconds;
+    });
+    assert.ok(slide <= 0.01, `the panel slides for ${slide} s`);
+    await page.tap('#help-button');
+    const help = await page.$eval('#help', (h) => ({
+      bottom: h.getBoundingClientRect().bottom,
+      scrolls: h.scrollHeight <= h.clientHeight || ['auto', 'scroll'].includes(getComputedStyle(h).overflowY) }));
+    assert.ok(help.bottom <= 640 && help.scrolls, `the help ends at ${help.bottom} px on a 640 px screen`);
+    mkdirSync(shots, { recursive: true });
+    await page.screenshot({ path: `${shots}/a11y-viewer-phone-help.png` });
+    await page.tap('#help-close');
+
+    // Text at twice its size on a laptop (the page zoomed to 200 %: a
+    // 1280 px window is 640 CSS pixels): the header wraps, and neither the
+    // panel nor the warnings lie over its words.
+    await page.setViewportSize({ width: 800, height: 500 });
+    await page.evaluate(() => { document.documentElement.style.fontSize = '200%'; });
+    await until(page, () => {
+      const [header, panel] = ['#hud', '.lil-gui.lil-root'].map((e) => document.querySelector(e).getBoundingClientRect());
+      return header.bottom <= panel.top;
+    }, 10, 'the panel below the header');
+    await page.screenshot({ path: `${shots}/a11y-viewer-large-text.png` });
+    await context.close();
+  });
+});
+
 test('a retry\'s countdown is seen but not read out each second', async () => {
   await withServer(async (server) => {
     const page = await browser.newPage();

@@ -5,6 +5,7 @@
 import { createSession, deleteSession, getParams, ParamChannel, Refused, ServerFull } from './api.js';
 import { ControlModes } from './controls.js';
 import { FrameRate } from './frame_rate.js';
+import { followHeaderHeight } from './header_height.js';
 import { installHelpAndFullscreen } from './help.js';
 import { LoadingSteps } from './loading.js';
 import { Panel } from './panel.js';
@@ -359,6 +360,7 @@ function resetScene() {
 
 showStats(statsPanel, () => stream?.pc, state);
 
+followHeaderHeight();
 installHelpAndFullscreen();
 
 installTestHooks(state, () => ({ room, controls, channel, stream, session, resetScene, water, loading }));
