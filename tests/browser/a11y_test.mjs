@@ -151,6 +151,19 @@ test('the viewer by keyboard: tab order, the help dialog, orbit, zoom, and movin
   });
 });
 
+test('on a pool, D drops a stone where the middle of the view meets the water', async () => {
+  await withServer(async (server) => {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}/viewer.html?scene=pool&codec=vp8`);
+    await until(page, () => window.caustic.connection === 'live' && window.caustic.water?.updates >= 1, 90, 'the water drawn');
+    const answered = page.waitForResponse((r) => r.url().endsWith('/drops'), { timeout: 30000 });
+    await page.keyboard.press('d');
+    const response = await answered;
+    assert.equal(response.status(), 202);
+    await page.close();
+  });
+});
+
 test('the viewer seen: contrast over the picture, a pressed mode not by colour alone, a phone, large text, less motion',
      async () => {
   await withServer(async (server) => {

@@ -173,6 +173,14 @@ export class PoolWater extends ShownWater {
     // A press on a gizmo's handle drags the light or the object, wherever it ends.
     const gizmo = controls.gizmo;
     this.listen(room.renderer.domElement, () => gizmo.dragging || (gizmo.object !== undefined && gizmo.axis !== null));
+    // The keyboard's click: D drops a stone where the middle of the view
+    // meets the water (the arrows turn the view over the pool).
+    window.addEventListener('keydown', (e) => {
+      if (e.key !== 'd' && e.key !== 'D') return;
+      if (e.ctrlKey || e.metaKey || e.altKey || e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return;
+      const view = room.renderer.domElement.getBoundingClientRect();
+      this.click(view.left + view.width / 2, view.top + view.height / 2);
+    });
   }
 
   show(message) {
