@@ -65,3 +65,27 @@ TEST(HttpTargets, TheAbsoluteFormIsServedAsItsPath) {
     EXPECT_EQ(raw_header(answer, "Content-Type"), "application/problem+json") << target;
   }
 }
+
+namespace {
+
+// A PATCH of a session's parameters written byte for byte.
+std::string patch_params(const ServerProcess& server, const nlohmann::json& session, const std::string& content_type,
+                         const std::string& body, const std::string& extra_headers = "") {
+  return raw_request(server.port(), "PATCH /api/v1/sessions/" + session["id"].get<std::string>() +
+                                        "/params HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: Bearer " +
+                                        session["token"].get<std::string>() + "\r\nContent-Type: " + content_type +
+                                        "\r\nContent-Length: " + std::to_string(body.size()) + "\r\n" + extra_headers +
+                                        "\r\n" + body);
+}
+
+}  // namespace
+
+// A patch in a media type the resource does not take is told which it
+// takes (RFC 5789 2.2).
+TEST_F(Rest, APatchOfAnotherMediaTypeIsToldWhichAreTaken) {
+  const nlohmann::json s = create();
+  const std::string answer = patch_params(server_, s, "text/plain", R"({"post": {"exposure": 1}})");
+  EXPECT_EQ(raw_status(answer), 415) << answer;
+  EXPECT_EQ(raw_header(answer, "Content-Type"), "application/problem+json");
+  EXPECT_EQ(raw_header(answer, "Accept-Patch"), "application/merge-patch+json, application/json") << answer;
+}

@@ -19,6 +19,12 @@ bool read_json_body(ServerState& s, SoupServerMessage* msg, std::initializer_lis
   if (!accepted) {
     std::string list;
     for (const char* t : types) list += (list.empty() ? "" : " or ") + std::string(t);
+    // A PATCH refused for its media type says which it takes (RFC 5789 2.2).
+    if (g_strcmp0(soup_server_message_get_method(msg), "PATCH") == 0) {
+      std::string accept;
+      for (const char* t : types) accept += (accept.empty() ? "" : ", ") + std::string(t);
+      soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Accept-Patch", accept.c_str());
+    }
     reply_problem(msg, s.metrics, SOUP_STATUS_UNSUPPORTED_MEDIA_TYPE, "the body must be " + list);
     return false;
   }
