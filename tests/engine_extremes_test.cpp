@@ -225,3 +225,24 @@ TEST_F(Extremes, LightThatCannotMeetTheCausticFaceLandsNothing) {
     EXPECT_EQ(summarize_flux(s, *face, place_object(s.object, *face)).valid_triangles, 0u);
   }
 }
+
+TEST_F(Extremes, ARayAlmostInTheScreensPlaneIsDroppedByBothSetUps) {
+  // Light 5e-7 from the screen's plane through glass of index 1 (the rays
+  // go on undeviated): below the 1e-6 at which a ray counts as grazing the
+  // screen (docs/physics.md §4), so no vertex lands and every triangle is
+  // dropped, counted alike on the GL and the CPU, as the CPU model says.
+  Scene s = straight_down_scene(1.0, 50.0, 40.0, 64);
+  s.object.ior = 1.0;
+  s.light.direction = glm::normalize(glm::dvec3(1, 0, -5e-7));
+  const auto slab = shared(grid_mesh(flat_face(10.0), 17, 17));
+  EXPECT_EQ(summarize_flux(s, *slab, place_object(s.object, *slab)).valid_triangles, 0u);
+  for (const TriangleSetup setup : {TriangleSetup::gpu, TriangleSetup::cpu}) {
+    SCOPED_TRACE(setup == TriangleSetup::gpu ? "on the GL" : "on the CPU");
+    engine_->set_triangle_setup(setup);
+    const HdrImage img = render(s, slab);
+    ASSERT_TRUE(all_finite(img));
+    EXPECT_EQ(total_flux(img, s.screen), 0.0);
+    EXPECT_EQ(engine_->stats().drawn, 0u);
+    EXPECT_EQ(engine_->stats().dropped, 2u * 16 * 16);
+  }
+}
