@@ -191,6 +191,20 @@ test('the viewer seen: contrast over the picture, a pressed mode not by colour a
       return out;
     });
     for (const [state, ratio] of Object.entries(ratios)) assert.ok(ratio >= 4.5, `"${state}" at ${ratio.toFixed(2)}:1`);
+    // The panel's widgets have an edge of 3:1 against the panel.
+    const edges = await page.evaluate(() => {
+      const lum = (text) => text.match(/[\d.]+/g).slice(0, 3).map(Number)
+        .map((c) => { c /= 255; return c <= 0.03928 ? c / 12.92 : ((c + 0.055) / 1.055) ** 2.4; })
+        .reduce((s, c, i) => s + c * [0.2126, 0.7152, 0.0722][i], 0);
+      const panel = lum(getComputedStyle(document.querySelector('.lil-gui.lil-root')).backgroundColor);
+      return ['.lil-slider', '.lil-number input', '.lil-option .lil-display', 'input[type=checkbox]', '.lil-controller button']
+        .map((selector) => {
+          const shadow = getComputedStyle(document.querySelector(`.lil-gui ${selector}`)).boxShadow;
+          const edge = shadow === 'none' ? panel : lum(shadow);
+          return [selector, (Math.max(edge, panel) + 0.05) / (Math.min(edge, panel) + 0.05)];
+        });
+    });
+    for (const [selector, ratio] of edges) assert.ok(ratio >= 3, `the panel's ${selector} at ${ratio.toFixed(2)}:1`);
     const pressed = await page.$eval('#modes [aria-pressed="true"]', (b) => getComputedStyle(b).boxShadow);
     assert.notEqual(pressed, 'none', 'the pressed mode differs by its colour only');
 
