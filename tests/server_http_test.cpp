@@ -89,3 +89,22 @@ TEST_F(Rest, APatchOfAnotherMediaTypeIsToldWhichAreTaken) {
   EXPECT_EQ(raw_header(answer, "Content-Type"), "application/problem+json");
   EXPECT_EQ(raw_header(answer, "Accept-Patch"), "application/merge-patch+json, application/json") << answer;
 }
+
+// JSON is UTF-8 (RFC 8259 8.1): a body that says it is in another charset
+// is refused, and changes nothing; UTF-8 said outright is taken.
+TEST_F(Rest, AJsonBodyInAnotherCharsetIsRefused) {
+  const nlohmann::json s = create();
+  const int version = s["params"]["version"].get<int>();
+  for (const char* type : {"application/merge-patch+json; charset=iso-8859-1", "application/json;charset=utf-16"}) {
+    const std::string answer = patch_params(server_, s, type, R"({"post": {"exposure": 2}})");
+    EXPECT_EQ(raw_status(answer), 415) << type << ": " << answer;
+    EXPECT_EQ(raw_header(answer, "Content-Type"), "application/problem+json") << type;
+  }
+  const std::string posted = raw_request(
+      server_.port(), "POST /api/v1/sessions HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json; charset=latin1"
+                      "\r\nContent-Length: 16\r\n\r\n{\"scene\":\"lens\"}");
+  EXPECT_EQ(raw_status(posted), 415) << posted;
+  const std::string utf8 = patch_params(server_, s, "application/json; charset=UTF-8", R"({"post": {"exposure": 2}})");
+  EXPECT_EQ(raw_status(utf8), 200) << utf8;
+  EXPECT_EQ(nlohmann::json::parse(raw_body(utf8))["version"].get<int>(), version + 1);
+}

@@ -13,10 +13,16 @@ namespace caustic::server {
 bool read_json_body(ServerState& s, SoupServerMessage* msg, std::initializer_list<const char*> types,
                     nlohmann::json* out) {
   SoupMessageHeaders* headers = soup_server_message_get_request_headers(msg);
-  const char* type = soup_message_headers_get_content_type(headers, nullptr);
+  GHashTable* params = nullptr;
+  const char* type = soup_message_headers_get_content_type(headers, &params);
+  // JSON is UTF-8 (RFC 8259 8.1): a body said to be in another charset
+  // would be read as something it is not.
+  const char* charset = params ? static_cast<const char*>(g_hash_table_lookup(params, "charset")) : nullptr;
+  const bool utf8 = !charset || g_ascii_strcasecmp(charset, "utf-8") == 0 || g_ascii_strcasecmp(charset, "utf8") == 0;
+  if (params) g_hash_table_destroy(params);
   bool accepted = false;
   for (const char* t : types) accepted = accepted || (type && g_ascii_strcasecmp(type, t) == 0);
-  if (!accepted) {
+  if (!accepted || !utf8) {
     std::string list;
     for (const char* t : types) list += (list.empty() ? "" : " or ") + std::string(t);
     // A PATCH refused for its media type says which it takes (RFC 5789 2.2).
@@ -25,7 +31,8 @@ bool read_json_body(ServerState& s, SoupServerMessage* msg, std::initializer_lis
       for (const char* t : types) accept += (accept.empty() ? "" : ", ") + std::string(t);
       soup_message_headers_replace(soup_server_message_get_response_headers(msg), "Accept-Patch", accept.c_str());
     }
-    reply_problem(msg, s.metrics, SOUP_STATUS_UNSUPPORTED_MEDIA_TYPE, "the body must be " + list);
+    reply_problem(msg, s.metrics, SOUP_STATUS_UNSUPPORTED_MEDIA_TYPE,
+                  accepted ? "the body must be UTF-8, as JSON is" : "the body must be " + list);
     return false;
   }
   SoupMessageBody* body = soup_server_message_get_request_body(msg);
