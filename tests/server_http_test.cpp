@@ -108,3 +108,39 @@ TEST_F(Rest, AJsonBodyInAnotherCharsetIsRefused) {
   EXPECT_EQ(raw_status(utf8), 200) << utf8;
   EXPECT_EQ(nlohmann::json::parse(raw_body(utf8))["version"].get<int>(), version + 1);
 }
+
+// Two holders of a session (its page and a script) that both read version
+// N: the second patch sent with If-Match: "N" is refused 412 rather than
+// overwrite the first unseen (RFC 9110 13.1.1), and changes nothing.
+TEST_F(Rest, APatchSentWithAnOutdatedTagIsRefusedAndChangesNothing) {
+  const nlohmann::json s = create();
+  const std::string read = raw_request(server_.port(), "GET /api/v1/sessions/" + s["id"].get<std::string>() +
+                                                           "/params HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: Bearer " +
+                                                           s["token"].get<std::string>() + "\r\n\r\n");
+  ASSERT_EQ(raw_status(read), 200);
+  const std::string tag = raw_header(read, "ETag");
+  const int version = nlohmann::json::parse(raw_body(read))["version"].get<int>();
+  EXPECT_EQ(tag, "\"" + std::to_string(version) + "\"");
+  const std::string first = patch_params(server_, s, "application/merge-patch+json", R"({"post": {"exposure": 2}})",
+                                         "If-Match: " + tag + "\r\n");
+  ASSERT_EQ(raw_status(first), 200) << first;
+  EXPECT_EQ(raw_header(first, "ETag"), "\"" + std::to_string(version + 1) + "\"");
+  for (const std::string& stale : {tag, "W/\"" + std::to_string(version + 1) + "\"", std::string("\"x\", ") + tag}) {
+    const std::string second = patch_params(server_, s, "application/merge-patch+json", R"({"post": {"exposure": 3}})",
+                                            "If-Match: " + stale + "\r\n");
+    EXPECT_EQ(raw_status(second), 412) << stale << ": " << second;
+    EXPECT_EQ(raw_header(second, "Content-Type"), "application/problem+json");
+    EXPECT_EQ(raw_header(second, "ETag"), "\"" + std::to_string(version + 1) + "\"");
+  }
+  const nlohmann::json now = caustic::testing::http("GET", session_url(s) + "/params", "", "", caustic::testing::bearer(s)).json();
+  EXPECT_EQ(now["version"].get<int>(), version + 1);
+  EXPECT_EQ(now["params"]["post"]["exposure"], 2);
+  // "*" and a list that names the current tag go ahead.
+  EXPECT_EQ(raw_status(patch_params(server_, s, "application/json", R"({"post": {"exposure": 2}})", "If-Match: *\r\n")),
+            200);
+  const std::string list = "\"x\", \"" + std::to_string(version + 2) + "\"";
+  EXPECT_EQ(raw_status(patch_params(server_, s, "application/json", R"({"post": {"exposure": 2}})",
+                                    "If-Match: " + list + "\r\n")),
+            200)
+      << list;
+}

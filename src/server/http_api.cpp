@@ -96,9 +96,38 @@ void thumbnail(ServerState& s, SoupServerMessage* msg, const std::string& id) {
   reply_bytes(msg, SOUP_STATUS_OK, "image/png", png.data(), png.size());
 }
 
+// The parameters' version as a strong entity tag: a client that read
+// version N patches with If-Match: "N", and a patch that came between is
+// not overwritten unseen (RFC 9110 13.1.1).
+std::string params_etag(Session& session) {
+  return "\"" + std::to_string(session.params().snapshot().version) + "\"";
+}
+
+// Whether the request's If-Match, if any, names `etag` or "*" (a weak tag
+// never matches: the comparison is strong).
+bool if_match(SoupServerMessage* msg, const std::string& etag) {
+  const char* list = soup_message_headers_get_list(soup_server_message_get_request_headers(msg), "If-Match");
+  if (!list) return true;
+  gchar** tags = g_strsplit(list, ",", -1);
+  bool match = false;
+  for (gchar** tag = tags; *tag && !match; ++tag) match = std::string(g_strstrip(*tag)) == etag || g_strcmp0(*tag, "*") == 0;
+  g_strfreev(tags);
+  return match;
+}
+
+void reply_params(SoupServerMessage* msg, guint status, Session& session, nlohmann::json body) {
+  soup_message_headers_replace(soup_server_message_get_response_headers(msg), "ETag", params_etag(session).c_str());
+  reply_json(msg, status, body);
+}
+
 void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
   nlohmann::json patch;
   if (!read_json_body(s, msg, {"application/merge-patch+json", "application/json"}, &patch)) return;
+  if (const std::string etag = params_etag(session); !if_match(msg, etag)) {
+    soup_message_headers_replace(soup_server_message_get_response_headers(msg), "ETag", etag.c_str());
+    return reply_problem(msg, s.metrics, SOUP_STATUS_PRECONDITION_FAILED,
+                         "If-Match: the parameters are at version " + etag + " now; read them and patch again");
+  }
   // Receivers set anew may each build triangles and a search tree (a lathe,
   // a shape: tens of milliseconds on the main loop): a few at once, then
   // two a second for each session.
@@ -133,7 +162,7 @@ void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
   nlohmann::json overridden = nlohmann::json::array();
   const Scene now = session.params().snapshot().scene;
   for (const auto& [key, detail] : scene_overrides(patch, now)) overridden.push_back({{"key", key}, {"detail", detail}});
-  reply_json(msg, SOUP_STATUS_OK, public_params(session, std::move(overridden)));
+  reply_params(msg, SOUP_STATUS_OK, session, public_params(session, std::move(overridden)));
 }
 
 // One answer for an unknown session and for a wrong token: which session
@@ -165,7 +194,7 @@ void session_route(ServerState& s, SoupServerMessage* msg, const Route& route) {
     if (method != "GET" && method != "HEAD") return not_allowed(s, msg, "GET, HEAD");
     return session_frame(s, msg, session, route.rest == "/frame.exr");
   }
-  if (method == "GET" || method == "HEAD") return reply_json(msg, SOUP_STATUS_OK, public_params(session));
+  if (method == "GET" || method == "HEAD") return reply_params(msg, SOUP_STATUS_OK, session, public_params(session));
   if (method == "PATCH") return patch_params(s, msg, session);
   not_allowed(s, msg, "GET, HEAD, PATCH");
 }
