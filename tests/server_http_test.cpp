@@ -144,3 +144,21 @@ TEST_F(Rest, APatchSentWithAnOutdatedTagIsRefusedAndChangesNothing) {
             200)
       << list;
 }
+
+// What api.md says of negotiation: Accept is not negotiated (a JSON path
+// answers JSON to a browser's Accept), and OPTIONS, a cross-origin
+// preflight included, is a method no path takes: 405 with Allow, and no
+// CORS header that would let another origin's page in.
+TEST(HttpNegotiation, AcceptIsNotNegotiatedAndOptionsIsNoPreflight) {
+  ServerProcess server;
+  const std::string html = request(server, "GET", "/api/v1/health", "Accept: text/html\r\n");
+  EXPECT_EQ(raw_status(html), 200);
+  EXPECT_EQ(raw_header(html, "Content-Type"), "application/json");
+  EXPECT_EQ(raw_header(html, "Vary"), "");
+  const std::string preflight = request(server, "OPTIONS", "/api/v1/sessions",
+                                        "Origin: http://elsewhere.example\r\nAccess-Control-Request-Method: POST\r\n");
+  EXPECT_EQ(raw_status(preflight), 405);
+  EXPECT_EQ(raw_header(preflight, "Allow"), "POST");
+  EXPECT_EQ(raw_header(preflight, "Access-Control-Allow-Origin"), "");
+  EXPECT_EQ(raw_header(preflight, "Content-Type"), "application/problem+json");
+}
