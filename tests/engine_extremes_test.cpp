@@ -246,3 +246,35 @@ TEST_F(Extremes, ARayAlmostInTheScreensPlaneIsDroppedByBothSetUps) {
     EXPECT_EQ(engine_->stats().dropped, 2u * 16 * 16);
   }
 }
+
+TEST_F(Extremes, APointLightBesideASolidLevelWithItLightsIt) {
+  // A solid has no flat face, so no slab a light beside it could lie in: a
+  // 10 x 10 x 2 mm plate of index 1 (no interface, Fresnel off), the light
+  // 50 mm off along x, level with it, sees only its 10 x 2 mm side wall 45 mm
+  // away. The light through it is E0 r_ref^2 times the wall's solid angle,
+  // 4 asin(ab / sqrt((a^2 + 4d^2)(b^2 + 4d^2))), r_ref = 50 mm to the centre.
+  Scene s = straight_down_scene(0, 40, 60, 256);
+  s.object.flat_face_offset.reset();
+  s.object.shape = Shape::solid;
+  s.object.ior = 1.0;
+  s.render.light_grid = 256;
+  s.light.type = LightType::point;
+  s.light.position = {50, 0, 0};
+  s.screen.center = {-40, 0, 0};
+  s.screen.normal = {1, 0, 0};
+  s.screen.up = {0, 0, 1};
+  const auto plate = shared(closed_body(plane_at(1, 5), plane_at(-1, 5), 17));
+  const double a = 10, b = 2, d = 45;
+  const double omega = 4 * std::asin(a * b / std::sqrt((a * a + 4 * d * d) * (b * b + 4 * d * d)));
+  const HdrImage img = render(s, plate);
+  ASSERT_TRUE(all_finite(img));
+  EXPECT_NEAR(total_flux(img, s.screen), 2500 * omega, 2e-3 * 2500 * omega);
+  // Within the object's box the light has no outside to shine from.
+  s.light.position = {0, 0, 0};
+  try {
+    engine_->set_scene(s, plate);
+    ADD_FAILURE() << "a light inside the solid was taken";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), "light.position") << e.what();
+  }
+}

@@ -88,9 +88,30 @@ Placement place_object(const ObjectParams& object, const MeshBounds& bounds) {
 
 namespace {
 
-// The light must stay outside the slab; the slab's depth is public.
+// Whether p lies in the object's (public) bounding box, a rectangular box
+// whose corners 1, 2 and 4 lie along its edges from corner 0.
+bool in_box(const Placement& placement, const glm::dvec3& p) {
+  const auto& b = placement.box;
+  for (const std::size_t i : {1u, 2u, 4u}) {
+    const glm::dvec3 edge = b[i] - b[0];
+    const double along = glm::dot(p - b[0], edge), length2 = glm::dot(edge, edge);
+    if (!(along >= -1e-9 * length2 && along <= length2 * (1 + 1e-9))) return false;
+  }
+  return true;
+}
+
+// The light must stay outside the slab; the slab's depth is public. A solid
+// has no flat face and no slab: beside it, level with it, the light is lit
+// as any other; within its box it would start its rays inside the body, or
+// with part of it behind (the launch refuses that too, caustic/launch.hpp,
+// but a light at the box's centre has no direction to the object at all).
 void check_point_light(const Scene& scene, const Placement& placement) {
   const glm::dvec3 nf = placement.flat_normal;
+  if (scene.light.type == LightType::point && scene.object.shape == Shape::solid) {
+    if (in_box(placement, scene.light.position))
+      throw SceneError("light.position", "the point light lies inside the object's bounding box");
+    return;
+  }
   if (scene.light.type == LightType::point && scene.object.material == Material::refractive) {
     const double h = glm::dot(scene.light.position, nf) - placement.flat_offset;
     const double eps = 1e-6 * std::max(1.0, placement.max_depth);
