@@ -162,3 +162,28 @@ TEST(HttpNegotiation, AcceptIsNotNegotiatedAndOptionsIsNoPreflight) {
   EXPECT_EQ(raw_header(preflight, "Access-Control-Allow-Origin"), "");
   EXPECT_EQ(raw_header(preflight, "Content-Type"), "application/problem+json");
 }
+
+// A client polling the parameters with the tag it holds hears only of a
+// change: 304 without a body while the version stands (the 200's length,
+// RFC 9110 8.6), 200 with the new tag once a patch came.
+TEST_F(Rest, PollingTheParametersWithTheirTagAnswers304UntilAPatch) {
+  const nlohmann::json s = create();
+  const std::string get = "/api/v1/sessions/" + s["id"].get<std::string>() + "/params HTTP/1.1\r\nHost: 127.0.0.1\r\n" +
+                          "Authorization: Bearer " + s["token"].get<std::string>() + "\r\n";
+  const std::string first = raw_request(server_.port(), "GET " + get + "\r\n");
+  ASSERT_EQ(raw_status(first), 200);
+  const std::string tag = raw_header(first, "ETag");
+  for (const std::string method : {"GET", "HEAD"})
+    for (const std::string& match : {tag, "W/" + tag, "\"x\", " + tag}) {
+      const std::string again = raw_request(server_.port(), method + " " + get + "If-None-Match: " + match + "\r\n\r\n");
+      EXPECT_EQ(raw_status(again), 304) << method << " " << match;
+      EXPECT_EQ(raw_body(again), "") << method;
+      EXPECT_EQ(raw_header(again, "ETag"), tag);
+      EXPECT_EQ(raw_header(again, "Content-Length"), raw_header(first, "Content-Length"));
+    }
+  ASSERT_EQ(raw_status(patch_params(server_, s, "application/json", R"({"post": {"exposure": 2}})")), 200);
+  const std::string changed = raw_request(server_.port(), "GET " + get + "If-None-Match: " + tag + "\r\n\r\n");
+  EXPECT_EQ(raw_status(changed), 200);
+  EXPECT_NE(raw_header(changed, "ETag"), tag);
+  EXPECT_EQ(nlohmann::json::parse(raw_body(changed))["params"]["post"]["exposure"], 2);
+}

@@ -103,18 +103,6 @@ std::string params_etag(Session& session) {
   return "\"" + std::to_string(session.params().snapshot().version) + "\"";
 }
 
-// Whether the request's If-Match, if any, names `etag` or "*" (a weak tag
-// never matches: the comparison is strong).
-bool if_match(SoupServerMessage* msg, const std::string& etag) {
-  const char* list = soup_message_headers_get_list(soup_server_message_get_request_headers(msg), "If-Match");
-  if (!list) return true;
-  gchar** tags = g_strsplit(list, ",", -1);
-  bool match = false;
-  for (gchar** tag = tags; *tag && !match; ++tag) match = std::string(g_strstrip(*tag)) == etag || g_strcmp0(*tag, "*") == 0;
-  g_strfreev(tags);
-  return match;
-}
-
 void reply_params(SoupServerMessage* msg, guint status, Session& session, nlohmann::json body) {
   soup_message_headers_replace(soup_server_message_get_response_headers(msg), "ETag", params_etag(session).c_str());
   reply_json(msg, status, body);
@@ -123,7 +111,8 @@ void reply_params(SoupServerMessage* msg, guint status, Session& session, nlohma
 void patch_params(ServerState& s, SoupServerMessage* msg, Session& session) {
   nlohmann::json patch;
   if (!read_json_body(s, msg, {"application/merge-patch+json", "application/json"}, &patch)) return;
-  if (const std::string etag = params_etag(session); !if_match(msg, etag)) {
+  const bool conditional = soup_message_headers_get_one(soup_server_message_get_request_headers(msg), "If-Match");
+  if (const std::string etag = params_etag(session); conditional && !lists_tag(msg, "If-Match", etag, false)) {
     soup_message_headers_replace(soup_server_message_get_response_headers(msg), "ETag", etag.c_str());
     return reply_problem(msg, s.metrics, SOUP_STATUS_PRECONDITION_FAILED,
                          "If-Match: the parameters are at version " + etag + " now; read them and patch again");
@@ -194,7 +183,16 @@ void session_route(ServerState& s, SoupServerMessage* msg, const Route& route) {
     if (method != "GET" && method != "HEAD") return not_allowed(s, msg, "GET, HEAD");
     return session_frame(s, msg, session, route.rest == "/frame.exr");
   }
-  if (method == "GET" || method == "HEAD") return reply_params(msg, SOUP_STATUS_OK, session, public_params(session));
+  if (method == "GET" || method == "HEAD") {
+    reply_params(msg, SOUP_STATUS_OK, session, public_params(session));
+    // A client polling with the tag it holds hears only of a change; the
+    // 304 keeps the 200's length (RFC 9110 8.6) and writes no body.
+    if (lists_tag(msg, "If-None-Match", params_etag(session), true)) {
+      soup_server_message_set_status(msg, SOUP_STATUS_NOT_MODIFIED, nullptr);
+      soup_message_headers_remove(soup_server_message_get_response_headers(msg), "Content-Type");
+    }
+    return;
+  }
   if (method == "PATCH") return patch_params(s, msg, session);
   not_allowed(s, msg, "GET, HEAD, PATCH");
 }

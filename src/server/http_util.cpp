@@ -52,6 +52,20 @@ std::string request_path(SoupServerMessage* msg) {
   return out;
 }
 
+bool lists_tag(SoupServerMessage* msg, const char* header, const std::string& etag, bool weak) {
+  const char* list = soup_message_headers_get_list(soup_server_message_get_request_headers(msg), header);
+  if (!list) return false;
+  gchar** tags = g_strsplit(list, ",", -1);
+  bool match = false;
+  for (gchar** t = tags; *t && !match; ++t) {
+    std::string tag = g_strstrip(*t);
+    if (weak && tag.rfind("W/", 0) == 0) tag.erase(0, 2);
+    match = tag == etag || tag == "*";
+  }
+  g_strfreev(tags);
+  return match;
+}
+
 std::string bearer_token(SoupServerMessage* msg) {
   const char* value = soup_message_headers_get_one(soup_server_message_get_request_headers(msg), "Authorization");
   if (!value) return "";

@@ -24,6 +24,11 @@ void reply_bytes(SoupServerMessage* msg, guint status, const std::string& conten
 /// where "%2F" is a separator and a file's "%25" is decoded twice.
 std::string request_path(SoupServerMessage* msg);
 
+/// Whether the request's `header` (If-Match, If-None-Match) lists `etag`
+/// or "*". `weak`: a W/ tag matches its strong twin (If-None-Match's weak
+/// comparison, RFC 9110 8.8.3.2); otherwise a W/ tag matches nothing.
+bool lists_tag(SoupServerMessage* msg, const char* header, const std::string& etag, bool weak);
+
 /// The bearer token of the request, or "" (the scheme is case-insensitive,
 /// RFC 9110 11.1).
 std::string bearer_token(SoupServerMessage* msg);

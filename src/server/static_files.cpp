@@ -118,21 +118,6 @@ std::optional<std::string> read_regular(const std::filesystem::path& file, std::
   return bytes;
 }
 
-// Whether an If-None-Match list names `etag` (RFC 9110 13.1.2: weak
-// comparison, so a W/ prefix matches too; "*" matches any).
-bool not_modified(SoupServerMessage* msg, const std::string& etag) {
-  const char* list = soup_message_headers_get_list(soup_server_message_get_request_headers(msg), "If-None-Match");
-  if (!list) return false;
-  std::istringstream tags(list);
-  for (std::string tag; std::getline(tags, tag, ',');) {
-    tag.erase(0, tag.find_first_not_of(" \t"));
-    tag.erase(tag.find_last_not_of(" \t") + 1);
-    if (tag.rfind("W/", 0) == 0) tag.erase(0, 2);
-    if (tag == etag || tag == "*") return true;
-  }
-  return false;
-}
-
 }  // namespace
 
 void serve_static(const std::filesystem::path& root, const std::string& url_path, SoupServerMessage* msg,
@@ -155,7 +140,7 @@ void serve_static(const std::filesystem::path& root, const std::string& url_path
   // reload would keep the old policy in the browser's cache.
   if (page) etag.insert(etag.size() - 1, "-" + std::to_string(fnv1a(policy)));
   SoupMessageHeaders* headers = soup_server_message_get_response_headers(msg);
-  if (not_modified(msg, etag)) {
+  if (lists_tag(msg, "If-None-Match", etag, true)) {
     soup_server_message_set_status(msg, SOUP_STATUS_NOT_MODIFIED, nullptr);
     // The library would write the empty body's length, 0, which a cache
     // may copy onto the file it kept; only the 200's own may be sent
