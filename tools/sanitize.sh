@@ -4,6 +4,8 @@
 # (bench/session_cycles.cpp) against it:
 #   tools/sanitize.sh asan [CYCLES]   # ASan + UBSan + LSan, default 1000 cycles
 #   tools/sanitize.sh tsan [CYCLES]   # ThreadSanitizer, default 1 cycle
+#   tools/sanitize.sh unit [TEST...]  # the unit suites under ASan + UBSan
+#                                     # (tools/sanitize_unit.sh; default all)
 # Builds incrementally in build-asan/ or build-tsan/ (only causticd and the
 # bench, tests off). The server's stderr (its log and every sanitizer
 # report) goes to build-<kind>/logs/server-<time>.log, the bench's table to
@@ -24,6 +26,10 @@ set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 kind="${1:-}"
 case "$kind" in
+  unit)
+    shift
+    exec "$here/tools/sanitize_unit.sh" "$@"
+    ;;
   asan)
     cycles="${2:-1000}"
     # -O1 -g1: line tables for the stacks at a fraction of -O2 -g's compile time.
@@ -56,12 +62,12 @@ case "$kind" in
     timeouts=(--frame-timeout 300 --idle-timeout 300 --start-timeout 600 --exit-timeout 300)
     ;;
   *)
-    echo "usage: tools/sanitize.sh asan|tsan [CYCLES]" >&2
+    echo "usage: tools/sanitize.sh asan|tsan [CYCLES] | unit [TEST...]" >&2
     exit 2
     ;;
 esac
 if ! [[ $cycles =~ ^[0-9]+$ ]] || ((cycles < 1)); then
-  echo "usage: tools/sanitize.sh asan|tsan [CYCLES]" >&2
+  echo "usage: tools/sanitize.sh asan|tsan [CYCLES] | unit [TEST...]" >&2
   exit 2
 fi
 
