@@ -243,6 +243,20 @@ test('the viewer seen: contrast over the picture, a pressed mode not by colour a
   });
 });
 
+test('the broadcast page: landmarks, a named picture, and a state line that says why it waits', async () => {
+  await withServer(async (server) => {
+    const page = await browser.newPage();
+    // A broadcast server that is not there: the page waits and says so.
+    await page.goto(`${server.url}/watch.html#scene=slab&janus=/nothing&mountpoint=1`);
+    await until(page, () => window.caustic.connection === 'reconnecting', 30, 'the wait said');
+    assert.equal(await page.locator('header#hud').count(), 1);
+    assert.equal(await page.locator('main#stage').count(), 1);
+    assert.ok(await page.getAttribute('#video', 'aria-label'), 'the broadcast\'s video has no name');
+    assert.match(await page.evaluate(`(${readable})('#state')`), /^reconnecting: /);
+    await page.close();
+  });
+});
+
 test('a retry\'s countdown is seen but not read out each second', async () => {
   await withServer(async (server) => {
     const page = await browser.newPage();
