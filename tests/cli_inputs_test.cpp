@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
 
 namespace fs = std::filesystem;
@@ -194,4 +195,37 @@ TEST_F(CliInputs, AStateDirThatIsAFileIsRefused) {
   std::ofstream(dir_ / "a-file") << "x";
   std::ofstream(dir_ / "causticd.conf") << "design_uploads = on\nstate_dir = " << (dir_ / "a-file").string() << "\n";
   expect_rejected("check-config " + (dir_ / "causticd.conf").string(), "state_dir: ");
+}
+
+TEST_F(CliInputs, AFaceTheLightMeetsFromBehindIsSaid) {
+  // A sine face of slope up to pi/2 (tilted up to 57.5 degrees) in glass of
+  // n = 1.0001, the light's angle inside the same as outside: the face shades
+  // itself only where it tilts by more than 90 degrees less the light's
+  // angle, so at 11.3 degrees from the normal nothing, at 78.7 degrees some.
+  const fs::path mesh = dir_ / "sine.obj", scene_file = dir_ / "sine.json";
+  {
+    std::ofstream obj(mesh);
+    constexpr int n = 33;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double x = -5 + 10.0 * i / (n - 1), y = -5 + 10.0 * j / (n - 1);
+        obj << "v " << x << ' ' << y << ' ' << std::sin(std::numbers::pi * x / 2) << "\n";
+      }
+    for (int j = 0; j + 1 < n; ++j)
+      for (int i = 0; i + 1 < n; ++i) {
+        const int a = j * n + i + 1, b = a + 1, c = a + n, d = c + 1;
+        obj << "f " << a << ' ' << b << ' ' << d << "\nf " << a << ' ' << d << ' ' << c << "\n";
+      }
+  }
+  std::ofstream(scene_file) << R"({"mesh": "sine.obj", "focus_distance": 50,
+    "object": {"ior": 1.0001, "flat_face_normal": [0, 0, 1], "flat_face_offset": 3.0},
+    "render": {"fidelity": "manual"}})";
+  const std::string render = "render --scene " + scene_file.string() + " -o " + (dir_ / "x.png").string() + small();
+  const std::string said = "warning: light.direction: the light meets";
+  const CommandResult steep = causticd(render + " --set light.direction=[1,0,-0.2]");
+  EXPECT_EQ(steep.status, 0) << steep.output;
+  EXPECT_NE(steep.output.find(said), std::string::npos) << steep.output;
+  const CommandResult gentle = causticd(render + " --set light.direction=[0.2,0,-1]");
+  EXPECT_EQ(gentle.status, 0) << gentle.output;
+  EXPECT_EQ(gentle.output.find(said), std::string::npos) << gentle.output;
 }

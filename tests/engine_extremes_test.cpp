@@ -226,6 +226,29 @@ TEST_F(Extremes, LightThatCannotMeetTheCausticFaceLandsNothing) {
   }
 }
 
+TEST(ExtremesShading, TheFaceShadesItselfOnlyPastNinetyDegreesLessTheLightsAngle) {
+  // The 70-degree face above under light tilted toward +x by theta (inside
+  // glass of n = 1.0001: the same angle to 1e-4): along the light z +
+  // tan(70) x changes by tan(70) sin(theta) - cos(theta) a unit, which is
+  // above 0, the light drawing away from the face that it can then reach
+  // only from behind, exactly when theta > 90 - 70 = 20 degrees. Every
+  // vertex of the plane is alike: the share is 0 below 20 and 1 above.
+  const double apex = -70 * std::numbers::pi / 180;
+  const Mesh face = grid_mesh(wedge(apex, 1.0, 1.0), 17, 17);
+  Scene s = straight_down_scene(3.0, 60.0, 400.0, 128);
+  s.object.ior = 1.0001;
+  const Placement placed = place_object(s.object, face);
+  for (const double degrees : {0.0, 15.0, 19.0, 21.0, 25.0, 45.0}) {
+    SCOPED_TRACE(degrees);
+    const double theta = degrees * std::numbers::pi / 180;
+    s.light.direction = glm::dvec3(std::sin(theta), 0, -std::cos(theta));
+    EXPECT_EQ(self_shaded_share(s, placed, face), degrees > 20 ? 1.0 : 0.0);
+  }
+  // The rule covers slabs only: a mirror reflects from either side.
+  s.object.material = Material::reflective;
+  EXPECT_EQ(self_shaded_share(s, placed, face), 0.0);
+}
+
 TEST_F(Extremes, ARayAlmostInTheScreensPlaneIsDroppedByBothSetUps) {
   // Light 5e-7 from the screen's plane through glass of index 1 (the rays
   // go on undeviated): below the 1e-6 at which a ray counts as grazing the

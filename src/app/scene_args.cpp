@@ -5,6 +5,7 @@
 #include "caustic/receiver_meshes.hpp"
 #include "caustic/resample.hpp"
 #include "caustic/screen_follow.hpp"
+#include "caustic/vertex_rays.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -138,6 +139,27 @@ int run_reporting(const char* command, const std::filesystem::path& scene, const
   }
 }
 
+namespace {
+
+// Where the light meets the caustic face from behind, ridges of the face
+// shade it, which the per-vertex method sees only in part: the picture
+// then holds more light than enters. Said to the operator, whose mesh it
+// is; the server never says it (it would describe the secret face).
+void warn_self_shading(const char* command, const Scene& scene, const Placement& placed, const Mesh& mesh) {
+  const double share = self_shaded_share(scene, placed, mesh);
+  if (!(share > 0)) return;
+  char percent[32];
+  std::snprintf(percent, sizeof percent, "%.3g%%", 100 * share);
+  std::cerr << "causticd " << command << ": warning: "
+            << (scene.light.type == LightType::point ? "light.position" : "light.direction") << ": the light meets "
+            << percent << " of the caustic face's vertices from behind: they carry no light, and the ridges in front "
+            << "of them shade more of the face than the per-vertex method sees, so the picture holds more light than "
+               "enters (docs/physics.md, section 6); light the object closer to its flat face's normal, or trace it "
+               "as a solid (object.shape)\n";
+}
+
+}  // namespace
+
 bool load_scene_levels(const char* command, const std::filesystem::path& file,
                        const std::vector<std::string>& assignments, Scene* scene, SceneLevels* out) {
   Mesh mesh;
@@ -154,6 +176,7 @@ bool load_scene_levels(const char* command, const std::filesystem::path& file,
     // Calibrated as rendered: with the screen where following puts it.
     const Placement placed = out->levels.place(scene->object);
     *scene = follow_light(*scene, placed);
+    warn_self_shading(command, *scene, placed, *source);
     out->written_light_grid = scene->render.light_grid;
     out->calibration = load_calibration(calibration_path(file), scene_fingerprint(*scene, *source));
     // Not said by calibrate, which is making the new one.

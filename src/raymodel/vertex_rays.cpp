@@ -53,14 +53,20 @@ ExitRay exit_ray(const Scene& scene, const Placement& placement, double ior, con
     if (!in) return ray;
     t *= fresnel_transmittance(in->cos_i, 1.0, ior);
     const Vec3 inside = exact ? glm::normalize(v - ray.footprint) : in->direction;
-    if (meets_face_from_wrong_side(inside, n, flat.normal, true)) return ray;
+    if (meets_face_from_wrong_side(inside, n, flat.normal, true)) {
+      ray.shaded = true;
+      return ray;
+    }
     if (!exact) ray.footprint = v + inside * (-flat.signed_distance(v) / glm::dot(inside, flat.normal));
     const auto out = refract(inside, face_against(n, inside), ior);
     if (!out) return ray;
     t *= fresnel_transmittance(out->cos_i, ior, 1.0);
     dir = out->direction;
   } else {
-    if (scene.object.shape != Shape::surface && meets_face_from_wrong_side(incident, n, flat.normal, false)) return ray;
+    if (scene.object.shape != Shape::surface && meets_face_from_wrong_side(incident, n, flat.normal, false)) {
+      ray.shaded = true;
+      return ray;
+    }
     const auto in = refract(incident, face_against(n, incident), 1.0 / ior);
     if (!in) return ray;
     t *= fresnel_transmittance(in->cos_i, 1.0, ior);
@@ -80,6 +86,18 @@ ExitRay exit_ray(const Scene& scene, const Placement& placement, double ior, con
   ray.direction = dir;
   ray.transmittance = scene.render.fresnel ? t : 1.0;
   return ray;
+}
+
+double self_shaded_share(const Scene& scene, const Placement& placement, const Mesh& mesh) {
+  if (scene.object.material == Material::reflective || scene.object.shape != Shape::slab || mesh.positions.empty())
+    return 0.0;
+  std::size_t shaded = 0;
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    const glm::dvec3 v(placement.model * glm::dvec4(glm::dvec3(mesh.positions[i]), 1.0));
+    const glm::dvec3 n = glm::normalize(placement.rotation * glm::dvec3(mesh.normals[i]));
+    if (exit_ray(scene, placement, scene.object.ior, v, n).shaded) ++shaded;
+  }
+  return static_cast<double>(shaded) / static_cast<double>(mesh.positions.size());
 }
 
 VertexRay trace_vertex(const Scene& scene, const Placement& placement, const glm::dvec3& v, const glm::dvec3& n) {

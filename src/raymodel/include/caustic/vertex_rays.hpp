@@ -28,6 +28,7 @@ struct ExitRay {
   glm::dvec3 direction{0.0};   ///< unit, world
   glm::dvec3 footprint{0.0};   ///< where it entered the object
   double transmittance = 1.0;  ///< Fresnel product (1 when Fresnel is off)
+  bool shaded = false;         ///< not valid: the light would meet the face from the wrong side
 };
 
 /// Whether light meets the flat face before the caustic face.
@@ -37,6 +38,15 @@ bool flat_face_first(const Scene& scene, const Placement& placement);
 /// (world, unit) out of the object refracted with index `ior` (one
 /// wavelength's, or object.ior).
 ExitRay exit_ray(const Scene& scene, const Placement& placement, double ior, const glm::dvec3& v, const glm::dvec3& n);
+
+/// The share (0 to 1) of `mesh`'s vertices, placed by `placement`, that lie
+/// in the caustic face's own shadow under the scene's light (ExitRay::shaded):
+/// they carry no light, and the ridges in front of them shade more of the
+/// face than the per-vertex method sees (docs/physics.md §6), so its picture
+/// then holds more light than enters. 0 for mirrors, solids and water
+/// surfaces, which the rule does not cover. It reads the real mesh: for the
+/// operator's tools, never for an answer to a visitor.
+double self_shaded_share(const Scene& scene, const Placement& placement, const Mesh& mesh);
 
 /// Traces the ray through caustic-face vertex `v` (world) with normal `n` (world, unit).
 VertexRay trace_vertex(const Scene& scene, const Placement& placement, const glm::dvec3& v, const glm::dvec3& n);
