@@ -187,3 +187,19 @@ TEST_F(Rest, PollingTheParametersWithTheirTagAnswers304UntilAPatch) {
   EXPECT_NE(raw_header(changed, "ETag"), tag);
   EXPECT_EQ(nlohmann::json::parse(raw_body(changed))["params"]["post"]["exposure"], 2);
 }
+
+// A problem's title is its status's phrase (RFC 9457 4.2.1), as RFC 9110
+// names it: "Unprocessable Content" and "Content Too Large", not RFC 7231's.
+TEST(HttpProblems, TitlesAreRfc9110sPhrases) {
+  ServerProcess server;
+  const std::string body = R"({"scene": "no such scene"})";
+  const std::string unknown = raw_request(server.port(), "POST /api/v1/sessions HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+                                                         "Content-Type: application/json\r\nContent-Length: " +
+                                                             std::to_string(body.size()) + "\r\n\r\n" + body);
+  EXPECT_EQ(raw_status(unknown), 422) << unknown;
+  EXPECT_EQ(nlohmann::json::parse(raw_body(unknown))["title"], "Unprocessable Content");
+  const std::string large = raw_request(server.port(), "POST /api/v1/sessions HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+                                                       "Content-Type: application/json\r\nContent-Length: 10000000\r\n\r\n");
+  EXPECT_EQ(raw_status(large), 413) << large;
+  EXPECT_EQ(nlohmann::json::parse(raw_body(large))["title"], "Content Too Large");
+}

@@ -207,8 +207,12 @@ RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) 
 }
 
 const char* status_phrase(unsigned status) {
+  // A problem's title is the status's phrase (RFC 9457 4.2.1): RFC 9110's,
+  // where libsoup has none or RFC 7231's.
   switch (status) {
+    case 413: return "Content Too Large";                  // RFC 9110
     case 421: return "Misdirected Request";                // RFC 9110
+    case 422: return "Unprocessable Content";              // RFC 9110
     case 429: return "Too Many Requests";                  // RFC 6585
     case 431: return "Request Header Fields Too Large";    // RFC 6585
     default: return soup_status_get_phrase(status);

@@ -41,7 +41,8 @@ struct RequestHead {
 RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits);
 
 /// The reason phrase of an HTTP status: libsoup's, or for the statuses it
-/// does not know (421, 429, 431) their RFC names rather than "Unknown Error".
+/// does not know (421, 429, 431) or names as RFC 7231 did (413, 422) their
+/// RFC 9110 and 6585 names rather than "Unknown Error" or the old ones.
 const char* status_phrase(unsigned status);
 
 /// A whole HTTP/1.1 answer with an RFC 9457 problem body, for refusals made
