@@ -203,3 +203,17 @@ TEST(HttpProblems, TitlesAreRfc9110sPhrases) {
   EXPECT_EQ(raw_status(large), 413) << large;
   EXPECT_EQ(nlohmann::json::parse(raw_body(large))["title"], "Content Too Large");
 }
+
+// A head over 16 KiB is refused before the library reads it: 414 when the
+// request line alone is too long (the target, RFC 9112 3), 431 when the
+// fields are (RFC 6585), each titled with its phrase.
+TEST(HttpLimits, ALongTargetIs414AndLongFieldsAre431) {
+  ServerProcess server;
+  const std::string target = request(server, "GET", "/api/v1/scenes/" + std::string(20000, 'a'));
+  EXPECT_EQ(raw_status(target), 414) << target.substr(0, 400);
+  EXPECT_EQ(nlohmann::json::parse(raw_body(target))["title"], "URI Too Long");
+  const std::string fields = request(server, "GET", "/api/v1/health", "X-Pad: " + std::string(20000, 'a') + "\r\n");
+  EXPECT_EQ(raw_status(fields), 431) << fields.substr(0, 400);
+  EXPECT_EQ(nlohmann::json::parse(raw_body(fields))["title"], "Request Header Fields Too Large");
+  EXPECT_EQ(raw_status(request(server, "GET", "/api/v1/health")), 200);
+}

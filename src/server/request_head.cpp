@@ -95,21 +95,28 @@ RequestHead refuse(unsigned status, std::string detail) {
   return head;
 }
 
+// A head over the limit: 414 when its request line alone does not fit (the
+// target is what is too long, RFC 9112 3), else 431 for its fields.
+RequestHead too_large(std::string_view bytes, const HeadLimits& limits) {
+  const auto line_end = bytes.find("\r\n");
+  if (line_end == std::string_view::npos || line_end + 2 > limits.max_head_bytes)
+    return refuse(414, "the request line is longer than " + std::to_string(limits.max_head_bytes) + " bytes");
+  return refuse(431, "the request head is larger than " + std::to_string(limits.max_head_bytes) + " bytes");
+}
+
 }  // namespace
 
 RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) {
   const auto end = bytes.find("\r\n\r\n");
   if (end == std::string_view::npos) {
-    if (bytes.size() >= limits.max_head_bytes)
-      return refuse(431, "the request head is larger than " + std::to_string(limits.max_head_bytes) + " bytes");
+    if (bytes.size() >= limits.max_head_bytes) return too_large(bytes, limits);
     // A bare LF where CRLF belongs never becomes a valid head: say so now
     // rather than when the timeout strikes.
     for (std::size_t i = 0; i < bytes.size(); ++i)
       if (bytes[i] == '\n' && (i == 0 || bytes[i - 1] != '\r')) return refuse(400, "lines must end in CRLF");
     return {};
   }
-  if (end + 4 > limits.max_head_bytes)
-    return refuse(431, "the request head is larger than " + std::to_string(limits.max_head_bytes) + " bytes");
+  if (end + 4 > limits.max_head_bytes) return too_large(bytes, limits);
   const std::string_view head = bytes.substr(0, end + 2);  // every line with its CRLF
   std::size_t pos = head.find("\r\n");
   const std::string_view line = head.substr(0, pos);
@@ -211,6 +218,7 @@ const char* status_phrase(unsigned status) {
   // where libsoup has none or RFC 7231's.
   switch (status) {
     case 413: return "Content Too Large";                  // RFC 9110
+    case 414: return "URI Too Long";                       // RFC 9110
     case 421: return "Misdirected Request";                // RFC 9110
     case 422: return "Unprocessable Content";              // RFC 9110
     case 429: return "Too Many Requests";                  // RFC 6585

@@ -21,7 +21,7 @@ using State = s::RequestHead::State;
 
 void check_refusal(const s::RequestHead& head) {
   FUZZ_CHECK(head.status == 400 || head.status == 411 || head.status == 413 || head.status == 417 ||
-             head.status == 431 ||
+             head.status == 414 || head.status == 431 ||
              head.status == 501 || head.status == 505);
   FUZZ_CHECK(!head.detail.empty() && printable_ascii(head.detail));
   const std::string answer = s::canned_problem(head.status, head.detail, "Retry-After: 1\r\n");
