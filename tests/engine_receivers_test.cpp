@@ -23,16 +23,6 @@ std::shared_ptr<const Mesh> slab() {
   return mesh;
 }
 
-ScreenParams rectangle(glm::dvec3 centre, glm::dvec3 normal, glm::dvec3 up, double width, double height) {
-  ScreenParams r;
-  r.center = centre;
-  r.normal = glm::normalize(normal);
-  r.up = glm::normalize(up);
-  r.width = width;
-  r.height = height;
-  return r;
-}
-
 // Straight down, Fresnel off; the screen parked where no light goes.
 Scene base_scene(int pixels) {
   Scene s = straight_down_scene(1, 50, 10, pixels);

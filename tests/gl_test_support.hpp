@@ -59,6 +59,17 @@ inline Scene straight_down_scene(double flat_offset, double distance, double scr
   return s;
 }
 
+// A receiver rectangle (normal and up made unit).
+inline ScreenParams rectangle(glm::dvec3 centre, glm::dvec3 normal, glm::dvec3 up, double width, double height) {
+  ScreenParams r;
+  r.center = centre;
+  r.normal = glm::normalize(normal);
+  r.up = glm::normalize(up);
+  r.width = width;
+  r.height = height;
+  return r;
+}
+
 inline std::shared_ptr<const Mesh> shared(Mesh m) { return std::make_shared<const Mesh>(std::move(m)); }
 
 /// A 20 x 20 mm flat slab, its flat face at z = 1; 0.31 mm between rays.
