@@ -4,12 +4,15 @@
 // flag or key, or warned about, before any work.
 #include "causticd_runner.hpp"
 
+#include "caustic/image_io.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -228,4 +231,77 @@ TEST_F(CliInputs, AFaceTheLightMeetsFromBehindIsSaid) {
   const CommandResult gentle = causticd(render + " --set light.direction=[0.2,0,-1]");
   EXPECT_EQ(gentle.status, 0) << gentle.output;
   EXPECT_EQ(gentle.output.find(said), std::string::npos) << gentle.output;
+}
+
+namespace {
+
+// CRC-32 (ISO 3309) over a PNG chunk's type and data, for a header
+// rewritten by hand.
+std::uint32_t png_crc(const std::string& bytes) {
+  std::uint32_t c = 0xffffffffu;
+  for (const unsigned char b : bytes) {
+    c ^= b;
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+  }
+  return ~c;
+}
+
+// A 16 x 16 PNG whose header says w x h: its data ends after 16 rows.
+std::string png_claiming(std::uint32_t w, std::uint32_t h) {
+  const auto real = caustic::encode_png(caustic::Rgba8Image{16, 16, std::vector<std::uint8_t>(16 * 16 * 4, 200)});
+  std::string png(real.begin(), real.end());
+  const auto put = [&](std::size_t at, std::uint32_t v) {
+    for (int b = 0; b < 4; ++b) png[at + b] = static_cast<char>(v >> (24 - 8 * b));
+  };
+  put(16, w), put(20, h);              // IHDR's data begins at byte 16
+  put(29, png_crc(png.substr(12, 17)));  // its CRC covers "IHDR" and the 13 bytes of data
+  return png;
+}
+
+// A TIFF of w x h RGB in 256 x 256 tiles, every tile pointing at the same
+// 1000 bytes at its end.
+std::string tiled_tiff_claiming(std::uint32_t w, std::uint32_t h) {
+  const std::uint32_t t = 256, tiles = ((w + t - 1) / t) * ((h + t - 1) / t), entries = 11;
+  const std::uint32_t bits = 8 + 2 + 12 * entries + 4, offsets = bits + 6, counts = offsets + 4 * tiles,
+                      data = counts + 4 * tiles;
+  std::string b("II*\0\x08\0\0\0", 8);
+  const auto u16 = [&](std::uint32_t v) { b += static_cast<char>(v & 0xff), b += static_cast<char>(v >> 8 & 0xff); };
+  const auto u32 = [&](std::uint32_t v) { u16(v & 0xffff), u16(v >> 16); };
+  const auto entry = [&](std::uint32_t tag, std::uint32_t type, std::uint32_t count, std::uint32_t value) {
+    u16(tag), u16(type), u32(count), u32(value);  // type 3 is a short, 4 a long
+  };
+  u16(entries);
+  entry(256, 4, 1, w), entry(257, 4, 1, h), entry(258, 3, 3, bits), entry(259, 3, 1, 1), entry(262, 3, 1, 2);
+  entry(277, 3, 1, 3), entry(284, 3, 1, 1), entry(322, 4, 1, t), entry(323, 4, 1, t);
+  entry(324, 4, tiles, offsets), entry(325, 4, tiles, counts);
+  u32(0);
+  for (int i = 0; i < 3; ++i) u16(8);
+  for (std::uint32_t i = 0; i < tiles; ++i) u32(data);
+  for (std::uint32_t i = 0; i < tiles; ++i) u32(t * t * 3);
+  return b + std::string(1000, '\x80');
+}
+
+}  // namespace
+
+// A header alone says how large a picture is: a few kilobytes declaring
+// 16000 x 4000 pixels (within the designer's limits) once had the picture's
+// 768 MB set aside before the reader found nothing behind the header, and
+// under a memory limit the command aborted. Under half that it is refused,
+// by the reader's own complaint, as the broken file it is.
+TEST_F(CliInputs, APictureWhoseHeaderPromisesMoreThanItHoldsIsRefusedBeforeItsMemory) {
+  if (!fs::exists(std::string(CAUSTIC_ASSET_DIR) + "/designs/design-logo.target.png"))
+    GTEST_SKIP() << "built without the designer";
+  const std::string limited = "prlimit --data=" + std::to_string(384 << 20);
+  for (const auto& [name, bytes] : {std::pair{"tall.png", png_claiming(16000, 4000)},
+                                    std::pair{"tall.tif", tiled_tiff_claiming(16000, 4000)}}) {
+    const fs::path target = dir_ / name;
+    std::ofstream(target, std::ios::binary) << bytes;
+    const CommandResult r = causticd_with_env(
+        limited, "design --target " + target.string() + " -o " + (dir_ / "face.obj").string() + " --no-check");
+    EXPECT_EQ(r.status, 2) << name << ": " << r.output;
+    EXPECT_NE(r.output.find("--target " + target.string() + ": cannot decode the picture ("), std::string::npos)
+        << name << ": " << r.output;
+    EXPECT_EQ(r.output.find("bad_alloc"), std::string::npos) << name << ": " << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "face.obj")) << name;
+  }
 }

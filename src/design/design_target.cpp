@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <memory>
 #include <string>
@@ -110,6 +111,52 @@ void upright_pixel(int orientation, int w, int h, int sx, int sy, int& x, int& y
   }
 }
 
+// The picture's reader, open; `first` is the spec it gave when opened
+// before: a file changed between the two readings is refused.
+std::unique_ptr<OIIO::ImageInput> open_picture(const std::string& name, const OIIO::ImageSpec* first = nullptr) {
+  std::unique_ptr<OIIO::ImageInput> in;
+  try {
+    in = OIIO::ImageInput::open(name);
+  } catch (const std::exception& e) {  // a reader that throws (allocation, length) rather than failing
+    throw TargetError(name + ": cannot read the picture (" + e.what() + ")");
+  }
+  if (!in) throw TargetError(name + ": cannot read the picture (" + OIIO::geterror() + ")");
+  const OIIO::ImageSpec& spec = in->spec();
+  if (first && (spec.width != first->width || spec.height != first->height || spec.nchannels != first->nchannels ||
+                spec.tile_width != first->tile_width || spec.tile_height != first->tile_height))
+    throw TargetError(name + ": the picture changed while it was read");
+  return in;
+}
+
+// Decodes the picture a band of rows at a time (`channels` floats a pixel),
+// handing each band to `take` with its first and last row: the decoder's
+// floats of the whole picture never lie beside the picture kept. A tiled
+// file's bands are whole rows of tiles, so each tile is decoded once.
+void read_bands(OIIO::ImageInput& in, const std::string& name, int channels,
+                const std::function<void(int y0, int y1, const float* rows)>& take) {
+  const OIIO::ImageSpec& spec = in.spec();
+  const int w = spec.width, h = spec.height;
+  const bool tiled = spec.tile_width > 0 && spec.tile_height > 0;
+  int band = std::clamp(static_cast<int>((1 << 20) / (std::int64_t{w} * channels)), 1, h);
+  if (tiled) band = std::min(h, std::max(1, band / spec.tile_height) * spec.tile_height);
+  std::vector<float> raw;
+  for (int y0 = 0; y0 < h; y0 += band) {
+    const int y1 = std::min(h, y0 + band);
+    bool read = false;
+    try {
+      raw.resize(static_cast<std::size_t>(w) * (y1 - y0) * channels);
+      read = tiled ? in.read_tiles(0, 0, spec.x, spec.x + w, spec.y + y0, spec.y + y1, spec.z, spec.z + 1, 0, channels,
+                                   OIIO::TypeDesc::FLOAT, raw.data())
+                   : in.read_scanlines(0, 0, spec.y + y0, spec.y + y1, spec.z, 0, channels, OIIO::TypeDesc::FLOAT,
+                                       raw.data());
+    } catch (const std::exception& e) {
+      throw TargetError(name + ": cannot decode the picture (" + e.what() + ")");
+    }
+    if (!read) throw TargetError(name + ": cannot decode the picture (" + in.geterror() + ")");
+    take(y0, y1, raw.data());
+  }
+}
+
 }  // namespace
 
 RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
@@ -122,14 +169,8 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
     throw TargetError(name + ": is larger than " + std::to_string(kMaxTargetFileBytes >> 20) + " MiB");
   check_gif_screen(file, name);
   check_jpeg_scans(file, name);
-  std::unique_ptr<OIIO::ImageInput> in;
-  try {
-    in = OIIO::ImageInput::open(name);
-  } catch (const std::exception& e) {  // a reader that throws (allocation, length) rather than failing
-    throw TargetError(name + ": cannot read the picture (" + e.what() + ")");
-  }
-  if (!in) throw TargetError(name + ": cannot read the picture (" + OIIO::geterror() + ")");
-  const OIIO::ImageSpec& spec = in->spec();
+  std::unique_ptr<OIIO::ImageInput> in = open_picture(name);
+  const OIIO::ImageSpec spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw TargetError(name + ": the picture is empty");
   // A volume's slices would all be read into a buffer sized for one.
@@ -142,31 +183,26 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   // R, G, B and alpha at the most: what lies beyond is never used, and a
   // file of a few kilobytes may declare hundreds of channels.
   const int channels = std::min(spec.nchannels, 4);
+  // Decoded once to no purpose but to show the pixels are there: a header
+  // of a few bytes may declare 64 M pixels, whose picture (12 bytes a pixel,
+  // 768 MB) was set aside before the reader found no data behind it.
+  read_bands(*in, name, channels, [](int, int, const float*) {});
+  in = open_picture(name, &spec);
   const bool srgb = encoded_srgb(spec);
   // Colour: the first three channels are R, G, B; grey (1 or 2 channels): the first.
   const bool colour = channels >= 3;
   // Converted and turned upright band by band into the one full-size
-  // picture kept: the decoder's floats of the whole picture (up to 16 bytes
-  // a pixel) and a turned copy once lay beside it. A tiled file is read
-  // whole (its reader's scanlines would decode each tile again per band).
+  // picture kept: a turned copy once lay beside it.
   const int orientation = spec.get_int_attribute("Orientation", 1);
   const int w = spec.width, h = spec.height;
   const bool turned = turned_sides(orientation);
-  RgbHdrImage out{turned ? h : w, turned ? w : h, std::vector<float>(3 * static_cast<std::size_t>(w) * h)};
-  const int band = spec.tile_width > 0 ? h : std::clamp(static_cast<int>((1 << 20) / (std::int64_t{w} * channels)), 1, h);
-  std::vector<float> raw;
-  for (int y0 = 0; y0 < h; y0 += band) {
-    const int y1 = std::min(h, y0 + band);
-    bool read = false;
-    try {
-      raw.resize(static_cast<std::size_t>(w) * (y1 - y0) * channels);
-      read = band == h ? in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, raw.data())
-                       : in->read_scanlines(0, 0, spec.y + y0, spec.y + y1, spec.z, 0, channels, OIIO::TypeDesc::FLOAT,
-                                            raw.data());
-    } catch (const std::exception& e) {
-      throw TargetError(name + ": cannot decode the picture (" + e.what() + ")");
-    }
-    if (!read) throw TargetError(name + ": cannot decode the picture (" + in->geterror() + ")");
+  RgbHdrImage out{turned ? h : w, turned ? w : h, {}};
+  try {
+    out.pixels.resize(3 * static_cast<std::size_t>(w) * h);
+  } catch (const std::bad_alloc&) {
+    throw TargetError(name + ": " + std::to_string(w) + "x" + std::to_string(h) + " pixels do not fit in memory");
+  }
+  read_bands(*in, name, channels, [&](int y0, int y1, const float* raw) {
     for (int sy = y0; sy < y1; ++sy)
       for (int sx = 0; sx < w; ++sx) {
         const float* c = &raw[(static_cast<std::size_t>(sy - y0) * w + sx) * channels];
@@ -182,7 +218,7 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
           to[k] = static_cast<float>(v);
         }
       }
-  }
+  });
   // A JPEG cut short decodes, its missing rows grey, with only a warning
   // (libjpeg's "premature end"): designed, it drew a grey band the report
   // could not see, since it judges against the decoded picture. libjpeg
