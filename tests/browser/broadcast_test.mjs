@@ -93,9 +93,17 @@ test('viewers of one broadcast all see it, a late joiner at once, and the holder
   }
   const sent = (await sentFrames()) - before;
   const decoded = (await count('framesDecoded')).map((n, i) => n - decodedBefore[i]);
-  console.log(`frames sent ${sent}; received by each viewer ${received.join(', ')}; decoded ${decoded.join(', ')}`);
+  const lost = await count('packetsLost');
+  const nacks = await count('nackCount');
+  console.log(`frames sent ${sent}; received by each viewer ${received.join(', ')}; decoded ${decoded.join(', ')}; ` +
+              `packets lost ${lost.join(', ')}, NACKs ${nacks.join(', ')}`);
   assert.ok(sent > 20, `the server sent only ${sent} frames while the light moved`);
-  for (const n of received) assert.ok(n >= 0.9 * sent, `a viewer received ${n} of ${sent} frames`);
+  // Janus forwards every frame; what a viewer misses is its own loss: on a
+  // loaded machine the last of four Chromium pages, starved of CPU, has been
+  // seen to drop a tenth (140 of 156 in CI; 157 of 164 under stress-ng). A
+  // forwarding fault costs far more: key frames only would be a few percent,
+  // one viewer left out none, a halved rate a half.
+  for (const n of received) assert.ok(n >= 0.75 * sent, `a viewer received ${n} of ${sent} frames`);
   for (const n of decoded) assert.ok(n >= 0.5 * sent, `a viewer decoded ${n} of ${sent} frames`);
   // Every viewer hears of the last version on the frames channel.
   for (const p of pages) await until(p, (v) => window.caustic.version >= v, 20, `version ${version}`, version);
