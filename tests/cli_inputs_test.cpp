@@ -171,6 +171,33 @@ TEST_F(CliInputs, AKeyWrittenTwiceIsRefusedAndAnAssignmentOverAnotherIsSaid) {
       << reset.output;
 }
 
+// --width and --height set render.width and render.height after every
+// --set, wherever they are written: an override is said with the flag the
+// user wrote (once quoted as the assignment made of it, "render.width=32").
+// A stale calibration's advice to calibrate "with the same --set" is for a
+// --set only: calibrate has no --width, and the size is not calibrated.
+TEST_F(CliInputs, AFlagThatSetsAKeyIsNamedAsWritten) {
+  // Written before the --set, the flag still wins, and says why.
+  const CommandResult r = causticd("render --scene " + scene("slab") + " -o " + (dir_ / "x.png").string() +
+                                   " --width 32 --height 32 --set render.width=64 --set render.height=48");
+  EXPECT_EQ(r.status, 0) << r.output;
+  for (const char* said : {"warning: render.width: render.width=64 is overridden by --width 32 (a flag applies after "
+                           "every --set)",
+                           "warning: render.height: render.height=48 is overridden by --height 32", "target 32x32"})
+    EXPECT_NE(r.output.find(said), std::string::npos) << said << "\n" << r.output;
+  // A calibration beside a scene it was not made for.
+  std::ofstream(dir_ / "glass.json") << R"({"mesh": ")" << CAUSTIC_ASSET_DIR
+                                     << R"(/meshes/slab.obj", "object": {"ior": 1.6}})";
+  fs::copy_file(fs::path(CAUSTIC_ASSET_DIR) / "scenes" / "slab.calibration.json", dir_ / "glass.calibration.json");
+  const std::string stale = "render --scene " + (dir_ / "glass.json").string() + " -o " + (dir_ / "x.png").string();
+  const CommandResult sized = causticd(stale + small());
+  EXPECT_EQ(sized.status, 0) << sized.output;
+  EXPECT_NE(sized.output.find("glass.calibration.json was made for other physics"), std::string::npos) << sized.output;
+  EXPECT_EQ(sized.output.find("--set"), std::string::npos) << sized.output;
+  const CommandResult set = causticd(stale + small() + " --set post.gamma=2");
+  EXPECT_NE(set.output.find("makes one for them (with the same --set)"), std::string::npos) << set.output;
+}
+
 TEST_F(CliInputs, SeedsAndTheGlDeviceAreCheckedBeforeAnyWork) {
   for (const char* seed : {"-1", "18446744073709551616"})
     expect_rejected("calibrate --scene " + scene("slab") + " -o " + (dir_ / "c.json").string() + " --seed " + seed,

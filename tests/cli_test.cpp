@@ -132,7 +132,7 @@ TEST_F(Cli, KeysThatAreNotUsedAsWrittenAreWarnedAbout) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("warning: post.local_strength is used only by post.tone_map \"local\""), std::string::npos)
       << r.output;
-  EXPECT_NE(r.output.find("warning: render.width: render.width=32 is overridden by render.width=64"), std::string::npos)
+  EXPECT_NE(r.output.find("warning: render.width: render.width=32 is overridden by --width 64"), std::string::npos)
       << r.output;
   EXPECT_EQ(caustic::read_hdr_image(png).width, 64);
   // The built-in scenes write nothing that is not used.

@@ -57,9 +57,12 @@ inline CLI::Validator finite_range(double lo, double hi) {
 
 /// A scene file with `--set key.path=value` overrides applied in order, and
 /// its mesh; prints "causticd <command>: <file>: <problem>" and returns
-/// false on bad input.
+/// false on bad input. `flags[i]`, where given and not empty, is the flag
+/// the user wrote for assignments[i] ("--width 32" for render.width=32):
+/// a warning quotes what was written, not the assignment made of it.
 bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
-                         const std::vector<std::string>& assignments, Scene* scene, Mesh* mesh);
+                         const std::vector<std::string>& assignments, Scene* scene, Mesh* mesh,
+                         const std::vector<std::string>& flags = {});
 
 /// Whether `out` (the file of `flag`) can be written: its folder exists, it
 /// is no folder, nothing else than a regular file (a device, a pipe), none
@@ -96,7 +99,8 @@ struct SceneLevels {
 /// scene file; `scene` comes back resolved (fidelity "auto" applied).
 /// Prints the problem and returns false on bad input.
 bool load_scene_levels(const char* command, const std::filesystem::path& file,
-                       const std::vector<std::string>& assignments, Scene* scene, SceneLevels* out);
+                       const std::vector<std::string>& assignments, Scene* scene, SceneLevels* out,
+                       const std::vector<std::string>& flags = {});
 
 /// One line saying what fidelity renders and why.
 std::string describe_choice(const Scene& scene, const SceneLevels& levels);

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <tuple>
 
 namespace caustic::app {
 namespace {
@@ -32,9 +33,15 @@ double median(std::vector<double> v) {
 int run_render(const RenderOptions& opt) {
   Scene scene;
   SceneLevels levels;
-  std::vector<std::string> assignments = opt.assignments;
-  if (opt.width) assignments.push_back("render.width=" + std::to_string(opt.width));
-  if (opt.height) assignments.push_back("render.height=" + std::to_string(opt.height));
+  // --width and --height are assignments after every --set; their
+  // warnings name the flag, which is what the user wrote.
+  std::vector<std::string> assignments = opt.assignments, flags(opt.assignments.size());
+  for (const auto& [flag, key, value] : {std::tuple{"--width", "render.width", opt.width},
+                                         std::tuple{"--height", "render.height", opt.height}})
+    if (value) {
+      assignments.push_back(std::string(key) + "=" + std::to_string(value));
+      flags.push_back(std::string(flag) + " " + std::to_string(value));
+    }
   for (std::size_t i = 0; i < opt.outputs.size(); ++i) {
     const auto& out = opt.outputs[i];
     const auto ext = out.extension().string();
@@ -55,7 +62,7 @@ int run_render(const RenderOptions& opt) {
         return bad_input;
       }
   }
-  if (!load_scene_levels("render", opt.scene, assignments, &scene, &levels)) return bad_input;
+  if (!load_scene_levels("render", opt.scene, assignments, &scene, &levels, flags)) return bad_input;
   for (const auto& out : opt.outputs)
     if (!output_writable("render", out, "--output", scene_inputs(opt.scene, scene))) return bad_input;
   const auto mesh = levels.levels.at(scene.render.mesh_resolution);

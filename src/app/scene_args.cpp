@@ -39,9 +39,12 @@ std::map<std::string, nlohmann::json> leaf_keys(const nlohmann::json& patch, con
 
 // What the scene file and the assignments write that is not what renders:
 // a key another setting overrides or leaves unused, and a key assigned
-// twice (a --set, then --width). Said once each, never silently dropped.
+// twice (a --set, then --width). Said once each, never silently dropped,
+// and as the user wrote it: a flag, not the assignment made of it.
 void warn_overrides(const char* command, const nlohmann::json& file_doc, const std::vector<std::string>& assignments,
-                    const Scene& scene) {
+                    const std::vector<std::string>& flags, const Scene& scene) {
+  const auto flag = [&](std::size_t i) { return i < flags.size() ? flags[i] : std::string(); };
+  const auto written_as = [&](std::size_t i) { return flag(i).empty() ? assignments[i] : flag(i); };
   std::vector<nlohmann::json> written{file_doc};
   for (const auto& a : assignments) written.push_back(patch_from_assignment(a));
   std::set<std::string> said;
@@ -64,8 +67,11 @@ void warn_overrides(const char* command, const nlohmann::json& file_doc, const s
         for (const auto& [key, value] : leaves[i])
           for (const auto& [later_key, later] : leaves[j])
             if (overrides(key, value, later_key, later)) {
-              std::cerr << "causticd " << command << ": warning: " << key << ": " << assignments[i]
-                        << " is overridden by " << assignments[j] << " (the later one is used)\n";
+              // A flag is applied after every --set, wherever it was written.
+              std::cerr << "causticd " << command << ": warning: " << key << ": " << written_as(i)
+                        << " is overridden by " << written_as(j)
+                        << (flag(j).empty() ? " (the later one is used)" : " (a flag applies after every --set)")
+                        << "\n";
               return;
             }
       };
@@ -76,13 +82,14 @@ void warn_overrides(const char* command, const nlohmann::json& file_doc, const s
 }  // namespace
 
 bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
-                         const std::vector<std::string>& assignments, Scene* scene, Mesh* mesh) {
+                         const std::vector<std::string>& assignments, Scene* scene, Mesh* mesh,
+                         const std::vector<std::string>& flags) {
   try {
     nlohmann::json written;
     *scene = load_scene(file, &written);
     for (const auto& a : assignments) *scene = apply_merge_patch(*scene, patch_from_assignment(a));
     *mesh = water::load_scene_mesh(*scene);
-    warn_overrides(command, written, assignments, *scene);
+    warn_overrides(command, written, assignments, flags, *scene);
     return true;
   } catch (const SceneError& e) {
     std::cerr << "causticd " << command << ": " << file.string() << ": " << e.what() << "\n";
@@ -161,9 +168,10 @@ void warn_self_shading(const char* command, const Scene& scene, const Placement&
 }  // namespace
 
 bool load_scene_levels(const char* command, const std::filesystem::path& file,
-                       const std::vector<std::string>& assignments, Scene* scene, SceneLevels* out) {
+                       const std::vector<std::string>& assignments, Scene* scene, SceneLevels* out,
+                       const std::vector<std::string>& flags) {
   Mesh mesh;
-  if (!load_scene_and_mesh(command, file, assignments, scene, &mesh)) return false;
+  if (!load_scene_and_mesh(command, file, assignments, scene, &mesh, flags)) return false;
   try {
     auto source = std::make_shared<const Mesh>(std::move(mesh));
     std::vector<int> resolutions = coarser_resolutions(*source, *scene);
@@ -179,11 +187,13 @@ bool load_scene_levels(const char* command, const std::filesystem::path& file,
     warn_self_shading(command, *scene, placed, *source);
     out->written_light_grid = scene->render.light_grid;
     out->calibration = load_calibration(calibration_path(file), scene_fingerprint(*scene, *source));
-    // Not said by calibrate, which is making the new one.
+    // Not said by calibrate, which is making the new one; "the same --set"
+    // only where the user wrote one (--width is no --set, and calibrate has none).
+    const auto by_flag = std::count_if(flags.begin(), flags.end(), [](const std::string& f) { return !f.empty(); });
+    const bool set = static_cast<std::size_t>(by_flag) < assignments.size();
     if (const auto note = stale_calibration_note(file, out->calibration);
         !note.empty() && std::string_view(command) != "calibrate")
-      std::cerr << "causticd " << command << ": warning: " << note << (assignments.empty() ? "" : " (with the same --set)")
-                << "\n";
+      std::cerr << "causticd " << command << ": warning: " << note << (set ? " (with the same --set)" : "") << "\n";
     *scene = resolve_fidelity(*scene, choose_fidelity(out->calibration, scene->render.accuracy_target, out->levels,
                                                          light_grid_bound(*scene)));
     return true;
