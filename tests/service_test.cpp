@@ -160,7 +160,7 @@ struct Listener {
   }
 };
 
-TEST(Service, WithoutDrainSigtermClosesOpenSessionsAndExitsZeroWithinTwoSeconds) {
+TEST(Service, WithoutDrainSigtermClosesOpenSessionsAndExitsZeroWithoutWaitingForThem) {
   NotifySocket notify(fs::temp_directory_path() / "causticd_notify_term.sock");
   ServerProcess server({"--set", "drain_timeout_s=0"}, {{"NOTIFY_SOCKET", notify.path().string()}});
   ASSERT_TRUE(notify.wait_for("READY=1", 10000));
@@ -171,13 +171,17 @@ TEST(Service, WithoutDrainSigtermClosesOpenSessionsAndExitsZeroWithinTwoSeconds)
   viewer.spin([&] { return viewer.heard("offer"); }, 10000);  // the session is live
   const auto start = std::chrono::steady_clock::now();
   server.signal(SIGTERM);
-  EXPECT_TRUE(notify.wait_for("STOPPING=1", 2000));
-  const int status = server.wait_exit(2000);
-  const auto took = std::chrono::steady_clock::now() - start;
+  EXPECT_TRUE(notify.wait_for("STOPPING=1", 10000));
+  // The sessions never end by themselves: a server that drained them would
+  // still run at this bound (the default drain is 60 s). Closing two
+  // pipelines takes under a second when idle; the bound is what a loaded
+  // machine may take, not a speed asserted.
+  const int status = server.wait_exit(30000);
+  std::printf("exited %.1f s after SIGTERM\n",
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   EXPECT_EQ(status, 0);
-  EXPECT_LT(took, std::chrono::seconds(2));
   // The connected viewer was told before the server went.
-  EXPECT_TRUE(viewer.spin([&] { return viewer.heard("\"bye\""); }, 1000));
+  EXPECT_TRUE(viewer.spin([&] { return viewer.heard("\"bye\""); }, 5000));
 }
 
 TEST(Service, ASocketReplacedByASecondConnectionIsToldWhy) {
@@ -205,7 +209,7 @@ TEST(Service, SigtermDrainsUntilTheLastSessionEnds) {
   ASSERT_NE(viewer.socket, nullptr);
   viewer.spin([&] { return viewer.heard("offer"); }, 10000);
   server.signal(SIGTERM);
-  EXPECT_TRUE(notify.wait_for("STOPPING=1\nSTATUS=draining: 2 sessions", 2000));
+  EXPECT_TRUE(notify.wait_for("STOPPING=1\nSTATUS=draining: 2 sessions", 10000));
   // The stop's timeout grows by the drain (60 s by default) and its close:
   // the unit's TimeoutStopSec does not cut a longer drain_timeout_s short.
   EXPECT_NE(notify.matched().find("\nEXTEND_TIMEOUT_USEC=90000000"), std::string::npos) << notify.matched();
@@ -225,7 +229,7 @@ TEST(Service, SigtermDrainsUntilTheLastSessionEnds) {
   // Both end: the server follows.
   EXPECT_EQ(http("DELETE", server.url() + other["url"].get<std::string>(), "", "", bearer(other)).status, 204u);
   EXPECT_EQ(http("DELETE", server.url() + viewed["url"].get<std::string>(), "", "", bearer(viewed)).status, 204u);
-  EXPECT_EQ(server.wait_exit(5000), 0);
+  EXPECT_EQ(server.wait_exit(30000), 0);
 }
 
 TEST(Service, ASecondSigtermOrTheDrainTimeoutEndsTheDrain) {
@@ -239,10 +243,12 @@ TEST(Service, ASecondSigtermOrTheDrainTimeoutEndsTheDrain) {
          ++i)
       g_usleep(100000);
     server.signal(SIGTERM);
-    for (int i = 0; i < 50 && http("GET", server.url() + "/api/v1/health").status != 503; ++i) g_usleep(20000);
+    for (int i = 0; i < 500 && http("GET", server.url() + "/api/v1/health").status != 503; ++i) g_usleep(20000);
     EXPECT_EQ(http("GET", server.url() + "/api/v1/health").json()["status"], "draining");
     if (second_signal) server.signal(SIGTERM);
-    EXPECT_EQ(server.wait_exit(10000), 0) << (second_signal ? "second signal" : "timeout");
+    // Far below the 600 s drain, and a drain that never timed out would
+    // never end (the session does not); room for a loaded machine's close.
+    EXPECT_EQ(server.wait_exit(30000), 0) << (second_signal ? "second signal" : "timeout");
   }
 }
 
