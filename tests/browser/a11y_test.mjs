@@ -8,30 +8,13 @@ import assert from 'node:assert/strict';
 import { mkdirSync } from 'node:fs';
 import { after, before, test } from 'node:test';
 
+import { focused, live, overlap, readable } from './a11y_probes.mjs';
 import { launchChromium } from './chromium.mjs';
 import { shots, until, withServer } from './harness.mjs';
 
 let browser;
 before(async () => { browser = await launchChromium(); });
 after(async () => { await browser?.close(); });
-
-const live = () => window.caustic.connection === 'live' && window.caustic.shownVersion >= 1;
-const focused = () => {
-  const e = document.activeElement;
-  return e.id || e.dataset.mode || e.getAttribute('aria-label') || e.textContent.trim().slice(0, 30);
-};
-// What a screen reader reads of the element `selector`: its text less the
-// parts hidden from it.
-const readable = (selector) => {
-  const read = (node) => (node.nodeType === Node.TEXT_NODE ? node.textContent
-    : node.getAttribute?.('aria-hidden') === 'true' ? '' : [...node.childNodes].map(read).join(''));
-  return read(document.querySelector(selector));
-};
-// Whether two elements' boxes overlap.
-const overlap = ([a, b]) => {
-  const [r, s] = [document.querySelector(a).getBoundingClientRect(), document.querySelector(b).getBoundingClientRect()];
-  return r.left < s.right && s.left < r.right && r.top < s.bottom && s.top < r.bottom;
-};
 
 test('the gallery: landmarks, headings in order, named pictures and controls, the keyboard and a phone', async () => {
   await withServer(async (server) => {
@@ -148,6 +131,36 @@ test('the viewer by keyboard: tab order, the help dialog, orbit, zoom, and movin
     await page.keyboard.press('ArrowLeft');
     assert.equal(await page.evaluate(view), stay);
     await context.close();
+  });
+});
+
+test('Shift with an arrow or Page Up takes a fine step: a fifth of the turn of the view and of the move', async () => {
+  await withServer(async (server) => {
+    const page = await browser.newPage();
+    await page.goto(`${server.url}/viewer.html?scene=wavy&codec=vp8`);
+    await until(page, live, 60, 'live');
+    // The camera turns about the vertical through its target, at the same
+    // distance from it: the chords of a 5 and a 1 degree turn stand as
+    // sin(2.5 deg) to sin(0.5 deg), 4.998.
+    const chord = async (key) => {
+      const from = await page.evaluate(() => window.caustic.cameraPosition());
+      await page.keyboard.press(key);
+      const to = await page.evaluate(() => window.caustic.cameraPosition());
+      return Math.hypot(...to.map((v, i) => v - from[i]));
+    };
+    const [step, fine] = [await chord('ArrowLeft'), await chord('Shift+ArrowLeft')];
+    assert.ok(Math.abs(step / fine - 4.998) < 0.05, `a step turns the view ${step}, a fine one ${fine}`);
+    // Move mode: Page Up raises the object by 3 % of the camera's distance, Shift+Page Up by a fifth of that.
+    await page.keyboard.press('t');
+    const rise = async (key) => {
+      const from = await page.evaluate(() => ({ y: window.caustic.params.object.position[1], version: window.caustic.version }));
+      await page.keyboard.press(key);
+      await until(page, (v) => window.caustic.version > v, 30, `the object moved by ${key}`, from.version);
+      return (await page.evaluate(() => window.caustic.params.object.position[1])) - from.y;
+    };
+    const [up, fineUp] = [await rise('PageUp'), await rise('Shift+PageUp')];
+    assert.ok(up > 0 && Math.abs(up / fineUp - 5) < 0.05, `Page Up raised the object ${up}, Shift+Page Up ${fineUp}`);
+    await page.close();
   });
 });
 

@@ -5,12 +5,15 @@
 // light's marker or the object across the view and Page Up and Page Down
 // raise and lower it; in rotate mode the arrows turn the object. Each step
 // takes the same path as the gizmo's drag (the same callbacks, the same
-// patches).
+// patches). With Shift an arrow or Page Up/Down takes a fifth of its step,
+// for the fine placing a drag does by moving the pointer less. (+ and -
+// have no fine step: Shift is how many keyboards type +.)
 import * as THREE from 'three';
 
 const TURN = THREE.MathUtils.degToRad(5);  // a step of orbit or rotation
 const ZOOM = 1.15;                          // a step of zoom, as a factor of the distance
 const MOVE = 0.03;                          // a step of a move, as a fraction of the camera's distance
+const FINE = 0.2;                           // a Shift step, as a fraction of the step
 
 const ARROWS = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, 1], ArrowDown: [0, -1] };
 const UP_DOWN = { PageUp: 1, PageDown: -1 };
@@ -26,21 +29,23 @@ export function installViewKeys(controls, { onLightMoved, onObjectMoved }, targe
     if (t instanceof HTMLInputElement || t instanceof HTMLSelectElement || t instanceof HTMLTextAreaElement) return;
     if (t instanceof Element && t.closest('[role=dialog]')) return;
     if (e.ctrlKey || e.metaKey || e.altKey) return;
-    const done = controls.mode === 'none' ? orbitKey(controls.orbit, e.key)
-      : moveKey(controls, e.key, controls.mode === 'light' ? onLightMoved : onObjectMoved);
+    const scale = e.shiftKey ? FINE : 1;
+    const done = controls.mode === 'none' ? orbitKey(controls.orbit, e.key, scale)
+      : moveKey(controls, e.key, scale, controls.mode === 'light' ? onLightMoved : onObjectMoved);
     if (done) e.preventDefault();  // an arrow would scroll a scrollable page
   });
 }
 
-// The camera round the orbit's target, as a drag or the wheel would move it.
-function orbitKey(orbit, key) {
+// The camera round the orbit's target, as a drag or the wheel would move
+// it; `scale` is the fraction of a step the arrows take.
+function orbitKey(orbit, key, scale) {
   const camera = orbit.object;
   const offset = camera.position.clone().sub(orbit.target);
   const spherical = new THREE.Spherical().setFromVector3(offset);
   if (ARROWS[key]) {
     const [right, up] = ARROWS[key];
-    spherical.theta -= right * TURN;
-    spherical.phi = THREE.MathUtils.clamp(spherical.phi - up * TURN, Math.max(orbit.minPolarAngle, 0.01),
+    spherical.theta -= right * TURN * scale;
+    spherical.phi = THREE.MathUtils.clamp(spherical.phi - up * TURN * scale, Math.max(orbit.minPolarAngle, 0.01),
                                           Math.min(orbit.maxPolarAngle, Math.PI - 0.01));
   } else if (key === '+' || key === '=' || key === '-' || key === '_') {
     const factor = key === '+' || key === '=' ? 1 / ZOOM : ZOOM;
@@ -55,8 +60,9 @@ function orbitKey(orbit, key) {
 }
 
 // The gizmo's object (the light's marker or the object's handle), moved
-// or turned one step relative to the view, then reported as a drag is.
-function moveKey(controls, key, onMoved) {
+// or turned one step (times `scale`) relative to the view, then reported
+// as a drag is.
+function moveKey(controls, key, scale, onMoved) {
   const object = controls.gizmo.object;
   if (!object || (!ARROWS[key] && !UP_DOWN[key])) return false;
   const camera = controls.orbit.object;
@@ -73,9 +79,9 @@ function moveKey(controls, key, onMoved) {
     const [dx, dy] = ARROWS[key];
     const axis = dx ? up : right;  // left and right about the vertical, up and down tip it towards the view
     const local = axis.clone().transformDirection(parent.matrixWorld.clone().invert());
-    object.quaternion.premultiply(new THREE.Quaternion().setFromAxisAngle(local, (dx || -dy) * TURN));
+    object.quaternion.premultiply(new THREE.Quaternion().setFromAxisAngle(local, (dx || -dy) * TURN * scale));
   } else {
-    const step = MOVE * camera.position.distanceTo(controls.orbit.target);
+    const step = MOVE * scale * camera.position.distanceTo(controls.orbit.target);
     const [dx, dy] = ARROWS[key] ?? [0, 0];
     const move = right.multiplyScalar(dx * step).addScaledVector(forward, dy * step)
       .addScaledVector(up, (UP_DOWN[key] ?? 0) * step);

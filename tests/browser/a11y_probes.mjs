@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// What the accessibility tests read from a page: functions that run inside
+// it (passed to page.evaluate, until or addInitScript).
+
+export const live = () => window.caustic.connection === 'live' && window.caustic.shownVersion >= 1;
+
+// What has the focus, by the name a test knows it by.
+export const focused = () => {
+  const e = document.activeElement;
+  return e.id || e.dataset.mode || e.getAttribute('aria-label') || e.textContent.trim().slice(0, 30);
+};
+
+// What a screen reader reads of the element `selector`: its text less the
+// parts hidden from it.
+export const readable = (selector) => {
+  const read = (node) => (node.nodeType === Node.TEXT_NODE ? node.textContent
+    : node.getAttribute?.('aria-hidden') === 'true' ? '' : [...node.childNodes].map(read).join(''));
+  return read(document.querySelector(selector));
+};
+
+// Whether two elements' boxes overlap.
+export const overlap = ([a, b]) => {
+  const [r, s] = [document.querySelector(a).getBoundingClientRect(), document.querySelector(b).getBoundingClientRect()];
+  return r.left < s.right && s.left < r.right && r.top < s.bottom && s.top < r.bottom;
+};
+
