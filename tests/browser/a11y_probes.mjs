@@ -24,3 +24,15 @@ export const overlap = ([a, b]) => {
   return r.left < s.right && s.left < r.right && r.top < s.bottom && s.top < r.bottom;
 };
 
+// An init script: window.stateReads gets each change of what a screen
+// reader reads of the state line (#state), as it happens.
+export const recordStateReads = () => {
+  window.stateReads = [];
+  const read = (node) => (node.nodeType === Node.TEXT_NODE ? node.textContent
+    : node.getAttribute?.('aria-hidden') === 'true' ? '' : [...node.childNodes].map(read).join(''));
+  new MutationObserver(() => {
+    const label = document.getElementById('state');
+    const now = label && read(label);
+    if (now && now !== window.stateReads.at(-1)) window.stateReads.push(now);
+  }).observe(document, { subtree: true, childList: true, characterData: true, attributes: true });
+};

@@ -8,7 +8,7 @@ import assert from 'node:assert/strict';
 import { mkdirSync } from 'node:fs';
 import { after, before, test } from 'node:test';
 
-import { focused, live, overlap, readable } from './a11y_probes.mjs';
+import { focused, live, overlap, readable, recordStateReads } from './a11y_probes.mjs';
 import { launchChromium } from './chromium.mjs';
 import { shots, until, withServer } from './harness.mjs';
 
@@ -288,6 +288,26 @@ test('a retry\'s countdown is seen but not read out each second', async () => {
     assert.ok(i > 0, `no countdown seen: ${seen.map((s) => s.shown).join(' | ')}`);
     assert.equal(seen[i].read, seen[i - 1].read, 'the countdown is read out each second');
     assert.equal(seen[i].read, 'reconnecting: the server does not answer');
+    await page.close();
+  });
+});
+
+test('a retry is read once, its state with its reason: not the state again at each try, then the reason', async () => {
+  await withServer(async (server) => {
+    const page = await browser.newPage();
+    let tries = 0;
+    await page.route('**/api/v1/sessions', (route) => {
+      if (route.request().method() !== 'POST') return route.continue();
+      tries += 1;
+      return route.abort();
+    });
+    await page.addInitScript(recordStateReads);
+    await page.goto(`${server.url}/viewer.html?scene=slab&codec=vp8`);
+    // Three tries (0.25-0.5 s, then 0.5-1 s apart), and the third's failure said.
+    for (let waited = 0; tries < 3 && waited < 60000; waited += 100) await page.waitForTimeout(100);
+    assert.ok(tries >= 3, `${tries} tries in a minute`);
+    await until(page, () => /retrying in/.test(document.getElementById('state').textContent), 30, 'the third failure');
+    assert.deepEqual(await page.evaluate(() => window.stateReads), ['connecting', 'reconnecting: the server does not answer']);
     await page.close();
   });
 });

@@ -64,6 +64,7 @@ let panel = null, water = null;
 
 function setConnection(name, detail = '', countdown = '') {
   state.connection = name;
+  state.why = detail;
   showState(stateLabel, name, detail, countdown);
   if (name === 'error') loading.stop();  // nothing more is on its way
 }
@@ -154,7 +155,11 @@ async function connect() {
   const missing = missingSupport();
   if (missing) return setConnection('error', missing);
   const attempt = ++attempts;
-  setConnection(retry ? 'reconnecting' : 'connecting');
+  // A retry after a failure keeps the line's words (a screen reader read
+  // the state and its reason once); only the part it is not read says so.
+  const waiting = state.why && ['reconnecting', 'full'].includes(state.connection);
+  if (retry && waiting) setConnection(state.connection, state.why, 'trying again now');
+  else setConnection(retry ? 'reconnecting' : 'connecting');
   loading.begin('session');
   let mine;
   try {
