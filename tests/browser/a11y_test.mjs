@@ -164,6 +164,50 @@ test('Shift with an arrow or Page Up takes a fine step: a fifth of the turn of t
   });
 });
 
+test('Share says what it did: "Link copied" read out, or the link selected in a labelled field, never a prompt',
+     async () => {
+  await withServer(async (server) => {
+    const context = await browser.newContext();
+    await context.grantPermissions(['clipboard-read', 'clipboard-write']);
+    const page = await context.newPage();
+    await page.goto(`${server.url}/viewer.html?scene=wavy&codec=vp8`);
+    await until(page, live, 60, 'live');
+    await page.click('#share');
+    await until(page, () => document.getElementById('share-said')?.textContent, 10, 'the copy said');
+    assert.equal(await page.getAttribute('#share-said', 'role'), 'status');
+    assert.equal(await page.textContent('#share-said'), 'Link copied');
+    assert.equal(await page.evaluate(() => navigator.clipboard.readText()), await page.evaluate(() => location.href));
+
+    // A browser that lets the page copy nothing.
+    const bare = await context.newPage();
+    const dialogs = [];
+    bare.on('dialog', (dialog) => { dialogs.push(dialog.type()); dialog.dismiss(); });
+    await bare.addInitScript(() => Object.defineProperty(Navigator.prototype, 'clipboard', { get: () => undefined }));
+    await bare.goto(`${server.url}/viewer.html?scene=wavy&codec=vp8`);
+    await until(bare, live, 60, 'live');
+    await bare.keyboard.press('l');
+    await bare.click('#share');
+    await until(bare, () => document.getElementById('share-panel')?.hidden === false, 10, 'the link shown');
+    assert.deepEqual(dialogs, [], 'the link came in a prompt');
+    const field = await bare.evaluate(() => {
+      const f = document.activeElement;
+      const r = f.getBoundingClientRect();
+      return { id: f.id, readOnly: f.readOnly, label: f.labels?.[0]?.textContent, value: f.value, href: location.href,
+               selected: f.value?.slice(f.selectionStart, f.selectionEnd),
+               onTop: document.elementFromPoint(r.left + r.width / 2, r.top + r.height / 2) === f };
+    });
+    assert.deepEqual(field, { id: 'share-url', readOnly: true, label: 'Link to this view', value: field.href,
+                              href: field.href, selected: field.href, onTop: true });
+    assert.match(await bare.textContent('#share-said'), /selected in the field/);
+    // Escape puts the field away and the focus back on Share, the mode as it was.
+    await bare.keyboard.press('Escape');
+    assert.ok(await bare.locator('#share-panel').isHidden());
+    assert.equal(await bare.evaluate(() => document.activeElement.id), 'share');
+    assert.equal(await bare.evaluate(() => window.caustic.mode), 'light');
+    await context.close();
+  });
+});
+
 test('on a pool, D drops a stone where the middle of the view meets the water', async () => {
   await withServer(async (server) => {
     const page = await browser.newPage();

@@ -13,6 +13,7 @@ import { retryAfter } from './retry.js';
 import { Quality, softwareWebGL } from './room.js';
 import { CausticRoom } from './scene3d.js';
 import { changedParams, sharedParams, sharedView, writeAddress } from './share.js';
+import { installShareButton } from './share_button.js';
 import { showState } from './state_label.js';
 import { showStats } from './stats_overlay.js';
 import { Stream } from './stream.js';
@@ -344,16 +345,9 @@ function rememberAddress() {
                                  target: controls.orbit.target, codec: state.codec });
 }
 
-document.getElementById('share').addEventListener('click', async () => {
+installShareButton(() => {
   rememberAddress();
-  const button = document.getElementById('share');
-  try {
-    await navigator.clipboard.writeText(location.href);
-    button.textContent = 'Link copied';
-  } catch {
-    window.prompt('Copy this link', location.href);  // no clipboard outside a secure context
-  }
-  setTimeout(() => { button.textContent = 'Share'; }, 2000);
+  return location.href;
 });
 
 // Every section back to the scene's own values: a null in a patch restores
