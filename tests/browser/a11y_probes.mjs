@@ -24,6 +24,12 @@ export const overlap = ([a, b]) => {
   return r.left < s.right && s.left < r.right && r.top < s.bottom && s.top < r.bottom;
 };
 
+// The shown targets in the header smaller than 24x24 CSS px (WCAG 2.2
+// 2.5.8), as "name WxH".
+export const smallTargets = () => [...document.querySelectorAll('#hud a, #hud button')].filter((t) => t.offsetParent)
+  .map((t) => [t.id || t.textContent, t.getBoundingClientRect()]).filter(([, r]) => r.width < 24 || r.height < 24)
+  .map(([name, r]) => `${name} ${r.width}x${r.height}`);
+
 // An init script: window.stateReads gets each change of what a screen
 // reader reads of the state line (#state), as it happens.
 export const recordStateReads = () => {

@@ -3,12 +3,12 @@
 // or a phone (WCAG 2.1 AA as the yardstick): keyboard paths and focus, names
 // and landmarks, live regions that are not chatty, contrast and layout, and
 // the failures a browser can bring (no WebGL, no WebRTC, no server) said in
-// words. Every wait is bounded.
+// words; WCAG 2.2's target size (2.5.8) too. Every wait is bounded.
 import assert from 'node:assert/strict';
 import { mkdirSync } from 'node:fs';
 import { after, before, test } from 'node:test';
 
-import { focused, live, overlap, readable, recordStateReads } from './a11y_probes.mjs';
+import { focused, live, overlap, readable, recordStateReads, smallTargets } from './a11y_probes.mjs';
 import { launchChromium } from './chromium.mjs';
 import { shots, until, withServer } from './harness.mjs';
 
@@ -269,6 +269,7 @@ test('the viewer seen: contrast over the picture, a pressed mode not by colour a
     // the help inside the screen (scrolling within itself).
     assert.ok(await page.evaluate(() => document.documentElement.scrollWidth <= innerWidth));
     assert.ok(!(await page.evaluate(overlap, ['.lil-gui.lil-root', '#modes'])), 'the folded panel lies over the toolbar');
+    assert.deepEqual(await page.evaluate(smallTargets), [], 'header targets under 24x24 px');
     // Less motion: folding the panel (lil-gui's transition class) does not slide.
     const slide = await page.$eval('.lil-gui.lil-root', (root) => {
       root.classList.add('lil-transition');
@@ -310,6 +311,7 @@ test('the broadcast page: landmarks, a named picture, and a state line that says
     assert.equal(await page.locator('main#stage').count(), 1);
     assert.ok(await page.getAttribute('#video', 'aria-label'), 'the broadcast\'s video has no name');
     assert.match(await page.evaluate(`(${readable})('#state')`), /^reconnecting: /);
+    assert.deepEqual(await page.evaluate(smallTargets), [], 'header targets under 24x24 px');
     await page.close();
   });
 });
