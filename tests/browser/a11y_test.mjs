@@ -312,6 +312,15 @@ test('the broadcast page: landmarks, a named picture, and a state line that says
     assert.ok(await page.getAttribute('#video', 'aria-label'), 'the broadcast\'s video has no name');
     assert.match(await page.evaluate(`(${readable})('#state')`), /^reconnecting: /);
     assert.deepEqual(await page.evaluate(smallTargets), [], 'header targets under 24x24 px');
+    // "video only" is a button: Space (which a link ignores) reloads the page
+    // in that view, and Enter brings the room back.
+    assert.equal(await page.$eval('#view-toggle', (t) => t.tagName), 'BUTTON');
+    for (const [key, view, label] of [['Space', 'video', '3D room'], ['Enter', 'room', 'video only']]) {
+      await page.focus('#view-toggle');
+      await Promise.all([page.waitForEvent('load', { timeout: 30000 }), page.keyboard.press(key)]);
+      await until(page, (v) => window.caustic?.view === v, 10, `the ${view} view`, view);
+      assert.equal(await page.textContent('#view-toggle'), label);
+    }
     await page.close();
   });
 });

@@ -36,8 +36,9 @@ const DESCRIBE_TRIES = 5;
 // The backoff starts over once the pictures have been on screen this long:
 // a stream that dies as it starts is not asked for again at the first pace.
 const STEADY_MS = 5000;
-toggle.addEventListener('click', (event) => {
-  event.preventDefault();
+// A button, not a link: it reloads the page in the other view (a link to
+// the same page but its fragment would not load it again).
+toggle.addEventListener('click', () => {
   const next = new URLSearchParams(link);
   if (flat) next.delete('view');
   else next.set('view', 'video');
