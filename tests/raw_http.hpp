@@ -66,6 +66,23 @@ inline std::string raw_request(int port, const std::string& bytes, int timeout_m
   return answer;
 }
 
+/// A well-formed request as its bytes: the request line, Host, `fields`
+/// (each ending in "\r\n"), and the body after its Content-Length when
+/// there is one. What a test means to break it writes itself.
+inline std::string request_text(const std::string& method, const std::string& target, const std::string& fields = "",
+                                const std::string& body = "") {
+  return method + " " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\n" + fields +
+         (body.empty() ? "" : "Content-Length: " + std::to_string(body.size()) + "\r\n") + "\r\n" + body;
+}
+
+/// That request on a fresh connection (the server closes each after its
+/// answer), and the whole answer: for targets and fields, byte for byte,
+/// that an HTTP library would normalise or refuse to send.
+inline std::string raw_request(int port, const std::string& method, const std::string& target,
+                               const std::string& fields = "", const std::string& body = "") {
+  return raw_request(port, request_text(method, target, fields, body));
+}
+
 /// The status code of an HTTP answer, 0 when there is none.
 inline int raw_status(const std::string& answer) {
   if (answer.rfind("HTTP/1.", 0) != 0 || answer.size() < 12) return 0;

@@ -21,7 +21,7 @@ TEST(Hardening, KeepAliveClientsThatCloseLeaveNoDescriptorBehind) {
     // What curl and browsers do: keep-alive, read the answer, close.
     const int fd = raw_connect(server.port());
     ASSERT_GE(fd, 0);
-    raw_send(fd, "GET /api/v1/health HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: keep-alive\r\n\r\n");
+    raw_send(fd, request_text("GET", "/api/v1/health", "Connection: keep-alive\r\n"));
     const std::string answer = raw_read_all(fd, 5000);
     EXPECT_EQ(raw_status(answer), 200);
     EXPECT_EQ(raw_header(answer, "Connection"), "close");
@@ -38,13 +38,13 @@ TEST(Hardening, MethodBytesThatAreNotUtf8Get400AndTheServerLives) {
   const std::vector<std::string> methods = {"\xff\xfe", "GE\xe9T", "G\x01T", std::string(40, 'A')};
   for (const std::string& method : methods) {
     for (const std::string path : {"/", "/api/v1/health", "/api/v1/sessions"}) {
-      const std::string answer = raw_request(server.port(), method + " " + path + " HTTP/1.1\r\nHost: x\r\n\r\n");
+      const std::string answer = raw_request(server.port(), method, path);
       expect_problem_answer(answer, 400);
       EXPECT_EQ(answer.find(method), std::string::npos) << "the method was echoed";
     }
   }
   // An unknown but well-formed method is a 405 that does not repeat it.
-  const std::string answer = raw_request(server.port(), "BREW /api/v1/health HTTP/1.1\r\nHost: x\r\n\r\n");
+  const std::string answer = raw_request(server.port(), "BREW", "/api/v1/health");
   expect_problem_answer(answer, 405);
   EXPECT_EQ(raw_header(answer, "Allow"), "GET, HEAD");
   EXPECT_EQ(raw_body(answer).find("BREW"), std::string::npos);
@@ -69,8 +69,8 @@ TEST(Hardening, AnOversizedBodyIsRefusedBeforeItIsSent) {
   const int fd = raw_connect(server.port());
   ASSERT_GE(fd, 0);
   // Only the head: the answer must come without a byte of the body.
-  raw_send(fd, "POST /api/v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
-               "Content-Length: 134217728\r\n\r\n");
+  raw_send(fd,
+           request_text("POST", "/api/v1/sessions", "Content-Type: application/json\r\nContent-Length: 134217728\r\n"));
   expect_problem_then_close(fd, 413);
 }
 
@@ -83,8 +83,9 @@ TEST(Hardening, AnUploadRefusedWith413MaySendItsBodyWithoutAReset) {
   const int fd = raw_connect(server.port());
   ASSERT_GE(fd, 0);
   const std::size_t length = std::size_t{1} << 20;
-  ASSERT_TRUE(raw_send(fd, "POST /api/v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
-                           "Content-Length: " + std::to_string(length) + "\r\n\r\n"));
+  ASSERT_TRUE(raw_send(fd, request_text("POST", "/api/v1/sessions",
+                                        "Content-Type: application/json\r\nContent-Length: " + std::to_string(length) +
+                                            "\r\n")));
   pollfd answered{fd, POLLIN, 0};
   ASSERT_EQ(::poll(&answered, 1, 10000), 1) << "no answer to the head";
   const std::string chunk(64 * 1024, 'x');
@@ -174,7 +175,7 @@ TEST(Hardening, AnUpgradeThatBecomesNoSignallingSocketKeepsItsTimeouts) {
       "Sec-WebSocket-Version: 13\r\n";
   const int stalled = raw_connect(server.port());
   ASSERT_GE(stalled, 0);
-  raw_send(stalled, "GET /api/v1/health HTTP/1.1\r\nHost: x\r\n" + upgrade + "Content-Length: 100\r\n\r\n");
+  raw_send(stalled, request_text("GET", "/api/v1/health", upgrade + "Content-Length: 100\r\n"));
   bool closed = false;
   raw_read_all(stalled, 15000, &closed);
   EXPECT_TRUE(closed) << "a body announced and never sent held its connection";
@@ -183,7 +184,7 @@ TEST(Hardening, AnUpgradeThatBecomesNoSignallingSocketKeepsItsTimeouts) {
   for (const char* path : {"/api/v1/health", "/x/signal", "/api/v1/sessions/00000000000000000000000000000000/signal"}) {
     const int fd = raw_connect(server.port());
     ASSERT_GE(fd, 0);
-    raw_send(fd, std::string("GET ") + path + " HTTP/1.1\r\nHost: x\r\n" + upgrade + "\r\n");
+    raw_send(fd, request_text("GET", path, upgrade));
     closed = false;
     const std::string answer = raw_read_all(fd, 15000, &closed);
     EXPECT_TRUE(closed) << path << ": " << answer;
@@ -197,14 +198,14 @@ TEST(Hardening, ConnectionsBeyondThePerAddressLimitGet503AtOnce) {
   std::vector<int> held;
   for (int i = 0; i < 4; ++i) held.push_back(raw_connect(server.port()));
   g_usleep(200000);  // let the server accept them
-  const std::string answer = raw_request(server.port(), "GET /api/v1/health HTTP/1.1\r\nHost: x\r\n\r\n", 5000);
+  const std::string answer = raw_request(server.port(), request_text("GET", "/api/v1/health"), 5000);
   expect_problem_answer(answer, 503);
   EXPECT_FALSE(raw_header(answer, "Retry-After").empty());
   for (int fd : held) ::close(fd);
   // Once they are gone, the address is welcome again.
   int status = 0;
   for (int i = 0; i < 50 && status != 200; ++i, g_usleep(100000))
-    status = raw_status(raw_request(server.port(), "GET /api/v1/health HTTP/1.1\r\nHost: x\r\n\r\n", 5000));
+    status = raw_status(raw_request(server.port(), request_text("GET", "/api/v1/health"), 5000));
   EXPECT_EQ(status, 200);
 }
 
@@ -221,7 +222,7 @@ TEST(Hardening, AcceptingResumesAfterDescriptorsRanOut) {
   for (int fd : held) ::close(fd);
   int status = 0;
   for (int i = 0; i < 100 && status != 200; ++i, g_usleep(100000))
-    status = raw_status(raw_request(server.port(), "GET /api/v1/health HTTP/1.1\r\nHost: x\r\n\r\n", 2000));
+    status = raw_status(raw_request(server.port(), request_text("GET", "/api/v1/health"), 2000));
   EXPECT_EQ(status, 200) << "the server stopped accepting for good";
   const std::string metrics = http("GET", server.url() + "/metrics").body;
   EXPECT_EQ(metrics.find("causticd_accept_failures_total 0\n"), std::string::npos) << "descriptors never ran out";
@@ -288,14 +289,14 @@ TEST(Hardening, ScreenBisectionFindsThePublicBoxNotTheSurface) {
 
 TEST(Hardening, AnswersCarryAllowAndSecurityHeadersAndNoPackageFiles) {
   ServerProcess server;
-  const std::string page = raw_request(server.port(), "GET / HTTP/1.1\r\nHost: x\r\n\r\n");
+  const std::string page = raw_request(server.port(), "GET", "/");
   EXPECT_EQ(raw_status(page), 200);
   EXPECT_NE(raw_header(page, "Content-Security-Policy").find("frame-ancestors 'none'"), std::string::npos);
   EXPECT_EQ(raw_header(page, "X-Frame-Options"), "DENY");
   EXPECT_EQ(raw_header(page, "Referrer-Policy"), "no-referrer");
   for (const char* file : {"/package.json", "/package-lock.json"})
-    expect_problem_answer(raw_request(server.port(), std::string("GET ") + file + " HTTP/1.1\r\nHost: x\r\n\r\n"), 404);
-  const std::string put = raw_request(server.port(), "PUT /api/v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\n\r\n");
+    expect_problem_answer(raw_request(server.port(), "GET", file), 404);
+  const std::string put = raw_request(server.port(), "PUT", "/api/v1/sessions", "Content-Length: 0\r\n");
   expect_problem_answer(put, 405);
   EXPECT_EQ(raw_header(put, "Allow"), "POST");
   // What the HTTP library would have answered with an empty 400 or 404.
@@ -305,17 +306,16 @@ TEST(Hardening, AnswersCarryAllowAndSecurityHeadersAndNoPackageFiles) {
     expect_problem_answer(raw_request(server.port(), std::string(line) + "\r\nHost: x\r\n\r\n"), 400);
   expect_problem_answer(raw_request(server.port(), "GET / HTTP/1.1\r\nHost: x:y\r\n\r\n"), 400);
   const json s = create_session(server);
-  const std::string handshake = "GET " + signal_path(s) +
-                                " HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-                                "Sec-WebSocket-Key: short\r\nSec-WebSocket-Version: 13\r\n\r\n";
-  expect_problem_answer(raw_request(server.port(), handshake), 400);
+  expect_problem_answer(raw_request(server.port(), "GET", signal_path(s),
+                                    "Upgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Key: short\r\n"
+                                    "Sec-WebSocket-Version: 13\r\n"),
+                        400);
 }
 
 TEST(Hardening, ByteRangesAreNotServedAndOtherExpectationsGetAProblem) {
   ServerProcess server;
   for (const std::string path : {"/index.html", "/api/v1/scenes"}) {
-    const std::string get = "GET " + path + " HTTP/1.1\r\nHost: x\r\n";
-    const std::string whole = raw_request(server.port(), get + "\r\n");
+    const std::string whole = raw_request(server.port(), "GET", path);
     ASSERT_EQ(raw_status(whole), 200) << path;
     EXPECT_EQ(raw_header(whole, "Accept-Ranges"), "none");
     // The HTTP library answered 200 ranges with as many copies, built in
@@ -325,16 +325,16 @@ TEST(Hardening, ByteRangesAreNotServedAndOtherExpectationsGetAProblem) {
     for (int i = 0; i < 200; ++i) many += ",0-";
     for (const std::string& range : {many, std::string("bytes=-100000"), std::string("bytes=999999999-"),
                                      std::string("bytes=0-1")}) {
-      const std::string answer = raw_request(server.port(), get + "Range: " + range + "\r\n\r\n");
+      const std::string answer = raw_request(server.port(), "GET", path, "Range: " + range + "\r\n");
       EXPECT_EQ(raw_status(answer), 200) << path << " " << range.substr(0, 20);
       EXPECT_EQ(raw_body(answer).size(), raw_body(whole).size()) << path << " " << range.substr(0, 20);
     }
   }
   // Any expectation but 100-continue: the library's 417 had no body.
-  expect_problem_answer(raw_request(server.port(), "GET /index.html HTTP/1.1\r\nHost: x\r\nExpect: foo\r\n\r\n"), 417);
-  const std::string continued = raw_request(
-      server.port(), "POST /api/v1/sessions HTTP/1.1\r\nHost: x\r\nExpect: 100-Continue\r\n"
-                     "Content-Type: application/json\r\nContent-Length: 17\r\n\r\n{\"scene\": \"slab\"}");
+  expect_problem_answer(raw_request(server.port(), "GET", "/index.html", "Expect: foo\r\n"), 417);
+  const std::string continued = raw_request(server.port(), "POST", "/api/v1/sessions",
+                                            "Expect: 100-Continue\r\nContent-Type: application/json\r\n",
+                                            R"({"scene": "slab"})");
   EXPECT_NE(continued.find(" 201 "), std::string::npos) << continued.substr(0, 200);
 }
 

@@ -4,11 +4,7 @@
 #include "raw_http.hpp"
 #include "rest_fixture.hpp"
 #include "server_process.hpp"
-
-#include <unistd.h>
-
-#include <filesystem>
-#include <fstream>
+#include "web_folder.hpp"
 
 using caustic::testing::raw_body;
 using caustic::testing::raw_header;
@@ -16,12 +12,12 @@ using caustic::testing::raw_request;
 using caustic::testing::raw_status;
 using caustic::testing::Rest;
 using caustic::testing::ServerProcess;
+using caustic::testing::WebFolder;
 
 namespace {
 
-std::string request(const ServerProcess& server, const std::string& method, const std::string& target,
-                    const std::string& extra_headers = "") {
-  return raw_request(server.port(), method + " " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\n" + extra_headers + "\r\n");
+std::string authorization(const nlohmann::json& session) {
+  return "Authorization: Bearer " + session["token"].get<std::string>() + "\r\n";
 }
 
 }  // namespace
@@ -30,21 +26,15 @@ std::string request(const ServerProcess& server, const std::string& method, cons
 // no separator, and "%25" is a percent sign, decoded once. An escaped
 // unreserved character is that character (6.2.2.2).
 TEST(HttpPaths, EscapesAreDecodedOnceAndAnEncodedSlashSeparatesNothing) {
-  namespace fs = std::filesystem;
-  const fs::path web = fs::temp_directory_path() / ("causticd_http_paths_test-" + std::to_string(::getpid()));
-  fs::remove_all(web);
-  fs::create_directories(web / "sub");
-  std::ofstream(web / "index.html") << "<!doctype html><title>ok</title>";
-  std::ofstream(web / "sub" / "app.js") << "console.log(1);";
-  ServerProcess server({"--web-dir", web.string()});
-  EXPECT_EQ(raw_status(request(server, "GET", "/sub/app.js")), 200);
-  EXPECT_EQ(raw_status(request(server, "GET", "/s%75b/app%2Ejs")), 200);
-  EXPECT_EQ(raw_status(request(server, "GET", "/api/v1/scenes/l%65ns")), 200);
-  EXPECT_EQ(raw_status(request(server, "GET", "/api/v1/%68ealth")), 200);
+  const WebFolder web({{"index.html", "<!doctype html><title>ok</title>"}, {"sub/app.js", "console.log(1);"}});
+  ServerProcess server({"--web-dir", web.dir()});
+  EXPECT_EQ(raw_status(raw_request(server.port(), "GET", "/sub/app.js")), 200);
+  EXPECT_EQ(raw_status(raw_request(server.port(), "GET", "/s%75b/app%2Ejs")), 200);
+  EXPECT_EQ(raw_status(raw_request(server.port(), "GET", "/api/v1/scenes/l%65ns")), 200);
+  EXPECT_EQ(raw_status(raw_request(server.port(), "GET", "/api/v1/%68ealth")), 200);
   for (const char* target : {"/sub%2Fapp.js", "/sub%2fapp.js", "/index%252ehtml", "/sub%252Fapp.js",
                              "/api/v1/scenes%2Flens", "/api/v1/scenes/lens%2Fthumbnail.png", "/api%2Fv1%2Fhealth"})
-    EXPECT_EQ(raw_status(request(server, "GET", target)), 404) << target;
-  fs::remove_all(web);
+    EXPECT_EQ(raw_status(raw_request(server.port(), "GET", target)), 404) << target;
 }
 
 // A server must take the absolute form of a request target (RFC 9112
@@ -52,15 +42,15 @@ TEST(HttpPaths, EscapesAreDecodedOnceAndAnEncodedSlashSeparatesNothing) {
 TEST(HttpTargets, TheAbsoluteFormIsServedAsItsPath) {
   ServerProcess server;
   const std::string authority = "127.0.0.1:" + std::to_string(server.port());
-  const std::string health = request(server, "GET", "http://" + authority + "/api/v1/health");
+  const std::string health = raw_request(server.port(), "GET", "http://" + authority + "/api/v1/health");
   EXPECT_EQ(raw_status(health), 200) << health;
   EXPECT_NE(raw_body(health).find("\"status\":\"ok\""), std::string::npos) << health;
-  EXPECT_EQ(raw_status(request(server, "GET", "HTTP://" + authority + "/api/v1/scenes/lens")), 200);
-  EXPECT_EQ(raw_status(request(server, "GET", "http://" + authority + "/api/v1/nothing")), 404);
+  EXPECT_EQ(raw_status(raw_request(server.port(), "GET", "HTTP://" + authority + "/api/v1/scenes/lens")), 200);
+  EXPECT_EQ(raw_status(raw_request(server.port(), "GET", "http://" + authority + "/api/v1/nothing")), 404);
   // Its path is held to the same rules, and it needs one.
   for (const std::string& target : {"http://" + authority + "/a/%2e%2e/index.html", "http://" + authority,
                                     "http://user@" + authority + "/api/v1/health", "ftp://" + authority + "/"}) {
-    const std::string answer = request(server, "GET", target);
+    const std::string answer = raw_request(server.port(), "GET", target);
     EXPECT_EQ(raw_status(answer), 400) << target;
     EXPECT_EQ(raw_header(answer, "Content-Type"), "application/problem+json") << target;
   }
@@ -71,11 +61,8 @@ namespace {
 // A PATCH of a session's parameters written byte for byte.
 std::string patch_params(const ServerProcess& server, const nlohmann::json& session, const std::string& content_type,
                          const std::string& body, const std::string& extra_headers = "") {
-  return raw_request(server.port(), "PATCH /api/v1/sessions/" + session["id"].get<std::string>() +
-                                        "/params HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: Bearer " +
-                                        session["token"].get<std::string>() + "\r\nContent-Type: " + content_type +
-                                        "\r\nContent-Length: " + std::to_string(body.size()) + "\r\n" + extra_headers +
-                                        "\r\n" + body);
+  return raw_request(server.port(), "PATCH", "/api/v1/sessions/" + session["id"].get<std::string>() + "/params",
+                     authorization(session) + "Content-Type: " + content_type + "\r\n" + extra_headers, body);
 }
 
 }  // namespace
@@ -100,9 +87,8 @@ TEST_F(Rest, AJsonBodyInAnotherCharsetIsRefused) {
     EXPECT_EQ(raw_status(answer), 415) << type << ": " << answer;
     EXPECT_EQ(raw_header(answer, "Content-Type"), "application/problem+json") << type;
   }
-  const std::string posted = raw_request(
-      server_.port(), "POST /api/v1/sessions HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json; charset=latin1"
-                      "\r\nContent-Length: 16\r\n\r\n{\"scene\":\"lens\"}");
+  const std::string posted = raw_request(server_.port(), "POST", "/api/v1/sessions",
+                                         "Content-Type: application/json; charset=latin1\r\n", R"({"scene":"lens"})");
   EXPECT_EQ(raw_status(posted), 415) << posted;
   const std::string utf8 = patch_params(server_, s, "application/json; charset=UTF-8", R"({"post": {"exposure": 2}})");
   EXPECT_EQ(raw_status(utf8), 200) << utf8;
@@ -114,9 +100,8 @@ TEST_F(Rest, AJsonBodyInAnotherCharsetIsRefused) {
 // overwrite the first unseen (RFC 9110 13.1.1), and changes nothing.
 TEST_F(Rest, APatchSentWithAnOutdatedTagIsRefusedAndChangesNothing) {
   const nlohmann::json s = create();
-  const std::string read = raw_request(server_.port(), "GET /api/v1/sessions/" + s["id"].get<std::string>() +
-                                                           "/params HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: Bearer " +
-                                                           s["token"].get<std::string>() + "\r\n\r\n");
+  const std::string params = "/api/v1/sessions/" + s["id"].get<std::string>() + "/params";
+  const std::string read = raw_request(server_.port(), "GET", params, authorization(s));
   ASSERT_EQ(raw_status(read), 200);
   const std::string tag = raw_header(read, "ETag");
   const int version = nlohmann::json::parse(raw_body(read))["version"].get<int>();
@@ -151,12 +136,12 @@ TEST_F(Rest, APatchSentWithAnOutdatedTagIsRefusedAndChangesNothing) {
 // CORS header that would let another origin's page in.
 TEST(HttpNegotiation, AcceptIsNotNegotiatedAndOptionsIsNoPreflight) {
   ServerProcess server;
-  const std::string html = request(server, "GET", "/api/v1/health", "Accept: text/html\r\n");
+  const std::string html = raw_request(server.port(), "GET", "/api/v1/health", "Accept: text/html\r\n");
   EXPECT_EQ(raw_status(html), 200);
   EXPECT_EQ(raw_header(html, "Content-Type"), "application/json");
   EXPECT_EQ(raw_header(html, "Vary"), "");
-  const std::string preflight = request(server, "OPTIONS", "/api/v1/sessions",
-                                        "Origin: http://elsewhere.example\r\nAccess-Control-Request-Method: POST\r\n");
+  const std::string preflight = raw_request(server.port(), "OPTIONS", "/api/v1/sessions",
+                                            "Origin: http://elsewhere.example\r\nAccess-Control-Request-Method: POST\r\n");
   EXPECT_EQ(raw_status(preflight), 405);
   EXPECT_EQ(raw_header(preflight, "Allow"), "POST");
   EXPECT_EQ(raw_header(preflight, "Access-Control-Allow-Origin"), "");
@@ -168,21 +153,22 @@ TEST(HttpNegotiation, AcceptIsNotNegotiatedAndOptionsIsNoPreflight) {
 // RFC 9110 8.6), 200 with the new tag once a patch came.
 TEST_F(Rest, PollingTheParametersWithTheirTagAnswers304UntilAPatch) {
   const nlohmann::json s = create();
-  const std::string get = "/api/v1/sessions/" + s["id"].get<std::string>() + "/params HTTP/1.1\r\nHost: 127.0.0.1\r\n" +
-                          "Authorization: Bearer " + s["token"].get<std::string>() + "\r\n";
-  const std::string first = raw_request(server_.port(), "GET " + get + "\r\n");
+  const std::string params = "/api/v1/sessions/" + s["id"].get<std::string>() + "/params";
+  const std::string first = raw_request(server_.port(), "GET", params, authorization(s));
   ASSERT_EQ(raw_status(first), 200);
   const std::string tag = raw_header(first, "ETag");
   for (const std::string method : {"GET", "HEAD"})
     for (const std::string& match : {tag, "W/" + tag, "\"x\", " + tag}) {
-      const std::string again = raw_request(server_.port(), method + " " + get + "If-None-Match: " + match + "\r\n\r\n");
+      const std::string again =
+          raw_request(server_.port(), method, params, authorization(s) + "If-None-Match: " + match + "\r\n");
       EXPECT_EQ(raw_status(again), 304) << method << " " << match;
       EXPECT_EQ(raw_body(again), "") << method;
       EXPECT_EQ(raw_header(again, "ETag"), tag);
       EXPECT_EQ(raw_header(again, "Content-Length"), raw_header(first, "Content-Length"));
     }
   ASSERT_EQ(raw_status(patch_params(server_, s, "application/json", R"({"post": {"exposure": 2}})")), 200);
-  const std::string changed = raw_request(server_.port(), "GET " + get + "If-None-Match: " + tag + "\r\n\r\n");
+  const std::string changed =
+      raw_request(server_.port(), "GET", params, authorization(s) + "If-None-Match: " + tag + "\r\n");
   EXPECT_EQ(raw_status(changed), 200);
   EXPECT_NE(raw_header(changed, "ETag"), tag);
   EXPECT_EQ(nlohmann::json::parse(raw_body(changed))["params"]["post"]["exposure"], 2);
@@ -193,13 +179,13 @@ TEST_F(Rest, PollingTheParametersWithTheirTagAnswers304UntilAPatch) {
 TEST(HttpProblems, TitlesAreRfc9110sPhrases) {
   ServerProcess server;
   const std::string body = R"({"scene": "no such scene"})";
-  const std::string unknown = raw_request(server.port(), "POST /api/v1/sessions HTTP/1.1\r\nHost: 127.0.0.1\r\n"
-                                                         "Content-Type: application/json\r\nContent-Length: " +
-                                                             std::to_string(body.size()) + "\r\n\r\n" + body);
+  const std::string unknown =
+      raw_request(server.port(), "POST", "/api/v1/sessions", "Content-Type: application/json\r\n", body);
   EXPECT_EQ(raw_status(unknown), 422) << unknown;
   EXPECT_EQ(nlohmann::json::parse(raw_body(unknown))["title"], "Unprocessable Content");
-  const std::string large = raw_request(server.port(), "POST /api/v1/sessions HTTP/1.1\r\nHost: 127.0.0.1\r\n"
-                                                       "Content-Type: application/json\r\nContent-Length: 10000000\r\n\r\n");
+  // The head alone, announcing a body over the limit.
+  const std::string large = raw_request(server.port(), "POST", "/api/v1/sessions",
+                                        "Content-Type: application/json\r\nContent-Length: 10000000\r\n");
   EXPECT_EQ(raw_status(large), 413) << large;
   EXPECT_EQ(nlohmann::json::parse(raw_body(large))["title"], "Content Too Large");
 }
@@ -209,11 +195,12 @@ TEST(HttpProblems, TitlesAreRfc9110sPhrases) {
 // fields are (RFC 6585), each titled with its phrase.
 TEST(HttpLimits, ALongTargetIs414AndLongFieldsAre431) {
   ServerProcess server;
-  const std::string target = request(server, "GET", "/api/v1/scenes/" + std::string(20000, 'a'));
+  const std::string target = raw_request(server.port(), "GET", "/api/v1/scenes/" + std::string(20000, 'a'));
   EXPECT_EQ(raw_status(target), 414) << target.substr(0, 400);
   EXPECT_EQ(nlohmann::json::parse(raw_body(target))["title"], "URI Too Long");
-  const std::string fields = request(server, "GET", "/api/v1/health", "X-Pad: " + std::string(20000, 'a') + "\r\n");
+  const std::string fields =
+      raw_request(server.port(), "GET", "/api/v1/health", "X-Pad: " + std::string(20000, 'a') + "\r\n");
   EXPECT_EQ(raw_status(fields), 431) << fields.substr(0, 400);
   EXPECT_EQ(nlohmann::json::parse(raw_body(fields))["title"], "Request Header Fields Too Large");
-  EXPECT_EQ(raw_status(request(server, "GET", "/api/v1/health")), 200);
+  EXPECT_EQ(raw_status(raw_request(server.port(), "GET", "/api/v1/health")), 200);
 }

@@ -98,8 +98,9 @@ TEST_F(Rest, FrameRequestsMadeTogetherShareOnePicture) {
   // change) and the last answer's reuse: the burst asks for one of its own.
   g_usleep(1'500'000);
   const double before = peak_mb(server_.pid());
-  const std::string request = "GET " + s["url"].get<std::string>() + "/frame.exr HTTP/1.1\r\nHost: x\r\n" +
-                              "Authorization: Bearer " + s["token"].get<std::string>() + "\r\n\r\n";
+  const std::string request =
+      caustic::testing::request_text("GET", s["url"].get<std::string>() + "/frame.exr",
+                                     "Authorization: Bearer " + s["token"].get<std::string>() + "\r\n");
   std::vector<int> sockets;
   for (int i = 0; i < 40; ++i) {
     const int fd = caustic::testing::raw_connect(server_.port());

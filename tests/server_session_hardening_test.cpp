@@ -292,10 +292,10 @@ TEST(Hardening, SignallingSocketsAreNotCompressed) {
   const json s = create_session(server);
   const int fd = raw_connect(server.port());
   ASSERT_GE(fd, 0);
-  raw_send(fd, "GET " + signal_path(s) +
-                   " HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-                   "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n"
-                   "Sec-WebSocket-Extensions: permessage-deflate; client_max_window_bits\r\n\r\n");
+  raw_send(fd, request_text("GET", signal_path(s),
+                            "Upgrade: websocket\r\nConnection: Upgrade\r\n"
+                            "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n"
+                            "Sec-WebSocket-Extensions: permessage-deflate; client_max_window_bits\r\n"));
   std::string head;
   char ch;
   while (head.find("\r\n\r\n") == std::string::npos && head.size() < 4096) {

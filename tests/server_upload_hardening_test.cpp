@@ -33,8 +33,9 @@ int connect_from(int port, int host) {
 int start_upload(int port, int host, std::size_t length, std::size_t sent) {
   const int fd = connect_from(port, host);
   if (fd < 0) return fd;
-  raw_send(fd, "POST /api/v1/designs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: image/png\r\nContent-Length: " +
-                   std::to_string(length) + "\r\n\r\n" + std::string(sent, 'p'));
+  raw_send(fd, request_text("POST", "/api/v1/designs",
+                            "Content-Type: image/png\r\nContent-Length: " + std::to_string(length) + "\r\n") +
+                   std::string(sent, 'p'));
   return fd;
 }
 
@@ -102,8 +103,8 @@ TEST(Hardening, ABodyThatStopsComingIsAnswered408) {
                           "--set", std::string(timeout) + "=1"});
     const int fd = raw_connect(server.port());
     ASSERT_GE(fd, 0);
-    raw_send(fd, "POST /api/v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
-                 "Content-Length: 100\r\n\r\n{\"scene\": ");
+    raw_send(fd, request_text("POST", "/api/v1/sessions", "Content-Type: application/json\r\nContent-Length: 100\r\n") +
+                     "{\"scene\": ");
     bool closed = false;
     const std::string answer = raw_read_all(fd, 20000, &closed);
     ::close(fd);
