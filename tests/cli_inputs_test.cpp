@@ -4,8 +4,6 @@
 // flag or key, or warned about, before any work.
 #include "causticd_runner.hpp"
 
-#include "caustic/image_io.hpp"
-
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -262,27 +260,39 @@ TEST_F(CliInputs, AFaceTheLightMeetsFromBehindIsSaid) {
 
 namespace {
 
-// CRC-32 (ISO 3309) over a PNG chunk's type and data, for a header
-// rewritten by hand.
-std::uint32_t png_crc(const std::string& bytes) {
+// A PNG chunk: its length, type and data, and their CRC-32 (ISO 3309).
+std::string png_chunk(const std::string& type, const std::string& data) {
   std::uint32_t c = 0xffffffffu;
-  for (const unsigned char b : bytes) {
+  for (const unsigned char b : type + data) {
     c ^= b;
     for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
   }
-  return ~c;
+  const auto be = [](std::uint32_t v) {
+    return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
+                       static_cast<char>(v)};
+  };
+  return be(static_cast<std::uint32_t>(data.size())) + type + data + be(~c);
 }
 
-// A 16 x 16 PNG whose header says w x h: its data ends after 16 rows.
-std::string png_claiming(std::uint32_t w, std::uint32_t h) {
-  const auto real = caustic::encode_png(caustic::Rgba8Image{16, 16, std::vector<std::uint8_t>(16 * 16 * 4, 200)});
-  std::string png(real.begin(), real.end());
-  const auto put = [&](std::size_t at, std::uint32_t v) {
-    for (int b = 0; b < 4; ++b) png[at + b] = static_cast<char>(v >> (24 - 8 * b));
-  };
-  put(16, w), put(20, h);              // IHDR's data begins at byte 16
-  put(29, png_crc(png.substr(12, 17)));  // its CRC covers "IHDR" and the 13 bytes of data
-  return png;
+// A black PNG of w x h pixels by its header, one bit a pixel, with `rows`
+// rows of data behind it, stored in zlib's blocks without compression.
+std::string black_png(std::uint32_t w, std::uint32_t h, std::uint32_t rows) {
+  const std::string raw(static_cast<std::size_t>(1 + (w + 7) / 8) * rows, '\0');  // each row: filter 0, then 0 bits
+  std::string z("\x78\x01", 2);
+  for (std::size_t at = 0; at < raw.size(); at += 65535) {
+    const std::size_t n = std::min<std::size_t>(65535, raw.size() - at);
+    z += static_cast<char>(at + n == raw.size());  // the last block says so
+    for (const std::size_t v : {n, ~n}) z += static_cast<char>(v & 0xff), z += static_cast<char>(v >> 8 & 0xff);
+    z.append(raw, at, n);
+  }
+  std::uint32_t a = 1, b = 0;  // Adler-32
+  for (const unsigned char c : raw) a = (a + c) % 65521, b = (b + a) % 65521;
+  for (const std::uint32_t v : {b >> 8, b, a >> 8, a}) z += static_cast<char>(v);
+  std::string ihdr;
+  for (const std::uint32_t v : {w, h})
+    for (int k = 3; k >= 0; --k) ihdr += static_cast<char>(v >> (8 * k));
+  ihdr += std::string("\x01\0\0\0\0", 5);  // one bit of grey, deflate, no filter choice, not interlaced
+  return "\x89PNG\r\n\x1a\n" + png_chunk("IHDR", ihdr) + png_chunk("IDAT", z) + png_chunk("IEND", "");
 }
 
 // A TIFF of w x h RGB in 256 x 256 tiles, every tile pointing at the same
@@ -319,7 +329,7 @@ TEST_F(CliInputs, APictureWhoseHeaderPromisesMoreThanItHoldsIsRefusedBeforeItsMe
   if (!fs::exists(std::string(CAUSTIC_ASSET_DIR) + "/designs/design-logo.target.png"))
     GTEST_SKIP() << "built without the designer";
   const std::string limited = "prlimit --data=" + std::to_string(384 << 20);
-  for (const auto& [name, bytes] : {std::pair{"tall.png", png_claiming(16000, 4000)},
+  for (const auto& [name, bytes] : {std::pair{"tall.png", black_png(16000, 4000, 1)},
                                     std::pair{"tall.tif", tiled_tiff_claiming(16000, 4000)}}) {
     const fs::path target = dir_ / name;
     std::ofstream(target, std::ios::binary) << bytes;
@@ -331,4 +341,20 @@ TEST_F(CliInputs, APictureWhoseHeaderPromisesMoreThanItHoldsIsRefusedBeforeItsMe
     EXPECT_EQ(r.output.find("bad_alloc"), std::string::npos) << name << ": " << r.output;
     EXPECT_FALSE(fs::exists(dir_ / "face.obj")) << name;
   }
+}
+
+// A picture that is all there but more than the memory holds: refused,
+// naming it, where the command aborted on the allocation that failed.
+TEST_F(CliInputs, APictureTooLargeForTheMemoryIsRefusedNotAborted) {
+  if (!fs::exists(std::string(CAUSTIC_ASSET_DIR) + "/designs/design-logo.target.png"))
+    GTEST_SKIP() << "built without the designer";
+  const fs::path target = dir_ / "night.png";
+  std::ofstream(target, std::ios::binary) << black_png(16000, 4000, 4000);
+  const CommandResult r = causticd_with_env("prlimit --data=" + std::to_string(384 << 20),
+                                            "design --target " + target.string() + " -o " +
+                                                (dir_ / "face.obj").string() + " --no-check");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--target " + target.string() + ": 16000x4000 pixels do not fit in memory"),
+            std::string::npos)
+      << r.output;
 }
