@@ -3,7 +3,7 @@
 // and says so in a live region, since a button's changed words are not read
 // out. Where the page may not write the clipboard (an address that is not a
 // secure context, a denied permission) the link is shown selected in a
-// labelled read-only field beside the button, to copy by hand: a prompt
+// labelled read-only field below the header, to copy by hand: a prompt
 // would take the page away and read as an error.
 
 const SAID_MS = 2000;  // how long "Link copied" shows on the button
