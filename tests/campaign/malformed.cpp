@@ -119,7 +119,11 @@ void run_malformed(const Options& opt, KindReport& rep) {
   set_quick_ack(true);  // this kind counts outcomes; latency is the flood's and slow kind's
   CaseGenerator gen(opt.seed, victim);
   const int total = opt.short_mode ? 1500 : 10000;
-  const double budget_ms = opt.short_mode ? 50000 : 480000;
+  // The budget stops a server that has become slow, not a busy machine:
+  // beside stress-ng --cpu 4 and other tests on 2 cores, 50 s held only
+  // 1171 of the short run's 1500 (each case reads the state back), and
+  // the 1500 took 91 s in another such run; 240 s leaves over twice that.
+  const double budget_ms = opt.short_mode ? 240000 : 480000;
   int params_status = 0;
   std::string before = snapshot(server.port(), victim, &params_status);
   int restarts = 0, close_failures = 0, sent = 0;
