@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -147,4 +148,37 @@ TEST(DesignPicture, AVolumeIsRefusedAndChannelsBeyondColourAreNotRead) {
   EXPECT_NEAR(mean(six, 0, 0, 16, 16), 1.0, 1e-6);
   EXPECT_NEAR(six.pixels[1], 0.0, 1e-6);
   EXPECT_NEAR(six.pixels[2], 0.0, 1e-6);
+}
+
+TEST(DesignPicture, ATiledPictureReadsAsItsPixels) {
+  // A tiled file is decoded a row of tiles at a time, in bands of about a
+  // MiB: at 2100 x 300 in colour that is bands of 160 rows at 16-pixel
+  // tiles and 128 at 64, so both the band's seam and the last, partial row
+  // of tiles (and column: 2100 is no multiple of either) are read. The
+  // oracle is the pattern written, each pixel its own value.
+  Folder folder;
+  const int w = 2100, h = 300;
+  const auto value = [](int x, int y, int c) {
+    const int n[3] = {(7 * x + 3 * y) % 251, (x + 5 * y) % 253, (x * y) % 241};
+    return static_cast<float>(n[c]) / 256.0f;
+  };
+  std::vector<float> pixels(static_cast<std::size_t>(w) * h * 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) pixels[3 * (static_cast<std::size_t>(y) * w + x) + c] = value(x, y, c);
+  for (const auto& [name, tile] : {std::pair{"t16.tif", 16}, {"t64.exr", 64}, {"lines.tif", 0}}) {
+    const auto file = folder.path / name;
+    auto out = OIIO::ImageOutput::create(file.string());
+    OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
+    spec.tile_width = spec.tile_height = tile;
+    ASSERT_TRUE(out->open(file.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) &&
+                out->close()) << name;
+    const RgbHdrImage read = load_target_rgb(file);
+    ASSERT_EQ(read.width, w);
+    ASSERT_EQ(read.height, h);
+    std::size_t wrong = 0, first = 0;
+    for (std::size_t i = 0; i < pixels.size(); ++i)
+      if (std::abs(read.pixels[i] - pixels[i]) > 1e-6f && wrong++ == 0) first = i;
+    EXPECT_EQ(wrong, 0u) << name << ": first at pixel " << first / 3 % w << ", row " << first / 3 / w;
+  }
 }
