@@ -118,9 +118,10 @@ bool ServerProcess::start(Config config, KindReport& report) {
   pid_ = spawn(binary_, {"serve", "--port", "0", "--bind", "127.0.0.1", "--config", file}, out,
                folder_ + "/stderr" + std::to_string(starts_) + ".log");
   exited_ = false;
-  // Start-up renders the gallery's thumbnails in software: allow a minute.
+  // Start-up renders the gallery's thumbnails in software: seconds when
+  // idle, up to a minute on a loaded 2-core machine; allow three.
   const auto start = Clock::now();
-  while (ms_since(start) < 90000) {
+  while (ms_since(start) < 180000) {
     const std::string text = read_file(out);
     const auto at = text.find("listening on http://127.0.0.1:");
     if (at != std::string::npos && text.find('\n', at) != std::string::npos) {

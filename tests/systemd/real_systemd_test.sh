@@ -148,9 +148,11 @@ over_100="$(awk '$2 > 0.1' "$probes" | wc -l)"
 note "reload: ${reload_ms} ms; $count health probes, $bad failed, slowest ${max_ms} ms, $over_100 over 100 ms"
 ((count >= 5 && bad == 0)) || fail "health probes failed during the reload: $(cat "$probes")"
 # The main loop never blocks: a render of thumbnails on it stalled requests
-# for seconds. Bounded at 1 s so that a loaded machine passes; the 100 ms
-# figure above is what docs/operations.md reports.
-((max_ms < 1000)) || fail "a request waited ${max_ms} ms during the reload"
+# for seconds, about as long as the reload. A request may take 1 s, or half
+# the reload where a loaded machine stretches both, but not the reload; the
+# 100 ms figure above is what docs/operations.md reports.
+((max_ms < 1000 || 2 * max_ms < reload_ms)) ||
+  fail "a request waited ${max_ms} ms during the reload of ${reload_ms} ms"
 
 # --- watchdog: SIGSTOP gets the service restarted --------------------------
 note "watchdog: a stopped process is restarted (WatchdogSec=3 drop-in)"
