@@ -20,6 +20,15 @@ bool meets_face_from_wrong_side(const glm::dvec3& ray, const glm::dvec3& n, cons
   return inside ? side > 0.0 : side < 0.0;
 }
 
+// `mesh`'s vertex i placed in the world, and its normal turned with it.
+struct PlacedVertex {
+  glm::dvec3 v, n;
+};
+PlacedVertex placed_vertex(const Placement& placement, const Mesh& mesh, std::size_t i) {
+  return {glm::dvec3(placement.model * glm::dvec4(glm::dvec3(mesh.positions[i]), 1.0)),
+          glm::normalize(placement.rotation * glm::dvec3(mesh.normals[i]))};
+}
+
 }  // namespace
 
 bool flat_face_first(const Scene& scene, const Placement& placement) {
@@ -93,8 +102,7 @@ double self_shaded_share(const Scene& scene, const Placement& placement, const M
     return 0.0;
   std::size_t shaded = 0;
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-    const glm::dvec3 v(placement.model * glm::dvec4(glm::dvec3(mesh.positions[i]), 1.0));
-    const glm::dvec3 n = glm::normalize(placement.rotation * glm::dvec3(mesh.normals[i]));
+    const auto [v, n] = placed_vertex(placement, mesh, i);
     if (exit_ray(scene, placement, scene.object.ior, v, n).shaded) ++shaded;
   }
   return static_cast<double>(shaded) / static_cast<double>(mesh.positions.size());
@@ -136,8 +144,7 @@ double triangle_flux(const Scene& scene, const Placement& placement, const Verte
 FluxSummary summarize_flux(const Scene& scene, const Mesh& mesh, const Placement& placement) {
   std::vector<VertexRay> rays(mesh.positions.size());
   for (std::size_t i = 0; i < rays.size(); ++i) {
-    const glm::dvec3 v = glm::dvec3(placement.model * glm::dvec4(glm::dvec3(mesh.positions[i]), 1.0));
-    const glm::dvec3 n = glm::normalize(placement.rotation * glm::dvec3(mesh.normals[i]));
+    const auto [v, n] = placed_vertex(placement, mesh, i);
     rays[i] = trace_vertex(scene, placement, v, n);
   }
   FluxSummary sum;
