@@ -20,6 +20,10 @@ std::string authorization(const nlohmann::json& session) {
   return "Authorization: Bearer " + session["token"].get<std::string>() + "\r\n";
 }
 
+std::string params_path(const nlohmann::json& session) {
+  return "/api/v1/sessions/" + session["id"].get<std::string>() + "/params";
+}
+
 }  // namespace
 
 // An escape names a character within its segment (RFC 3986 2.2): "%2F" is
@@ -61,7 +65,7 @@ namespace {
 // A PATCH of a session's parameters written byte for byte.
 std::string patch_params(const ServerProcess& server, const nlohmann::json& session, const std::string& content_type,
                          const std::string& body, const std::string& extra_headers = "") {
-  return raw_request(server.port(), "PATCH", "/api/v1/sessions/" + session["id"].get<std::string>() + "/params",
+  return raw_request(server.port(), "PATCH", params_path(session),
                      authorization(session) + "Content-Type: " + content_type + "\r\n" + extra_headers, body);
 }
 
@@ -100,7 +104,7 @@ TEST_F(Rest, AJsonBodyInAnotherCharsetIsRefused) {
 // overwrite the first unseen (RFC 9110 13.1.1), and changes nothing.
 TEST_F(Rest, APatchSentWithAnOutdatedTagIsRefusedAndChangesNothing) {
   const nlohmann::json s = create();
-  const std::string params = "/api/v1/sessions/" + s["id"].get<std::string>() + "/params";
+  const std::string params = params_path(s);
   const std::string read = raw_request(server_.port(), "GET", params, authorization(s));
   ASSERT_EQ(raw_status(read), 200);
   const std::string tag = raw_header(read, "ETag");
@@ -153,7 +157,7 @@ TEST(HttpNegotiation, AcceptIsNotNegotiatedAndOptionsIsNoPreflight) {
 // RFC 9110 8.6), 200 with the new tag once a patch came.
 TEST_F(Rest, PollingTheParametersWithTheirTagAnswers304UntilAPatch) {
   const nlohmann::json s = create();
-  const std::string params = "/api/v1/sessions/" + s["id"].get<std::string>() + "/params";
+  const std::string params = params_path(s);
   const std::string first = raw_request(server_.port(), "GET", params, authorization(s));
   ASSERT_EQ(raw_status(first), 200);
   const std::string tag = raw_header(first, "ETag");
