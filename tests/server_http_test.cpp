@@ -60,6 +60,34 @@ TEST(HttpTargets, TheAbsoluteFormIsServedAsItsPath) {
   }
 }
 
+// An authority the HTTP library cannot parse (a port past 65535, a
+// bracketed literal that is no IPv6 address) and an https URI on this plain
+// connection got the library's own 400 with an empty body: each is a
+// problem document saying why, and a port the library takes is served.
+TEST(HttpTargets, AnAuthorityTheLibraryCannotTakeIsAProblem) {
+  ServerProcess server;
+  const std::string path = "/api/v1/health";
+  for (const std::string host : {"127.0.0.1:65536", "127.0.0.1:99999", "[::1]:70000", "[]", "[1::2::3]", "[12345::]",
+                                 "[::1.2.3.4.5]", "[.]"}) {
+    const std::string by_header = raw_request(server.port(), "GET " + path + " HTTP/1.1\r\nHost: " + host + "\r\n\r\n");
+    EXPECT_EQ(raw_status(by_header), 400) << host;
+    EXPECT_EQ(raw_header(by_header, "Content-Type"), "application/problem+json") << host << ": " << by_header;
+    const std::string absolute = raw_request(server.port(), "GET", "http://" + host + path);
+    EXPECT_EQ(raw_status(absolute), 400) << host;
+    EXPECT_EQ(raw_header(absolute, "Content-Type"), "application/problem+json") << host << ": " << absolute;
+  }
+  for (const std::string target : {"https://127.0.0.1" + path, "HTTPS://127.0.0.1" + path}) {
+    const std::string answer = raw_request(server.port(), "GET", target);
+    EXPECT_EQ(raw_status(answer), 400) << target;
+    EXPECT_EQ(raw_header(answer, "Content-Type"), "application/problem+json") << target << ": " << answer;
+  }
+  for (const std::string host : {"127.0.0.1:65535", "[::1]", "[::ffff:127.0.0.1]:8080"}) {
+    EXPECT_EQ(raw_status(raw_request(server.port(), "GET " + path + " HTTP/1.1\r\nHost: " + host + "\r\n\r\n")), 200)
+        << host;
+    EXPECT_EQ(raw_status(raw_request(server.port(), "GET", "http://" + host + path)), 200) << host;
+  }
+}
+
 namespace {
 
 // A PATCH of a session's parameters written byte for byte.
