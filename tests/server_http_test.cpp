@@ -127,6 +127,29 @@ TEST_F(Rest, AJsonBodyInAnotherCharsetIsRefused) {
   EXPECT_EQ(nlohmann::json::parse(raw_body(utf8))["version"].get<int>(), version + 1);
 }
 
+// A field that holds one value, written twice: the library read the last
+// Content-Type and the last Authorization, where a proxy in front may have
+// judged the first; either twice is refused, and changes nothing.
+TEST_F(Rest, AContentTypeOrAuthorizationWrittenTwiceIsRefused) {
+  const nlohmann::json s = create();
+  const int version = s["params"]["version"].get<int>();
+  const std::string body = R"({"post": {"exposure": 2}})";
+  for (const std::string& twice :
+       {std::string("Content-Type: text/plain\r\n"), authorization(s), "Authorization: Bearer " + std::string(32, '0') + "\r\n"}) {
+    const std::string answer = patch_params(server_, s, "application/merge-patch+json", body, twice);
+    EXPECT_EQ(raw_status(answer), 400) << twice << answer;
+    EXPECT_EQ(raw_header(answer, "Content-Type"), "application/problem+json") << twice;
+  }
+  const std::string posted =
+      raw_request(server_.port(), "POST", "/api/v1/sessions",
+                  "Content-Type: text/plain\r\nContent-Type: application/json\r\n", R"({"scene":"lens"})");
+  EXPECT_EQ(raw_status(posted), 400) << posted;
+  const std::string read = raw_request(server_.port(), "GET", params_path(s), authorization(s));
+  EXPECT_EQ(nlohmann::json::parse(raw_body(read))["version"].get<int>(), version) << read;
+  const std::string once = patch_params(server_, s, "application/merge-patch+json", body);
+  EXPECT_EQ(raw_status(once), 200) << once;
+}
+
 // Two holders of a session (its page and a script) that both read version
 // N: the second patch sent with If-Match: "N" is refused 412 rather than
 // overwrite the first unseen (RFC 9110 13.1.1), and changes nothing.

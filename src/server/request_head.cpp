@@ -159,7 +159,7 @@ RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) 
   if (method == "CONNECT") return refuse(400, "CONNECT is not served here");
 
   RequestHead out;
-  std::size_t headers = 0, hosts = 0, lengths = 0;
+  std::size_t headers = 0, hosts = 0, lengths = 0, types = 0, authorizations = 0;
   bool chunked_or_other = false, upgrade_ws = false;
   while (pos < head.size()) {
     const auto eol = head.find("\r\n", pos);
@@ -189,6 +189,10 @@ RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) 
         n = n * 10 + (c - '0');
       }
       out.content_length = n;
+    } else if (iequals(name, "Content-Type")) {
+      ++types;
+    } else if (iequals(name, "Authorization")) {
+      ++authorizations;
     } else if (iequals(name, "Transfer-Encoding")) {
       chunked_or_other = true;
     } else if (iequals(name, "Upgrade")) {
@@ -199,6 +203,10 @@ RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) 
     }
   }
   if (lengths > 1) return refuse(400, "more than one Content-Length header");
+  // Fields of one value each: the library reads the last of two, where a
+  // proxy in front may have judged the first.
+  if (types > 1) return refuse(400, "more than one Content-Type header");
+  if (authorizations > 1) return refuse(400, "more than one Authorization header");
   if (chunked_or_other && lengths) return refuse(400, "Content-Length and Transfer-Encoding together");
   if (chunked_or_other) return refuse(411, "request bodies need a Content-Length (no Transfer-Encoding)");
   if (hosts > 1 || (hosts == 0 && version == "HTTP/1.1")) return refuse(400, "HTTP/1.1 requests need one Host header");
