@@ -28,13 +28,11 @@ unsigned create_from(const std::string& url, const std::string& forwarded_for) {
       .status;
 }
 
-// The capacity agent's one line (HAProxy's agent-check protocol).
+// The capacity agent's one line (HAProxy's agent-check protocol): it
+// speaks first, unasked, and closes.
 std::string agent_line(int port) {
   const int fd = ct::raw_connect(port);
-  if (fd < 0) return "no agent on port " + std::to_string(port);
-  std::string line = ct::raw_read_all(fd, 10000);
-  ::close(fd);
-  return line;
+  return fd < 0 ? "no agent on port " + std::to_string(port) : ct::raw_exchange(fd, "");
 }
 
 }  // namespace
@@ -70,7 +68,7 @@ TEST(Instance, SessionUrlsNameTheInstanceAndAnotherInstancesPrefixIsRefused) {
   const json health = http("GET", server.url() + "/i/3/api/v1/health").json();
   EXPECT_EQ(health["instance"], 3);
   EXPECT_EQ(health["free_sessions"], health["max_sessions"].get<int>() - 1);
-  const std::string head = ct::raw_request(server.port(), "GET /api/v1/health HTTP/1.1\r\nHost: x\r\n\r\n");
+  const std::string head = ct::raw_request(server.port(), "GET", "/api/v1/health");
   EXPECT_EQ(ct::raw_header(head, "X-Causticd-Instance"), "3");
   // The signalling WebSocket at its prefixed URL; another prefix gets none.
   const int fd = ct::ws_open(server.port(), s["signal_url"]);

@@ -28,6 +28,12 @@ namespace ct = caustic::testing;
 
 namespace {
 
+// A broadcast asked for on a raw connection, for clients that leave or
+// wait on their own terms.
+std::string broadcast_request() {
+  return ct::request_text("POST", "/api/v1/sessions", "Connection: close\r\nContent-Type: application/json\r\n",
+                          R"({"scene": "lens", "mode": "broadcast"})");
+}
 
 // A Janus WebSocket API client: one request, its answer (events that
 // follow an "ack" included), synchronously on the thread-default loop.
@@ -141,11 +147,7 @@ class Broadcast : public ::testing::Test {
 
   void start_janus() {
     janus_.start({ct::find_program("janus"), "-F", janus_dir_.string(), "-C", (janus_dir_ / "janus.jcfg").string(), "-o", "-d", "2"});
-    for (int i = 0; i < 100; ++i, g_usleep(100000))  // until it listens
-      if (const int fd = ct::raw_connect(admin_port_); fd >= 0) {
-        ::close(fd);
-        break;
-      }
+    ct::raw_wait_listening(admin_port_);
   }
   std::string ws_url() const { return "ws://127.0.0.1:" + std::to_string(ws_port_) + "/"; }
 
@@ -320,11 +322,9 @@ TEST_F(Broadcast, AStoppingServerTakesItsMountpointsWithIt) {
 // session, and the mountpoint made for it goes.
 TEST_F(Broadcast, AClientThatLeavesBeforeJanusAnswersLeavesNothingBehind) {
   janus_.signal(SIGSTOP);
-  const std::string body = R"({"scene": "lens", "mode": "broadcast"})";
   const int fd = ct::raw_connect(server_->port());
   ASSERT_GE(fd, 0);
-  ASSERT_TRUE(ct::raw_send(fd, "POST /api/v1/sessions HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
-                               "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body));
+  ASSERT_TRUE(ct::raw_send(fd, broadcast_request()));
   bool asked = false;
   for (int i = 0; i < 100 && !asked; ++i, g_usleep(100000)) asked = janus_asked();
   ASSERT_TRUE(asked) << "the server did not ask the frozen Janus";
@@ -356,14 +356,11 @@ TEST_F(Broadcast, RequestsMadeSideBySideKeepTheLimitPerAddress) {
   // side by side from one address (its limit is 2), three are refused
   // before Janus answers any, and only two mountpoints are asked for.
   janus_.signal(SIGSTOP);
-  const std::string body = R"({"scene": "lens", "mode": "broadcast"})";
   std::vector<int> fds;
   for (int i = 0; i < 5; ++i) {
     fds.push_back(ct::raw_connect(server_->port()));
     ASSERT_GE(fds.back(), 0);
-    ASSERT_TRUE(ct::raw_send(fds.back(), "POST /api/v1/sessions HTTP/1.1\r\nHost: x\r\nConnection: close\r\n"
-                                         "Content-Type: application/json\r\n"
-                                         "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body));
+    ASSERT_TRUE(ct::raw_send(fds.back(), broadcast_request()));
   }
   // The three beyond the limit are refused while Janus is still frozen:
   // the two before them were counted before it answered either.

@@ -12,14 +12,10 @@
 
 #include <gtest/gtest.h>
 
-
-#include <sys/socket.h>
-#include <sys/un.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <csignal>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -42,17 +38,7 @@ namespace {
 // on its stats socket ("" when it does not answer or has no such row).
 std::string haproxy_stat(const fs::path& socket_path, const std::string& backend, const std::string& server,
                          const std::string& field) {
-  const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
-  sockaddr_un where{};
-  where.sun_family = AF_UNIX;
-  std::strncpy(where.sun_path, socket_path.c_str(), sizeof where.sun_path - 1);
-  if (fd < 0 || ::connect(fd, reinterpret_cast<sockaddr*>(&where), sizeof where) != 0 ||
-      !ct::raw_send(fd, "show stat\n")) {
-    if (fd >= 0) ::close(fd);
-    return "";
-  }
-  std::istringstream csv(ct::raw_read_all(fd, 5000));
-  ::close(fd);
+  std::istringstream csv(ct::raw_exchange(ct::raw_connect_unix(socket_path), "show stat\n", 5000));
   const auto split = [](const std::string& line) {
     std::vector<std::string> cells;
     std::istringstream in(line);
@@ -126,11 +112,7 @@ class Proxied : public ::testing::TestWithParam<std::string> {
     }
     proxy_.start(argv);
     ASSERT_TRUE(proxy_.running());
-    for (int i = 0; i < 100; ++i, g_usleep(100000))  // until it listens
-      if (const int fd = ct::raw_connect(port_); fd >= 0) {
-        ::close(fd);
-        break;
-      }
+    ct::raw_wait_listening(port_);
     ASSERT_EQ(http("GET", url() + "/api/v1/scenes").status, 200u) << GetParam() << " does not answer";
     if (GetParam() == "haproxy") {  // until both agents have reported once
       bool reported = false;
@@ -185,9 +167,9 @@ TEST_P(Proxied, SessionsSpreadByFreeCapacityAndEveryRequestReachesTheirInstance)
     // Only the owner knows the session: any other instance would refuse it.
     const auto params = http("GET", url() + s["url"].get<std::string>() + "/params", "", "", bearer(s));
     EXPECT_EQ(params.status, 200u) << params.body;
-    const std::string head = ct::raw_request(port_, "GET " + s["url"].get<std::string>() +
-                                                       "/params HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer " +
-                                                       s["token"].get<std::string>() + "\r\nConnection: close\r\n\r\n");
+    const std::string head = ct::raw_request(port_, "GET", s["url"].get<std::string>() + "/params",
+                                             "Authorization: Bearer " + s["token"].get<std::string>() +
+                                                 "\r\nConnection: close\r\n");
     EXPECT_EQ(ct::raw_header(head, "X-Causticd-Instance"), std::to_string(n));
     // A viewer: signalling through the proxy to the same instance, media
     // straight from it. Its going away ends the session.

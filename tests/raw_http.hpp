@@ -5,30 +5,78 @@
 #pragma once
 
 #include <arpa/inet.h>
+#include <fcntl.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <strings.h>
 #include <sys/socket.h>
+#include <sys/un.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <filesystem>
 #include <string>
 
 namespace caustic::testing {
 
-/// A connected socket to 127.0.0.1:port, or -1.
-inline int raw_connect(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+/// A connected socket to 127.0.0.1:port, or -1 when none within
+/// `timeout_ms` (a full backlog would otherwise hold a blocking connect for
+/// minutes). From the loopback address `source` when given: all of
+/// 127.0.0.0/8 is local, so per-address limits can be told apart.
+inline int raw_connect(int port, const std::string& source = "", int timeout_ms = 10000) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+  if (fd < 0) return -1;
+  sockaddr_in from{};
+  from.sin_family = AF_INET;
+  bool ok = source.empty() || (::inet_pton(AF_INET, source.c_str(), &from.sin_addr) == 1 &&
+                               ::bind(fd, reinterpret_cast<sockaddr*>(&from), sizeof from) == 0);
   sockaddr_in to{};
   to.sin_family = AF_INET;
   to.sin_port = htons(static_cast<uint16_t>(port));
-  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&to), sizeof to) != 0) {
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);  // never anything but loopback
+  if (ok && ::connect(fd, reinterpret_cast<sockaddr*>(&to), sizeof to) != 0) {
+    pollfd p{fd, POLLOUT, 0};
+    int error = 0;
+    socklen_t size = sizeof error;
+    ok = errno == EINPROGRESS && ::poll(&p, 1, timeout_ms) == 1 &&
+         ::getsockopt(fd, SOL_SOCKET, SO_ERROR, &error, &size) == 0 && error == 0;
+  }
+  if (!ok) {
+    ::close(fd);
+    return -1;
+  }
+  // Blocking again: every read here polls first, with its own bound.
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  return fd;
+}
+
+/// A connected socket to the Unix stream socket at `path`, or -1.
+inline int raw_connect_unix(const std::string& path) {
+  sockaddr_un to{};
+  if (path.size() >= sizeof to.sun_path) return -1;
+  to.sun_family = AF_UNIX;
+  path.copy(to.sun_path, path.size());
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd >= 0 && ::connect(fd, reinterpret_cast<sockaddr*>(&to), sizeof to) != 0) {
     ::close(fd);
     return -1;
   }
   return fd;
+}
+
+/// Whether something listens on 127.0.0.1:port within `timeout_ms`: a
+/// program just started listens once it is ready.
+inline bool raw_wait_listening(int port, int timeout_ms = 10000) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  do {
+    if (const int fd = raw_connect(port, "", timeout_ms); fd >= 0) {
+      ::close(fd);
+      return true;
+    }
+    ::usleep(100000);
+  } while (std::chrono::steady_clock::now() < end);
+  return false;
 }
 
 inline bool raw_send(int fd, const std::string& bytes) {
@@ -56,14 +104,20 @@ inline std::string raw_read_all(int fd, int timeout_ms, bool* closed = nullptr) 
   return out;
 }
 
-/// Sends `bytes` on a fresh connection and returns the whole answer.
-inline std::string raw_request(int port, const std::string& bytes, int timeout_ms = 10000) {
-  const int fd = raw_connect(port);
+/// Sends `bytes` on the connected `fd` (nothing when empty: a peer that
+/// speaks first), returns all it answers until it closes or `timeout_ms`
+/// pass, and closes `fd`; "" when `fd` is -1.
+inline std::string raw_exchange(int fd, const std::string& bytes, int timeout_ms = 10000) {
   if (fd < 0) return "";
-  raw_send(fd, bytes);
+  if (!bytes.empty()) raw_send(fd, bytes);
   std::string answer = raw_read_all(fd, timeout_ms);
   ::close(fd);
   return answer;
+}
+
+/// Sends `bytes` on a fresh connection and returns the whole answer.
+inline std::string raw_request(int port, const std::string& bytes, int timeout_ms = 10000) {
+  return raw_exchange(raw_connect(port), bytes, timeout_ms);
 }
 
 /// A well-formed request as its bytes: the request line, Host, `fields`

@@ -9,8 +9,22 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <string_view>
 
 namespace caustic::testing {
+
+/// The fields that ask for a WebSocket (RFC 6455), in pieces for the
+/// handshakes that leave one out or spell it wrong.
+inline const std::string kWsUpgrade = "Upgrade: websocket\r\nConnection: Upgrade\r\n";
+inline const std::string kWsVersion = "Sec-WebSocket-Version: 13\r\n";
+inline const std::string kWsSampleKey = "dGhlIHNhbXBsZSBub25jZQ==";  // RFC 6455's own example
+inline std::string ws_key_field(const std::string& key = kWsSampleKey) { return "Sec-WebSocket-Key: " + key + "\r\n"; }
+
+/// A client's opening handshake for `target`, `extra` fields added.
+inline std::string ws_upgrade_request(const std::string& target, const std::string& key = kWsSampleKey,
+                                      const std::string& extra = "") {
+  return request_text("GET", target, kWsUpgrade + ws_key_field(key) + kWsVersion + extra);
+}
 
 /// Opens `path` (with its query) as a WebSocket; -1 unless the server
 /// answered 101, and then, when `refusal` is given, the server's whole
@@ -18,9 +32,7 @@ namespace caustic::testing {
 inline int ws_open(int port, const std::string& path, std::string* refusal = nullptr) {
   const int fd = raw_connect(port);
   if (fd < 0) return -1;
-  raw_send(fd, "GET " + path +
-                   " HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-                   "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n");
+  raw_send(fd, ws_upgrade_request(path));
   std::string head;
   char ch;
   // Byte by byte up to the blank line, so no frame is swallowed.
@@ -37,25 +49,46 @@ inline int ws_open(int port, const std::string& path, std::string* refusal = nul
   return fd;
 }
 
-/// Sends one masked client frame.
-inline bool ws_send_frame(int fd, unsigned opcode, bool fin, const std::string& payload) {
+/// One frame's bytes, masked with the four bytes of `mask` as a client's
+/// must be, or unmasked (as a server's) when it is null.
+inline std::string ws_frame_bytes(unsigned opcode, bool fin, std::string_view payload, const unsigned char* mask) {
   std::string frame;
   frame += static_cast<char>((fin ? 0x80 : 0) | (opcode & 0x0f));
+  const unsigned char mask_bit = mask ? 0x80 : 0;
   const std::uint64_t n = payload.size();
   if (n < 126) {
-    frame += static_cast<char>(0x80 | n);
+    frame += static_cast<char>(mask_bit | n);
   } else if (n < 65536) {
-    frame += static_cast<char>(0x80 | 126);
+    frame += static_cast<char>(mask_bit | 126);
     frame += static_cast<char>(n >> 8);
     frame += static_cast<char>(n & 0xff);
   } else {
-    frame += static_cast<char>(0x80 | 127);
+    frame += static_cast<char>(mask_bit | 127);
     for (int i = 7; i >= 0; --i) frame += static_cast<char>((n >> (8 * i)) & 0xff);
   }
-  const unsigned char mask[4] = {0x12, 0x34, 0x56, 0x78};
-  frame.append(reinterpret_cast<const char*>(mask), 4);
-  for (std::size_t i = 0; i < payload.size(); ++i) frame += static_cast<char>(payload[i] ^ mask[i % 4]);
-  return raw_send(fd, frame);
+  if (mask) frame.append(reinterpret_cast<const char*>(mask), 4);
+  for (std::size_t i = 0; i < n; ++i) frame += static_cast<char>(payload[i] ^ (mask ? mask[i % 4] : 0));
+  return frame;
+}
+
+/// Sends one masked client frame.
+inline bool ws_send_frame(int fd, unsigned opcode, bool fin, const std::string& payload) {
+  static const unsigned char mask[4] = {0x12, 0x34, 0x56, 0x78};
+  return raw_send(fd, ws_frame_bytes(opcode, fin, payload, mask));
+}
+
+/// A frame's header size (2, 4 or 10 bytes, a mask not counted) from its
+/// first two bytes, and the payload's length from the whole header.
+inline std::size_t ws_header_size(std::string_view first_two) {
+  const unsigned n = static_cast<unsigned char>(first_two[1]) & 0x7f;
+  return n == 126 ? 4 : n == 127 ? 10 : 2;
+}
+inline std::uint64_t ws_payload_length(std::string_view header) {
+  const std::size_t size = ws_header_size(header);
+  if (size == 2) return static_cast<unsigned char>(header[1]) & 0x7f;
+  std::uint64_t n = 0;
+  for (std::size_t i = 2; i < size; ++i) n = (n << 8) | static_cast<unsigned char>(header[i]);
+  return n;
 }
 
 /// The next text message from the server (unfragmented frames), or none
@@ -79,18 +112,9 @@ inline std::optional<std::string> ws_read_text(int fd, int timeout_ms) {
     buffer.clear();
     if (!need(2)) return std::nullopt;
     const unsigned opcode = static_cast<unsigned char>(buffer[0]) & 0x0f;
-    std::uint64_t len = static_cast<unsigned char>(buffer[1]) & 0x7f;
-    std::size_t header = 2;
-    if (len == 126) {
-      if (!need(4)) return std::nullopt;
-      len = (std::uint64_t(static_cast<unsigned char>(buffer[2])) << 8) | static_cast<unsigned char>(buffer[3]);
-      header = 4;
-    } else if (len == 127) {
-      if (!need(10)) return std::nullopt;
-      len = 0;
-      for (int i = 0; i < 8; ++i) len = (len << 8) | static_cast<unsigned char>(buffer[2 + i]);
-      header = 10;
-    }
+    const std::size_t header = ws_header_size(buffer);
+    if (!need(header)) return std::nullopt;
+    const std::uint64_t len = ws_payload_length(buffer);
     if (len > (1u << 24) || !need(header + len)) return std::nullopt;
     if (opcode == 1) return buffer.substr(header, len);
     if (opcode == 8) return std::nullopt;  // close
