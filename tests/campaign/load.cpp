@@ -60,9 +60,11 @@ void run_keepalive(const Options& opt, KindReport& rep) {
     workers.emplace_back([&, t] {
       for (int i; (i = next++) < total && !stop && ms_since(start) < budget_ms;) {
         // What browsers and curl send: keep-alive, then they go away.
-        const std::string req = "GET " + targets[static_cast<size_t>(i + t) % targets.size()] +
-                                " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: keep-alive\r\nKeep-Alive: timeout=60\r\n"
-                                "User-Agent: campaign\r\nAccept: */*\r\n\r\n";
+        const std::string req = make_request("GET", targets[static_cast<size_t>(i + t) % targets.size()],
+                                             {{"Connection", "keep-alive"},
+                                              {"Keep-Alive", "timeout=60"},
+                                              {"User-Agent", "campaign"},
+                                              {"Accept", "*/*"}});
         Conn c;
         const Response r = exchange(port, req, 5000, false, false, "", &c);
         judge_common(rep, nullptr, req, r, false);

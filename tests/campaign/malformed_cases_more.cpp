@@ -3,9 +3,15 @@
 // WebSocket handshakes.
 #include "case_rules.hpp"
 
+#include "../ws_client.hpp"
+
 namespace campaign {
 
 using namespace cases;
+using caustic::testing::kWsUpgrade;
+using caustic::testing::kWsVersion;
+using caustic::testing::ws_key_field;
+using caustic::testing::ws_upgrade_request;
 
 Case CaseGenerator::body_case() {
   const std::string scene = victim_.scene;
@@ -215,25 +221,21 @@ Case CaseGenerator::handshake_case() {
   const std::string good = "/api/v1/sessions/" + victim_.id + "/signal?token=" + victim_.token;
   std::string wrong = victim_.token;
   wrong[0] = wrong[0] == 'a' ? 'b' : 'a';
-  const std::string up = "Upgrade: websocket\r\nConnection: Upgrade\r\n";
-  const std::string key = "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n";
-  const std::string v13 = "Sec-WebSocket-Version: 13\r\n";
-  auto get = [](const std::string& target, const std::string& headers) {
-    return "GET " + target + " HTTP/1.1\r\nHost: x\r\n" + headers + "\r\n";
-  };
+  const std::string& up = kWsUpgrade;
+  const std::string& v13 = kWsVersion;
   const std::string session = "/api/v1/sessions/" + victim_.id + "/signal";
   std::vector<std::string> requests = {
-      make_request("GET", good),  // not a WebSocket at all
-      get(good, up + v13),        // no key
-      get(good, up + "Sec-WebSocket-Key: short\r\n" + v13),
-      get(good, up + key + "Sec-WebSocket-Version: 8\r\n"),
-      get(good, "Upgrade: h2c\r\nConnection: Upgrade\r\n"),
-      "POST " + good + " HTTP/1.1\r\nHost: x\r\n" + up + key + v13 + "Content-Length: 0\r\n\r\n",
-      get(session + "?token=" + wrong, up + key + v13),
-      get("/api/v1/sessions/" + random_id() + "/signal?token=" + victim_.token, up + key + v13),
-      get(session, up + key + v13),  // no token
-      get("/api/v1/health", up + key + v13),
-      get(good + "&token=" + wrong, up + v13)};
+      make_request("GET", good),             // not a WebSocket at all
+      request_text("GET", good, up + v13),  // no key
+      request_text("GET", good, up + ws_key_field("short") + v13),
+      request_text("GET", good, up + ws_key_field() + "Sec-WebSocket-Version: 8\r\n"),
+      request_text("GET", good, "Upgrade: h2c\r\nConnection: Upgrade\r\n"),
+      request_text("POST", good, up + ws_key_field() + v13 + "Content-Length: 0\r\n"),
+      ws_upgrade_request(session + "?token=" + wrong),
+      ws_upgrade_request("/api/v1/sessions/" + random_id() + "/signal?token=" + victim_.token),
+      ws_upgrade_request(session),  // no token
+      ws_upgrade_request("/api/v1/health"),
+      request_text("GET", good + "&token=" + wrong, up + v13)};
   Case c;
   c.bytes = pick(requests);
   c.state = 2;

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "net.hpp"
 
-#include <arpa/inet.h>
+#include "../ws_client.hpp"
+
 #include <fcntl.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
@@ -43,30 +44,12 @@ void Conn::abort() {
 }
 
 Conn connect_loopback(int port, const std::string& source, int timeout_ms) {
-  int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
-  if (fd < 0) return Conn();
-  Conn c(fd);
+  Conn c(caustic::testing::raw_connect(port, source, timeout_ms));
+  if (!c.ok()) return c;
+  // Non-blocking: every read and write here waits in poll() with its own deadline.
+  fcntl(c.fd, F_SETFL, fcntl(c.fd, F_GETFL) | O_NONBLOCK);
   const int one = 1;
-  setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-  if (!source.empty()) {
-    sockaddr_in local{};
-    local.sin_family = AF_INET;
-    inet_pton(AF_INET, source.c_str(), &local.sin_addr);
-    if (bind(fd, reinterpret_cast<sockaddr*>(&local), sizeof local) != 0) return Conn();
-  }
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);  // never anything but 127.0.0.1
-  if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-    if (errno != EINPROGRESS) return Conn();
-    pollfd p{fd, POLLOUT, 0};
-    if (poll(&p, 1, timeout_ms) != 1) return Conn();
-    int err = 0;
-    socklen_t len = sizeof err;
-    getsockopt(fd, SOL_SOCKET, SO_ERROR, &err, &len);
-    if (err != 0) return Conn();
-  }
+  setsockopt(c.fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
   return c;
 }
 
@@ -286,18 +269,17 @@ Response exchange(int port, std::string_view request, int timeout_ms, bool head,
 }
 
 std::string make_request(const std::string& method, const std::string& target,
-                         const std::vector<std::pair<std::string, std::string>>& headers, const std::string& body,
-                         bool content_length) {
-  std::string out = method + " " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\n";
+                         const std::vector<std::pair<std::string, std::string>>& headers, const std::string& body) {
+  std::string fields;
   bool has_connection = false;
   for (const auto& [k, v] : headers) {
-    out += k + ": " + v + "\r\n";
+    fields += k + ": " + v + "\r\n";
     has_connection = has_connection || lower(k) == "connection";
   }
-  if (!has_connection) out += "Connection: close\r\n";
-  if (content_length && (!body.empty() || method == "POST" || method == "PATCH"))
-    out += "Content-Length: " + std::to_string(body.size()) + "\r\n";
-  return out + "\r\n" + body;
+  if (!has_connection) fields += "Connection: close\r\n";
+  // A POST or PATCH says its length even without a body.
+  if (body.empty() && (method == "POST" || method == "PATCH")) fields += "Content-Length: 0\r\n";
+  return request_text(method, target, fields, body);
 }
 
 std::string escape(std::string_view bytes, std::size_t limit) {
@@ -326,36 +308,14 @@ std::string ws_handshake(const std::string& target, std::mt19937& rng, const std
   std::string key;
   for (int i = 0; i < 21; ++i) key += alphabet[rng() % 64];
   key += "Q==";  // 16 bytes in base64: 22 characters (the last one holds 2 bits) and "=="
-  return "GET " + target +
-         " HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-         "Sec-WebSocket-Key: " +
-         key + "\r\nSec-WebSocket-Version: 13\r\n" + extra + "\r\n";
+  return caustic::testing::ws_upgrade_request(target, key, extra);
 }
 
 std::string ws_frame(int opcode, std::string_view payload, bool fin, std::mt19937& rng, bool masked) {
-  std::string f;
-  f += static_cast<char>((fin ? 0x80 : 0) | (opcode & 0x0f));
-  const unsigned char mask_bit = masked ? 0x80 : 0;
-  const uint64_t n = payload.size();
-  if (n < 126) {
-    f += static_cast<char>(mask_bit | n);
-  } else if (n < 65536) {
-    f += static_cast<char>(mask_bit | 126);
-    f += static_cast<char>(n >> 8);
-    f += static_cast<char>(n & 0xff);
-  } else {
-    f += static_cast<char>(mask_bit | 127);
-    for (int i = 7; i >= 0; --i) f += static_cast<char>((n >> (8 * i)) & 0xff);
-  }
-  unsigned char mask[4] = {0, 0, 0, 0};
-  if (masked) {
+  unsigned char mask[4];
+  if (masked)
     for (auto& m : mask) m = static_cast<unsigned char>(rng());
-    f.append(reinterpret_cast<char*>(mask), 4);
-  }
-  const size_t at = f.size();
-  f.append(payload);
-  for (size_t i = 0; i < n; ++i) f[at + i] = static_cast<char>(f[at + i] ^ mask[i % 4]);
-  return f;
+  return caustic::testing::ws_frame_bytes(opcode, fin, payload, masked ? mask : nullptr);
 }
 
 WsFrame ws_read(Conn& c, int timeout_ms) {
@@ -372,20 +332,10 @@ WsFrame ws_read(Conn& c, int timeout_ms) {
     return true;
   };
   if (!need(2)) return out;
-  const auto b1 = static_cast<unsigned char>(c.pending[1]);
-  size_t header = 2;
-  uint64_t n = b1 & 0x7f;
-  if (n == 126) {
-    if (!need(4)) return out;
-    n = (static_cast<unsigned char>(c.pending[2]) << 8) | static_cast<unsigned char>(c.pending[3]);
-    header = 4;
-  } else if (n == 127) {
-    if (!need(10)) return out;
-    n = 0;
-    for (int i = 2; i < 10; ++i) n = (n << 8) | static_cast<unsigned char>(c.pending[i]);
-    header = 10;
-  }
-  if ((b1 & 0x80) || n > (16u << 20)) return out;  // servers never mask; bound memory
+  const size_t header = caustic::testing::ws_header_size(c.pending);
+  if (!need(header)) return out;
+  const uint64_t n = caustic::testing::ws_payload_length(c.pending);
+  if ((c.pending[1] & 0x80) || n > (16u << 20)) return out;  // servers never mask; bound memory
   if (!need(header + n)) return out;
   out.ok = true;
   out.opcode = static_cast<unsigned char>(c.pending[0]) & 0x0f;

@@ -4,6 +4,8 @@
 // would produce; every call takes a deadline so no step can hang the run.
 #pragma once
 
+#include "../raw_http.hpp"
+
 #include <chrono>
 #include <cstdint>
 #include <random>
@@ -13,6 +15,9 @@
 #include <vector>
 
 namespace campaign {
+
+// Requests whose fields are written out as they go on the wire.
+using caustic::testing::request_text;
 
 using Clock = std::chrono::steady_clock;
 
@@ -73,10 +78,11 @@ bool wait_closed(Conn& c, int timeout_ms);
 Response exchange(int port, std::string_view request, int timeout_ms, bool head = false, bool half_close = false,
                   const std::string& source = "", Conn* keep = nullptr);
 
-// Convenience: a well-formed request with Connection: close.
+// Convenience: a well-formed request with Connection: close (unless
+// `headers` name their own), its fields given as pairs.
 std::string make_request(const std::string& method, const std::string& target,
                          const std::vector<std::pair<std::string, std::string>>& headers = {},
-                         const std::string& body = "", bool content_length = true);
+                         const std::string& body = "");
 
 // Printable rendering of arbitrary bytes for the failure log.
 std::string escape(std::string_view bytes, std::size_t limit = 600);

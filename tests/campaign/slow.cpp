@@ -48,11 +48,11 @@ void run_slow(const Options& opt, KindReport& rep) {
   const int idle = opt.short_mode ? 200 : 1000, loris = opt.short_mode ? 50 : 200, bodies = 20;
   std::vector<Attacker> attackers;
   attackers.reserve(idle + loris + bodies);
-  const std::string loris_script =
-      "GET /api/v1/health HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Pad: " + std::string(64, 'p') + "\r\n\r\n";
-  const std::string body_head =
-      "POST /api/v1/sessions HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
-      "Connection: close\r\nContent-Length: 200\r\n\r\n";
+  const std::string loris_script = request_text("GET", "/api/v1/health", "X-Pad: " + std::string(64, 'p') + "\r\n");
+  // A length the body never reaches: it comes a byte a second.
+  const std::string body_head = request_text("POST", "/api/v1/sessions",
+                                             "Content-Type: application/json\r\nConnection: close\r\n"
+                                             "Content-Length: 200\r\n");
   int connect_failed = 0;
   for (int i = 0; i < idle + loris + bodies; ++i) {
     // Attackers come from their own addresses: the per-address limit is
