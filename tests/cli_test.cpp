@@ -322,3 +322,18 @@ TEST_F(Cli, PrintsItsVersion) {
   EXPECT_EQ(r.status, 0);
   EXPECT_NE(r.output.find("causticd"), std::string::npos);
 }
+
+// Memory, threads or a library's device refused while the scene's levels
+// are built threw past the command (terminate: SIGABRT and a core). Under a
+// ladder of data limits the command exits, whatever it could do. Limits
+// below these fail in the libraries' own start-up, before main.
+TEST_F(Cli, ACommandShortOfMemoryExitsWithAMessageNotAnAbort) {
+  for (int mib = 128; mib <= 320; mib += 32) {
+    const CommandResult r = causticd_with_env("prlimit --data=" + std::to_string(mib << 20),
+                                              "render --scene " + scene("lens") + " -o " + (dir_ / "x.png").string() +
+                                                  " --width 16 --height 16");
+    EXPECT_TRUE(r.status == 0 || r.status == 1 || r.status == 2) << mib << " MiB: " << r.status << "\n" << r.output;
+    EXPECT_EQ(r.output.find("terminate called"), std::string::npos) << mib << " MiB: " << r.output;
+    if (r.status == 1) EXPECT_NE(r.output.find("causticd render: "), std::string::npos) << r.output;
+  }
+}

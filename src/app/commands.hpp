@@ -76,6 +76,10 @@ bool output_writable(const char* command, const std::filesystem::path& out, cons
 /// receivers' meshes it names.
 std::vector<std::filesystem::path> scene_inputs(const std::filesystem::path& file, const Scene& scene);
 
+/// What a runtime failure says: e.what(), and for a failed allocation that
+/// memory ran out (its what() is only "std::bad_alloc").
+std::string failure_text(const std::exception& e);
+
 /// Runs `body` and turns what it throws into the exit status: a SceneError
 /// is bad input (the message names `scene`), anything else a runtime failure.
 /// The message goes to stderr as "causticd <command>: ...", after `prefix`

@@ -31,7 +31,17 @@ int main(int argc, char** argv) {
     std::cerr << "causticd: " << e.what() << "\n";
     return caustic::app::bad_input;
   }
-  for (const auto& command : commands)
-    if (const int status = command(); status >= 0) return status;
+  // What a command does not turn into its status itself (memory, threads
+  // or a library's device refused while the scene's levels are built) is a
+  // runtime failure said in a line, not an abort with a core dump.
+  try {
+    for (const auto& command : commands)
+      if (const int status = command(); status >= 0) return status;
+  } catch (const std::exception& e) {
+    const auto chosen = app.get_subcommands();
+    std::cerr << "causticd" << (chosen.empty() ? "" : " " + chosen.front()->get_name()) << ": "
+              << caustic::app::failure_text(e) << "\n";
+    return caustic::app::runtime_failure;
+  }
   return caustic::app::bad_input;
 }

@@ -15,6 +15,7 @@
 #include <cstring>
 #include <iostream>
 #include <map>
+#include <new>
 #include <set>
 #include <string_view>
 
@@ -141,9 +142,14 @@ int run_reporting(const char* command, const std::filesystem::path& scene, const
     std::cerr << prefix << "causticd " << command << ": " << scene.string() << ": " << e.what() << "\n";
     return bad_input;
   } catch (const std::exception& e) {
-    std::cerr << prefix << "causticd " << command << ": " << e.what() << "\n";
+    std::cerr << prefix << "causticd " << command << ": " << failure_text(e) << "\n";
     return runtime_failure;
   }
+}
+
+std::string failure_text(const std::exception& e) {
+  if (dynamic_cast<const std::bad_alloc*>(&e)) return std::string("not enough memory (") + e.what() + ")";
+  return e.what();
 }
 
 namespace {
