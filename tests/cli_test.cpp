@@ -323,6 +323,41 @@ TEST_F(Cli, PrintsItsVersion) {
   EXPECT_NE(r.output.find("causticd"), std::string::npos);
 }
 
+// A frame larger than the memory the process can have is refused before it
+// is rendered, naming the size as it was set and what it needs, where an
+// allocation failed midway (exit 1) or the OOM killer ended the command. A
+// data limit stands in for a small machine: 8192 x 8192 in colour needs 6 GB.
+TEST_F(Cli, AFrameLargerThanTheMemoryIsRefusedBeforeItIsRendered) {
+  const std::string limited = "prlimit --data=" + std::to_string(1024 << 20);
+  const fs::path png = dir_ / "big.png", exr = dir_ / "big.exr";
+  const CommandResult colour = causticd_with_env(
+      limited, "render --scene " + scene("prism") + " -o " + png.string() + " --width 8192 --height 8192");
+  EXPECT_EQ(colour.status, 2) << colour.output;
+  EXPECT_NE(colour.output.find("--width 8192 --height 8192: a colour frame of 8192x8192 needs about 6."),
+            std::string::npos)
+      << colour.output;
+  EXPECT_NE(colour.output.find("(its data limit, RLIMIT_DATA)"), std::string::npos) << colour.output;
+  const CommandResult grey = causticd_with_env(limited, "render --scene " + scene("slab") + " -o " + png.string() +
+                                                            " --set render.width=8192 --set render.height=8192");
+  EXPECT_EQ(grey.status, 2) << grey.output;
+  EXPECT_NE(grey.output.find("render.width 8192 render.height 8192: a grey frame of 8192x8192 needs about 2."),
+            std::string::npos)
+      << grey.output;
+  // The tracer's image is a thread's each.
+  const CommandResult traced = causticd_with_env(limited, "reference --scene " + scene("slab") + " -o " + exr.string() +
+                                                              " --set render.width=8192 --set render.height=8192 "
+                                                              "--threads 1 --photons 1000");
+  EXPECT_EQ(traced.status, 2) << traced.output;
+  EXPECT_NE(traced.output.find("render.width 8192 render.height 8192 on 1 thread: a grey image"), std::string::npos)
+      << traced.output;
+  EXPECT_FALSE(fs::exists(png));
+  EXPECT_FALSE(fs::exists(exr));
+  // What fits is rendered under the same limit.
+  const CommandResult small = causticd_with_env(
+      limited, "render --scene " + scene("prism") + " -o " + png.string() + " --width 512 --height 512");
+  EXPECT_EQ(small.status, 0) << small.output;
+}
+
 // Memory, threads or a library's device refused while the scene's levels
 // are built threw past the command (terminate: SIGABRT and a core). Under a
 // ladder of data limits the command exits, whatever it could do. Limits

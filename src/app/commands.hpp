@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cerrno>
+#include <cstdint>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -79,6 +80,23 @@ std::vector<std::filesystem::path> scene_inputs(const std::filesystem::path& fil
 /// What a runtime failure says: e.what(), and for a failed allocation that
 /// memory ran out (its what() is only "std::bad_alloc").
 std::string failure_text(const std::exception& e);
+
+/// The bytes this process can still have, the least of what the machine
+/// offers (MemAvailable), its cgroup (memory.max less what it uses, at each
+/// level) and its limits (RLIMIT_DATA, RLIMIT_AS less what it maps), with
+/// the bound that sets it; nullopt where none can be read.
+struct MemoryRoom {
+  std::uint64_t bytes = 0;
+  std::string bound;
+};
+std::optional<MemoryRoom> memory_room();
+
+/// Whether `needed` bytes fit in memory_room(); when not, says so as
+/// "causticd <command>: <named>: <what> needs about X GB of memory, ..."
+/// (`named`: the flags or keys that set the size), then `advice`, and
+/// returns false.
+bool memory_suffices(const char* command, const std::string& named, const std::string& what, std::uint64_t needed,
+                     const char* advice = "give a smaller size");
 
 /// Runs `body` and turns what it throws into the exit status: a SceneError
 /// is bad input (the message names `scene`), anything else a runtime failure.

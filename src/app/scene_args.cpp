@@ -13,13 +13,16 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <new>
 #include <set>
 #include <string_view>
+#include <tuple>
 
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 namespace caustic::app {
@@ -150,6 +153,74 @@ int run_reporting(const char* command, const std::filesystem::path& scene, const
 std::string failure_text(const std::exception& e) {
   if (dynamic_cast<const std::bad_alloc*>(&e)) return std::string("not enough memory (") + e.what() + ")";
   return e.what();
+}
+
+namespace {
+
+// A number from a /proc or cgroup file: the value after `key` (the whole
+// file's first word where key is empty), times `unit`; nullopt for "max"
+// or anything unreadable.
+std::optional<std::uint64_t> read_number(const std::filesystem::path& file, const std::string& key = "",
+                                         std::uint64_t unit = 1) {
+  std::ifstream in(file);
+  for (std::string word; in >> word;) {
+    if (!key.empty() && word != key) continue;
+    std::string value;
+    if (!key.empty() && !(in >> value)) return std::nullopt;
+    if (key.empty()) value = word;
+    char* end = nullptr;
+    errno = 0;
+    const unsigned long long n = std::strtoull(value.c_str(), &end, 10);
+    if (errno || end == value.c_str() || *end) return std::nullopt;
+    return static_cast<std::uint64_t>(n) * unit;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<MemoryRoom> memory_room() {
+  std::optional<MemoryRoom> room;
+  const auto offer = [&](std::uint64_t bytes, const std::string& bound) {
+    if (!room || bytes < room->bytes) room = MemoryRoom{bytes, bound};
+  };
+  if (const auto available = read_number("/proc/meminfo", "MemAvailable:", 1024))
+    offer(*available, "the machine's available memory, MemAvailable");
+  for (const auto& [resource, key, name] : {std::tuple{RLIMIT_DATA, "VmData:", "its data limit, RLIMIT_DATA"},
+                                           std::tuple{RLIMIT_AS, "VmSize:", "its address space limit, RLIMIT_AS"}}) {
+    rlimit limit{};
+    if (getrlimit(resource, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) continue;
+    const std::uint64_t used = read_number("/proc/self/status", key, 1024).value_or(0);
+    offer(limit.rlim_cur > used ? limit.rlim_cur - used : 0, name);
+  }
+  // cgroup v2 ("0::/path"): each level's memory.max less what it holds,
+  // page cache that can be reclaimed (inactive_file) not counted as held.
+  std::ifstream cgroups("/proc/self/cgroup");
+  for (std::string line; std::getline(cgroups, line);) {
+    if (line.rfind("0::/", 0) != 0) continue;
+    const std::filesystem::path root = "/sys/fs/cgroup";
+    for (auto dir = (root / line.substr(4)).lexically_normal(); dir.string().size() > root.string().size();
+         dir = dir.parent_path()) {
+      const auto max = read_number(dir / "memory.max");
+      const auto current = read_number(dir / "memory.current");
+      if (!max || !current) continue;
+      const std::uint64_t held = *current - std::min(*current, read_number(dir / "memory.stat", "inactive_file").value_or(0));
+      offer(*max > held ? *max - held : 0, "its cgroup's memory.max, " + dir.string());
+    }
+  }
+  return room;
+}
+
+bool memory_suffices(const char* command, const std::string& named, const std::string& what, std::uint64_t needed,
+                     const char* advice) {
+  const auto room = memory_room();
+  if (!room || needed <= room->bytes) return true;
+  char line[200];
+  std::snprintf(line, sizeof line, "needs about %.1f GB of memory, and this process can have about %.1f GB", needed / 1e9,
+                room->bytes / 1e9);
+  std::cerr << "causticd " << command << ": " << named << ": " << what << " " << line << " (" << room->bound
+            << "): " << advice << "\n";
+  return false;
 }
 
 namespace {
