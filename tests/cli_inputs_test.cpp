@@ -358,3 +358,20 @@ TEST_F(CliInputs, APictureTooLargeForTheMemoryIsRefusedNotAborted) {
             std::string::npos)
       << r.output;
 }
+
+// CLI11 reads an integer in C's bases: "064" was 52 pixels, "0100" photons
+// 64 and "0x40" 64, where the scene's keys and the server's take decimal
+// alone. Leading zeros are now only zeros, and any other base is refused.
+TEST_F(CliInputs, AnIntegerFlagIsReadInDecimal) {
+  const CommandResult wide = causticd("render --scene " + scene("slab") + " -o " + (dir_ / "x.png").string() +
+                                      " --width 064 --height 032");
+  EXPECT_EQ(wide.status, 0) << wide.output;
+  EXPECT_NE(wide.output.find("target 64x32"), std::string::npos) << wide.output;
+  const CommandResult traced = causticd("reference --scene " + scene("slab") + " -o " + (dir_ / "r.exr").string() +
+                                        " --set render.width=32 --set render.height=32 --photons 0100 --seed 010");
+  EXPECT_EQ(traced.status, 0) << traced.output;
+  EXPECT_NE(traced.output.find("photons: 100 traced"), std::string::npos) << traced.output;
+  expect_rejected("render --scene " + scene("slab") + " -o " + (dir_ / "x.png").string() + " --width 0x40",
+                  "--width: must be a whole number in decimal digits, got \"0x40\"");
+  expect_rejected("bench --out " + dir_.string() + " --sizes 0x80", "--sizes: must be a whole number in decimal");
+}

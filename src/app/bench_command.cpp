@@ -220,6 +220,7 @@ std::function<int()> add_bench_command(CLI::App& app) {
       ->excludes("--multipass");
   cmd->add_option("--grids", water_opt->grids, "--water: water grids (vertices per side)")
       ->delimiter(',')
+      ->transform(decimal())
       ->check(CLI::Range(16, 512))
       ->needs(water_flag);
   cmd->add_option("--seconds", water_opt->seconds, "--water: seconds of water to time, 30 frames each")
@@ -235,16 +236,19 @@ std::function<int()> add_bench_command(CLI::App& app) {
                   "--water: the caustic at 1/N of the size per side, a row each: 1 full frames, 2 or more the "
                   "stream's previews (no bloom, the surface on every Nth post)")
       ->delimiter(',')
+      ->transform(decimal())
       ->check(CLI::Range(1, 8))
       ->needs(water_flag);
-  cmd->add_option("--photons", opt->photons, "Photons for each reference")->check(CLI::Range(1000, 2'000'000'000));
-  cmd->add_option("--frames", opt->frames, "Timed frames per configuration (median)")->check(CLI::Range(1, 100));
+  cmd->add_option("--photons", opt->photons, "Photons for each reference")->transform(decimal())->check(CLI::Range(1000, 2'000'000'000));
+  cmd->add_option("--frames", opt->frames, "Timed frames per configuration (median)")->transform(decimal())->check(CLI::Range(1, 100));
   cmd->add_option("--source", opt->source, "Vertices per side of the surface the meshes are resampled from")
+      ->transform(decimal())
       ->check(CLI::Range(16, 4096));
   cmd->add_option("--meshes", opt->meshes, "Mesh resolutions (vertices per side)")
-      ->delimiter(',')->check(CLI::Range(8, 2048));
+      ->delimiter(',')->transform(decimal())->check(CLI::Range(8, 2048));
   cmd->add_option("--sizes", opt->sizes, "Render sizes (pixels per side, multiples of 128)")
       ->delimiter(',')
+      ->transform(decimal())
       ->check(CLI::Range(128, 4096) & CLI::Validator([](std::string& v) {
                 // Run even when the range check failed: it must not throw on a value that is no number.
                 int n = 0;

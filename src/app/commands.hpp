@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cmath>
@@ -32,6 +33,24 @@ inline CLI::Validator seed_number() {
         return digits && errno == 0 ? "" : "must be a whole number in [0, 2^64 - 1]";
       },
       "UINT64");
+}
+
+/// An integer flag in decimal digits alone, leading zeros dropped: CLI11
+/// read "064" as octal (52 pixels) and "0x40" as hex, where the scene's keys
+/// and the server's settings take decimal only. A minus is left to the
+/// flag's range to refuse. Used as ->transform(decimal()) before the range.
+inline CLI::Validator decimal() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        if (!text.empty() && text[0] == '+') text.erase(0, 1);
+        const std::size_t sign = !text.empty() && text[0] == '-' ? 1 : 0;
+        if (text.size() == sign || text.find_first_not_of("0123456789", sign) != std::string::npos)
+          return "must be a whole number in decimal digits, got \"" + text + "\"";
+        const std::size_t first = std::min(text.find_first_not_of('0', sign), text.size() - 1);
+        text.erase(sign, first - sign);
+        return "";
+      },
+      "");
 }
 
 /// A file named on the command line: "" is refused, not taken as left out

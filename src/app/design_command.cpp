@@ -339,7 +339,8 @@ std::function<int()> add_design_command(CLI::App& app) {
   cmd->add_option("--size", opt->design.size, "Lens side, mm");
   cmd->add_option("--focus", opt->design.focus, "Screen distance below the face, mm");
   cmd->add_option("--ior", opt->design.ior, "Index of refraction (1.49: PMMA)");
-  cmd->add_option("--resolution", opt->design.resolution, "Cells per side (16..1024; 2048 with --force)");
+  cmd->add_option("--resolution", opt->design.resolution, "Cells per side (16..1024; 2048 with --force)")
+      ->transform(decimal());
   cmd->add_flag("--force", opt->force, "Allow resolutions above 1024");
   cmd->add_option("--black-floor", opt->design.black_floor, "Darkest density, relative to the brightest");
   cmd->add_flag("--accept-unconverged", opt->accept_unconverged,
@@ -348,6 +349,7 @@ std::function<int()> add_design_command(CLI::App& app) {
   cmd->add_option("--solid", opt->solid, "Also write the watertight slab (.obj) for milling")->check(not_empty());
   CLI::Option* verify = cmd->add_flag("--verify", opt->verify, "Also trace the design with the reference photon tracer");
   cmd->add_option("--photons", opt->photons, "Photons for --verify")
+      ->transform(decimal())
       ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1} << 34))
       ->needs(verify);
   cmd->add_option("--side-by-side", opt->side_by_side, "PNG: target | engine render (| reference render with --verify)")->check(not_empty());

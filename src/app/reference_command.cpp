@@ -87,9 +87,11 @@ std::function<int()> add_reference_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("reference", "Render a scene with the independent photon tracer (HDR EXR)");
   cmd->add_option("--scene", opt->scene, "Scene file (JSON)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--output,-o", opt->output, "Output .exr (relative irradiance)")->required();
-  cmd->add_option("--photons", opt->photons, "Photons to trace")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
-  cmd->add_option("--seed", opt->seed, "Random seed (same seed, same image)")->check(seed_number());
-  cmd->add_option("--threads", opt->threads, "Worker threads (0: all cores; at most the cores)")->check(CLI::Range(0, 1024));
+  cmd->add_option("--photons", opt->photons, "Photons to trace")->transform(decimal())->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
+  cmd->add_option("--seed", opt->seed, "Random seed (same seed, same image)")->transform(decimal())->check(seed_number());
+  cmd->add_option("--threads", opt->threads, "Worker threads (0: all cores; at most the cores)")
+      ->transform(decimal())
+      ->check(CLI::Range(0, 1024));
   cmd->add_option("--set", opt->assignments, "Override a scene key, e.g. --set render.fresnel=false");
   return [cmd, opt] { return cmd->parsed() ? run_reference(*opt) : -1; };
 }
