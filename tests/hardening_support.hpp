@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // What the hardening tests share: sessions on a ServerProcess, bearer
-// headers, problem+json checks on raw answers and polling the session count.
+// headers, problem+json checks on raw answers, how a WebSocket was closed
+// and polling the session count.
 #pragma once
 
 #include "raw_http.hpp"
@@ -8,6 +9,7 @@
 
 #include <glib.h>
 
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -50,6 +52,38 @@ inline void expect_problem_then_close(int fd, int status, int timeout_ms = 10000
   ::close(fd);
   expect_problem_answer(answer, status);
   EXPECT_TRUE(closed) << "the server kept the connection open";
+}
+
+/// How a server's WebSocket frames (unmasked, as read after the handshake)
+/// end: the close frame's code (0 when none came) and reason, and the reason
+/// of a `bye` message before it.
+struct WsGoodbye {
+  unsigned code = 0;
+  std::string reason, bye;
+};
+inline WsGoodbye ws_goodbye(const std::string& bytes) {
+  WsGoodbye out;
+  for (std::size_t at = 0; at + 2 <= bytes.size();) {
+    const auto byte = [&](std::size_t i) { return static_cast<std::uint64_t>(static_cast<unsigned char>(bytes[i])); };
+    const unsigned opcode = byte(at) & 0x0f, n = byte(at + 1) & 0x7f;
+    const std::size_t header = n == 126 ? 4 : n == 127 ? 10 : 2;
+    std::uint64_t length = n;
+    if (header > 2) length = 0;
+    for (std::size_t i = 2; i < header && at + i < bytes.size(); ++i) length = (length << 8) | byte(at + i);
+    if (at + header + length > bytes.size()) break;
+    const std::string payload = bytes.substr(at + header, length);
+    if (opcode == 1) {
+      const json message = json::parse(payload, nullptr, false);
+      if (message.is_object() && message.value("type", "") == "bye") out.bye = message.value("reason", "");
+    }
+    if (opcode == 8 && payload.size() >= 2) {
+      out.code = static_cast<unsigned>(byte(at + header) << 8 | byte(at + header + 1));
+      out.reason = payload.substr(2);
+      break;
+    }
+    at += header + length;
+  }
+  return out;
 }
 
 inline int sessions_now(const ServerProcess& server) {

@@ -135,9 +135,22 @@ TEST(Hardening, AFragmentedWebSocketMessageOverTheLimitClosesTheSocket) {
   bool sent_all = ws_send_frame(fd, 1, false, std::string(32768, 'x'));
   for (int i = 0; i < 15 && sent_all; ++i) sent_all = ws_send_frame(fd, 0, i == 14, std::string(32768, 'x'));
   bool closed = false;
-  raw_read_all(fd, 10000, &closed);
+  const std::string said = raw_read_all(fd, 10000, &closed);
   ::close(fd);
   EXPECT_TRUE(closed) << "the server kept reading the message";
+  // Told why, not just cut off: `bye`, then a close of code 1009.
+  const WsGoodbye goodbye = ws_goodbye(said);
+  EXPECT_EQ(goodbye.code, 1009u);
+  EXPECT_EQ(goodbye.reason, "a WebSocket message is larger than 65536 bytes");
+  EXPECT_EQ(goodbye.bye, goodbye.reason);
+  // A ping longer than a control frame may be: a protocol error, said so.
+  const int ping = ws_open(server.port(), signal_path(create_session(server)));
+  ASSERT_GE(ping, 0);
+  ws_send_frame(ping, 9, true, std::string(126, 'x'));
+  const WsGoodbye broken = ws_goodbye(raw_read_all(ping, 10000));
+  ::close(ping);
+  EXPECT_EQ(broken.code, 1002u);
+  EXPECT_EQ(broken.reason, "a WebSocket control frame must be whole and at most 125 bytes");
   EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
 }
 

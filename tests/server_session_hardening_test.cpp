@@ -260,9 +260,12 @@ TEST(Hardening, ASignallingSocketThatNeverStopsSendingIsCutOff) {
   ASSERT_TRUE(read_until_offer(fd));
   for (int i = 0; i < 2000; ++i) ws_send_frame(fd, 1, true, R"({"type": "ping"})");
   bool closed = false;
-  raw_read_all(fd, 20000, &closed);
+  const WsGoodbye goodbye = ws_goodbye(raw_read_all(fd, 20000, &closed));
   ::close(fd);
   EXPECT_TRUE(closed) << "the server took 2000 frames at once";
+  EXPECT_EQ(goodbye.code, 1008u) << "cut off without a close frame saying why";
+  EXPECT_EQ(goodbye.reason, "more WebSocket frames than a signalling socket takes");
+  EXPECT_EQ(goodbye.bye, goodbye.reason);
   EXPECT_TRUE(wait_sessions(server, 0, 20));
   EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
 }

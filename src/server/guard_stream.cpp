@@ -74,7 +74,7 @@ gssize inspect(GuardInput* self, const void* buffer, gssize n, GError** error) {
   }
   WebSocketGuard& guard = **self->frames;
   if (!guard.feed(bytes + from, static_cast<std::size_t>(n) - from)) {
-    g_set_error_literal(error, G_IO_ERROR, G_IO_ERROR_MESSAGE_TOO_LARGE, guard.error().c_str());
+    g_set_error_literal(error, guard_error_quark(), static_cast<gint>(guard.close_code()), guard.error().c_str());
     return -1;
   }
   const auto now = std::chrono::steady_clock::now();
@@ -84,7 +84,7 @@ gssize inspect(GuardInput* self, const void* buffer, gssize n, GError** error) {
   self->frame_tokens -= static_cast<double>(guard.frames() - self->frames_paid);
   self->frames_paid = guard.frames();
   if (self->frame_tokens < 0) {
-    g_set_error_literal(error, G_IO_ERROR, G_IO_ERROR_FAILED, "more WebSocket frames than a signalling socket takes");
+    g_set_error_literal(error, guard_error_quark(), 1008, "more WebSocket frames than a signalling socket takes");
     return -1;
   }
   return n;
@@ -158,6 +158,8 @@ void guard_input_init(GuardInput* self) {
 }
 
 }  // namespace
+
+GQuark guard_error_quark() { return g_quark_from_static_string("causticd-websocket-guard"); }
 
 GIOStream* guarded_stream_new(GSocketConnection* connection, std::size_t websocket_after,
                               std::uint64_t max_message_bytes, std::uint64_t request_bytes) {

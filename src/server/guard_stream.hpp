@@ -13,6 +13,12 @@
 
 namespace caustic::server {
 
+/// The domain of the errors a guarded WebSocket's read fails with: the code
+/// is the WebSocket close code they call for (1009 a message too large, 1002
+/// a broken control frame, 1008 more frames than a signalling socket takes),
+/// the message says why in at most 123 bytes, as a close frame's reason.
+GQuark guard_error_quark();
+
 /// A new stream for the HTTP library over `connection` (a reference is
 /// taken). `websocket_after`: 0 for plain HTTP; otherwise the byte count of
 /// the request head, after which frames are checked. `request_bytes`, for

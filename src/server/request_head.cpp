@@ -276,7 +276,10 @@ bool WebSocketGuard::header_done() {
   const bool fin = header_[0] & 0x80;
   ++frames_;
   if (opcode >= 8) {
-    if (length > 125 || !fin) error_ = "a WebSocket control frame must be whole and at most 125 bytes";
+    if (length > 125 || !fin) {
+      error_ = "a WebSocket control frame must be whole and at most 125 bytes";
+      close_code_ = 1002;  // protocol error (RFC 6455 7.4.1)
+    }
   } else {
     if (length > max_frame_) error_ = "a WebSocket frame is larger than " + std::to_string(max_frame_) + " bytes";
     if (opcode != 0) message_bytes_ = 0;  // a new message starts

@@ -61,6 +61,9 @@ class WebSocketGuard {
   /// Feeds received bytes; false (and error()) once the limits are broken.
   bool feed(const unsigned char* data, std::size_t size);
   const std::string& error() const { return error_; }
+  /// The close code that error() calls for (RFC 6455 7.4.1): 1009, a
+  /// message or frame too large, or 1002, a broken control frame.
+  unsigned close_code() const { return close_code_; }
   /// Frames begun so far, control frames included.
   std::uint64_t frames() const { return frames_; }
 
@@ -74,6 +77,7 @@ class WebSocketGuard {
   std::uint64_t frames_ = 0;
   bool in_payload_ = false;
   std::string error_;
+  unsigned close_code_ = 1009;
 };
 
 }  // namespace caustic::server

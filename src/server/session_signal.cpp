@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The WebRTC side of a one-viewer session: webrtcbin's set-up, the offer,
 // and the signalling WebSocket that carries it to the viewer's browser.
+#include "guard_stream.hpp"
 #include "ice_setup.hpp"
 #include "playout_delay.hpp"
 #include "session.hpp"
@@ -249,6 +250,19 @@ void Session::attach(SoupWebsocketConnection* socket) {
   // a fixed 64 KiB here, a larger max_ws_message_bytes cut the socket off
   // at 64 KiB all the same.
   soup_websocket_connection_set_max_incoming_payload_size(socket_, options_.config->max_ws_message_bytes);
+  // A read the accept path's guard fails (guard_stream.hpp) made the library
+  // drop the connection without a word: the page is told why first, with
+  // `bye` and a close frame of the guard's code and reason. Nothing of the
+  // session is needed for it, so the handler outlives no one.
+  g_signal_connect(socket_, "error", G_CALLBACK(+[](SoupWebsocketConnection* ws, GError* error, gpointer) {
+                     if (error->domain != guard_error_quark() ||
+                         soup_websocket_connection_get_state(ws) != SOUP_WEBSOCKET_STATE_OPEN)
+                       return;
+                     const std::string reason = std::string(error->message).substr(0, 123);
+                     soup_websocket_connection_send_text(ws, nlohmann::json{{"type", "bye"}, {"reason", reason}}.dump().c_str());
+                     soup_websocket_connection_close(ws, static_cast<gushort>(error->code), reason.c_str());
+                   }),
+                   nullptr);
   socket_message_ = g_signal_connect_data(
       socket_, "message",
       G_CALLBACK((+[](SoupWebsocketConnection*, gint type, GBytes* bytes, gpointer data) {
