@@ -212,15 +212,25 @@ TEST(Hardening, TheViewersCandidatesAreBoundedInSizeNumberAndMLine) {
   };
   send_ice(candidate(1, " x " + std::string(600, 'a')), 0);  // too long
   send_ice(candidate(2), 7);                                 // no such m-line
+  // Fields libnice dropped without a word, or wrapped to another port.
+  const std::vector<std::pair<std::string, std::string>> unreadable = {
+      {"candidate:3 1 udp 2122260223 example.com 40003 typ host", "address must be an IP address or an mDNS name"},
+      {"candidate:4 1 udp 2122260223 127.0.0.1 99999 typ host", "port must be in [0, 65535]"},
+      {"candidate:5 1 udp 2122260223 127.0.0.1 40005 typ nearby", "type must be host, srflx, prflx or relay"},
+      {"candidate:6 1 udp 99999999999 127.0.0.1 40006 typ host", "priority must be in [1, 2^32 - 1]"},
+      {"candidate:7 1 udp 2122260223 127.0.0.1 40007 typ srflx raddr nowhere rport 9", "raddr must be an IP address"}};
+  for (const auto& [c, why] : unreadable) send_ice(c, 0);
   for (int i = 0; i < 70; ++i) send_ice(candidate(100 + i), 0);
   std::vector<std::string> errors;
   while ((message = ws_read_text(fd, 3000)))
     if (const json m = json::parse(*message, nullptr, false); m.value("type", "") == "error")
       errors.push_back(m.value("message", ""));
-  ASSERT_EQ(errors.size(), 3u) << ::testing::PrintToString(errors);
+  ASSERT_EQ(errors.size(), 3u + unreadable.size()) << ::testing::PrintToString(errors);
   EXPECT_EQ(errors[0], "ice: a candidate is at most 512 characters");
   EXPECT_EQ(errors[1], "ice: the offer has 2 m-lines");
-  EXPECT_EQ(errors[2], "ice: at most 64 candidates a connection");
+  for (std::size_t i = 0; i < unreadable.size(); ++i)
+    EXPECT_NE(errors[2 + i].find(unreadable[i].second), std::string::npos) << errors[2 + i];
+  EXPECT_EQ(errors.back(), "ice: at most 64 candidates a connection");
   EXPECT_EQ(sessions_now(server), 1);
   ::close(fd);
 }

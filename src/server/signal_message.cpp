@@ -5,6 +5,7 @@
 #include "caustic/json_text.hpp"
 #include "dtls_fingerprint.hpp"
 
+#include <arpa/inet.h>
 #include <gst/sdp/sdp.h>
 
 #include <algorithm>
@@ -125,12 +126,34 @@ bool number_in(const std::string& text, unsigned long long lo, unsigned long lon
 // name-value pairs.
 bool candidate_shape(const std::vector<std::string>& w) { return w.size() >= 8 && w[6] == "typ"; }
 
+// An address libnice reads (an IPv4 or IPv6 literal, the latter with an
+// optional zone), or a browser's mDNS name, which webrtcbin resolves.
+bool candidate_address(const std::string& text) {
+  if (text.size() > 6 && ascii_lower(text.substr(text.size() - 6)) == ".local") return true;
+  unsigned char bytes[16];
+  if (inet_pton(AF_INET, text.c_str(), bytes) == 1) return true;
+  return inet_pton(AF_INET6, text.substr(0, text.find('%')).c_str(), bytes) == 1;
+}
+
 // What is wrong with a candidate of that shape, or "". libnice takes component 0 only as a programming error (a GLib
 // critical), a TCP candidate without its tcptype the same, and drops any
 // other component than RTP's with a warning a line: RTCP shares RTP's
-// component here (rtcp-mux), so only component 1 means anything.
+// component here (rtcp-mux), so only component 1 means anything. It drops
+// a candidate whose address, type or related address it cannot read
+// without a word, and wraps a port past 65535 or a priority past 32 bits
+// to another: each is refused here, saying why.
 std::string candidate_problem(const std::vector<std::string>& w) {
   if (w[1] != "1") return "a candidate's component must be 1 (RTCP is multiplexed with RTP)";
+  if (!number_in(w[3], 1, 4294967295ULL)) return "a candidate's priority must be in [1, 2^32 - 1]";
+  if (!candidate_address(w[4])) return "a candidate's address must be an IP address or an mDNS name (.local)";
+  if (!number_in(w[5], 0, 65535)) return "a candidate's port must be in [0, 65535]";
+  if (const std::string type = ascii_lower(w[7]); type != "host" && type != "srflx" && type != "prflx" && type != "relay")
+    return "a candidate's type must be host, srflx, prflx or relay";
+  for (std::size_t k = 8; k + 1 < w.size(); k += 2) {
+    if (w[k] == "raddr" && !candidate_address(w[k + 1]))
+      return "a candidate's raddr must be an IP address or an mDNS name (.local)";
+    if (w[k] == "rport" && !number_in(w[k + 1], 0, 65535)) return "a candidate's rport must be in [0, 65535]";
+  }
   const std::string transport = ascii_lower(w[2]);
   if (transport == "tcp") {
     for (std::size_t k = 8; k + 1 < w.size(); k += 2)
