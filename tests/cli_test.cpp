@@ -350,8 +350,15 @@ TEST_F(Cli, AFrameLargerThanTheMemoryIsRefusedBeforeItIsRendered) {
   EXPECT_EQ(traced.status, 2) << traced.output;
   EXPECT_NE(traced.output.find("render.width 8192 render.height 8192 on 1 thread: a grey image"), std::string::npos)
       << traced.output;
+  // So is a calibration's largest frame beside its reference.
+  const CommandResult calibrated =
+      causticd_with_env(limited, "calibrate --scene " + scene("prism") + " -o " + (dir_ / "c.json").string() +
+                                     " --max-side 4096 --photons 1000 --frames 1");
+  EXPECT_EQ(calibrated.status, 2) << calibrated.output;
+  EXPECT_NE(calibrated.output.find("--max-side 4096: a colour frame of 4096x"), std::string::npos) << calibrated.output;
   EXPECT_FALSE(fs::exists(png));
   EXPECT_FALSE(fs::exists(exr));
+  EXPECT_FALSE(fs::exists(dir_ / "c.json"));
   // What fits is rendered under the same limit.
   const CommandResult small = causticd_with_env(
       limited, "render --scene " + scene("prism") + " -o " + png.string() + " --width 512 --height 512");

@@ -8,7 +8,9 @@
 #include "caustic/calibrate.hpp"
 #include "caustic/engine.hpp"
 #include "caustic/gl_context.hpp"
+#include "caustic/spectral.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -31,6 +33,20 @@ int run_calibrate(const CalibrateCommandOptions& opt) {
   scene.render.light_grid = levels.written_light_grid;
   const std::filesystem::path output = opt.output.empty() ? calibration_path(opt.scene) : opt.output;
   if (!output_writable("calibrate", output, "--output", scene_inputs(opt.scene, scene))) return bad_input;
+  // The reference is traced first (on every core), then kept beside each
+  // frame: refused before minutes of measuring as render and reference
+  // refuse them (peak RSS at 4096 px a side: 0.75 GB grey, 2.1 in colour).
+  const auto [w, h] = calibration_size(scene, opt.calibrate);
+  const bool tint = tinted(*levels.levels.source), colour = spectral(scene) || tint;
+  const int threads = reference_threads(0);
+  const std::uint64_t kept = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) * (colour ? 24 : 12);
+  if (!memory_suffices("calibrate", "--max-side " + std::to_string(opt.calibrate.max_side),
+                       std::string("a ") + (colour ? "colour" : "grey") + " frame of " + std::to_string(w) + "x" +
+                           std::to_string(h) + " and its reference on " + std::to_string(threads) + " thread" +
+                           (threads == 1 ? "" : "s"),
+                       std::max(frame_bytes(w, h, colour) + kept, reference_bytes(w, h, colour, tint, threads)),
+                       "give a smaller --max-side"))
+    return bad_input;
   // Made all the same (the scene may turn to "auto" later), but it is not what renders now.
   if (scene.render.fidelity == Fidelity::manual)
     std::cerr << "causticd calibrate: warning: render.fidelity is \"manual\": the scene renders as written and "
@@ -43,7 +59,6 @@ int run_calibrate(const CalibrateCommandOptions& opt) {
       std::printf("%s\n", line.c_str());
       std::fflush(stdout);
     };
-    const auto [w, h] = calibration_size(scene, options);
     std::printf("calibrating %s at %dx%d on %s: %zu levels, reference %llu photons\n", opt.scene.string().c_str(), w,
                 h, context.renderer().c_str(), levels.levels.resolutions().size(),
                 static_cast<unsigned long long>(options.photons));

@@ -110,6 +110,16 @@ struct MemoryRoom {
 };
 std::optional<MemoryRoom> memory_room();
 
+/// The peak memory of an engine frame of w x h, grey or in colour (a
+/// spectral scene or a tinted face), with its read-back and its files; and
+/// of the reference tracer's image on `threads` threads (a tinted face's in
+/// three channels). Measured, rounded up (scene_args.cpp).
+std::uint64_t frame_bytes(int w, int h, bool colour);
+std::uint64_t reference_bytes(int w, int h, bool colour, bool tinted, int threads);
+
+/// The threads the reference tracer runs for `asked` (0: all cores).
+int reference_threads(int asked);
+
 /// Whether `needed` bytes fit in memory_room(); when not, says so as
 /// "causticd <command>: <named>: <what> needs about X GB of memory, ..."
 /// (`named`: the flags or keys that set the size), then `advice`, and

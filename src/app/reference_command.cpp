@@ -6,13 +6,11 @@
 #include "caustic/spectral.hpp"
 
 
-#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
-#include <thread>
 
 namespace caustic::app {
 namespace {
@@ -25,25 +23,17 @@ struct ReferenceCommandOptions {
   int threads = 0;
 };
 
-// The tracer's memory: an image of doubles per thread (three channels for a
-// tinted face), then the sums, the image and its EXR; measured as the peak
-// RSS at 4096 and 6000 px a side with 1 and 2 threads, 8 bytes a pixel a
-// channel a thread, beside about 9 grey and 21 in colour (a spectral scene
-// or a tinted face); rounded up, with each thread's stack.
+// Refused before the tracing, which keeps an image per thread.
 bool image_fits(const ReferenceCommandOptions& opt, const Scene& scene, const Mesh& mesh) {
-  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const std::uint64_t threads = opt.threads > 0 ? std::min(opt.threads, cores) : cores;
-  const std::uint64_t channels = tinted(mesh) ? 3 : 1;
+  const int threads = reference_threads(opt.threads);
   const bool colour = spectral(scene) || tinted(mesh);
   const int w = scene.render.width, h = scene.render.height;
-  const auto pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
-  const std::uint64_t needed = 50'000'000 + threads * 8'000'000 + pixels * (8 * channels * threads + (colour ? 24 : 12));
   return memory_suffices("reference",
                          "render.width " + std::to_string(w) + " render.height " + std::to_string(h) + " on " +
                              std::to_string(threads) + " thread" + (threads == 1 ? "" : "s"),
                          std::string("a ") + (colour ? "colour" : "grey") + " image of " + std::to_string(w) + "x" +
                              std::to_string(h),
-                         needed, "give a smaller size or fewer --threads");
+                         reference_bytes(w, h, colour, tinted(mesh), threads), "give a smaller size or fewer --threads");
 }
 
 int run_reference(const ReferenceCommandOptions& opt) {

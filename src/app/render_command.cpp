@@ -31,14 +31,6 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// A frame's memory, measured as the peak RSS of `render` to EXR and PNG at
-// 1024 to 8192 px a side under llvmpipe, where the GL's textures are the
-// process's own (README.md, Using it): about 25 bytes a pixel grey (29 with
-// the local tone map), 89 in colour, beside some 70 MB that the GL context
-// adds to what the process holds when it checks; rounded up. A hardware GL
-// keeps its textures on the card and needs less.
-constexpr std::uint64_t kGreyPixelBytes = 32, kColourPixelBytes = 96, kContextBytes = 100'000'000;
-
 // Refused with the size as the user set it, rather than left to fail an
 // allocation midway or to the OOM killer: 8192 x 8192 in colour takes 6 GB.
 bool frame_fits(const RenderOptions& opt, const Scene& scene, const Mesh& mesh) {
@@ -48,8 +40,7 @@ bool frame_fits(const RenderOptions& opt, const Scene& scene, const Mesh& mesh) 
                             (opt.height ? " --height " : " render.height ") + std::to_string(h);
   const std::string what = std::string("a ") + (colour ? "colour" : "grey") + " frame of " + std::to_string(w) + "x" +
                            std::to_string(h);
-  const auto pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
-  return memory_suffices("render", named, what, kContextBytes + pixels * (colour ? kColourPixelBytes : kGreyPixelBytes));
+  return memory_suffices("render", named, what, frame_bytes(w, h, colour));
 }
 
 int run_render(const RenderOptions& opt) {

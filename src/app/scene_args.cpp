@@ -19,6 +19,7 @@
 #include <new>
 #include <set>
 #include <string_view>
+#include <thread>
 #include <tuple>
 
 #include <fcntl.h>
@@ -209,6 +210,32 @@ std::optional<MemoryRoom> memory_room() {
     }
   }
   return room;
+}
+
+// A frame's memory, measured as the peak RSS of `render` to EXR and PNG at
+// 1024 to 8192 px a side under llvmpipe, where the GL's textures are the
+// process's own: about 25 bytes a pixel grey (29 with the local tone map),
+// 89 in colour, beside some 70 MB that the GL context adds to what the
+// process holds when it checks; rounded up. A hardware GL keeps its
+// textures on the card and needs less.
+std::uint64_t frame_bytes(int w, int h, bool colour) {
+  const auto pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
+  return 100'000'000 + pixels * (colour ? 96 : 32);
+}
+
+// The tracer's memory: an image of doubles per thread, then the sums, the
+// image and its EXR; measured as the peak RSS at 4096 and 6000 px a side
+// with 1 and 2 threads, 8 bytes a pixel a channel a thread, beside about 9
+// grey and 21 in colour; rounded up, with each thread's stack.
+std::uint64_t reference_bytes(int w, int h, bool colour, bool tinted, int threads) {
+  const auto pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
+  const auto n = static_cast<std::uint64_t>(threads);
+  return 50'000'000 + n * 8'000'000 + pixels * (8 * (tinted ? 3 : 1) * n + (colour ? 24 : 12));
+}
+
+int reference_threads(int asked) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return asked > 0 ? std::min(asked, cores) : cores;
 }
 
 bool memory_suffices(const char* command, const std::string& named, const std::string& what, std::uint64_t needed,
