@@ -359,10 +359,10 @@ TEST_F(CliInputs, APictureTooLargeForTheMemoryIsRefusedNotAborted) {
       << r.output;
 }
 
-// CLI11 reads an integer in C's bases: "064" was 52 pixels, "0100" photons
+// CLI11 reads a number in C's bases: "064" was 52 pixels, "0100" photons
 // 64 and "0x40" 64, where the scene's keys and the server's take decimal
 // alone. Leading zeros are now only zeros, and any other base is refused.
-TEST_F(CliInputs, AnIntegerFlagIsReadInDecimal) {
+TEST_F(CliInputs, ANumberFlagIsReadInDecimal) {
   const CommandResult wide = causticd("render --scene " + scene("slab") + " -o " + (dir_ / "x.png").string() +
                                       " --width 064 --height 032");
   EXPECT_EQ(wide.status, 0) << wide.output;
@@ -374,4 +374,11 @@ TEST_F(CliInputs, AnIntegerFlagIsReadInDecimal) {
   expect_rejected("render --scene " + scene("slab") + " -o " + (dir_ / "x.png").string() + " --width 0x40",
                   "--width: must be a whole number in decimal digits, got \"0x40\"");
   expect_rejected("bench --out " + dir_.string() + " --sizes 0x80", "--sizes: must be a whole number in decimal");
+  // C's hex floats too: "0x10" was 16 mm, "0x1p-1" half a second.
+  expect_rejected("bench --water --out " + dir_.string() + " --seconds 0x1p-1", "--seconds: must be a number in decimal");
+  const std::string logo = std::string(CAUSTIC_ASSET_DIR) + "/designs/design-logo.target.png";
+  if (!fs::exists(logo)) GTEST_SKIP() << "built without the designer";
+  expect_rejected("design --target " + logo + " -o " + (dir_ / "face.obj").string() + " --no-check --size 0x10",
+                  "--size: must be a number in decimal notation, got \"0x10\"");
+  EXPECT_FALSE(fs::exists(dir_ / "face.obj"));
 }

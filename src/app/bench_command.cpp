@@ -224,6 +224,7 @@ std::function<int()> add_bench_command(CLI::App& app) {
       ->check(CLI::Range(16, 512))
       ->needs(water_flag);
   cmd->add_option("--seconds", water_opt->seconds, "--water: seconds of water to time, 30 frames each")
+      ->check(decimal_real())
       ->check(finite_range(0.1, 120.0))
       ->needs(water_flag);
   cmd->add_option("--setups", water_opt->setups,

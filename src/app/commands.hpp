@@ -53,6 +53,18 @@ inline CLI::Validator decimal() {
       "");
 }
 
+/// A real-valued flag in decimal notation alone (digits, a point, an
+/// exponent): CLI11 read C's hex floats too, "--size 0x10" as 16 mm.
+inline CLI::Validator decimal_real() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        return !text.empty() && text.find_first_not_of("0123456789.eE+-") == std::string::npos
+                   ? ""
+                   : "must be a number in decimal notation, got \"" + text + "\"";
+      },
+      "");
+}
+
 /// A file named on the command line: "" is refused, not taken as left out
 /// (calibrate -o "" wrote over the calibration beside the scene).
 inline CLI::Validator not_empty() {

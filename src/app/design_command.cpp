@@ -336,16 +336,17 @@ std::function<int()> add_design_command(CLI::App& app) {
   cmd->add_option("--scene-out", opt->scene, "Scene file to write (.json; default: beside the face)")->check(not_empty());
   cmd->add_option("--name", opt->name, "Scene name shown in the gallery (default: \"Designed caustic\")");
   cmd->add_option("--description", opt->description, "Scene description shown in the gallery");
-  cmd->add_option("--size", opt->design.size, "Lens side, mm");
-  cmd->add_option("--focus", opt->design.focus, "Screen distance below the face, mm");
-  cmd->add_option("--ior", opt->design.ior, "Index of refraction (1.49: PMMA)");
+  cmd->add_option("--size", opt->design.size, "Lens side, mm")->check(decimal_real());
+  cmd->add_option("--focus", opt->design.focus, "Screen distance below the face, mm")->check(decimal_real());
+  cmd->add_option("--ior", opt->design.ior, "Index of refraction (1.49: PMMA)")->check(decimal_real());
   cmd->add_option("--resolution", opt->design.resolution, "Cells per side (16..1024; 2048 with --force)")
       ->transform(decimal());
   cmd->add_flag("--force", opt->force, "Allow resolutions above 1024");
-  cmd->add_option("--black-floor", opt->design.black_floor, "Darkest density, relative to the brightest");
+  cmd->add_option("--black-floor", opt->design.black_floor, "Darkest density, relative to the brightest")
+      ->check(decimal_real());
   cmd->add_flag("--accept-unconverged", opt->accept_unconverged,
                 "Write a design whose transport or Snell passes did not converge (exit 1 otherwise)");
-  cmd->add_option("--min-thickness", opt->design.min_thickness, "Thinnest glass, mm");
+  cmd->add_option("--min-thickness", opt->design.min_thickness, "Thinnest glass, mm")->check(decimal_real());
   cmd->add_option("--solid", opt->solid, "Also write the watertight slab (.obj) for milling")->check(not_empty());
   CLI::Option* verify = cmd->add_flag("--verify", opt->verify, "Also trace the design with the reference photon tracer");
   cmd->add_option("--photons", opt->photons, "Photons for --verify")
