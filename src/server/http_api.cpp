@@ -249,6 +249,14 @@ void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path)
       if (error) g_error_free(error);
       return closing(), reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST, "not a valid WebSocket handshake: " + why);
     }
+    // Only a connection the accept path let go of as a WebSocket has its
+    // frames followed (message size, frame rate): a handshake that came with
+    // a body, or with "/signal" escaped in its path, would have become a
+    // socket without those limits.
+    if (s.listener && !s.listener->guards_websocket(msg))
+      return closing(), reply_problem(msg, s.metrics, SOUP_STATUS_BAD_REQUEST,
+                                      "a WebSocket handshake is a GET without a body, its path ending in /signal as "
+                                      "written, without escapes");
     // A socket that replaces the viewer's rebuilds the whole stream (a
     // pipeline, its encoder and renderer): a loop of them would spend the
     // machine on rebuilds. Every handshake counts, the first too (sockets

@@ -25,6 +25,7 @@ struct Listener::Connection {
   std::string group;  // address_group(address): what max_connections_per_address counts
   guint16 port = 0;  // the client's, which with the address names the connection
   bool handed = false;
+  bool websocket = false;  // handed over as a WebSocket (RequestHead::websocket)
   std::uint64_t upload = 0;  // the length of its body when larger than max_body_bytes: a picture
   std::size_t peeked = 0;
   GSource* io = nullptr;
@@ -306,6 +307,7 @@ void Listener::hand_over(std::uint64_t id, const RequestHead& head) {
   clear_timer(c.timer);
   clear_timer(c.recheck);
   c.handed = true;
+  c.websocket = head.websocket;
   GSocket* socket = c.socket;
   if (!head.websocket) g_socket_set_timeout(socket, static_cast<guint>(limits_.connection_idle_timeout_s));
   // The library writes an answer's head and body apart; without this the
@@ -359,16 +361,25 @@ void Listener::drop(std::uint64_t id) {
   connections_.erase(it);
 }
 
-bool Listener::client_connected(SoupServerMessage* msg) const {
+const Listener::Connection* Listener::connection_of(SoupServerMessage* msg) const {
   GSocketAddress* remote = soup_server_message_get_remote_address(msg);
-  if (!remote || !G_IS_INET_SOCKET_ADDRESS(remote)) return false;
+  if (!remote || !G_IS_INET_SOCKET_ADDRESS(remote)) return nullptr;
   const Peer peer = peer_of(remote);
-  for (const auto& [id, c] : connections_) {
-    if (c->port != peer.port || c->address != peer.address || !c->socket) continue;
-    pollfd hangup{g_socket_get_fd(c->socket), POLLRDHUP, 0};
-    return !(::poll(&hangup, 1, 0) == 1 && (hangup.revents & (POLLRDHUP | POLLHUP | POLLERR)));
-  }
-  return false;  // its record is gone with its socket
+  for (const auto& [id, c] : connections_)
+    if (c->port == peer.port && c->address == peer.address && c->socket) return c.get();
+  return nullptr;  // its record is gone with its socket
+}
+
+bool Listener::client_connected(SoupServerMessage* msg) const {
+  const Connection* c = connection_of(msg);
+  if (!c) return false;
+  pollfd hangup{g_socket_get_fd(c->socket), POLLRDHUP, 0};
+  return !(::poll(&hangup, 1, 0) == 1 && (hangup.revents & (POLLRDHUP | POLLHUP | POLLERR)));
+}
+
+bool Listener::guards_websocket(SoupServerMessage* msg) const {
+  const Connection* c = connection_of(msg);
+  return c && c->websocket;
 }
 
 void Listener::socket_gone(gpointer data, GObject*) {

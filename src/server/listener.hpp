@@ -61,9 +61,16 @@ class Listener {
   /// it was told to pause, so an answer that waits on another server asks
   /// here before acting for a client that may have left.
   bool client_connected(SoupServerMessage* msg) const;
+  /// Whether `msg`'s connection was handed over as a WebSocket, its frames
+  /// followed by the guard (guard_stream.hpp) and free of the HTTP
+  /// timeouts: the head check's word (RequestHead::websocket), which only
+  /// such a connection may be upgraded on.
+  bool guards_websocket(SoupServerMessage* msg) const;
 
  private:
   struct Connection;
+  // The record of `msg`'s connection while its socket is open, or null.
+  const Connection* connection_of(SoupServerMessage* msg) const;
   void arm_accept();
   void accept_some();
   void admit(GSocket* socket);
