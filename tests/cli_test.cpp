@@ -379,3 +379,18 @@ TEST_F(Cli, ACommandShortOfMemoryExitsWithAMessageNotAnAbort) {
     if (r.status == 1) EXPECT_NE(r.output.find("causticd render: "), std::string::npos) << r.output;
   }
 }
+
+// A write that fails (a full disk, here a file size limit, which once ended
+// the process by SIGXFSZ) leaves no truncated file and no file of the set.
+TEST_F(Cli, AWriteThatFailsLeavesNoFileBehind) {
+  const std::string limited = "prlimit --fsize=200000";
+  for (const std::string& args : {"render --scene " + scene("wavy") + " -o " + (dir_ / "w.png").string() + " -o " +
+                                      (dir_ / "w.exr").string() + " --width 1024 --height 1024",
+                                  "reference --scene " + scene("wavy") + " -o " + (dir_ / "r.exr").string() +
+                                      " --set render.width=1024 --set render.height=1024 --photons 1000000"}) {
+    const CommandResult r = causticd_with_env(limited, args);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_NE(r.output.find("cannot write " + dir_.string() + "/"), std::string::npos) << r.output;
+    EXPECT_TRUE(fs::is_empty(dir_)) << r.output;
+  }
+}

@@ -63,13 +63,13 @@ int run_calibrate(const CalibrateCommandOptions& opt) {
                 h, context.renderer().c_str(), levels.levels.resolutions().size(),
                 static_cast<unsigned long long>(options.photons));
     const Calibration c = calibrate(scene, levels.levels, engine, context.renderer(), options);
-    const std::filesystem::path partial = output.string() + ".partial";
-    {
-      std::ofstream out(partial);
+    // Readers never see half a file, and a failed write leaves none.
+    write_complete({output}, [&](const std::filesystem::path&, const std::filesystem::path& to) {
+      std::ofstream out(to);
       out << calibration_to_json(c).dump(2) << "\n";
-      if (!out) throw std::runtime_error("cannot write " + partial.string());
-    }
-    std::filesystem::rename(partial, output);  // readers never see half a file
+      out.close();
+      if (!out) throw std::runtime_error("cannot write " + output.string());
+    });
     const FidelityChoice choice = choose_fidelity(c, scene.render.accuracy_target, levels.levels, light_grid_bound(scene));
     const std::string grid = choice.config.light_grid > 0
                                  ? ", light grid " + std::to_string(choice.config.light_grid) + "^2"

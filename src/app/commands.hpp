@@ -104,6 +104,15 @@ bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
 bool output_writable(const char* command, const std::filesystem::path& out, const char* flag = "--output",
                      const std::vector<std::filesystem::path>& inputs = {});
 
+/// Writes each of `outputs` through `write(final_name, temporary)` under a
+/// temporary name beside it (hidden, keeping the extension the writer picks
+/// its format by) and renames them over the final names once every one is
+/// complete; when one fails, the temporaries are removed and the error goes
+/// on: a full disk or a file size limit leaves no truncated file, nor one
+/// file of a set.
+void write_complete(const std::vector<std::filesystem::path>& outputs,
+                    const std::function<void(const std::filesystem::path&, const std::filesystem::path&)>& write);
+
 /// The files a scene was read from: the scene file, its mesh and the
 /// receivers' meshes it names.
 std::vector<std::filesystem::path> scene_inputs(const std::filesystem::path& file, const Scene& scene);

@@ -4,9 +4,13 @@
 
 #include "caustic/gl_context.hpp"
 
+#include <csignal>
 #include <iostream>
 
 int main(int argc, char** argv) {
+  // A file size limit (RLIMIT_FSIZE) reached makes the write fail (EFBIG),
+  // said as such, rather than end the process with a truncated file.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"causticd: server-side caustic renderer"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("causticd ") + CAUSTICD_VERSION);

@@ -59,10 +59,12 @@ int run_reference(const ReferenceCommandOptions& opt) {
   return run_reporting("reference", opt.scene, [&] {
     const ReferenceResult r = trace_reference(scene, mesh, options);
     std::fprintf(stderr, "\n");
-    if (!r.rgb.pixels.empty())
-      write_exr(r.rgb, opt.output);
-    else
-      write_exr(r.image, opt.output);
+    write_complete({opt.output}, [&](const std::filesystem::path&, const std::filesystem::path& to) {
+      if (!r.rgb.pixels.empty())
+        write_exr(r.rgb, to);
+      else
+        write_exr(r.image, to);
+    });
     std::printf("photons: %llu traced, %llu on the screen, in %.2f s: %.2f M photons/s\n",
                 static_cast<unsigned long long>(r.photons), static_cast<unsigned long long>(r.photons_on_screen),
                 r.seconds, r.photons / r.seconds / 1e6);

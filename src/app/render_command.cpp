@@ -104,13 +104,13 @@ int run_render(const RenderOptions& opt) {
     std::printf("render time: %.2f ms caustic + %.2f ms post (median of %d frame%s)\n", median(ray_ms),
                 median(post_ms), opt.frames, opt.frames == 1 ? "" : "s");
     if (st.wavelengths > 1) std::printf("spectral: %d wavelengths, one caustic pass each\n", st.wavelengths);
-    for (const auto& out : opt.outputs) {
+    write_complete(opt.outputs, [&](const std::filesystem::path& out, const std::filesystem::path& to) {
       // A colour frame (dispersive or tinted) keeps R, G, B channels; a grey one, Y.
-      if (out.extension() == ".exr" && st.colour) write_exr(engine.read_hdr_rgb(), out);
-      else if (out.extension() == ".exr") write_exr(engine.read_hdr(), out);
-      else write_png(engine.read_ldr(), out);
-      std::printf("wrote %s\n", out.string().c_str());
-    }
+      if (out.extension() == ".exr" && st.colour) write_exr(engine.read_hdr_rgb(), to);
+      else if (out.extension() == ".exr") write_exr(engine.read_hdr(), to);
+      else write_png(engine.read_ldr(), to);
+    });
+    for (const auto& out : opt.outputs) std::printf("wrote %s\n", out.string().c_str());
   });
 }
 

@@ -18,6 +18,7 @@
 #include <map>
 #include <new>
 #include <set>
+#include <stdexcept>
 #include <string_view>
 #include <thread>
 #include <tuple>
@@ -127,6 +128,46 @@ bool output_writable(const char* command, const std::filesystem::path& out, cons
   ::close(fd);
   if (!existed) std::filesystem::remove(out, ec);
   return true;
+}
+
+void write_complete(const std::vector<std::filesystem::path>& outputs,
+                    const std::function<void(const std::filesystem::path&, const std::filesystem::path&)>& write) {
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> written;  // temporary, final
+  try {
+    for (const auto& out : outputs) {
+      // Made here (O_EXCL, so never another file) with the umask's mode
+      // that the final file would have had.
+      for (int attempt = 0;; ++attempt) {
+        const auto temporary = out.parent_path() / ("." + out.stem().string() + "." + std::to_string(::getpid()) + "-" +
+                                                    std::to_string(attempt) + out.extension().string());
+        const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd >= 0) {
+          ::close(fd);
+          written.emplace_back(temporary, out);
+          break;
+        }
+        if (errno != EEXIST || attempt == 100)
+          throw std::runtime_error("cannot write beside " + out.string() + ": " + std::strerror(errno));
+      }
+      try {
+        write(out, written.back().first);
+      } catch (const std::bad_alloc&) {
+        throw;
+      } catch (const std::exception& e) {
+        // Said of the file the user named, not of the temporary one.
+        std::string what = e.what();
+        const std::string temporary = written.back().first.string(), named = out.string();
+        for (auto at = what.find(temporary); at != std::string::npos; at = what.find(temporary, at + named.size()))
+          what.replace(at, temporary.size(), named);
+        throw std::runtime_error(what);
+      }
+    }
+    for (const auto& [temporary, out] : written) std::filesystem::rename(temporary, out);
+  } catch (...) {
+    std::error_code ignored;
+    for (const auto& [temporary, out] : written) std::filesystem::remove(temporary, ignored);
+    throw;
+  }
 }
 
 std::vector<std::filesystem::path> scene_inputs(const std::filesystem::path& file, const Scene& scene) {
