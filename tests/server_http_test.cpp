@@ -88,6 +88,23 @@ TEST(HttpTargets, AnAuthorityTheLibraryCannotTakeIsAProblem) {
   }
 }
 
+// An HTTP/1.0 request may leave Host out; the library then kept its whole
+// target, "?" and query, as the path: /api/v1/health?x=1 was no endpoint
+// (404), a static file asked with a query no file, and a session's token
+// in the query went unread. Path and query are told apart as for any other.
+TEST_F(Rest, AnHttp10RequestWithoutHostKeepsItsQueryApart) {
+  const nlohmann::json s = create();
+  const auto without_host = [&](const std::string& target) {
+    return raw_request(server_.port(), "GET " + target + " HTTP/1.0\r\n\r\n");
+  };
+  for (const char* target : {"/api/v1/health?x=1", "/api/v1/scenes/lens?x", "/?v=2", "/index.html?v=2"})
+    EXPECT_EQ(raw_status(without_host(target)), 200) << target;
+  const std::string signal = without_host(s["signal_url"].get<std::string>());
+  EXPECT_EQ(raw_status(signal), 400) << signal;
+  EXPECT_NE(raw_body(signal).find("this is a WebSocket endpoint"), std::string::npos) << signal;
+  EXPECT_EQ(raw_status(without_host(s["signal_url"].get<std::string>() + "x")), 401);
+}
+
 namespace {
 
 // A PATCH of a session's parameters written byte for byte.

@@ -85,7 +85,7 @@ void upload(ServerState& s, SoupServerMessage* msg) {
   std::string name = kDefaultName;
   bool colour = false;
   std::string bad_colour;
-  if (const char* query = g_uri_get_query(soup_server_message_get_uri(msg))) {
+  if (const char* query = request_query(msg)) {
     // Each key once and with a value: a form decoder keeps the last of a
     // repeated key and drops one without "=", both silently.
     std::vector<std::string> seen;

@@ -44,7 +44,7 @@ std::string method_of(SoupServerMessage* msg) { return soup_server_message_get_m
 // Browsers cannot set headers on a WebSocket: its token travels in the query.
 std::string query_token(SoupServerMessage* msg) {
   std::string token;
-  if (const char* query = g_uri_get_query(soup_server_message_get_uri(msg))) {
+  if (const char* query = request_query(msg)) {
     GHashTable* form = soup_form_decode(query);
     if (const char* t = static_cast<const char*>(g_hash_table_lookup(form, "token"))) token = t;
     g_hash_table_unref(form);

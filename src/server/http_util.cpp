@@ -5,6 +5,9 @@
 
 #include "caustic/json_text.hpp"
 
+#include <algorithm>
+#include <cstring>
+
 namespace caustic::server {
 
 void reply_bytes(SoupServerMessage* msg, guint status, const std::string& content_type, const void* data,
@@ -33,9 +36,18 @@ void reply_problem(SoupServerMessage* msg, Metrics& metrics, guint status, const
   reply_bytes(msg, status, "application/problem+json", text.data(), text.size());
 }
 
+const char* request_query(SoupServerMessage* msg) {
+  GUri* uri = soup_server_message_get_uri(msg);
+  if (const char* query = g_uri_get_query(uri)) return query;
+  const char* path = g_uri_get_path(uri);
+  const char* mark = path ? std::strchr(path, '?') : nullptr;
+  return mark ? mark + 1 : nullptr;
+}
+
 std::string request_path(SoupServerMessage* msg) {
   const char* raw = g_uri_get_path(soup_server_message_get_uri(msg));
-  const std::string path = raw ? raw : "";
+  std::string path = raw ? raw : "";
+  path.erase(std::min(path.find('?'), path.size()));  // a "?" in a path is the query's (request_query())
   std::string out;
   for (std::size_t i = 0; i < path.size(); ++i) {
     const int hi = path[i] == '%' && i + 2 < path.size() ? g_ascii_xdigit_value(path[i + 1]) : -1;

@@ -24,6 +24,11 @@ void reply_bytes(SoupServerMessage* msg, guint status, const std::string& conten
 /// where "%2F" is a separator and a file's "%25" is decoded twice.
 std::string request_path(SoupServerMessage* msg);
 
+/// The request's query as sent (still encoded), or null when it has none.
+/// Of an HTTP/1.0 request without Host the library keeps the whole target,
+/// "?" and query, as the URI's path: request_path() and this split it.
+const char* request_query(SoupServerMessage* msg);
+
 /// Whether the request's `header` (If-Match, If-None-Match) lists `etag`
 /// or "*". `weak`: a W/ tag matches its strong twin (If-None-Match's weak
 /// comparison, RFC 9110 8.8.3.2); otherwise a W/ tag matches nothing.
