@@ -102,6 +102,12 @@ TEST_F(CliInputs, AnEmptyNameIsRefusedNotTakenAsLeftOut) {
   EXPECT_FALSE(fs::exists(dir_ / "slab.calibration.json"));
   // An instance name left empty was no instance at all.
   expect_rejected("serve --instance '' --scenes-dir " + (dir_ / "absent").string(), "--instance: must not be empty");
+  // Nor a folder or an address: --scenes-dir '' served the built-in gallery (bounded: it listened until stopped).
+  for (const char* flag : {"--scenes-dir", "--web-dir", "--stun-server", "--ice-address"}) {
+    const CommandResult r = causticd_with_env("timeout 30", std::string("serve --bind 127.0.0.1 --port 0 ") + flag + " ''");
+    EXPECT_EQ(r.status, 2) << flag << ": " << r.output;
+    EXPECT_NE(r.output.find(std::string(flag) + ": must not be empty"), std::string::npos) << r.output;
+  }
   const fs::path logo = fs::path(CAUSTIC_ASSET_DIR) / "designs" / "design-logo.target.png";
   if (!fs::exists(logo)) GTEST_SKIP() << "built without the designer";
   for (const char* flag : {"--scene-out", "--solid", "--report", "--side-by-side"})

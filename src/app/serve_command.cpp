@@ -181,7 +181,14 @@ std::function<int()> add_serve_command(CLI::App& app) {
   for (const auto& [flag, key] : flags) {
     const std::string k = key;
     cmd->add_option_function<std::string>(
-        flag, [opt, k, f = std::string(flag)](const std::string& value) { opt->overrides.emplace_back(k, value, f); },
+        flag,
+        [opt, k, f = std::string(flag)](const std::string& value) {
+          // "" is refused, not taken as left out: --scenes-dir '' (an unset
+          // variable) served the built-in gallery. --set key= keeps the key's
+          // own meaning of an empty value.
+          if (value.empty()) throw CLI::ValidationError(f, "must not be empty (leave the flag out for the default)");
+          opt->overrides.emplace_back(k, value, f);
+        },
         "Overrides the config key " + k);
   }
   cmd->add_option_function<std::vector<std::string>>(
@@ -197,7 +204,8 @@ std::function<int()> add_serve_command(CLI::App& app) {
         }
       },
       "Sets any config key: --set key=value (repeatable; docs/configuration.md)");
-  cmd->add_option("--ice-address", opt->ice_addresses, "Local address ICE may use (repeatable; default: all)");
+  cmd->add_option("--ice-address", opt->ice_addresses, "Local address ICE may use (repeatable; default: all)")
+      ->check(not_empty());
   cmd->add_option("--instance", opt->instance, "Instance name of causticd@.service: <port> or <port>-gpu<N>")
       ->check(not_empty());
   return [cmd, opt] { return cmd->parsed() ? run_serve(*opt) : -1; };
