@@ -135,15 +135,20 @@ void write_complete(const std::vector<std::filesystem::path>& outputs,
   std::vector<std::pair<std::filesystem::path, std::filesystem::path>> written;  // temporary, final
   try {
     for (const auto& out : outputs) {
+      // A link is written through, as a plain write would: the file it
+      // names is the one replaced, and the link stays.
+      std::error_code ec;
+      auto place = std::filesystem::is_symlink(out, ec) ? std::filesystem::weakly_canonical(out, ec) : out;
+      if (ec) place = out;
       // Made here (O_EXCL, so never another file) with the umask's mode
       // that the final file would have had.
       for (int attempt = 0;; ++attempt) {
-        const auto temporary = out.parent_path() / ("." + out.stem().string() + "." + std::to_string(::getpid()) + "-" +
-                                                    std::to_string(attempt) + out.extension().string());
+        const auto temporary = place.parent_path() / ("." + place.stem().string() + "." + std::to_string(::getpid()) +
+                                                      "-" + std::to_string(attempt) + out.extension().string());
         const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (fd >= 0) {
           ::close(fd);
-          written.emplace_back(temporary, out);
+          written.emplace_back(temporary, place);
           break;
         }
         if (errno != EEXIST || attempt == 100)

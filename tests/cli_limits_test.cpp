@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// The commands at the machine's limits and the file system's edges: a size
+// the memory cannot hold is refused before the work, memory that runs out
+// all the same is said, a write that fails leaves no file, and a link named
+// as an output is written through.
+#include "causticd_runner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace fs = std::filesystem;
+using namespace caustic::testing;
+
+namespace {
+
+class CliLimits : public CliTest {};
+
+}  // namespace
+
+// A frame larger than the memory the process can have is refused before it
+// is rendered, naming the size as it was set and what it needs, where an
+// allocation failed midway (exit 1) or the OOM killer ended the command. A
+// data limit stands in for a small machine: 8192 x 8192 in colour needs 6 GB.
+TEST_F(CliLimits, AFrameLargerThanTheMemoryIsRefusedBeforeItIsRendered) {
+  const std::string limited = "prlimit --data=" + std::to_string(1024 << 20);
+  const fs::path png = dir_ / "big.png", exr = dir_ / "big.exr";
+  const CommandResult colour = causticd_with_env(
+      limited, "render --scene " + scene("prism") + " -o " + png.string() + " --width 8192 --height 8192");
+  EXPECT_EQ(colour.status, 2) << colour.output;
+  EXPECT_NE(colour.output.find("--width 8192 --height 8192: a colour frame of 8192x8192 needs about 6."),
+            std::string::npos)
+      << colour.output;
+  EXPECT_NE(colour.output.find("(its data limit, RLIMIT_DATA)"), std::string::npos) << colour.output;
+  const CommandResult grey = causticd_with_env(limited, "render --scene " + scene("slab") + " -o " + png.string() +
+                                                            " --set render.width=8192 --set render.height=8192");
+  EXPECT_EQ(grey.status, 2) << grey.output;
+  EXPECT_NE(grey.output.find("render.width 8192 render.height 8192: a grey frame of 8192x8192 needs about 2."),
+            std::string::npos)
+      << grey.output;
+  // The tracer's image is a thread's each.
+  const CommandResult traced = causticd_with_env(limited, "reference --scene " + scene("slab") + " -o " + exr.string() +
+                                                              " --set render.width=8192 --set render.height=8192 "
+                                                              "--threads 1 --photons 1000");
+  EXPECT_EQ(traced.status, 2) << traced.output;
+  EXPECT_NE(traced.output.find("render.width 8192 render.height 8192 on 1 thread: a grey image"), std::string::npos)
+      << traced.output;
+  // So is a calibration's largest frame beside its reference.
+  const CommandResult calibrated =
+      causticd_with_env(limited, "calibrate --scene " + scene("prism") + " -o " + (dir_ / "c.json").string() +
+                                     " --max-side 4096 --photons 1000 --frames 1");
+  EXPECT_EQ(calibrated.status, 2) << calibrated.output;
+  EXPECT_NE(calibrated.output.find("--max-side 4096: a colour frame of 4096x"), std::string::npos) << calibrated.output;
+  EXPECT_FALSE(fs::exists(png));
+  EXPECT_FALSE(fs::exists(exr));
+  EXPECT_FALSE(fs::exists(dir_ / "c.json"));
+  // What fits is rendered under the same limit.
+  const CommandResult small = causticd_with_env(
+      limited, "render --scene " + scene("prism") + " -o " + png.string() + " --width 512 --height 512");
+  EXPECT_EQ(small.status, 0) << small.output;
+}
+
+// Memory, threads or a library's device refused while the scene's levels
+// are built threw past the command (terminate: SIGABRT and a core). Under a
+// ladder of data limits the command exits, whatever it could do. Limits
+// below these fail in the libraries' own start-up, before main.
+TEST_F(CliLimits, ACommandShortOfMemoryExitsWithAMessageNotAnAbort) {
+  for (int mib = 128; mib <= 320; mib += 32) {
+    const CommandResult r = causticd_with_env("prlimit --data=" + std::to_string(mib << 20),
+                                              "render --scene " + scene("lens") + " -o " + (dir_ / "x.png").string() +
+                                                  " --width 16 --height 16");
+    EXPECT_TRUE(r.status == 0 || r.status == 1 || r.status == 2) << mib << " MiB: " << r.status << "\n" << r.output;
+    EXPECT_EQ(r.output.find("terminate called"), std::string::npos) << mib << " MiB: " << r.output;
+    if (r.status == 1) EXPECT_NE(r.output.find("causticd render: "), std::string::npos) << r.output;
+  }
+}
+
+// A write that fails (a full disk, here a file size limit, which once ended
+// the process by SIGXFSZ) leaves no truncated file and no file of the set.
+TEST_F(CliLimits, AWriteThatFailsLeavesNoFileBehind) {
+  const std::string limited = "prlimit --fsize=200000";
+  for (const std::string& args : {"render --scene " + scene("wavy") + " -o " + (dir_ / "w.png").string() + " -o " +
+                                      (dir_ / "w.exr").string() + " --width 1024 --height 1024",
+                                  "reference --scene " + scene("wavy") + " -o " + (dir_ / "r.exr").string() +
+                                      " --set render.width=1024 --set render.height=1024 --photons 1000000"}) {
+    const CommandResult r = causticd_with_env(limited, args);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_NE(r.output.find("cannot write " + dir_.string() + "/"), std::string::npos) << r.output;
+    EXPECT_TRUE(fs::is_empty(dir_)) << r.output;
+  }
+}
+
+// An output that is a link: the file it names gets the picture and the
+// link stays (the picture written beside it and renamed over it would
+// otherwise have replaced the link with a file of its own).
+TEST_F(CliLimits, AnOutputThatIsALinkIsWrittenThrough) {
+  fs::create_directories(dir_ / "real");
+  std::ofstream(dir_ / "real" / "r.png") << "old";
+  fs::create_symlink("real/r.png", dir_ / "l.png");
+  const CommandResult r = causticd("render --scene " + scene("slab") + " -o " + (dir_ / "l.png").string() +
+                                   " --width 32 --height 32");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::is_symlink(dir_ / "l.png"));
+  EXPECT_GT(fs::file_size(dir_ / "real" / "r.png"), 100u) << r.output;
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_ / "real"), fs::directory_iterator()), 1) << "no temporary left";
+}
