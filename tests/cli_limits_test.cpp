@@ -11,6 +11,8 @@
 #include <fstream>
 #include <string>
 
+#include <unistd.h>
+
 namespace fs = std::filesystem;
 using namespace caustic::testing;
 
@@ -33,7 +35,11 @@ TEST_F(CliLimits, AFrameLargerThanTheMemoryIsRefusedBeforeItIsRendered) {
   EXPECT_NE(colour.output.find("--width 8192 --height 8192: a colour frame of 8192x8192 needs about 6."),
             std::string::npos)
       << colour.output;
-  EXPECT_NE(colour.output.find("(its data limit, RLIMIT_DATA)"), std::string::npos) << colour.output;
+  // The data limit, unless the machine or its cgroup has even less to give.
+  EXPECT_TRUE(colour.output.find("(its data limit, RLIMIT_DATA)") != std::string::npos ||
+              colour.output.find("MemAvailable") != std::string::npos ||
+              colour.output.find("its cgroup's") != std::string::npos)
+      << colour.output;
   const CommandResult grey = causticd_with_env(limited, "render --scene " + scene("slab") + " -o " + png.string() +
                                                             " --set render.width=8192 --set render.height=8192");
   EXPECT_EQ(grey.status, 2) << grey.output;
@@ -105,4 +111,36 @@ TEST_F(CliLimits, AnOutputThatIsALinkIsWrittenThrough) {
   EXPECT_TRUE(fs::is_symlink(dir_ / "l.png"));
   EXPECT_GT(fs::file_size(dir_ / "real" / "r.png"), 100u) << r.output;
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_ / "real"), fs::directory_iterator()), 1) << "no temporary left";
+}
+
+// The memory a cgroup allows is a bound too (v1's memory.limit_in_bytes or
+// v2's memory.max, at any level): a child cgroup of this one, limited to
+// 1 GiB, holds the command. Where cgroups cannot be made (no root, a
+// read-only cgroupfs) there is nothing to try.
+TEST_F(CliLimits, AFrameLargerThanTheCgroupAllowsIsRefused) {
+  std::ifstream self("/proc/self/cgroup");
+  fs::path dir, limit;
+  for (std::string line; std::getline(self, line);) {
+    const auto path = line.substr(line.find(':', line.find(':') + 1) + 1);
+    if (line.rfind("0::", 0) == 0 && fs::exists("/sys/fs/cgroup/cgroup.controllers"))
+      dir = fs::path("/sys/fs/cgroup" + path), limit = "memory.max";
+    else if (line.find(":memory:") != std::string::npos)
+      dir = fs::path("/sys/fs/cgroup/memory" + path), limit = "memory.limit_in_bytes";
+    if (!dir.empty() && line.find(":memory:") != std::string::npos) break;
+  }
+  const fs::path child = dir / ("causticd_test_" + std::to_string(::getpid()));
+  std::error_code ec;
+  if (dir.empty() || !fs::create_directory(child, ec)) GTEST_SKIP() << "no cgroup can be made under " << dir;
+  const bool limited = static_cast<bool>(std::ofstream(child / limit) << (1 << 30));
+  CommandResult r{-1, ""};
+  if (limited)
+    r = causticd_with_env("sh -c 'echo $$ > " + (child / "cgroup.procs").string() + " && exec \"$0\" \"$@\"'",
+                          "render --scene " + scene("prism") + " -o " + (dir_ / "x.png").string() +
+                              " --width 8192 --height 8192");
+  fs::remove(child, ec);  // empty again once the command has ended
+  if (!limited) GTEST_SKIP() << "no memory limit can be set in " << child;
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("this process can have about 1.0 GB (its cgroup's " + limit.string()), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
 }

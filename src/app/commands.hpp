@@ -122,8 +122,8 @@ std::vector<std::filesystem::path> scene_inputs(const std::filesystem::path& fil
 std::string failure_text(const std::exception& e);
 
 /// The bytes this process can still have, the least of what the machine
-/// offers (MemAvailable), its cgroup (memory.max less what it uses, at each
-/// level) and its limits (RLIMIT_DATA, RLIMIT_AS less what it maps), with
+/// offers (MemAvailable), its cgroup (memory.max, or v1's
+/// memory.limit_in_bytes, less what it uses, at each level) and its limits (RLIMIT_DATA, RLIMIT_AS less what it maps), with
 /// the bound that sets it; nullopt where none can be read.
 struct MemoryRoom {
   std::uint64_t bytes = 0;

@@ -240,19 +240,32 @@ std::optional<MemoryRoom> memory_room() {
     const std::uint64_t used = read_number("/proc/self/status", key, 1024).value_or(0);
     offer(limit.rlim_cur > used ? limit.rlim_cur - used : 0, name);
   }
-  // cgroup v2 ("0::/path"): each level's memory.max less what it holds,
-  // page cache that can be reclaimed (inactive_file) not counted as held.
+  // Each level of its cgroup up to the root, v2 ("0::/path": memory.max)
+  // or v1 ("N:memory:/path": memory.limit_in_bytes): the limit less what
+  // the level holds, page cache it can reclaim (inactive_file) not counted.
+  struct Files {
+    const char *root, *limit, *usage, *reclaimable;
+  };
+  static const Files v2{"/sys/fs/cgroup", "memory.max", "memory.current", "inactive_file"},
+      v1{"/sys/fs/cgroup/memory", "memory.limit_in_bytes", "memory.usage_in_bytes", "total_inactive_file"};
   std::ifstream cgroups("/proc/self/cgroup");
   for (std::string line; std::getline(cgroups, line);) {
-    if (line.rfind("0::/", 0) != 0) continue;
-    const std::filesystem::path root = "/sys/fs/cgroup";
-    for (auto dir = (root / line.substr(4)).lexically_normal(); dir.string().size() > root.string().size();
-         dir = dir.parent_path()) {
-      const auto max = read_number(dir / "memory.max");
-      const auto current = read_number(dir / "memory.current");
-      if (!max || !current) continue;
-      const std::uint64_t held = *current - std::min(*current, read_number(dir / "memory.stat", "inactive_file").value_or(0));
-      offer(*max > held ? *max - held : 0, "its cgroup's memory.max, " + dir.string());
+    const auto first = line.find(':'), second = line.find(':', first + 1);
+    if (first == std::string::npos || second == std::string::npos) continue;
+    const std::string controllers = "," + line.substr(first + 1, second - first - 1) + ",";
+    const Files* files = line.rfind("0::", 0) == 0 ? &v2 : controllers.find(",memory,") != std::string::npos ? &v1 : nullptr;
+    if (!files) continue;
+    const std::filesystem::path root = files->root;
+    std::string path = line.substr(second + 1);
+    path.erase(0, path.find_first_not_of('/'));  // under the root, not in place of it
+    for (auto dir = (root / path).lexically_normal();; dir = dir.parent_path()) {
+      const auto limit = read_number(dir / files->limit), usage = read_number(dir / files->usage);
+      // "max" (v2) or a page short of 2^63 (v1): no limit.
+      if (limit && usage && *limit < (std::uint64_t{1} << 62)) {
+        const auto held = *usage - std::min(*usage, read_number(dir / "memory.stat", files->reclaimable).value_or(0));
+        offer(*limit > held ? *limit - held : 0, std::string("its cgroup's ") + files->limit + ", " + dir.string());
+      }
+      if (dir.string().size() <= root.string().size()) break;
     }
   }
   return room;
