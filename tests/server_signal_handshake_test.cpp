@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
-// Which requests may become a signalling socket: only those the accept path
-// let go of as WebSockets, whose frames its guard follows. Black-box over
-// loopback.
+// Which requests may become a signalling socket (only those the accept path
+// let go of as WebSockets, whose frames its guard follows), and how a socket
+// that breaks the protocol is closed. Black-box over loopback.
 #include "hardening_support.hpp"
 #include "ws_client.hpp"
 
@@ -31,4 +31,34 @@ TEST(Hardening, OnlyAConnectionTheGuardFollowsBecomesASignallingSocket) {
   const int fd = ws_open(server.port(), path);
   EXPECT_GE(fd, 0) << "a plain handshake after the refused ones";
   if (fd >= 0) ::close(fd);
+}
+
+// A frame that breaks RFC 6455 (a reserved bit set) or a text that is not
+// UTF-8 made the library close the socket with a bare 1002 or 1007 and no
+// `bye`: the page could not tell why. Each is said, in `bye` and in the close
+// frame's reason, and the session ends with its socket.
+TEST(Hardening, ASocketThatBreaksTheProtocolIsToldWhy) {
+  ServerProcess server;
+  struct Case {
+    std::string frame;
+    unsigned code;
+    std::string reason;
+  };
+  std::string reserved = ws_frame_bytes(1, true, R"({"type": "ping"})", reinterpret_cast<const unsigned char*>("abcd"));
+  reserved[0] = static_cast<char>(reserved[0] | 0x40);  // RSV1, with no extension that defines it
+  const Case cases[] = {
+      {reserved, 1002, "a frame that breaks the WebSocket protocol (RFC 6455)"},
+      {ws_frame_bytes(1, true, "\xff\xfe", reinterpret_cast<const unsigned char*>("abcd")), 1007,
+       "a text message that is not UTF-8"}};
+  for (const Case& c : cases) {
+    const int fd = ws_open(server.port(), signal_path(create_session(server)));
+    ASSERT_GE(fd, 0);
+    raw_send(fd, c.frame);
+    const WsGoodbye goodbye = ws_goodbye(raw_read_all(fd, 10000));
+    ::close(fd);
+    EXPECT_EQ(goodbye.code, c.code);
+    EXPECT_EQ(goodbye.reason.rfind(c.reason, 0), 0u) << goodbye.reason;
+    EXPECT_EQ(goodbye.bye, goodbye.reason);
+    EXPECT_TRUE(wait_sessions(server, 0, 20));
+  }
 }

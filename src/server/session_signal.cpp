@@ -21,6 +21,28 @@ namespace {
 
 using Ref = std::weak_ptr<Session>;
 
+// A socket the library or the accept path's guard (guard_stream.hpp) gives
+// up on: the library closed it with a bare code (a frame that breaks RFC
+// 6455, a text that is not UTF-8), or with none at all (the guard's limits).
+// The page is told why first, with `bye` and a close frame of that code and
+// a reason; the library then closes no second time. Nothing of the session
+// is needed for it, so the handler outlives no one.
+void close_saying_why(SoupWebsocketConnection* ws, GError* error, gpointer) {
+  if (soup_websocket_connection_get_state(ws) != SOUP_WEBSOCKET_STATE_OPEN) return;
+  std::string reason;
+  if (error->domain == guard_error_quark())
+    reason = error->message;
+  else if (error->domain == SOUP_WEBSOCKET_ERROR && error->code == SOUP_WEBSOCKET_CLOSE_PROTOCOL_ERROR)
+    reason = "a frame that breaks the WebSocket protocol (RFC 6455): unmasked, reserved bits or opcode, a broken close";
+  else if (error->domain == SOUP_WEBSOCKET_ERROR && error->code == SOUP_WEBSOCKET_CLOSE_BAD_DATA)
+    reason = "a text message that is not UTF-8";
+  else
+    return;  // a failed write or read: nobody to tell
+  reason.resize(std::min<std::size_t>(reason.size(), 123));  // a close frame's payload is at most 125 bytes
+  soup_websocket_connection_send_text(ws, nlohmann::json{{"type", "bye"}, {"reason", reason}}.dump().c_str());
+  soup_websocket_connection_close(ws, static_cast<gushort>(error->code), reason.c_str());
+}
+
 }  // namespace
 
 void Session::setup_webrtc() {
@@ -250,19 +272,7 @@ void Session::attach(SoupWebsocketConnection* socket) {
   // a fixed 64 KiB here, a larger max_ws_message_bytes cut the socket off
   // at 64 KiB all the same.
   soup_websocket_connection_set_max_incoming_payload_size(socket_, options_.config->max_ws_message_bytes);
-  // A read the accept path's guard fails (guard_stream.hpp) made the library
-  // drop the connection without a word: the page is told why first, with
-  // `bye` and a close frame of the guard's code and reason. Nothing of the
-  // session is needed for it, so the handler outlives no one.
-  g_signal_connect(socket_, "error", G_CALLBACK(+[](SoupWebsocketConnection* ws, GError* error, gpointer) {
-                     if (error->domain != guard_error_quark() ||
-                         soup_websocket_connection_get_state(ws) != SOUP_WEBSOCKET_STATE_OPEN)
-                       return;
-                     const std::string reason = std::string(error->message).substr(0, 123);
-                     soup_websocket_connection_send_text(ws, nlohmann::json{{"type", "bye"}, {"reason", reason}}.dump().c_str());
-                     soup_websocket_connection_close(ws, static_cast<gushort>(error->code), reason.c_str());
-                   }),
-                   nullptr);
+  g_signal_connect(socket_, "error", G_CALLBACK(close_saying_why), nullptr);
   socket_message_ = g_signal_connect_data(
       socket_, "message",
       G_CALLBACK((+[](SoupWebsocketConnection*, gint type, GBytes* bytes, gpointer data) {
