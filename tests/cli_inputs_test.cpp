@@ -104,7 +104,8 @@ TEST_F(CliInputs, AnEmptyNameIsRefusedNotTakenAsLeftOut) {
   expect_rejected("serve --instance '' --scenes-dir " + (dir_ / "absent").string(), "--instance: must not be empty");
   // Nor a folder or an address: --scenes-dir '' served the built-in gallery (bounded: it listened until stopped).
   for (const char* flag : {"--scenes-dir", "--web-dir", "--stun-server", "--ice-address"}) {
-    const CommandResult r = causticd_with_env("timeout 30", std::string("serve --bind 127.0.0.1 --port 0 ") + flag + " ''");
+    const CommandResult r =
+        causticd_with_env("timeout 30", std::string("serve --bind 127.0.0.1 --port 0 ") + flag + " ''");
     EXPECT_EQ(r.status, 2) << flag << ": " << r.output;
     EXPECT_NE(r.output.find(std::string(flag) + ": must not be empty"), std::string::npos) << r.output;
   }
@@ -381,7 +382,8 @@ TEST_F(CliInputs, ANumberFlagIsReadInDecimal) {
                   "--width: must be a whole number in decimal digits, got \"0x40\"");
   expect_rejected("bench --out " + dir_.string() + " --sizes 0x80", "--sizes: must be a whole number in decimal");
   // C's hex floats too: "0x10" was 16 mm, "0x1p-1" half a second.
-  expect_rejected("bench --water --out " + dir_.string() + " --seconds 0x1p-1", "--seconds: must be a number in decimal");
+  expect_rejected("bench --water --out " + dir_.string() + " --seconds 0x1p-1",
+                  "--seconds: must be a number in decimal");
   const std::string logo = std::string(CAUSTIC_ASSET_DIR) + "/designs/design-logo.target.png";
   if (!fs::exists(logo)) GTEST_SKIP() << "built without the designer";
   expect_rejected("design --target " + logo + " -o " + (dir_ / "face.obj").string() + " --no-check --size 0x10",

@@ -240,8 +240,12 @@ std::function<int()> add_bench_command(CLI::App& app) {
       ->transform(decimal())
       ->check(CLI::Range(1, 8))
       ->needs(water_flag);
-  cmd->add_option("--photons", opt->photons, "Photons for each reference")->transform(decimal())->check(CLI::Range(1000, 2'000'000'000));
-  cmd->add_option("--frames", opt->frames, "Timed frames per configuration (median)")->transform(decimal())->check(CLI::Range(1, 100));
+  cmd->add_option("--photons", opt->photons, "Photons for each reference")
+      ->transform(decimal())
+      ->check(CLI::Range(1000, 2'000'000'000));
+  cmd->add_option("--frames", opt->frames, "Timed frames per configuration (median)")
+      ->transform(decimal())
+      ->check(CLI::Range(1, 100));
   cmd->add_option("--source", opt->source, "Vertices per side of the surface the meshes are resampled from")
       ->transform(decimal())
       ->check(CLI::Range(16, 4096));

@@ -95,9 +95,15 @@ std::function<int()> add_calibrate_command(CLI::App& app) {
   cmd->add_option("--photons", opt->calibrate.photons, "Photons for the reference")
       ->transform(decimal())
       ->check(CLI::Range(std::uint64_t{1000}, std::uint64_t{1} << 36));
-  cmd->add_option("--seed", opt->calibrate.seed, "Random seed of the reference")->transform(decimal())->check(seed_number());
-  cmd->add_option("--max-side", opt->calibrate.max_side, "Render size of the longer side")->transform(decimal())->check(CLI::Range(64, 4096));
-  cmd->add_option("--frames", opt->calibrate.frames, "Timed frames per configuration")->transform(decimal())->check(CLI::Range(1, 50));
+  cmd->add_option("--seed", opt->calibrate.seed, "Random seed of the reference")
+      ->transform(decimal())
+      ->check(seed_number());
+  cmd->add_option("--max-side", opt->calibrate.max_side, "Render size of the longer side")
+      ->transform(decimal())
+      ->check(CLI::Range(64, 4096));
+  cmd->add_option("--frames", opt->calibrate.frames, "Timed frames per configuration")
+      ->transform(decimal())
+      ->check(CLI::Range(1, 50));
   return [cmd, opt] { return cmd->parsed() ? run_calibrate(*opt) : -1; };
 }
 

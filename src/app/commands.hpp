@@ -123,8 +123,9 @@ std::string failure_text(const std::exception& e);
 
 /// The bytes this process can still have, the least of what the machine
 /// offers (MemAvailable), its cgroup (memory.max, or v1's
-/// memory.limit_in_bytes, less what it uses, at each level) and its limits (RLIMIT_DATA, RLIMIT_AS less what it maps), with
-/// the bound that sets it; nullopt where none can be read.
+/// memory.limit_in_bytes, less what it uses, at each level) and its limits
+/// (RLIMIT_DATA, RLIMIT_AS less what it maps), with the bound that sets it;
+/// nullopt where none can be read.
 struct MemoryRoom {
   std::uint64_t bytes = 0;
   std::string bound;

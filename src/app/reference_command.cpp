@@ -33,7 +33,8 @@ bool image_fits(const ReferenceCommandOptions& opt, const Scene& scene, const Me
                              std::to_string(threads) + " thread" + (threads == 1 ? "" : "s"),
                          std::string("a ") + (colour ? "colour" : "grey") + " image of " + std::to_string(w) + "x" +
                              std::to_string(h),
-                         reference_bytes(w, h, colour, tinted(mesh), threads), "give a smaller size or fewer --threads");
+                         reference_bytes(w, h, colour, tinted(mesh), threads),
+                         "give a smaller size or fewer --threads");
 }
 
 int run_reference(const ReferenceCommandOptions& opt) {
@@ -79,8 +80,12 @@ std::function<int()> add_reference_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("reference", "Render a scene with the independent photon tracer (HDR EXR)");
   cmd->add_option("--scene", opt->scene, "Scene file (JSON)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--output,-o", opt->output, "Output .exr (relative irradiance)")->required();
-  cmd->add_option("--photons", opt->photons, "Photons to trace")->transform(decimal())->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
-  cmd->add_option("--seed", opt->seed, "Random seed (same seed, same image)")->transform(decimal())->check(seed_number());
+  cmd->add_option("--photons", opt->photons, "Photons to trace")
+      ->transform(decimal())
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
+  cmd->add_option("--seed", opt->seed, "Random seed (same seed, same image)")
+      ->transform(decimal())
+      ->check(seed_number());
   cmd->add_option("--threads", opt->threads, "Worker threads (0: all cores; at most the cores)")
       ->transform(decimal())
       ->check(CLI::Range(0, 1024));

@@ -123,8 +123,12 @@ std::function<int()> add_render_command(CLI::App& app) {
   cmd->add_option("--output,-o", opt->outputs, "Output file(s): .exr (HDR, before post) or .png (tone-mapped)")
       ->required();
   cmd->add_option("--set", opt->assignments, "Override a scene key, e.g. --set light.direction=[0,0.2,-1]");
-  cmd->add_option("--width", opt->width, "Render width in pixels")->transform(decimal())->check(CLI::Range(16, 8192));
-  cmd->add_option("--height", opt->height, "Render height in pixels")->transform(decimal())->check(CLI::Range(16, 8192));
+  cmd->add_option("--width", opt->width, "Render width in pixels")
+      ->transform(decimal())
+      ->check(CLI::Range(16, 8192));
+  cmd->add_option("--height", opt->height, "Render height in pixels")
+      ->transform(decimal())
+      ->check(CLI::Range(16, 8192));
   cmd->add_option("--frames", opt->frames, "Render this many frames and print the median time")
       ->transform(decimal())
       ->check(CLI::Range(1, 1000));

@@ -253,7 +253,9 @@ std::optional<MemoryRoom> memory_room() {
     const auto first = line.find(':'), second = line.find(':', first + 1);
     if (first == std::string::npos || second == std::string::npos) continue;
     const std::string controllers = "," + line.substr(first + 1, second - first - 1) + ",";
-    const Files* files = line.rfind("0::", 0) == 0 ? &v2 : controllers.find(",memory,") != std::string::npos ? &v1 : nullptr;
+    const Files* files = line.rfind("0::", 0) == 0                           ? &v2
+                         : controllers.find(",memory,") != std::string::npos ? &v1
+                                                                              : nullptr;
     if (!files) continue;
     const std::filesystem::path root = files->root;
     std::string path = line.substr(second + 1);
@@ -302,8 +304,8 @@ bool memory_suffices(const char* command, const std::string& named, const std::s
   const auto room = memory_room();
   if (!room || needed <= room->bytes) return true;
   char line[200];
-  std::snprintf(line, sizeof line, "needs about %.1f GB of memory, and this process can have about %.1f GB", needed / 1e9,
-                room->bytes / 1e9);
+  std::snprintf(line, sizeof line, "needs about %.1f GB of memory, and this process can have about %.1f GB",
+                needed / 1e9, room->bytes / 1e9);
   std::cerr << "causticd " << command << ": " << named << ": " << what << " " << line << " (" << room->bound
             << "): " << advice << "\n";
   return false;
