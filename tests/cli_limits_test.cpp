@@ -144,3 +144,23 @@ TEST_F(CliLimits, AFrameLargerThanTheCgroupAllowsIsRefused) {
       << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
 }
+
+// A file the user may write in a folder that takes no new file: written
+// beside its name and renamed, it failed after the frame was rendered; it
+// is refused before. Root writes anywhere, so it runs as nobody there.
+TEST_F(CliLimits, AnOutputWhoseFolderTakesNoNewFileIsRefusedBeforeTheWork) {
+  const fs::path folder = dir_ / "read-only", png = folder / "x.png";
+  fs::create_directories(folder);
+  std::ofstream(png) << "old";
+  fs::permissions(png, fs::perms::all & ~(fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec));
+  fs::permissions(folder, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
+                              fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec);
+  const CommandResult r = causticd_with_env(::geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups" : "",
+                                            "render --scene " + scene("slab") + " -o " + png.string() +
+                                                " --width 32 --height 32");
+  fs::permissions(folder, fs::perms::owner_all);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--output " + png.string() + ": its folder takes no new file"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("renderer:"), std::string::npos) << "refused before a context: " << r.output;
+}

@@ -127,6 +127,17 @@ bool output_writable(const char* command, const std::filesystem::path& out, cons
   if (fd < 0) return refuse(std::string("cannot be written (") + std::strerror(errno) + ")");
   ::close(fd);
   if (!existed) std::filesystem::remove(out, ec);
+  // A file is written beside its name and renamed over it (write_complete):
+  // the folder (of the file a link names) must take a new one too, though
+  // the file there may be written in place.
+  const auto place = std::filesystem::is_symlink(out, ec) ? std::filesystem::weakly_canonical(out, ec) : out;
+  std::string probe = (std::filesystem::absolute(place, ec).parent_path() / ".causticd-XXXXXX").string();
+  const int made = ::mkstemp(probe.data());
+  if (made < 0)
+    return refuse("its folder takes no new file (" + std::string(std::strerror(errno)) +
+                  "), and the file is written beside its name, then renamed over it");
+  ::close(made);
+  ::unlink(probe.c_str());
   return true;
 }
 
