@@ -155,9 +155,9 @@ TEST_F(CliLimits, AnOutputWhoseFolderTakesNoNewFileIsRefusedBeforeTheWork) {
   fs::permissions(png, fs::perms::all & ~(fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec));
   fs::permissions(folder, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
                               fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec);
-  const CommandResult r = causticd_with_env(::geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups" : "",
-                                            "render --scene " + scene("slab") + " -o " + png.string() +
-                                                " --width 32 --height 32");
+  const std::string as_nobody = ::geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups" : "";
+  const CommandResult r = causticd_with_env(
+      as_nobody, "render --scene " + scene("slab") + " -o " + png.string() + " --width 32 --height 32");
   fs::permissions(folder, fs::perms::owner_all);
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("--output " + png.string() + ": its folder takes no new file"), std::string::npos)
