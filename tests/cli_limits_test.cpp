@@ -164,3 +164,15 @@ TEST_F(CliLimits, AnOutputWhoseFolderTakesNoNewFileIsRefusedBeforeTheWork) {
       << r.output;
   EXPECT_EQ(r.output.find("renderer:"), std::string::npos) << "refused before a context: " << r.output;
 }
+
+// The tracer runs at most a thread a core (each keeps an image): more
+// asked is said, naming the flag, rather than quietly taken down.
+TEST_F(CliLimits, MoreThreadsThanCoresAreSaid) {
+  const CommandResult r = causticd("reference --scene " + scene("slab") + " -o " + (dir_ / "r.exr").string() +
+                                   " --set render.width=32 --set render.height=32 --photons 1000 --threads 1024");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: --threads 1024: this machine has "), std::string::npos) << r.output;
+  const CommandResult one = causticd("reference --scene " + scene("slab") + " -o " + (dir_ / "r.exr").string() +
+                                     " --set render.width=32 --set render.height=32 --photons 1000 --threads 1");
+  EXPECT_EQ(one.output.find("warning"), std::string::npos) << one.output;
+}

@@ -47,6 +47,11 @@ int run_reference(const ReferenceCommandOptions& opt) {
   }
   if (!output_writable("reference", opt.output, "--output", scene_inputs(opt.scene, scene))) return bad_input;
   if (!image_fits(opt, scene, mesh)) return bad_input;
+  // More threads than cores buy no speed for their images' memory: the
+  // tracer takes the cores, and the flag that asked more is said.
+  if (const int threads = reference_threads(opt.threads); opt.threads > threads)
+    std::cerr << "causticd reference: warning: --threads " << opt.threads << ": this machine has " << threads
+              << (threads == 1 ? " core; 1 thread traces\n" : " cores; as many threads trace\n");
   ReferenceOptions options;
   options.photons = opt.photons;
   options.seed = opt.seed;
