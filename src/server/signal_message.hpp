@@ -19,6 +19,10 @@ inline constexpr std::size_t kMaxSignalMessageBytes = 64 * 1024;
 /// The longest ICE candidate taken, and how many a connection may send.
 inline constexpr std::size_t kMaxCandidateBytes = 512;
 inline constexpr int kMaxCandidates = 64;
+/// An answer's attributes in one m-line, and the parameters of one of its
+/// fmtp lines: a browser's have a few dozen and a few.
+inline constexpr unsigned kMaxAnswerAttributes = 256;
+inline constexpr long kMaxFmtpParameters = 64;
 /// Messages a socket may send that the server cannot use: each is answered
 /// with an error, and the answers queue for a peer that need not read them.
 inline constexpr int kMaxRefusals = 64;
