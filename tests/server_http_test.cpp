@@ -105,6 +105,16 @@ TEST_F(Rest, AnHttp10RequestWithoutHostKeepsItsQueryApart) {
   EXPECT_EQ(raw_status(without_host(s["signal_url"].get<std::string>() + "x")), 401);
 }
 
+// An instance's own prefix without its trailing slash names nothing here
+// (404); it was answered 421, as a path of another instance.
+TEST(HttpTargets, AnInstancesOwnPrefixAloneIsNoOtherInstances) {
+  ServerProcess server({"--set", "instance_index=2"});
+  EXPECT_EQ(raw_status(raw_request(server.port(), "GET", "/i/2")), 404);
+  EXPECT_EQ(raw_status(raw_request(server.port(), "GET", "/i/2/api/v1/health")), 200);
+  for (const char* other : {"/i/3", "/i/20", "/i/2x", "/i/02/api/v1/health"})
+    EXPECT_EQ(raw_status(raw_request(server.port(), "GET", other)), 421) << other;
+}
+
 namespace {
 
 // A PATCH of a session's parameters written byte for byte.

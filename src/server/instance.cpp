@@ -14,7 +14,9 @@ std::string url_prefix(const ServerConfig& config) {
 PathOwner strip_instance_prefix(const ServerConfig& config, std::string& path) {
   if (path.rfind("/i/", 0) != 0) return PathOwner::this_instance;
   const std::string own = url_prefix(config);
-  if (!own.empty() && path.rfind(own + "/", 0) == 0) {
+  // "/i/<n>" alone is this instance's too: it names nothing here (404), not
+  // another instance (421).
+  if (!own.empty() && (path == own || path.rfind(own + "/", 0) == 0)) {
     path.erase(0, own.size());
     return PathOwner::this_instance;
   }
