@@ -129,7 +129,7 @@ TEST_F(DesignCli, RejectsBadTargetsAndFlags) {
   {
     std::ofstream(dir_ / "bad-empty.png");
   }
-  expect_rejected("--target " + (dir_ / "bad-empty.png").string(), "bad-empty.png");
+  expect_rejected("--target " + (dir_ / "bad-empty.png").string(), "bad-empty.png: is empty");
   {
     caustic::Rgba8Image black{16, 16, std::vector<std::uint8_t>(16 * 16 * 4, 0)};
     caustic::write_png(black, dir_ / "bad-black.png");
@@ -231,4 +231,15 @@ TEST_F(DesignCli, ADesignThatDidNotConvergeFailsUnlessAcceptedAndSaysWhy) {
   ASSERT_TRUE(fs::exists(report));
   const auto written = nlohmann::json::parse(std::ifstream(report));
   EXPECT_FALSE(written["converged"].get<bool>() && written["snell_settled"].get<bool>()) << written.dump();
+}
+
+// A kernel file says it holds nothing and then waits on a read for what may
+// never come: /proc/kmsg held the command (and the image library probing
+// it with every format's reader) until killed. Refused by its size, unread.
+TEST_F(DesignCli, AKernelFileThatWaitsOnAReadIsRefusedUnread) {
+  if (!fs::exists("/proc/kmsg")) GTEST_SKIP() << "no /proc/kmsg here";
+  const CommandResult run =
+      causticd_with_env("timeout 60", "design --target /proc/kmsg -o " + (dir_ / "face.obj").string());
+  EXPECT_EQ(run.status, 2) << run.output;
+  EXPECT_NE(run.output.find("--target /proc/kmsg: is empty"), std::string::npos) << run.output;
 }

@@ -245,8 +245,8 @@ TEST_F(ObjFiles, TheTextIsHeldOnce) {
 TEST_F(ObjFiles, MissingFileIsAnError) {
   EXPECT_THROW(load_obj(dir_ / "absent.obj"), SceneError);
   // A folder or a device is said to be one, not "cannot read" as if missing.
-  expect_error_at(dir_, "is a folder, pipe, socket or device, not a file");
-  expect_error_at("/dev/zero", "mesh file zero is a folder, pipe, socket or device");
+  expect_error_at(dir_, "is a folder, pipe, socket, device or kernel file, not a file");
+  expect_error_at("/dev/zero", "mesh file zero is a folder, pipe, socket, device");
 }
 
 TEST(Placement, FitSizeCentresAndScalesTheFootprint) {

@@ -280,8 +280,8 @@ TEST(LoadScene, RefusesWhatTheJsonRulesRefuse) {
   }
   EXPECT_NE(refused(dir / "big.json").find("larger than 16 MiB"), std::string::npos);
   // Devices are not opened: /dev/zero was read to the limit, a terminal waited for its user.
-  EXPECT_NE(refused("/dev/zero").find("or device, not a file"), std::string::npos) << refused("/dev/zero");
-  EXPECT_NE(refused(dir).find("is a folder, pipe, socket or device"), std::string::npos) << refused(dir);
+  EXPECT_NE(refused("/dev/zero").find("device or kernel file, not a file"), std::string::npos) << refused("/dev/zero");
+  EXPECT_NE(refused(dir).find("is a folder, pipe, socket, device"), std::string::npos) << refused(dir);
   std::ofstream(dir / "nulmesh.json") << R"({"mesh": "a.obj\u0000junk"})";
   EXPECT_NE(refused(dir / "nulmesh.json").find("mesh: must not hold control characters"), std::string::npos)
       << refused(dir / "nulmesh.json");

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -53,6 +54,12 @@ TEST(CheckConfig, AcceptsTheShippedFileAndNamesTheKeyOfABrokenOne) {
   }
   EXPECT_EQ(run("/nonexistent.conf", &output), 2);
   EXPECT_NE(output.find("/nonexistent.conf"), std::string::npos) << output;
+  // A kernel file that says it is regular and then waits on a read held
+  // check-config until killed; it is refused unread. Only root may open it.
+  if (fs::exists("/proc/kmsg") && geteuid() == 0) {
+    EXPECT_EQ(run("/proc/kmsg", &output), 2) << output;
+    EXPECT_NE(output.find("/proc/kmsg is a pipe, socket, device or kernel file"), std::string::npos) << output;
+  }
   // A key written twice: the first is not silently dropped.
   std::ofstream(dir / "twice.conf") << "port = 9000\nport = 9001\n";
   EXPECT_EQ(run((dir / "twice.conf").string(), &output), 0) << output;

@@ -6,6 +6,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -13,6 +14,9 @@
 #include <iterator>
 #include <memory>
 #include <string>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 namespace caustic::design {
 namespace {
@@ -111,6 +115,15 @@ void upright_pixel(int orientation, int w, int h, int sx, int sy, int& x, int& y
   }
 }
 
+// Opened once by hand, so that a file the process may not read is said so
+// (the image library tries every format's reader and reports that none
+// could read it).
+void check_opens(const std::filesystem::path& file, const std::string& name) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) throw TargetError(name + ": cannot open the picture (" + std::strerror(errno) + ")");
+  ::close(fd);
+}
+
 // The picture's reader, open; `first` is the spec it gave when opened
 // before: a file changed between the two readings is refused.
 std::unique_ptr<OIIO::ImageInput> open_picture(const std::string& name, const OIIO::ImageSpec* first = nullptr) {
@@ -165,8 +178,13 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   // probed by every format's reader, without end.
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) throw TargetError(name + ": is not a regular file");
-  if (std::filesystem::file_size(file, ec) > kMaxTargetFileBytes || ec)
+  const std::uintmax_t bytes = std::filesystem::file_size(file, ec);
+  if (bytes > kMaxTargetFileBytes || ec)
     throw TargetError(name + ": is larger than " + std::to_string(kMaxTargetFileBytes >> 20) + " MiB");
+  // A kernel file (/proc/kmsg) says it holds nothing and then waits for
+  // what it may never hold; an empty picture file has nothing to read.
+  if (bytes == 0) throw TargetError(name + ": is empty");
+  check_opens(file, name);
   check_gif_screen(file, name);
   check_jpeg_scans(file, name);
   std::unique_ptr<OIIO::ImageInput> in = open_picture(name);

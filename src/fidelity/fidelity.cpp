@@ -141,7 +141,7 @@ std::optional<Calibration> load_calibration(const std::filesystem::path& file, c
   // Taken without being named (beside its scene): one that is there but no
   // file is an error, not "no calibration" (a pipe once held render up).
   if (read.not_a_file)
-    throw SceneError("", file.filename().string() + " is a folder, pipe, socket or device, not a calibration file");
+    throw SceneError("", file.filename().string() + " is a folder, pipe, socket, device or kernel file, not a calibration file");
   if (!read.opened) return std::nullopt;
   if (read.too_large)
     throw SceneError("", file.filename().string() + " is larger than " + std::to_string(kMaxCalibrationFileBytes >> 10) +

@@ -2,7 +2,9 @@
 #include "caustic/json_text.hpp"
 
 #include <fcntl.h>
+#include <linux/magic.h>
 #include <sys/stat.h>
+#include <sys/vfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -241,6 +243,21 @@ std::string printable_name(std::string_view name, std::size_t max_bytes) {
   return out;
 }
 
+namespace {
+
+// A file of the kernel's (/proc, /sys) says it is regular, yet a read may
+// wait for what never comes (/proc/kmsg) or take what another reader was
+// owed (the kernel's log, once read, is gone): never a scene, a mesh or a
+// configuration, so it is not read at all.
+bool kernel_file(int fd) {
+  struct statfs fs {};
+  if (::fstatfs(fd, &fs) != 0) return false;
+  return fs.f_type == PROC_SUPER_MAGIC || fs.f_type == SYSFS_MAGIC || fs.f_type == DEBUGFS_MAGIC ||
+         fs.f_type == TRACEFS_MAGIC;
+}
+
+}  // namespace
+
 FileText read_file_text(const std::filesystem::path& file, std::size_t limit) {
   FileText out;
   // A folder reads as nothing, opening a pipe or a socket waits for a
@@ -256,7 +273,7 @@ FileText read_file_text(const std::filesystem::path& file, std::size_t limit) {
     return out;
   }
   struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || kernel_file(fd)) {
     out.not_a_file = true;
     ::close(fd);
     return out;

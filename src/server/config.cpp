@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdlib>
-#include <fstream>
 #include <regex>
 #include <sstream>
 
@@ -272,19 +271,15 @@ void load_config_file(ServerConfig& config, const std::filesystem::path& file, C
   // or a runaway file must not take the memory.
   constexpr std::size_t kMaxBytes = 1 << 20;
   std::error_code error;
-  const auto type = std::filesystem::status(file, error).type();
-  if (type == std::filesystem::file_type::directory) throw ConfigError("config file " + file.string() + " is a folder");
-  // Opening a pipe or socket waits for a writer that may never come, a
-  // device (a terminal) for input that may never come.
-  if (!error && type != std::filesystem::file_type::regular)
-    throw ConfigError("config file " + file.string() + " is a pipe, socket or device, not a file");
-  std::ifstream file_in(file, std::ios::binary);
-  if (!file_in) throw ConfigError("cannot read config file " + file.string());
-  std::string text;
-  char chunk[4096];
-  while (text.size() <= kMaxBytes && file_in.read(chunk, sizeof chunk).gcount() > 0)
-    text.append(chunk, static_cast<std::size_t>(file_in.gcount()));
-  if (text.size() > kMaxBytes) throw ConfigError("config file " + file.string() + " is larger than 1 MiB");
+  if (std::filesystem::is_directory(file, error)) throw ConfigError("config file " + file.string() + " is a folder");
+  // Opened without waiting: a pipe or socket waits for a writer that may
+  // never come, a device (a terminal) or a kernel file such as /proc/kmsg
+  // for input that may never come.
+  FileText read = read_file_text(file, kMaxBytes);
+  if (read.not_a_file) throw ConfigError("config file " + file.string() + " is a pipe, socket, device or kernel file, not a file");
+  if (!read.opened) throw ConfigError("cannot read config file " + file.string());
+  if (read.too_large) throw ConfigError("config file " + file.string() + " is larger than 1 MiB");
+  std::string text = std::move(read.text);
   // Some editors start a UTF-8 file with a byte-order mark: no part of the first key.
   if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
   std::istringstream in(text);

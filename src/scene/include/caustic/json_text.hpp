@@ -50,7 +50,7 @@ std::string where_json_broke(std::string_view text, const JsonTextError& error);
 /// `not_a_file`;
 /// `too_large` is true (and `text` cut) when it holds more than `limit`.
 struct FileText {
-  bool not_a_file = false;  ///< a folder, pipe, socket or device: not opened
+  bool not_a_file = false;  ///< a folder, pipe, socket, device or kernel (/proc, /sys) file: not read
   bool opened = false;
   bool too_large = false;
   std::string text;
