@@ -4,8 +4,7 @@
 // bounded; a body that stops coming is answered 408 before the close.
 // Black-box over loopback, from several of its addresses.
 #include "hardening_support.hpp"
-
-#include <arpa/inet.h>
+#include "raw_http.hpp"
 
 using namespace caustic::testing;
 
@@ -13,25 +12,10 @@ namespace {
 
 constexpr std::size_t kLargest = 1 << 20;  // design_max_upload_bytes below
 
-// A connection to the server from 127.0.0.`host` (all of 127/8 is loopback).
-int connect_from(int port, int host) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  sockaddr_in from{}, to{};
-  from.sin_family = to.sin_family = AF_INET;
-  from.sin_addr.s_addr = htonl(0x7f000000u | static_cast<unsigned>(host));
-  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  to.sin_port = htons(static_cast<uint16_t>(port));
-  if (::bind(fd, reinterpret_cast<sockaddr*>(&from), sizeof from) != 0 ||
-      ::connect(fd, reinterpret_cast<sockaddr*>(&to), sizeof to) != 0) {
-    ::close(fd);
-    return -1;
-  }
-  return fd;
-}
-
 // Starts a picture of `length` bytes and sends `sent` of them.
 int start_upload(int port, int host, std::size_t length, std::size_t sent) {
-  const int fd = connect_from(port, host);
+  // From 127.0.0.`host` (all of 127/8 is loopback): each host its own share.
+  const int fd = raw_connect(port, "127.0.0." + std::to_string(host));
   if (fd < 0) return fd;
   raw_send(fd, request_text("POST", "/api/v1/designs",
                             "Content-Type: image/png\r\nContent-Length: " + std::to_string(length) + "\r\n") +
