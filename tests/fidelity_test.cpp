@@ -236,7 +236,7 @@ TEST(Calibration, RoundTripsAndNamesWhatIsWrongInAFile) {
     load_calibration("/dev/zero", "f");
     ADD_FAILURE() << "/dev/zero was read as a calibration";
   } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("or device, not a calibration file"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("device or kernel file, not a calibration file"), std::string::npos) << e.what();
   }
   // Beside its scene, found without being named: a pipe there held render
   // up, a folder read as broken JSON.
