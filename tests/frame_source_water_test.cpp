@@ -5,7 +5,8 @@
 // half an interval of the last advance waits; without asks the water keeps
 // whole intervals of its own clock. The asks are set here, so nothing
 // depends on how fast this machine draws. A full frame of water still on
-// its way out is shown before a preview takes its place.
+// its way out, or not yet asked for, is shown before a preview takes its
+// place.
 #include "frame_source.hpp"
 
 #include "caustic/param_store.hpp"
@@ -118,6 +119,40 @@ TEST(FrameSourceWater, AFullFrameOnItsWayOutIsShownBeforeAPreviewTakesItsPlace) 
   const std::uint64_t passes = source.engine->ray_passes();
   { const Buffer shown = frame(); EXPECT_EQ(level(shown), caustic::gst::full_quality) << "the full frame was hidden"; }
   EXPECT_EQ(source.engine->ray_passes(), passes) << "a preview drawn over the full frame on its way out";
+  { const Buffer next = frame(); EXPECT_EQ(level(next), caustic::gst::preview); }
+  EXPECT_GT(source.engine->ray_passes(), passes);
+  caustic::gst::release(source);
+}
+
+// The stream takes the newest picture when it asks: a full frame of water
+// followed by a preview before the next ask (a stream held up a moment on a
+// loaded machine) was never sent, and the next try came a minute later.
+TEST(FrameSourceWater, AFullFrameNotYetAskedForIsShownBeforeAPreviewTakesItsPlace) {
+  gst_init(nullptr, nullptr);
+  const caustic::Scene scene = caustic::load_scene(std::string(CAUSTIC_ASSET_DIR) + "/scenes/pool.json");
+  ASSERT_TRUE(scene.water);
+  const caustic::ParamStore params(scene);
+  const caustic::MeshLevels meshes;
+  caustic::gst::FrameSource source;
+  source.pool = std::make_shared<caustic::water::Pool>(*scene.water);
+  source.progressive.water_budget = 1e-9;  // no full frame fits: previews after the first
+  source.progressive.water_retry = source.progressive.water_retry_max = std::chrono::hours(1);
+  const auto interval = std::chrono::duration_cast<Clock::duration>(source.frame_interval);
+  auto level = [](const Buffer& b) { return caustic_buffer_get_frame_meta(b.buffer)->level; };
+  auto frame = [&] { return Buffer{caustic::gst::produce_frame(source, params, meshes, 32, 32, true)}; };
+  source.asked = Clock::now().time_since_epoch().count();
+  { const Buffer first = frame(); ASSERT_EQ(level(first), caustic::gst::full_quality); }
+  source.picture_at = Clock::now();  // handed to the stream, as the worker does
+
+  // The water moves on by its own clock, with no ask since the full frame.
+  source.water_clock = Clock::now() - 4 * interval;
+  const std::uint64_t passes = source.engine->ray_passes(), steps = source.pool->step();
+  { const Buffer kept = frame(); EXPECT_EQ(level(kept), caustic::gst::full_quality) << "the full frame was hidden"; }
+  EXPECT_GT(source.pool->step(), steps);
+  EXPECT_EQ(source.engine->ray_passes(), passes) << "a preview drawn over a full frame never asked for";
+
+  // Asked for: the preview follows.
+  source.asked = Clock::now().time_since_epoch().count();
   { const Buffer next = frame(); EXPECT_EQ(level(next), caustic::gst::preview); }
   EXPECT_GT(source.engine->ray_passes(), passes);
   caustic::gst::release(source);

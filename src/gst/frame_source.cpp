@@ -166,6 +166,14 @@ GstBuffer* produce_frame(FrameSource& source, const ParamStore& params, const Me
   // overrun and never be seen. The preview comes with the next frame.
   const bool full_on_its_way = water && want == preview && source.readback_pending &&
                                !source.in_flight.empty() && source.in_flight.back().level == full_quality;
+  // Nor is a full frame of water the stream has not asked for since it was
+  // handed over: the stream takes the newest picture when it asks, so a
+  // stream held up for a moment would never send the try (the next blind
+  // one a minute later). The preview comes once the stream has asked.
+  const std::chrono::steady_clock::time_point last_ask{std::chrono::steady_clock::duration(source.asked.load())};
+  if (water && want == preview && !source.readback_pending && source.picture && last_ask < source.picture_at &&
+      caustic_buffer_get_frame_meta(source.picture)->level == full_quality)
+    return gst_buffer_ref(source.picture);
   ensure_context(source);
   const Current current(*source.context);
 

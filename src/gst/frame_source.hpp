@@ -82,6 +82,10 @@ struct FrameSource {
   std::chrono::steady_clock::time_point changed_at;  // when the caustic last changed (not post-processing)
   bool isolated = true;          // that change came after a still spell: no preview for it
   bool readback_pending = false;
+  /// When the worker last handed a new picture to the stream (on its
+  /// thread, under its lock): an ask stamped later took it; one stamped
+  /// earlier may have too, and then a preview waits for one more ask.
+  std::chrono::steady_clock::time_point picture_at{};
   /// What each read-back on its way shows, by its tag (a render count).
   struct InFlight {
     std::uint64_t tag, version, water_step;

@@ -42,6 +42,7 @@ void FrameWorker::run() {
     } else if (picture) {
       if (picture_) gst_buffer_unref(picture_);
       picture_ = picture;
+      source_.picture_at = std::chrono::steady_clock::now();
       ready_.notify_all();
       if (on_picture_) on_picture_();
     }
