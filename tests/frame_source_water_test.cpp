@@ -31,16 +31,31 @@ struct Buffer {
   }
 };
 
-}  // namespace
+// The pool scene's water, drawn by a source of its own.
+class FrameSourceWater : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { gst_init(nullptr, nullptr); }
+  void SetUp() override {
+    ASSERT_TRUE(scene.water);
+    source.pool = std::make_shared<caustic::water::Pool>(*scene.water);
+  }
+  void TearDown() override { caustic::gst::release(source); }
+  // No full frame fits, and the blind try is an hour away: after the first
+  // picture, moving water comes as previews.
+  void never_fits() {
+    source.progressive.water_budget = 1e-9;
+    source.progressive.water_retry = source.progressive.water_retry_max = std::chrono::hours(1);
+  }
 
-TEST(FrameSourceWater, AFrameOfWaterStartsWhenTheStreamAsksForIt) {
-  gst_init(nullptr, nullptr);
   const caustic::Scene scene = caustic::load_scene(std::string(CAUSTIC_ASSET_DIR) + "/scenes/pool.json");
-  ASSERT_TRUE(scene.water);
-  const caustic::ParamStore params(scene);
+  const caustic::ParamStore params{scene};
   const caustic::MeshLevels meshes;  // water draws its own surface
   caustic::gst::FrameSource source;
-  source.pool = std::make_shared<caustic::water::Pool>(*scene.water);
+};
+
+}  // namespace
+
+TEST_F(FrameSourceWater, AFrameOfWaterStartsWhenTheStreamAsksForIt) {
   const auto interval = std::chrono::duration_cast<Clock::duration>(source.frame_interval);
   auto frame = [&] { return Buffer{caustic::gst::produce_frame(source, params, meshes, 32, 32, true)}; };
 
@@ -77,21 +92,10 @@ TEST(FrameSourceWater, AFrameOfWaterStartsWhenTheStreamAsksForIt) {
   EXPECT_GE(moved, 3 * interval);
   EXPECT_EQ(moved % interval, Clock::duration::zero()) << "not whole intervals";
   EXPECT_GT(source.pool->step(), after_ask);
-  caustic::gst::release(source);
 }
 
-TEST(FrameSourceWater, AFullFrameOnItsWayOutIsShownBeforeAPreviewTakesItsPlace) {
-  gst_init(nullptr, nullptr);
-  const caustic::Scene scene = caustic::load_scene(std::string(CAUSTIC_ASSET_DIR) + "/scenes/pool.json");
-  ASSERT_TRUE(scene.water);
-  const caustic::ParamStore params(scene);
-  const caustic::MeshLevels meshes;
-  caustic::gst::FrameSource source;
-  source.pool = std::make_shared<caustic::water::Pool>(*scene.water);
-  // No full frame fits, and the blind try is an hour away: after the first
-  // picture, moving water comes as previews.
-  source.progressive.water_budget = 1e-9;
-  source.progressive.water_retry = source.progressive.water_retry_max = std::chrono::hours(1);
+TEST_F(FrameSourceWater, AFullFrameOnItsWayOutIsShownBeforeAPreviewTakesItsPlace) {
+  never_fits();
   const auto interval = std::chrono::duration_cast<Clock::duration>(source.frame_interval);
   Clock::time_point asked = Clock::now() + 100 * interval;
   source.water_clock = asked;
@@ -121,22 +125,13 @@ TEST(FrameSourceWater, AFullFrameOnItsWayOutIsShownBeforeAPreviewTakesItsPlace) 
   EXPECT_EQ(source.engine->ray_passes(), passes) << "a preview drawn over the full frame on its way out";
   { const Buffer next = frame(); EXPECT_EQ(level(next), caustic::gst::preview); }
   EXPECT_GT(source.engine->ray_passes(), passes);
-  caustic::gst::release(source);
 }
 
 // The stream takes the newest picture when it asks: a full frame of water
 // followed by a preview before the next ask (a stream held up a moment on a
 // loaded machine) was never sent, and the next try came a minute later.
-TEST(FrameSourceWater, AFullFrameNotYetAskedForIsShownBeforeAPreviewTakesItsPlace) {
-  gst_init(nullptr, nullptr);
-  const caustic::Scene scene = caustic::load_scene(std::string(CAUSTIC_ASSET_DIR) + "/scenes/pool.json");
-  ASSERT_TRUE(scene.water);
-  const caustic::ParamStore params(scene);
-  const caustic::MeshLevels meshes;
-  caustic::gst::FrameSource source;
-  source.pool = std::make_shared<caustic::water::Pool>(*scene.water);
-  source.progressive.water_budget = 1e-9;  // no full frame fits: previews after the first
-  source.progressive.water_retry = source.progressive.water_retry_max = std::chrono::hours(1);
+TEST_F(FrameSourceWater, AFullFrameNotYetAskedForIsShownBeforeAPreviewTakesItsPlace) {
+  never_fits();
   const auto interval = std::chrono::duration_cast<Clock::duration>(source.frame_interval);
   auto level = [](const Buffer& b) { return caustic_buffer_get_frame_meta(b.buffer)->level; };
   auto frame = [&] { return Buffer{caustic::gst::produce_frame(source, params, meshes, 32, 32, true)}; };
@@ -155,5 +150,4 @@ TEST(FrameSourceWater, AFullFrameNotYetAskedForIsShownBeforeAPreviewTakesItsPlac
   source.asked = Clock::now().time_since_epoch().count();
   { const Buffer next = frame(); EXPECT_EQ(level(next), caustic::gst::preview); }
   EXPECT_GT(source.engine->ray_passes(), passes);
-  caustic::gst::release(source);
 }
