@@ -3,7 +3,9 @@
 
 #include <libsoup/soup.h>
 
+#include <algorithm>
 #include <cctype>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -92,6 +94,30 @@ bool host_ok(std::string_view value) {
     port = port * 10 + static_cast<unsigned>(c - '0');
   }
   return port <= 65535;
+}
+
+// Whether a media type's parameters (RFC 9110 8.3.1) name one twice, names
+// being case-insensitive and a quoted value's ";" no separator. The library
+// keeps the first of two charsets, where a proxy in front may keep the
+// last: either reading is a guess, so the request is refused.
+bool repeats_a_parameter(std::string_view value) {
+  std::vector<std::string> names;
+  std::size_t i = value.find(';');
+  while (i != std::string_view::npos && i < value.size()) {
+    const std::size_t start = ++i;
+    bool quoted = false;
+    for (; i < value.size() && (quoted || value[i] != ';'); ++i) {
+      if (quoted && value[i] == '\\') ++i;
+      else if (value[i] == '"') quoted = !quoted;
+    }
+    const std::string_view param = value.substr(start, i - start);
+    std::string name(trim_ows(param.substr(0, param.find('='))));
+    if (name.empty()) continue;
+    for (char& c : name) c = g_ascii_tolower(c);
+    if (std::find(names.begin(), names.end(), name) != names.end()) return true;
+    names.push_back(std::move(name));
+  }
+  return false;
 }
 
 RequestHead refuse(unsigned status, std::string detail) {
@@ -191,6 +217,7 @@ RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) 
       out.content_length = n;
     } else if (iequals(name, "Content-Type")) {
       ++types;
+      if (repeats_a_parameter(value)) return refuse(400, "the Content-Type header gives one of its parameters twice");
     } else if (iequals(name, "Authorization")) {
       ++authorizations;
     } else if (iequals(name, "Transfer-Encoding")) {
