@@ -4,6 +4,7 @@
 #include "caustic/mesh.hpp"
 
 #include "caustic/json_text.hpp"
+#include "obj_words.hpp"
 
 #include <tiny_obj_loader.h>
 
@@ -13,6 +14,7 @@
 #include <fstream>
 #include <istream>
 #include <streambuf>
+#include <string_view>
 #include <limits>
 #include <map>
 #include <memory>
@@ -46,28 +48,7 @@ bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y
 constexpr std::size_t kMaxGroups = 4096;  // "o", "g" and "usemtl" statements
 constexpr std::ptrdiff_t kMaxLineBytes = 1 << 16;
 
-// A face's corner: v, v/vt, v//vn or v/vt/vn, each a nonzero integer (a
-// negative one counts back from the last vertex) within an int.
-bool face_corner(const std::string& word) {
-  std::size_t at = 0;
-  for (int part = 0; part < 3; ++part) {
-    if (part > 0) {
-      if (at == word.size()) return true;
-      if (word[at] != '/') return false;
-      ++at;
-      if (part == 1 && at < word.size() && word[at] == '/') continue;  // v//vn
-    }
-    if (at < word.size() && word[at] == '-') ++at;
-    const std::size_t digits = at;
-    long long index = 0;  // at most 10 digits: no overflow
-    for (; at < word.size() && word[at] >= '0' && word[at] <= '9' && at - digits < 11; ++at)
-      index = 10 * index + (word[at] - '0');
-    if (at == digits || at - digits > 10 || index == 0 || index > 2147483647LL) return false;
-  }
-  return at == word.size();
-}
-
-void check_numbers(const std::string& text, const std::string& label, const MeshLimits& limits) {
+void check_numbers(std::string_view text, const std::string& label, const MeshLimits& limits) {
   const double max_coordinate = limits.max_coordinate;
   std::size_t vertices = 0, faces = 0, groups = 0, normals = 0, texcoords = 0;
   static const char* const kStatements[] = {"v", "vn", "vt", "f", "o", "g", "s", "l", "usemtl"};
@@ -121,7 +102,7 @@ void check_numbers(const std::string& text, const std::string& label, const Mesh
         fail(number, "more than " + std::to_string(limits.max_triangles) + " faces");
       std::size_t corners = 0;
       for (; next_word(); ++corners)
-        if (!face_corner(word))
+        if (!detail::face_corner(word))
           fail(number, "a face's corner must be v, v/vt, v//vn or v/vt/vn, each a nonzero whole number within an int");
       if (corners < 3) fail(number, "a face needs at least 3 corners");
       // Said here with its line: the reader keeps a face's corner count in
@@ -146,6 +127,9 @@ void check_numbers(const std::string& text, const std::string& label, const Mesh
       const double x = std::strtod(word.c_str(), &stop);
       if (stop != word.c_str() + word.size() || !std::isfinite(x))
         fail(number, "\"" + word + "\" is not a finite number (NaN, Inf or malformed)");
+      if (!detail::decimal_number(word))
+        fail(number, "\"" + word + "\" is not a decimal number (OBJ numbers are written as 12, -0.5 or 1.5e-3, "
+                                    "with an exponent of at most 308; hex is not read)");
       if (count < 6) numbers[count] = x;
       if (count >= 3 && count < 6) colours[count - 3] = word;
       // Read as floats, 1e300 would become Inf: over the limit, said here with its line.
@@ -175,7 +159,7 @@ Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool 
 // A read-only stream over the text in memory.
 class InPlace : public std::streambuf {
  public:
-  explicit InPlace(const std::string& text) {
+  explicit InPlace(std::string_view text) {
     char* begin = const_cast<char*>(text.data());  // only ever read: no put area
     setg(begin, begin, begin + text.size());
   }
@@ -260,7 +244,9 @@ Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool 
   if (read.not_a_file) throw SceneError("mesh", "mesh file " + label + " is a folder, pipe, socket, device or kernel file, not a file");
   if (!read.opened) throw SceneError("mesh", "cannot read mesh file " + label);
   if (read.too_large) throw SceneError("mesh", "mesh file " + label + " is larger than the limit");
-  const std::string& text = read.text;
+  // A byte order mark, which some editors write first, is no statement.
+  std::string_view text = read.text;
+  if (text.substr(0, 3) == "\xef\xbb\xbf") text.remove_prefix(3);
   check_numbers(text, label, limits);
   // From memory, with no material reader: the loader never opens a file of
   // its own, whatever the text names. The text is read where it lies (the
