@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The commands at the machine's limits and the file system's edges: a size
 // the memory cannot hold is refused before the work, memory that runs out
-// all the same is said, a write that fails leaves no file, and a link named
-// as an output is written through.
+// all the same is said, a write that fails or is interrupted leaves no
+// file, and a link named as an output is written through.
 #include "causticd_runner.hpp"
 
 #include <gtest/gtest.h>
@@ -11,6 +11,11 @@
 #include <fstream>
 #include <string>
 
+#include <csignal>
+#include <thread>
+
+#include <fcntl.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -79,7 +84,9 @@ TEST_F(CliLimits, ACommandShortOfMemoryExitsWithAMessageNotAnAbort) {
                                                   " --width 16 --height 16");
     EXPECT_TRUE(r.status == 0 || r.status == 1 || r.status == 2) << mib << " MiB: " << r.status << "\n" << r.output;
     EXPECT_EQ(r.output.find("terminate called"), std::string::npos) << mib << " MiB: " << r.output;
-    if (r.status == 1) EXPECT_NE(r.output.find("causticd render: "), std::string::npos) << r.output;
+    if (r.status == 1) {
+      EXPECT_NE(r.output.find("causticd render: "), std::string::npos) << r.output;
+    }
   }
 }
 
@@ -98,6 +105,47 @@ TEST_F(CliLimits, AWriteThatFailsLeavesNoFileBehind) {
   }
 }
 
+// Stopped while it writes (Ctrl-C; SIGTERM from a service manager is
+// handled alike), a command removes the hidden files its outputs were being
+// written under and ends by the signal, as a shell or a supervisor expects.
+// The temporaries are watched for, and the signal sent when one appears;
+// four large outputs keep the write long enough to be caught.
+TEST_F(CliLimits, AStopWhileWritingLeavesNoTemporaryBehind) {
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    // A child of a test that ignores SIGINT would too (dispositions survive exec).
+    ::signal(SIGINT, SIG_DFL);
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, STDOUT_FILENO);
+    ::dup2(null, STDERR_FILENO);
+    const std::string out = (dir_ / "a").string();
+    ::execl(CAUSTICD_BINARY, CAUSTICD_BINARY, "render", "--scene", scene("wavy").c_str(), "-o", (out + ".png").c_str(),
+            "-o", (out + "b.png").c_str(), "-o", (out + ".exr").c_str(), "-o", (out + "b.exr").c_str(), "--width",
+            "2048", "--height", "2048", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  const std::string temporary = ".a." + std::to_string(pid) + "-";
+  const auto hidden = [&](const std::string& prefix) {
+    for (const auto& entry : fs::directory_iterator(dir_))
+      if (entry.path().filename().string().rfind(prefix, 0) == 0) return true;
+    return false;
+  };
+  bool sent = false, reaped = false;
+  int status = 0;
+  // Bounded: the render takes seconds, ten minutes is a machine in trouble.
+  for (int polls = 0; polls < 600'000 && !sent && !reaped; ++polls) {
+    reaped = ::waitpid(pid, &status, WNOHANG) == pid;
+    if (!reaped && hidden(temporary)) sent = ::kill(pid, SIGINT) == 0;
+    if (!sent) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  if (!sent && !reaped) ::kill(pid, SIGKILL);
+  if (!reaped) ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(sent) << "the write ended before a temporary was seen (status " << status << ")";
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << "status " << status;
+  EXPECT_FALSE(hidden(".")) << "a hidden file is left in " << dir_;
+}
+
 // An output that is a link: the file it names gets the picture and the
 // link stays (the picture written beside it and renamed over it would
 // otherwise have replaced the link with a file of its own).
@@ -111,6 +159,19 @@ TEST_F(CliLimits, AnOutputThatIsALinkIsWrittenThrough) {
   EXPECT_TRUE(fs::is_symlink(dir_ / "l.png"));
   EXPECT_GT(fs::file_size(dir_ / "real" / "r.png"), 100u) << r.output;
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_ / "real"), fs::directory_iterator()), 1) << "no temporary left";
+  // A link whose file is still to be made gets it made, as a plain write
+  // would (O_EXCL on the link itself once refused it as existing); links in
+  // a loop are said as such.
+  fs::create_symlink("real/new.png", dir_ / "n.png");
+  const CommandResult made = causticd("render --scene " + scene("slab") + " -o " + (dir_ / "n.png").string() +
+                                      " --width 32 --height 32");
+  EXPECT_EQ(made.status, 0) << made.output;
+  EXPECT_TRUE(fs::is_symlink(dir_ / "n.png"));
+  EXPECT_TRUE(fs::is_regular_file(dir_ / "real" / "new.png")) << made.output;
+  fs::create_symlink("b.png", dir_ / "a.png");
+  fs::create_symlink("a.png", dir_ / "b.png");
+  expect_rejected("render --scene " + scene("slab") + " -o " + (dir_ / "a.png").string(),
+                  "--output " + (dir_ / "a.png").string() + ": is a link that cannot be followed (Too many levels");
 }
 
 // The memory a cgroup allows is a bound too (v1's memory.limit_in_bytes or

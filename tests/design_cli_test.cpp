@@ -243,3 +243,28 @@ TEST_F(DesignCli, AKernelFileThatWaitsOnAReadIsRefusedUnread) {
   EXPECT_EQ(run.status, 2) << run.output;
   EXPECT_NE(run.output.find("--target /proc/kmsg: is empty"), std::string::npos) << run.output;
 }
+
+// The outputs are written as `render` writes its own: under hidden names,
+// renamed together once all are complete. Through a link (one whose file is
+// still to be made included) the link stays and its file gets the face; a
+// file of the user's named like a sibling of an output is nobody's
+// temporary and stays as it was.
+TEST_F(DesignCli, OutputsGoThroughLinksAndLeaveNoOtherFile) {
+  const fs::path target = good_target();
+  fs::create_directories(dir_ / "real");
+  fs::create_symlink("real/f.obj", dir_ / "face.obj");
+  std::ofstream(dir_ / "face.part.obj") << "mine";
+  const CommandResult r = causticd("design --target " + target.string() + " -o " + (dir_ / "face.obj").string() +
+                                   " --resolution 16 --no-check --report " + (dir_ / "report.json").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::is_symlink(dir_ / "face.obj"));
+  EXPECT_EQ(caustic::load_obj(dir_ / "real" / "f.obj").positions.size(), 17u * 17u);
+  std::ifstream mine(dir_ / "face.part.obj");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(mine), {}), "mine");
+  for (const fs::path& folder : {dir_, dir_ / "real"})
+    for (const auto& entry : fs::directory_iterator(folder))
+      EXPECT_NE(entry.path().filename().string().front(), '.') << "left behind: " << entry.path();
+  const CommandResult render = causticd("render --scene " + (dir_ / "face.json").string() + " -o " +
+                                        (dir_ / "face.exr").string() + " --width 32 --height 32");
+  EXPECT_EQ(render.status, 0) << render.output;
+}

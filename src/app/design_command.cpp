@@ -63,12 +63,6 @@ std::string text_problem(const std::string& text, std::size_t max_len, bool may_
   return "";
 }
 
-// "face.obj" -> "face.part.obj": a sibling name that keeps the extension
-// (OpenImageIO picks the format from it).
-std::filesystem::path part_name(const std::filesystem::path& p) {
-  return p.parent_path() / (p.stem().string() + ".part" + p.extension().string());
-}
-
 // Flags checked before any work; the message names the flag.
 int check_flags(DesignCommandOptions& o) {
   // Limits as in the scene parser (scene-format.md): name 200, description 2000.
@@ -113,10 +107,8 @@ int check_flags(DesignCommandOptions& o) {
   for (std::size_t i = 0; i < std::size(outputs); ++i) {
     const auto& [flag, p] = outputs[i];
     if (p->empty()) continue;
-    // Tried now, not found after a solve of minutes: the file itself and
-    // its .part sibling, under which it is first written.
-    if (!output_writable("design", *p, flag, {o.target}) || !output_writable("design", part_name(*p), flag, {o.target}))
-      return bad_input;
+    // Tried now, not found after a solve of minutes.
+    if (!output_writable("design", *p, flag, {o.target})) return bad_input;
     for (std::size_t j = 0; j < i; ++j)
       if (!outputs[j].second->empty() && same(*outputs[j].second, *p))
         return bad(std::string(flag) + " " + p->string() + ": the same file as " + outputs[j].first);
@@ -216,12 +208,7 @@ int run_design(DesignCommandOptions o) {
                    p.steps, p.iteration, p.residual, p.seconds);
       std::fflush(stderr);
     };
-  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> written;  // part -> final
-  const auto part = [&](const std::filesystem::path& final_name) {
-    written.emplace_back(part_name(final_name), final_name);
-    return written.back().first;
-  };
-  const int status = run_reporting("design", o.target, [&] {
+  return run_reporting("design", o.target, [&] {
     design::Design d;
     try {
       d = design::design_face(target, o.design, progress);
@@ -273,34 +260,40 @@ int run_design(DesignCommandOptions o) {
       report["reference"] = verification_json(*reference);
       report["reference"]["photons"] = o.photons;
     }
-    // Outputs: every file under its .part name first.
-    write_obj(d.face, part(o.face));
-    {
-      std::ofstream out(part(o.scene));
-      out << scene_to_json(scene).dump(2) << "\n";
-      if (!out) throw std::runtime_error(o.scene.string() + ": write failed");
-    }
-    if (!o.solid.empty()) design::write_solid_obj(design::solid_mesh(d.grid, r.flat_offset), part(o.solid));
-    if (!o.side_by_side.empty()) {
-      const double exposure = design::target_exposure(design::target_irradiance(d));
-      std::vector<RgbHdrImage> panels;
-      if (colour) {
-        panels = {colour->aim, colour->render};
-      } else {
-        panels = {as_rgb(design::target_irradiance(d)), as_rgb(engine->render)};
-      }
-      // The reference's check is of the shape (the brightest channel of a colour design).
-      if (reference) panels.push_back(as_rgb(reference->render));
-      write_png(side_by_side(std::move(panels), exposure), part(o.side_by_side));
-    }
     report["seconds_total"] = r.seconds + (engine ? engine->seconds : 0.0);
-    if (!o.report.empty()) {
-      std::ofstream out(part(o.report));
-      out << report.dump(2) << "\n";
-      if (!out) throw std::runtime_error(o.report.string() + ": write failed");
-    }
-    for (const auto& [from, to] : written) std::filesystem::rename(from, to);
-    written.clear();
+    // All or none of the outputs (write_complete): each under a hidden name
+    // first, renamed once every one is complete.
+    std::vector<std::filesystem::path> outputs;
+    for (const auto* p : {&o.face, &o.scene, &o.solid, &o.side_by_side, &o.report})
+      if (!p->empty()) outputs.push_back(*p);
+    write_complete(outputs, [&](const std::filesystem::path& out, const std::filesystem::path& to) {
+      const auto write_text = [&](const std::string& text) {
+        std::ofstream file(to);
+        file << text;
+        file.close();
+        if (!file) throw std::runtime_error(out.string() + ": write failed");
+      };
+      if (out == o.face) {
+        write_obj(d.face, to);
+      } else if (out == o.scene) {
+        write_text(scene_to_json(scene).dump(2) + "\n");
+      } else if (out == o.solid) {
+        design::write_solid_obj(design::solid_mesh(d.grid, r.flat_offset), to);
+      } else if (out == o.side_by_side) {
+        const double exposure = design::target_exposure(design::target_irradiance(d));
+        std::vector<RgbHdrImage> panels;
+        if (colour) {
+          panels = {colour->aim, colour->render};
+        } else {
+          panels = {as_rgb(design::target_irradiance(d)), as_rgb(engine->render)};
+        }
+        // The reference's check is of the shape (the brightest channel of a colour design).
+        if (reference) panels.push_back(as_rgb(reference->render));
+        write_png(side_by_side(std::move(panels), exposure), to);
+      } else {
+        write_text(report.dump(2) + "\n");
+      }
+    });
 
     std::printf("design: %d^2 cells in %.2f s (transport %d iterations, residual %.1e; %d Snell pass%s)\n", d.n,
                 r.seconds, r.iterations, r.transport_residual, r.snell_passes, r.snell_passes == 1 ? "" : "es");
@@ -317,11 +310,6 @@ int run_design(DesignCommandOptions o) {
       if (!p->empty()) std::printf(", %s", p->string().c_str());
     std::printf("\n");
   }, bar ? "\n" : "");
-  for (const auto& [from, to] : written) {
-    std::error_code ignored;
-    std::filesystem::remove(from, ignored);
-  }
-  return status;
 }
 
 }  // namespace

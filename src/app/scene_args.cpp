@@ -23,9 +23,7 @@
 #include <thread>
 #include <tuple>
 
-#include <fcntl.h>
 #include <sys/resource.h>
-#include <unistd.h>
 
 namespace caustic::app {
 
@@ -100,89 +98,6 @@ bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
   } catch (const SceneError& e) {
     std::cerr << "causticd " << command << ": " << file.string() << ": " << e.what() << "\n";
     return false;
-  }
-}
-
-bool output_writable(const char* command, const std::filesystem::path& out, const char* flag,
-                     const std::vector<std::filesystem::path>& inputs) {
-  const auto dir = std::filesystem::absolute(out).parent_path();
-  const auto refuse = [&](const std::string& why) {
-    std::cerr << "causticd " << command << ": " << flag << " " << out.string() << ": " << why << "\n";
-    return false;
-  };
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec)) return refuse("folder " + dir.string() + " does not exist");
-  if (std::filesystem::is_directory(out, ec)) return refuse("is a folder");
-  const bool existed = std::filesystem::exists(out, ec);
-  // A device or a pipe would be replaced by a file (written under another
-  // name, then renamed over it), and an input overwritten by an output.
-  if (existed && !std::filesystem::is_regular_file(out, ec))
-    return refuse("is not a regular file (a device, a pipe or a socket): give a file's name");
-  for (const auto& in : inputs)
-    if (existed && std::filesystem::equivalent(out, in, ec))
-      return refuse("is the command's input " + in.string() + ": it would be overwritten");
-  // Tried before the work rather than found after it: a file there is
-  // opened for writing (and left as it was), a new one made and removed.
-  const int fd = ::open(out.c_str(), O_WRONLY | (existed ? 0 : O_CREAT | O_EXCL) | O_CLOEXEC | O_NONBLOCK, 0644);
-  if (fd < 0) return refuse(std::string("cannot be written (") + std::strerror(errno) + ")");
-  ::close(fd);
-  if (!existed) std::filesystem::remove(out, ec);
-  // A file is written beside its name and renamed over it (write_complete):
-  // the folder (of the file a link names) must take a new one too, though
-  // the file there may be written in place.
-  const auto place = std::filesystem::is_symlink(out, ec) ? std::filesystem::weakly_canonical(out, ec) : out;
-  std::string probe = (std::filesystem::absolute(place, ec).parent_path() / ".causticd-XXXXXX").string();
-  const int made = ::mkstemp(probe.data());
-  if (made < 0)
-    return refuse("its folder takes no new file (" + std::string(std::strerror(errno)) +
-                  "), and the file is written beside its name, then renamed over it");
-  ::close(made);
-  ::unlink(probe.c_str());
-  return true;
-}
-
-void write_complete(const std::vector<std::filesystem::path>& outputs,
-                    const std::function<void(const std::filesystem::path&, const std::filesystem::path&)>& write) {
-  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> written;  // temporary, final
-  try {
-    for (const auto& out : outputs) {
-      // A link is written through, as a plain write would: the file it
-      // names is the one replaced, and the link stays.
-      std::error_code ec;
-      auto place = std::filesystem::is_symlink(out, ec) ? std::filesystem::weakly_canonical(out, ec) : out;
-      if (ec) place = out;
-      // Made here (O_EXCL, so never another file) with the umask's mode
-      // that the final file would have had.
-      for (int attempt = 0;; ++attempt) {
-        const auto temporary = place.parent_path() / ("." + place.stem().string() + "." + std::to_string(::getpid()) +
-                                                      "-" + std::to_string(attempt) + out.extension().string());
-        const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0) {
-          ::close(fd);
-          written.emplace_back(temporary, place);
-          break;
-        }
-        if (errno != EEXIST || attempt == 100)
-          throw std::runtime_error("cannot write beside " + out.string() + ": " + std::strerror(errno));
-      }
-      try {
-        write(out, written.back().first);
-      } catch (const std::bad_alloc&) {
-        throw;
-      } catch (const std::exception& e) {
-        // Said of the file the user named, not of the temporary one.
-        std::string what = e.what();
-        const std::string temporary = written.back().first.string(), named = out.string();
-        for (auto at = what.find(temporary); at != std::string::npos; at = what.find(temporary, at + named.size()))
-          what.replace(at, temporary.size(), named);
-        throw std::runtime_error(what);
-      }
-    }
-    for (const auto& [temporary, out] : written) std::filesystem::rename(temporary, out);
-  } catch (...) {
-    std::error_code ignored;
-    for (const auto& [temporary, out] : written) std::filesystem::remove(temporary, ignored);
-    throw;
   }
 }
 
