@@ -174,3 +174,39 @@ TEST(SceneWater, APatchRetunesTheRainAndNullRestoresIt) {
   EXPECT_EQ(back.water->rain_rate, 5);
   EXPECT_THROW(apply_merge_patch(origin, json{{"water", {{"time_step", 1.0}}}}, &origin), SceneError);
 }
+
+TEST(SceneWater, APatchOfTheOtherKindOfSceneNamesItsKeyAndTheScenesShape) {
+  // The merged scene holds the shape it has: water patched into a slab was
+  // refused as "object.shape: water is a surface", a key the patch never wrote.
+  const Scene slab = scene_from_json(minimal(), ".");
+  const auto said = [](const Scene& s, const json& patch) {
+    return refusal<SceneError>([&] { apply_merge_patch(s, patch); });
+  };
+  EXPECT_EQ(said(slab, {{"water", {{"grid", 64}}}}),
+            "water.grid: belongs to a water scene, and this scene has no water: its object is a slab (object.shape "
+            "\"slab\"), read from its mesh file");
+  EXPECT_EQ(refused_key<SceneError>([&] { apply_merge_patch(slab, {{"water", json::object()}}); }), "water");
+  json solid = minimal();
+  solid["object"]["shape"] = "solid";
+  EXPECT_NE(said(scene_from_json(solid, "."), {{"water", {{"rain_rate", 3}}}}).find("water.rain_rate: belongs to a "
+                                                                                  "water scene"),
+            std::string::npos);
+  // The reverse: a water scene given another shape, or its water taken away
+  // (the refusal was "mesh: must not be empty").
+  const Scene water = scene_from_json(pool(), ".");
+  EXPECT_EQ(said(water, {{"object", {{"shape", "solid"}}}}),
+            "object.shape: is \"solid\", but this is a water scene: its object is the water's surface (\"surface\", or "
+            "leave object.shape out)");
+  EXPECT_NE(said(water, {{"water", nullptr}}).find("water: is this scene's object"), std::string::npos);
+  // What stays: a surface takes water (its mesh then unread), a patch that
+  // writes the shape is answered by its shape, and a water scene given a
+  // mesh in place of its water is a slab again.
+  json surface = minimal();
+  surface["object"]["shape"] = "surface";
+  EXPECT_TRUE(apply_merge_patch(scene_from_json(surface, "."), {{"water", json::object()}}).water);
+  EXPECT_EQ(refused_key<SceneError>([&] {
+              apply_merge_patch(slab, {{"water", json::object()}, {"object", {{"shape", "solid"}}}});
+            }),
+            "object.shape");
+  EXPECT_FALSE(apply_merge_patch(water, {{"water", nullptr}, {"mesh", "m.obj"}}).water);
+}

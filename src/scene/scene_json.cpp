@@ -241,7 +241,9 @@ Scene scene_from_json(const json& j, const std::filesystem::path& base_dir,
     // A shape written (null is the default, which water makes a surface) must be the surface.
     const json* object = r.get("object");
     if (object && object->is_object() && object->value("shape", json()) != nullptr && s.object.shape != Shape::surface)
-      throw SceneError("object.shape", "water is a surface: \"surface\" or left out");
+      throw SceneError("object.shape", std::string("is \"") + name_of(s.object.shape, Names<Shape>(kShapes)) +
+                                           "\", but this is a water scene: its object is the water's surface "
+                                           "(\"surface\", or leave object.shape out)");
     s.object.shape = Shape::surface;
     // Fitting centres the mesh's box, which the waves move: the pool would bob.
     if (s.object.fit_size) throw SceneError("object.fit_size", "water's size is water.size: leave fit_size out");

@@ -33,6 +33,33 @@ json nulls_to_origin(const json& patch, const json* origin) {
   return out;
 }
 
+// The first key path the patch writes within `value` ("water.grid"), or
+// `path` itself when it writes none below it.
+std::string first_key(const json& value, const std::string& path) {
+  if (!value.is_object() || value.empty()) return path;
+  return first_key(value.begin().value(), path + "." + printable_name(value.begin().key(), 64));
+}
+
+// A patch that brings one kind of scene's keys to the other: the merged
+// scene holds the shape the scene has (scene_to_json writes it), so the
+// refusal would name object.shape, which the patch never wrote. It is said
+// of the key written, with the shape the scene has.
+void check_scene_kind(const Scene& scene, const json& doc, const json& patch) {
+  const auto water = patch.find("water");
+  if (water == patch.end()) return;
+  // A shape the patch writes is the patch's to answer for, by its own key.
+  const auto object = patch.find("object");
+  if (object != patch.end() && object->is_object() && object->contains("shape")) return;
+  const std::string shape = doc.at("object").at("shape").get<std::string>();
+  if (!scene.water && !water->is_null() && shape != "surface")
+    throw SceneError(first_key(*water, "water"), "belongs to a water scene, and this scene has no water: its object "
+                                                 "is a " + shape + " (object.shape \"" + shape +
+                                                     "\"), read from its mesh file");
+  if (scene.water && water->is_null() && !patch.contains("mesh"))
+    throw SceneError("water", "is this scene's object (object.shape \"surface\", made by the wave solver): without "
+                              "it the scene has none; a scene without water names its face in mesh");
+}
+
 }  // namespace
 
 Scene apply_merge_patch(const Scene& scene, const json& patch, const Scene* origin) {
@@ -49,6 +76,7 @@ Scene apply_merge_patch(const Scene& scene, const json& patch, const Scene* orig
   // should move the screen, so drop the centre unless the patch sets it.
   if (patch.contains("focus_distance") && !(patch.contains("screen") && patch["screen"].contains("center")))
     doc["screen"].erase("center");
+  check_scene_kind(scene, doc, patch);
   doc.merge_patch(patch);
   return scene_from_json(doc, scene.base_dir, scene.receiver_meshes);
 }
