@@ -2,7 +2,9 @@
 // The solid's keys: object.shape and render.light_grid parsed, bounded and
 // written back; a mirror cannot be a solid; a key the shape makes moot is
 // warned about; a closed body is what closed_body builds; a water surface
-// (object.shape "surface") is glass-like and has no flat face.
+// (object.shape "surface") is glass-like, has no flat face, and is lit from
+// outside the medium it bounds.
+#include "refusal.hpp"
 #include "caustic/spectral.hpp"
 #include "caustic/surfaces.hpp"
 #include "scene_test_support.hpp"
@@ -93,4 +95,36 @@ TEST(SceneShape, ASurfaceRoundTripsIsRefractiveAndHasNoFlatFace) {
   o.flat_face_offset = -5.0;  // would cut through the waves
   const Placement p = place_object(o, grid_mesh(sine_window(0.5, 1.0, 0.0, 1.0, 10.0), 33, 33));
   EXPECT_NEAR(p.flat_offset, 0.5, 1e-3);
+}
+
+TEST(SceneShape, APointLightInASurfacesMediumIsRefused) {
+  // Water 0.5 deep in waves about z = 0, the floor (the screen) 10 below:
+  // the medium fills the space beyond the surface, the screen included. A
+  // lamp under the water was taken and drew a black frame (each ray sent
+  // into the medium away from the floor).
+  Scene s = scene_from_json(json{{"mesh", "w.obj"},
+                                 {"object", {{"shape", "surface"}}},
+                                 {"light", {{"type", "point"}, {"position", {0, 0, 20}}}},
+                                 {"screen", {{"center", {0, 0, -10}}, {"width", 20}, {"height", 20}}}},
+                            ".");
+  const Mesh waves = grid_mesh(sine_window(0.5, 1.0, 0.0, 1.0, 10.0), 33, 33);
+  const Placement p = place_object(s.object, waves);
+  const auto said = [&](const glm::dvec3& light) {
+    Scene lit = s;
+    lit.light.position = light;
+    const std::string why = refusal<SceneError>([&] { check_geometry(lit, waves, p); });
+    // The public check (the proxy box alone) says the same.
+    EXPECT_EQ(why, refusal<SceneError>([&] { check_geometry_public(lit, p); }));
+    return why;
+  };
+  EXPECT_EQ(said({0, 0, 20}), "accepted");
+  EXPECT_EQ(said({30, 0, 3}), "accepted");  // beside the pool, above its waves
+  for (const glm::dvec3& in_water : {glm::dvec3(0, 0, -3), glm::dvec3(0, 0, -20), glm::dvec3(40, 0, -1)})
+    EXPECT_EQ(said(in_water).rfind("light.position: the point light lies on the screen's side of the surface", 0), 0u)
+        << in_water.z;
+  EXPECT_EQ(said({0, 0, 0.2}).rfind("light.position: the point light lies within the surface's relief", 0), 0u);
+  // Lit from below with the screen above, the medium is above: taken.
+  s.screen.center = {0, 0, 10};
+  EXPECT_EQ(said({0, 0, -20}), "accepted");
+  EXPECT_NE(said({0, 0, 20}).find("on the screen's side"), std::string::npos);
 }

@@ -105,6 +105,27 @@ bool in_box(const Placement& placement, const glm::dvec3& p) {
 // as any other; within its box it would start its rays inside the body, or
 // with part of it behind (the launch refuses that too, caustic/launch.hpp,
 // but a light at the box's centre has no direction to the object at all).
+// A surface (water) is the face of a medium that fills the space beyond it,
+// the screen included: each ray from the light refracts into it once. A
+// light on the screen's side lies in that medium, where nothing refracts
+// (the model would send its rays away from the screen: a black frame); one
+// within the surface's relief meets some of it from below. Refused, as a
+// slab's light inside its glass is (docs/physics.md §14).
+void check_surface_light(const Scene& scene, const Placement& placement) {
+  const glm::dvec3 nf = placement.flat_normal;
+  const double eps = 1e-6 * std::max(1.0, placement.max_depth);
+  const auto height = [&](const glm::dvec3& p) { return glm::dot(p, nf) - placement.flat_offset; };
+  const double light = height(scene.light.position), screen = height(scene.screen.center);
+  if (light <= eps && light >= -placement.max_depth - eps)
+    throw SceneError("light.position", "the point light lies within the surface's relief, between its lowest and "
+                                       "highest points: light it from one side (object.shape \"surface\")");
+  const bool screen_above = screen > eps, screen_below = screen < -placement.max_depth - eps;
+  if ((light > 0 && screen_above) || (light < 0 && screen_below))
+    throw SceneError("light.position", "the point light lies on the screen's side of the surface, in the medium that "
+                                       "fills the space beyond it (object.shape \"surface\"), where no ray crosses "
+                                       "the surface: place it on the surface's other side");
+}
+
 void check_point_light(const Scene& scene, const Placement& placement) {
   const glm::dvec3 nf = placement.flat_normal;
   if (scene.light.type == LightType::point && scene.object.shape == Shape::solid) {
@@ -112,6 +133,8 @@ void check_point_light(const Scene& scene, const Placement& placement) {
       throw SceneError("light.position", "the point light lies inside the object's bounding box");
     return;
   }
+  if (scene.light.type == LightType::point && scene.object.shape == Shape::surface)
+    return check_surface_light(scene, placement);
   if (scene.light.type == LightType::point && scene.object.material == Material::refractive) {
     const double h = glm::dot(scene.light.position, nf) - placement.flat_offset;
     const double eps = 1e-6 * std::max(1.0, placement.max_depth);
