@@ -53,6 +53,13 @@ TEST(SceneShape, KeysTheShapeMakesMootAreWarnedAbout) {
   const auto moot = shape_overrides(slab, scene_from_json(slab, "."));
   ASSERT_EQ(moot.size(), 1u);
   EXPECT_EQ(moot[0].first, "render.light_grid");
+  EXPECT_NE(moot[0].second.find("a slab traces one ray per vertex"), std::string::npos) << moot[0].second;
+  // A surface (water) is no slab: the warning said it was.
+  json surface = with("render", "light_grid", 64);
+  surface["object"]["shape"] = "surface";
+  const auto water = shape_overrides(surface, scene_from_json(surface, "."));
+  ASSERT_EQ(water.size(), 1u);
+  EXPECT_NE(water[0].second.find("a surface traces one ray per vertex"), std::string::npos) << water[0].second;
   // A complete file writes every key at its value: nothing to say.
   const Scene plain = scene_from_json(with("object", "shape", "solid"), ".");
   EXPECT_TRUE(shape_overrides(scene_to_json(plain), plain).empty());

@@ -125,8 +125,10 @@ std::vector<std::pair<std::string, std::string>> shape_overrides(const nlohmann:
                              "file is not read");
   const auto grid = written_number(written, "render", "light_grid");
   if (!solid && grid && *grid != RenderParams{}.light_grid)
-    out.emplace_back("render.light_grid", "render.light_grid sizes the light's grid for a solid (object.shape "
-                                          "\"solid\"); a slab traces one ray per vertex of its face instead");
+    out.emplace_back("render.light_grid", std::string("render.light_grid sizes the light's grid for a solid "
+                                                      "(object.shape \"solid\"); a ") +
+                                              (scene.object.shape == Shape::surface ? "surface" : "slab") +
+                                              " traces one ray per vertex of its face instead");
   return out;
 }
 
