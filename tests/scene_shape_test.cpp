@@ -65,6 +65,25 @@ TEST(SceneShape, KeysTheShapeMakesMootAreWarnedAbout) {
   EXPECT_TRUE(shape_overrides(scene_to_json(plain), plain).empty());
 }
 
+TEST(SceneShape, AMirrorPatchedOntoASolidOrASurfaceNamesTheMaterial) {
+  // The merged scene holds its shape: the refusal named object.shape,
+  // which the patch never wrote.
+  for (const char* shape : {"solid", "surface"}) {
+    const Scene s = scene_from_json(with("object", "shape", shape), ".");
+    EXPECT_EQ(refusal<SceneError>([&] { apply_merge_patch(s, {{"object", {{"material", "reflective"}}}}); }),
+              std::string("object.material: \"reflective\" makes a mirror of a slab's face; this scene's object "
+                          "is a ") + shape + " (object.shape \"" + shape +
+                  "\"), which light passes through: it must be \"refractive\"");
+  }
+  // A patch that writes the shape too is answered by the shape, as a file is.
+  const Scene slab = scene_from_json(minimal(), ".");
+  EXPECT_EQ(refused_key<SceneError>([&] {
+              apply_merge_patch(slab, {{"object", {{"material", "reflective"}, {"shape", "solid"}}}});
+            }),
+            "object.shape");
+  EXPECT_EQ(apply_merge_patch(slab, {{"object", {{"material", "reflective"}}}}).object.material, Material::reflective);
+}
+
 TEST(SceneShape, ASolidIgnoresTheFlatFaceOffsetWhenPlaced) {
   const Mesh body = biconvex_lens(40, 40, 6, 10, 9);
   ObjectParams o;

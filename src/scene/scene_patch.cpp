@@ -40,17 +40,23 @@ std::string first_key(const json& value, const std::string& path) {
   return first_key(value.begin().value(), path + "." + printable_name(value.begin().key(), 64));
 }
 
-// A patch that brings one kind of scene's keys to the other: the merged
+// A patch that brings one kind of scene's keys to another: the merged
 // scene holds the shape the scene has (scene_to_json writes it), so the
 // refusal would name object.shape, which the patch never wrote. It is said
 // of the key written, with the shape the scene has.
 void check_scene_kind(const Scene& scene, const json& doc, const json& patch) {
-  const auto water = patch.find("water");
-  if (water == patch.end()) return;
   // A shape the patch writes is the patch's to answer for, by its own key.
   const auto object = patch.find("object");
   if (object != patch.end() && object->is_object() && object->contains("shape")) return;
   const std::string shape = doc.at("object").at("shape").get<std::string>();
+  // So is a mirror made of a solid or a surface (it was said of object.shape).
+  if (object != patch.end() && object->is_object() && object->value("material", json()) == "reflective" &&
+      shape != "slab")
+    throw SceneError("object.material", "\"reflective\" makes a mirror of a slab's face; this scene's object is a " +
+                                            shape + " (object.shape \"" + shape +
+                                            "\"), which light passes through: it must be \"refractive\"");
+  const auto water = patch.find("water");
+  if (water == patch.end()) return;
   if (!scene.water && !water->is_null() && shape != "surface")
     throw SceneError(first_key(*water, "water"), "belongs to a water scene, and this scene has no water: its object "
                                                  "is a " + shape + " (object.shape \"" + shape +
