@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Pictures a designer is given as a camera or a hostile file writes them:
 // turned by their EXIF orientation, a volume where a picture should be,
-// channels beyond colour, and a progressive JPEG whose scans never end.
+// channels beyond colour, a progressive JPEG whose scans never end, and
+// files cut short.
 #include "caustic/design_target.hpp"
 #include "jpeg_support.hpp"
 #include "refusal.hpp"
@@ -14,6 +15,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -103,6 +105,9 @@ TEST(DesignPicture, AJpegCutShortIsRefusedNotDesignedWithItsRowsGrey) {
     const std::string cut = whole.substr(0, whole.size() / 2) + "\xff\xd9";
     const std::string why = refused(folder.write("cut.jpg", cut));
     EXPECT_NE(why.find("cut short"), std::string::npos) << side << (progressive ? " progressive: " : " baseline: ") << why;
+    // With libjpeg's own words: the reader forgot them once asked, and the
+    // message said "cut short ()".
+    EXPECT_EQ(why.find("()"), std::string::npos) << why;
     // A stray byte after the first segment: libjpeg warns of it alone, and
     // its warning once hid the truncation.
     const std::size_t app0 = cut.find("\xff\xe0"), end = app0 + 4 + 14;  // JFIF's APP0 is 16 bytes long
@@ -181,4 +186,25 @@ TEST(DesignPicture, ATiledPictureReadsAsItsPixels) {
       if (std::abs(read.pixels[i] - pixels[i]) > 1e-6f && wrong++ == 0) first = i;
     EXPECT_EQ(wrong, 0u) << name << ": first at pixel " << first / 3 % w << ", row " << first / 3 / w;
   }
+}
+
+TEST(DesignPicture, AReadersErrorIsSaidOnOneLine) {
+  // libpng says a file cut short in three lines, which the message (and a
+  // problem+json detail) carried as they were.
+  Folder folder;
+  const auto whole = folder.path / "whole.png";
+  {
+    std::vector<unsigned char> pixels(256 * 256 * 3);
+    for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<unsigned char>((i * 7919) % 251);
+    auto out = OIIO::ImageOutput::create(whole.string());
+    ASSERT_TRUE(out && out->open(whole.string(), OIIO::ImageSpec(256, 256, 3, OIIO::TypeDesc::UINT8)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+    out->close();
+  }
+  std::ifstream in(whole, std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const std::string why = refused(folder.write("cut.png", bytes.substr(0, bytes.size() / 2)));
+  EXPECT_NE(why.find("cannot decode the picture ("), std::string::npos) << why;
+  EXPECT_EQ(why.find('\n'), std::string::npos) << why;
+  EXPECT_EQ(why.back(), ')') << why;
 }

@@ -115,6 +115,15 @@ void upright_pixel(int orientation, int w, int h, int sx, int sy, int& x, int& y
   }
 }
 
+// What a reader says, on one line: libpng's error is three lines, which a
+// message (and a problem+json detail) would carry as they are.
+std::string reader_words(std::string said) {
+  while (!said.empty() && (said.back() == '\n' || said.back() == ' ')) said.pop_back();
+  for (std::size_t at = said.find('\n'); at != std::string::npos; at = said.find('\n', at))
+    said.replace(at, 1, "; ");
+  return said;
+}
+
 // Opened once by hand, so that a file the process may not read is said so
 // (the image library tries every format's reader and reports that none
 // could read it).
@@ -131,9 +140,9 @@ std::unique_ptr<OIIO::ImageInput> open_picture(const std::string& name, const OI
   try {
     in = OIIO::ImageInput::open(name);
   } catch (const std::exception& e) {  // a reader that throws (allocation, length) rather than failing
-    throw TargetError(name + ": cannot read the picture (" + e.what() + ")");
+    throw TargetError(name + ": cannot read the picture (" + reader_words(e.what()) + ")");
   }
-  if (!in) throw TargetError(name + ": cannot read the picture (" + OIIO::geterror() + ")");
+  if (!in) throw TargetError(name + ": cannot read the picture (" + reader_words(OIIO::geterror()) + ")");
   const OIIO::ImageSpec& spec = in->spec();
   if (first && (spec.width != first->width || spec.height != first->height || spec.nchannels != first->nchannels ||
                 spec.tile_width != first->tile_width || spec.tile_height != first->tile_height))
@@ -163,9 +172,9 @@ void read_bands(OIIO::ImageInput& in, const std::string& name, int channels,
                    : in.read_scanlines(0, 0, spec.y + y0, spec.y + y1, spec.z, 0, channels, OIIO::TypeDesc::FLOAT,
                                        raw.data());
     } catch (const std::exception& e) {
-      throw TargetError(name + ": cannot decode the picture (" + e.what() + ")");
+      throw TargetError(name + ": cannot decode the picture (" + reader_words(e.what()) + ")");
     }
-    if (!read) throw TargetError(name + ": cannot decode the picture (" + in.geterror() + ")");
+    if (!read) throw TargetError(name + ": cannot decode the picture (" + reader_words(in.geterror()) + ")");
     take(y0, y1, raw.data());
   }
 }
@@ -242,10 +251,13 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   // could not see, since it judges against the decoded picture. libjpeg
   // tells only its first warning, so any corrupt data is refused: a stray
   // byte's warning once hid the truncation behind it.
-  std::string warned = in->geterror();
+  // Read once: the reader forgets its error as it gives it (the message
+  // said "cut short ()").
+  const std::string said = reader_words(in->geterror());
+  std::string warned = said;
   std::transform(warned.begin(), warned.end(), warned.begin(), [](unsigned char c) { return std::tolower(c); });
   if (warned.find("premature end") != std::string::npos || warned.find("corrupt") != std::string::npos)
-    throw TargetError(name + ": the picture is damaged or cut short (" + in->geterror() + "); save it again");
+    throw TargetError(name + ": the picture is damaged or cut short (" + said + "); save it again");
   return out;
 }
 
