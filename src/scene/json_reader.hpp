@@ -71,6 +71,11 @@ class Reader {
   int integer(const std::string& k, int fallback, int lo, int hi) {
     const json* v = get(k);
     if (!v) return fallback;
+    // A whole number past 2^64 is held as a double: out of range, not "no integer".
+    const bool whole = v->is_number_float() && std::isfinite(v->get<double>()) &&
+                       v->get<double>() == std::floor(v->get<double>());
+    if (whole && (v->get<double>() < lo || v->get<double>() > hi))
+      throw SceneError(key(k), "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + v->dump());
     if (!v->is_number_integer()) throw SceneError(key(k), "must be an integer");
     // Beyond long long (an unsigned 2^64 - 1) it would wrap: said as written.
     const bool huge = v->is_number_unsigned() && v->get<unsigned long long>() > static_cast<unsigned long long>(hi);

@@ -66,6 +66,27 @@ void check_scene_kind(const Scene& scene, const json& doc, const json& patch) {
                               "it the scene has none; a scene without water names its face in mesh");
 }
 
+// Whether `text` is a number by JSON's grammar (RFC 8259 §6), blanks about it.
+bool json_number(const std::string& text) {
+  std::size_t at = text.find_first_not_of(" \t");
+  const auto digits = [&] {
+    const std::size_t from = at;
+    while (at < text.size() && text[at] >= '0' && text[at] <= '9') ++at;
+    return at > from;
+  };
+  if (at == std::string::npos) return false;
+  if (text[at] == '-') ++at;
+  if (at < text.size() && text[at] == '0') ++at;
+  else if (!digits()) return false;
+  if (at < text.size() && text[at] == '.' && (++at, !digits())) return false;
+  if (at < text.size() && (text[at] == 'e' || text[at] == 'E')) {
+    ++at;
+    if (at < text.size() && (text[at] == '+' || text[at] == '-')) ++at;
+    if (!digits()) return false;
+  }
+  return text.find_first_not_of(" \t", at) == std::string::npos;
+}
+
 }  // namespace
 
 Scene apply_merge_patch(const Scene& scene, const json& patch, const Scene* origin) {
@@ -97,7 +118,9 @@ json patch_from_assignment(const std::string& assignment) {
   JsonTextError error;
   auto parsed = parse_json_text(text, &error);
   const auto first = text.find_first_not_of(" \t");
-  if (!parsed && first != std::string::npos && (text[first] == '{' || text[first] == '['))
+  // So was a number JSON's grammar allows but a double cannot hold (1e400):
+  // taken as a string, it was refused as "must be a number".
+  if (!parsed && first != std::string::npos && (text[first] == '{' || text[first] == '[' || json_number(text)))
     throw SceneError(path, "not valid JSON: " + where_json_broke(text, error));
   json value = parsed ? std::move(*parsed) : json(text);
   // A scene's keys lie at most a few deep: a longer path names no key, and
