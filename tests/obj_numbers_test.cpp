@@ -89,6 +89,26 @@ TEST_F(ObjNumbers, EveryDecimalFormTheLoaderReadsLoadsAsWritten) {
         << word;
 }
 
+TEST_F(ObjNumbers, AFaceNamingAVertexOrNormalNotThereIsSaidWithItsLine) {
+  // The file and the face's corner, not only "a face refers to a vertex that
+  // does not exist" with neither.
+  EXPECT_NE(refusal(std::string(kFace) + "f 1 2 9\nv 1 1 0\n").find("face.obj line 5: a face's corner names vertex 9, "
+                                                                    "which does not exist (the file holds 4)"),
+            std::string::npos);
+  // Counted back from the vertices read so far, not from the file's last.
+  EXPECT_NE(refusal("v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n").find("line 3: a face's corner names vertex -3, which "
+                                                                      "does not exist (counted back from the last: 2 "
+                                                                      "so far)"),
+            std::string::npos);
+  EXPECT_NE(refusal(std::string(kFace) + "vn 0 0 1\nf 1//1 2//2 3//1\n").find("line 6: a face's corner names normal 2"),
+            std::string::npos);
+  const std::string back = refusal(std::string(kFace) + "vn 0 0 1\nf 1//-2 2//1 3//1\n");
+  EXPECT_NE(back.find("line 6: a face's corner names normal -2"), std::string::npos) << back;
+  // A face before the vertices it names, and relative corners within what was read, load.
+  EXPECT_EQ(refusal("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"), "");
+  EXPECT_EQ(refusal("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf -3//-1 -2//-1 -1//-1\n"), "");
+}
+
 TEST_F(ObjNumbers, AByteOrderMarkIsNoStatement) {
   // Some editors write one first; it was refused as line 1's unknown statement.
   const Mesh mesh = load_obj(write("\xef\xbb\xbf" + std::string(kFace)));

@@ -60,6 +60,7 @@ void check_numbers(std::string_view text, const std::string& label, const MeshLi
   };
   std::string word;  // the word being read, NUL-terminated for strtod
   int first_coloured = -1;  // whether the first vertex line has a colour; -1 before it
+  detail::Named named_vertices, named_normals;
   const char* p = text.data();
   const char* const end = p + text.size();
   for (std::size_t number = 1; p < end; ++number) {
@@ -101,9 +102,14 @@ void check_numbers(std::string_view text, const std::string& label, const MeshLi
       if (++faces > limits.max_triangles)
         fail(number, "more than " + std::to_string(limits.max_triangles) + " faces");
       std::size_t corners = 0;
-      for (; next_word(); ++corners)
-        if (!detail::face_corner(word))
+      for (long long index[3]; next_word(); ++corners) {
+        if (!detail::face_corner(word, index))
           fail(number, "a face's corner must be v, v/vt, v//vn or v/vt/vn, each a nonzero whole number within an int");
+        // Texture coordinates are read only for a receiver's atlas, which checks them.
+        for (const std::string& error : {named_vertices.take(index[0], vertices, number, "vertex"),
+                                         named_normals.take(index[2], normals, number, "normal")})
+          if (!error.empty()) fail(number, error);
+      }
       if (corners < 3) fail(number, "a face needs at least 3 corners");
       // Said here with its line: the reader keeps a face's corner count in
       // a byte, so a face of 259 corners would come out as a triangle.
@@ -152,6 +158,9 @@ void check_numbers(std::string_view text, const std::string& label, const MeshLi
                                         : "this vertex has no colour but the first has one") +
                        "; give every vertex a colour (v x y z r g b) or none");
   }
+  if (const std::string error = named_vertices.past(vertices, "vertex"); !error.empty())
+    fail(named_vertices.line, error);
+  if (const std::string error = named_normals.past(normals, "normal"); !error.empty()) fail(named_normals.line, error);
 }
 
 Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool atlas);
