@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Hardening of bodies on their way in: the HTTP library holds a body whole
 // in memory until its handler runs, so the pictures arriving at once are
-// bounded; a body that stops coming is answered 408 before the close.
+// bounded; a body that stops coming is answered 408 before the close, one
+// the client cut short 400.
 // Black-box over loopback, from several of its addresses.
 #include "hardening_support.hpp"
 #include "raw_http.hpp"
@@ -97,4 +98,27 @@ TEST(Hardening, ABodyThatStopsComingIsAnswered408) {
     EXPECT_NE(raw_body(answer).find(timeout), std::string::npos) << answer;
     EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
   }
+}
+
+// A body cut short by the client's half-close will never finish: it is
+// answered 400 at once, as a head cut short is, rather than closed without
+// a word (or at a timeout, set here far longer than the test waits). A
+// whole body followed by a half-close is served as any other.
+TEST(Hardening, ABodyCutShortByTheClientIsAnsweredAtOnce) {
+  ServerProcess server({"--set", "body_timeout_s=600", "--set", "connection_idle_timeout_s=600"});
+  for (const std::string type : {"application/json", "image/png"}) {
+    const int fd = raw_connect(server.port());
+    ASSERT_GE(fd, 0);
+    const std::string path = type == "image/png" ? "/api/v1/designs" : "/api/v1/sessions";
+    raw_send(fd, request_text("POST", path, "Content-Type: " + type + "\r\nContent-Length: 100\r\n") + "{\"scene\": ");
+    ::shutdown(fd, SHUT_WR);
+    expect_problem_then_close(fd, 400, 30000);
+  }
+  const int fd = raw_connect(server.port());
+  ASSERT_GE(fd, 0);
+  raw_send(fd, request_text("POST", "/api/v1/sessions", "Content-Type: application/json\r\n", R"({"scene": "lens"})"));
+  ::shutdown(fd, SHUT_WR);
+  const std::string answer = raw_read_all(fd, 30000);
+  ::close(fd);
+  EXPECT_EQ(raw_status(answer), 201) << answer.substr(0, 300);
 }

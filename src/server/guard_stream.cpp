@@ -46,15 +46,20 @@ G_DEFINE_TYPE_WITH_CODE(GuardInput, guard_input, G_TYPE_FILTER_INPUT_STREAM,
 GuardInput* self_of(gpointer p) { return reinterpret_cast<GuardInput*>(p); }
 GInputStream* base_of(gpointer p) { return g_filter_input_stream_get_base_stream(G_FILTER_INPUT_STREAM(p)); }
 
-// A 408 on the socket, once, while the request is still arriving.
-bool time_out(GuardInput* self, const char* timeout) {
+// A problem on the socket, once, while the request is still arriving: the
+// library answers only once it has read the request, and closes without a
+// word when the request never comes whole.
+bool cut_off(GuardInput* self, unsigned status, const std::string& detail) {
   if (self->frames || self->timed_out || self->read_bytes >= self->request_bytes || !self->connection) return false;
   self->timed_out = true;
-  const std::string answer = canned_problem(
-      408, std::string("the request did not arrive in time (") + timeout + "); it was cut off");
+  const std::string answer = canned_problem(status, detail);
   GSocket* socket = g_socket_connection_get_socket(self->connection);
   (void)::send(g_socket_get_fd(socket), answer.data(), answer.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
   return true;
+}
+
+bool time_out(GuardInput* self, const char* timeout) {
+  return cut_off(self, 408, std::string("the request did not arrive in time (") + timeout + "); it was cut off");
 }
 
 // Checks what a read returned before the library sees it.
@@ -63,6 +68,10 @@ gssize inspect(GuardInput* self, const void* buffer, gssize n, GError** error) {
     if (n > 0) self->read_bytes += static_cast<std::uint64_t>(n);
     else if (n < 0 && error && *error && g_error_matches(*error, G_IO_ERROR, G_IO_ERROR_TIMED_OUT))
       time_out(self, "connection_idle_timeout_s");
+    // The client closed its sending side with the body unfinished; it may
+    // still read, as after a head cut short (listener.cpp).
+    else if (n == 0)
+      cut_off(self, 400, "the body ended before its Content-Length did: the client closed its side");
     return n;
   }
   if (n <= 0) return n;
