@@ -3,6 +3,7 @@
 // their index, the atlas's tiles, and the first surface a ray meets.
 #include "caustic/receivers.hpp"
 #include "caustic/surfaces.hpp"
+#include "refusal.hpp"
 #include "scene_test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -57,6 +58,9 @@ TEST(SceneReceivers, BadReceiversAreNamedByTheirPlace) {
   bad["up"] = {0, 0, 1};  // along its normal
   doc["receivers"] = {bad};
   expect_rejected(doc, "receivers[0].up");
+  // Its own normal, not the screen's (which it named).
+  EXPECT_EQ(refusal<SceneError>([&] { scene_from_json(doc, "."); }),
+            "receivers[0].up: must not be parallel to receivers[0].normal");
   bad = floor_rectangle();
   bad["follow_light"] = true;
   doc["receivers"] = {bad};

@@ -133,7 +133,7 @@ ScreenParams read_screen(Reader r, const std::optional<double>& focus_distance, 
   s.up = r.vec3("up", s.up, true);
   // Gram-Schmidt: the image's vertical axis lies in the screen plane.
   const glm::dvec3 in_plane = s.up - glm::dot(s.up, s.normal) * s.normal;
-  if (glm::length(in_plane) < 1e-6) throw SceneError(r.key("up"), "must not be parallel to screen.normal");
+  if (glm::length(in_plane) < 1e-6) throw SceneError(r.key("up"), "must not be parallel to " + r.key("normal"));
   s.up = glm::normalize(in_plane);
   if (r.has("center")) {
     s.center = r.vec3("center", s.center);
