@@ -243,7 +243,7 @@ TEST_F(ObjFiles, TheTextIsHeldOnce) {
 }
 
 TEST_F(ObjFiles, MissingFileIsAnError) {
-  EXPECT_THROW(load_obj(dir_ / "absent.obj"), SceneError);
+  expect_error_at(dir_ / "absent.obj", "cannot read mesh file absent.obj (No such file or directory)");
   // A folder or a device is said to be one, not "cannot read" as if missing.
   expect_error_at(dir_, "is a folder, pipe, socket, device or kernel file, not a file");
   expect_error_at("/dev/zero", "mesh file zero is a folder, pipe, socket, device");

@@ -216,7 +216,8 @@ TEST(Assignment, RejectsMalformedText) {
 TEST(LoadScene, ReportsMissingFilesAndBadJson) {
   const auto dir = std::filesystem::temp_directory_path() / "caustic_scene_test";
   std::filesystem::create_directories(dir);
-  EXPECT_THROW(load_scene(dir / "absent.json"), SceneError);
+  EXPECT_EQ(caustic::testing::refusal<SceneError>([&] { load_scene(dir / "absent.json"); }),
+            "cannot open scene file " + (dir / "absent.json").string() + " (No such file or directory)");
   std::ofstream(dir / "broken.json") << "{\"mesh\": \"a.obj\",";
   try {
     load_scene(dir / "broken.json");

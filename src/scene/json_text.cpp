@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <optional>
 #include <cerrno>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -225,6 +226,10 @@ std::string dump_json(const nlohmann::json& value) {
   return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+std::string why_unread(const FileText& read) {
+  return read.error ? std::string(" (") + std::strerror(read.error) + ")" : std::string();
+}
+
 std::string printable_name(std::string_view name, std::size_t max_bytes) {
   static constexpr char kHex[] = "0123456789abcdef";
   std::string out;
@@ -267,6 +272,7 @@ FileText read_file_text(const std::filesystem::path& file, std::size_t limit) {
   // between a look and the open cannot hold the reader.
   const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
   if (fd < 0) {
+    out.error = errno;
     std::error_code ec;
     const auto type = std::filesystem::status(file, ec).type();
     out.not_a_file = !ec && type != std::filesystem::file_type::regular;
@@ -285,6 +291,7 @@ FileText read_file_text(const std::filesystem::path& file, std::size_t limit) {
     const ssize_t n = ::read(fd, piece, sizeof piece);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) {  // an I/O error part way: not the whole file, so none of it
+      out.error = errno;
       out.opened = false;
       out.text.clear();
       break;

@@ -251,7 +251,7 @@ Mesh read_obj(const std::filesystem::path& file, const MeshLimits& limits, bool 
   const std::string label = file.filename().string();
   const FileText read = read_file_text(file, limits.max_file_bytes);
   if (read.not_a_file) throw SceneError("mesh", "mesh file " + label + " is a folder, pipe, socket, device or kernel file, not a file");
-  if (!read.opened) throw SceneError("mesh", "cannot read mesh file " + label);
+  if (!read.opened) throw SceneError("mesh", "cannot read mesh file " + label + why_unread(read));
   if (read.too_large) throw SceneError("mesh", "mesh file " + label + " is larger than the limit");
   // A byte order mark, which some editors write first, is no statement.
   std::string_view text = read.text;

@@ -382,7 +382,7 @@ void validate_scene(const Scene& scene) {
 Scene load_scene(const std::filesystem::path& file, nlohmann::json* written) {
   const FileText read = read_file_text(file, kMaxSceneFileBytes);
   if (read.not_a_file) throw SceneError("", "scene file " + file.string() + " is a folder, pipe, socket, device or kernel file, not a file");
-  if (!read.opened) throw SceneError("", "cannot open scene file " + file.string());
+  if (!read.opened) throw SceneError("", "cannot open scene file " + file.string() + why_unread(read));
   if (read.too_large)
     throw SceneError("", "scene file " + file.string() + " is larger than " +
                              std::to_string(kMaxSceneFileBytes >> 20) + " MiB; a scene names its meshes, never holds them");

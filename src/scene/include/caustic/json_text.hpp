@@ -53,9 +53,13 @@ struct FileText {
   bool not_a_file = false;  ///< a folder, pipe, socket, device or kernel (/proc, /sys) file: not read
   bool opened = false;
   bool too_large = false;
+  int error = 0;  ///< errno of the open or read that failed, for the message to say why
   std::string text;
 };
 FileText read_file_text(const std::filesystem::path& file, std::size_t limit);
+
+/// Why a file was not read, as " (No such file or directory)", or "".
+std::string why_unread(const FileText& read);
 
 /// `value.dump()` that never throws: invalid UTF-8 in strings is replaced.
 std::string dump_json(const nlohmann::json& value);
