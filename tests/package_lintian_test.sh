@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # The Debian package passes lintian without errors, and its control data
-# say what an operator relies on: the configuration is a conffile, the
+# say what an operator relies on: the configuration is ucf's, not a dpkg
+# conffile (whose question stops a non-interactive upgrade), the
 # run-time dependencies come from dpkg-shlibdeps plus the plugins loaded at
 # run time, and the plugin file is where GStreamer looks.
 #   package_lintian_test.sh PACKAGE.deb
@@ -18,12 +19,16 @@ echo "== lintian $(basename "$deb")"
 lintian --fail-on error --display-info --tag-display-limit 0 "$deb" || fail "lintian reports errors"
 depends="$(dpkg-deb -f "$deb" Depends)"
 echo "Depends: $depends"
-for needed in libc6 libgstreamer1.0-0 libsoup-3.0-0 libembree3-3 gstreamer1.0-plugins-bad gstreamer1.0-nice libgl1-mesa-dri; do
+for needed in libc6 libgstreamer1.0-0 libsoup-3.0-0 libembree3-3 gstreamer1.0-plugins-bad gstreamer1.0-nice libgl1-mesa-dri ucf; do
   grep -q "\b$needed\b" <<<"$depends" || fail "Depends lacks $needed"
 done
-dpkg-deb --ctrl-tarfile "$deb" | tar -xO ./conffiles | grep -x /etc/causticd/causticd.conf >/dev/null || fail "causticd.conf is not a conffile"
+conffiles="$(dpkg-deb --ctrl-tarfile "$deb" | tar -xO ./conffiles 2>/dev/null || true)"
+[[ -z "$conffiles" ]] || fail "the package has dpkg conffiles: $conffiles"
+dpkg-deb --ctrl-tarfile "$deb" | tar -xO ./postinst | grep -q '^ *ucf /usr/share/causticd/causticd.conf ' ||
+  fail "postinst does not hand causticd.conf to ucf"
 contents="$(dpkg-deb -c "$deb")"
-for file in ./usr/bin/causticd ./etc/causticd/causticd.conf ./usr/lib/systemd/system/causticd.service \
+grep -q ' ./etc/causticd/causticd.conf$' <<<"$contents" && fail "the package ships /etc/causticd/causticd.conf (a dpkg conffile)"
+for file in ./usr/bin/causticd ./usr/share/causticd/causticd.conf ./usr/lib/systemd/system/causticd.service \
   ./usr/lib/systemd/system/causticd@.service ./usr/lib/systemd/system/causticd-janus.service \
   ./usr/share/causticd/janus/setup-broadcast ./usr/lib/sysusers.d/causticd.conf \
   "./usr/lib/$(dpkg-architecture -qDEB_HOST_MULTIARCH 2>/dev/null || echo x86_64-linux-gnu)/gstreamer-1.0/libgstcaustic.so" \

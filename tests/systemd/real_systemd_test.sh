@@ -6,7 +6,7 @@
 # reload, watchdog, restarts, a configuration error that does not loop, a stop
 # that drains a running session, two template instances, broadcasts through
 # causticd-janus (in place of Debian's janus.service), enable + reboot, the
-# security ratings, and purge. Exits 77 (skipped) only where systemd-nspawn
+# security ratings, upgrades (one over an edited configuration), and purge. Exits 77 (skipped) only where systemd-nspawn
 # cannot run at all.
 #   real_systemd_test.sh PACKAGE.deb
 set -euo pipefail
@@ -318,6 +318,36 @@ wait_for 180 "causticd did not restart on the upgrade" restarted "$pid"
 wait_for 30 "not serving after the upgrade" serving 8080
 exe="$(c readlink "/proc/$(prop causticd.service MainPID)/exe")"
 [[ "$exe" != *deleted* ]] || fail "after the upgrade causticd runs a deleted binary: $exe"
+
+# --- an upgrade over an operator's edit: no question stops it ---------------
+# The next version ships a changed causticd.conf (every new key changes it)
+# where the operator edited theirs. As a dpkg conffile that upgrade stopped
+# at dpkg's question: without a terminal "end of file on stdin at conffile
+# prompt", the package left half-configured, the old binary serving; on a
+# terminal it waited. Made here from this package, version bumped.
+note "upgrade over an edited causticd.conf whose default changed: no question, the edit kept"
+next="$work/next"
+dpkg-deb -R "$deb" "$next"
+sed -i 's/^Version: \(.*\)$/Version: \1+next/' "$next/DEBIAN/control"
+for conf in "$next/etc/causticd/causticd.conf" "$next/usr/share/causticd/causticd.conf"; do
+  if [[ -f "$conf" ]]; then echo "# a key of the next version" >>"$conf"; fi
+done
+(cd "$next" && find . -path ./DEBIAN -prune -o -type f -printf '%P\0' | sort -z | xargs -0 md5sum >DEBIAN/md5sums)
+dpkg-deb -b -Zgzip -z1 "$next" "$work/root/var/tmp/next.deb" >/dev/null
+rm -rf "$next"
+c sed -i 's/^max_sessions = 12$/max_sessions = 11/' /etc/causticd/causticd.conf
+pid="$(prop causticd.service MainPID)"
+# As a script or a configuration tool runs it: no terminal, no debconf
+# frontend named, bounded in case a question waits after all.
+c sh -c "timeout 300 apt-get install -y -q /var/tmp/next.deb" </dev/null >"$work/next.log" 2>&1 ||
+  fail "the upgrade over an edited causticd.conf failed: $(grep -v 'Reading database' "$work/next.log" | tail -8)"
+c rm -f /var/tmp/next.deb
+[[ "$(c dpkg-query -W -f='${Status} ${Version}' causticd)" == "install ok installed "*+next ]] ||
+  fail "after the upgrade: $(c dpkg-query -W -f='${Status} ${Version}' causticd)"
+c grep -qx 'max_sessions = 11' /etc/causticd/causticd.conf || fail "the upgrade undid the operator's edit"
+c grep -qx '# a key of the next version' /etc/causticd/causticd.conf.ucf-dist ||
+  fail "the new default is not beside the edited file (causticd.conf.ucf-dist)"
+wait_for 180 "causticd did not restart on the upgrade over an edit" restarted "$pid"
 
 # --- purge: nothing left behind -----------------------------------------------
 note "apt-get purge"
