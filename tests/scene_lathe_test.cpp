@@ -60,6 +60,8 @@ TEST(SceneLathe, BadLathesAreNamed) {
   expect_rejected(doc, "receivers[0].lathe.profile");
   with("profile", json::array({{0, 0}, {0, 3}}));  // on the axis: no area
   expect_rejected(doc, "receivers[0].lathe.profile");
+  with("profile", json::array({{4, 2}, {4, 2}, {4, 2}}));  // one point: no area either (it was taken)
+  expect_rejected(doc, "receivers[0].lathe.profile");
   with("profile", json::array({{1, 0}, {2, "3"}}));
   expect_rejected(doc, "receivers[0].lathe.profile");
   with("profile", json::array({{1, 0}, {2, 3, 4}}));

@@ -7,6 +7,7 @@
 #include "caustic/json_text.hpp"
 #include "glass_json.hpp"
 #include "json_reader.hpp"
+#include "lathe_json.hpp"
 #include "water_json.hpp"
 #include "caustic/receiver_cache.hpp"
 #include "caustic/receiver_meshes.hpp"
@@ -85,30 +86,6 @@ LightParams read_light(Reader r) {
   return l;
 }
 
-// A lathe's profile: (radius, height) points, at least one off the axis.
-Lathe read_lathe(Reader r) {
-  Lathe l;
-  const json* profile = r.get("profile");
-  if (!profile || !profile->is_array() || profile->size() < 2 || profile->size() > kMaxLatheProfile)
-    throw SceneError(r.key("profile"), "must be an array of 2 to " + std::to_string(kMaxLatheProfile) +
-                                           " [radius, height] points");
-  double widest = 0;
-  for (const json& point : *profile) {
-    const auto number = [](const json& x) { return x.is_number() && std::isfinite(x.get<double>()); };
-    if (!point.is_array() || point.size() != 2 || !number(point[0]) || !number(point[1]) ||
-        point[0].get<double>() < 0 || point[0].get<double>() > kMaxCoordinate ||
-        std::abs(point[1].get<double>()) > kMaxCoordinate)
-      throw SceneError(r.key("profile"), "each point must be [radius, height]: a radius from 0 to 1e6 and a height "
-                                         "of magnitude at most 1e6");
-    l.profile.emplace_back(point[0].get<double>(), point[1].get<double>());
-    widest = std::max(widest, l.profile.back().x);
-  }
-  if (!(widest > 0)) throw SceneError(r.key("profile"), "must leave the axis somewhere (a radius above 0)");
-  l.segments = r.integer("segments", l.segments, 3, kMaxLatheSegments);
-  r.reject_unknown();
-  return l;
-}
-
 // The receiver's shape `name` from the scene's table, placed at s.
 ShapedMesh read_shape(Reader& r, const ScreenParams& s, const std::shared_ptr<const ReceiverMeshTable>& shapes) {
   const std::string name = r.string("mesh", "", 64);
@@ -158,7 +135,7 @@ ScreenParams read_screen(Reader r, const std::optional<double>& focus_distance, 
     // Its size is its profile: a width or height beside it would be ignored.
     for (const char* k : {"width", "height"})
       if (r.has(k)) throw SceneError(r.key(k), "a lathe's size is its profile: leave width and height out");
-    s.lathe = read_lathe(r.child("lathe"));
+    s.lathe = detail::read_lathe(r.child("lathe"));
     s.width = s.height = 1;
     s.lathe->mesh = lathe_mesh(s.lathe->profile, s.lathe->segments, s.center, s.normal, s.up);
   } else {
