@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Designs kept in the state folder across restarts: restored, expired
 // unless kept, deleted by their owner alone; one design's broken files
-// skip it alone; a design not read back is failed for that run only.
+// skip it alone; a design not read back is failed for that run only; a
+// stop once its files are whole leaves its read-back to the next start.
 // Black box against `causticd serve` on loopback; every wait bounded.
 #include "design_api_support.hpp"
 
@@ -169,4 +170,34 @@ TEST_F(DesignApi, ADesignNotReadBackIsFailedForThatRunOnly) {
   ServerProcess server(small_designs(state));
   EXPECT_EQ(wait_design(server, id).value("state", ""), "ready");
   EXPECT_EQ(create_session_retrying(server, id).status, 201u);
+}
+
+TEST_F(DesignApi, AStopOnceADesignsFilesAreWholeLeavesItsReadBackToTheNextStart) {
+  // Stopped while a design was stored, the server read the design back
+  // (built and drew its scene: seconds at 1024^2) before it exited. Its
+  // files are whole then, and the next start restores it: the stop now
+  // leaves the read-back, whose thumbnail is the sign, to that start.
+  TempDir state;
+  std::string id;
+  {
+    ServerProcess server({"--set", "state_dir=" + state.path.string(), "--set", "design_resolution=1024"});
+    id = upload(server, square_png(1024)).json().value("id", "");
+    ASSERT_FALSE(id.empty());
+    std::string stage;
+    for (int i = 0; i < 6000 && stage != "storing"; ++i) {
+      const json now = http("GET", server.url() + "/api/v1/designs/" + id).json();
+      ASSERT_NE(now.value("state", ""), "ready") << "the stage of storing was never seen";
+      stage = now.value("stage", "");
+      if (stage != "storing") g_usleep(20000);
+    }
+    ASSERT_EQ(stage, "storing");
+    server.signal(SIGTERM);
+    EXPECT_EQ(server.wait_exit(120000), 0);
+  }
+  const fs::path dir = state.path / "designs" / id;
+  EXPECT_TRUE(fs::exists(dir / "report.json")) << "the design's files were not whole";
+  EXPECT_FALSE(fs::exists(dir / "thumbnail.png")) << "the stop waited for the design to be read back";
+  ServerProcess server({"--set", "state_dir=" + state.path.string()});
+  EXPECT_EQ(wait_design(server, id).value("state", ""), "ready");
+  EXPECT_TRUE(fs::exists(dir / "thumbnail.png"));
 }

@@ -286,6 +286,13 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
         job->stage = p.stage;
       });
     }
+    // Stopped once the design's files are whole: the next start reads it
+    // back (a restore), so the stop need not wait for the read-back, seconds
+    // of building and drawing at the largest resolution.
+    {
+      std::lock_guard lock(mutex_);
+      if (stop_) throw Stopping();
+    }
     if (!was_ready)
       report = public_report(parse_json_text(read_text(job->folder / "report.json")).value_or(nlohmann::json::object()));
     GlContext context(egl_platform_from_environment());
