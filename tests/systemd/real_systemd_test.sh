@@ -177,6 +177,14 @@ wait_for 30 "not serving after the restart" serving 8080
 note "configuration error: exit 2, failed, not restarted"
 c cp /etc/causticd/causticd.conf /etc/causticd/causticd.conf.good
 echo "colour = red" | c tee -a /etc/causticd/causticd.conf >/dev/null
+# A reload refuses it before any signal: `systemctl reload` fails (it once
+# answered 0, the refusal only in the journal), and the service serves on.
+pid="$(prop causticd.service MainPID)"
+c systemctl reload causticd.service 2>/dev/null && fail "systemctl reload took a broken configuration without failing"
+[[ "$(prop causticd.service ActiveState)" == active && "$(prop causticd.service MainPID)" == "$pid" ]] ||
+  fail "a refused reload left the service $(prop causticd.service ActiveState), main PID $(prop causticd.service MainPID)"
+serving 8080 || fail "not serving after a refused reload"
+journal causticd.service | grep "check-config: .*colour: unknown key" >/dev/null || fail "the refused reload does not name the key"
 c systemctl reset-failed causticd.service
 restarts="$(prop causticd.service NRestarts)"
 c systemctl restart causticd.service && fail "a broken configuration started"
@@ -184,7 +192,7 @@ sleep 6 # three RestartSec= periods: a loop would have restarted by now
 [[ "$(prop causticd.service ActiveState)" == failed ]] || fail "not failed: $(prop causticd.service ActiveState)"
 [[ "$(prop causticd.service ExecMainStatus)" == 2 ]] || fail "exit status $(prop causticd.service ExecMainStatus), not 2"
 [[ "$(prop causticd.service NRestarts)" == "$restarts" ]] || fail "a configuration error was restarted"
-journal causticd.service | grep "colour" >/dev/null || fail "the journal does not name the bad key"
+journal causticd.service | grep "causticd serve: .*colour" >/dev/null || fail "the journal does not name the bad key"
 c mv /etc/causticd/causticd.conf.good /etc/causticd/causticd.conf
 
 # --- any other failure stops at the start limit ----------------------------
