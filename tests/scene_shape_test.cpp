@@ -148,7 +148,8 @@ TEST(SceneShape, APointLightInASurfacesMediumIsRefused) {
   for (const glm::dvec3& in_water : {glm::dvec3(0, 0, -3), glm::dvec3(0, 0, -20), glm::dvec3(40, 0, -1)})
     EXPECT_EQ(said(in_water).rfind("light.position: the point light lies on the screen's side of the surface", 0), 0u)
         << in_water.z;
-  EXPECT_EQ(said({0, 0, 0.2}).rfind("light.position: the point light lies within the surface's relief", 0), 0u);
+  EXPECT_EQ(said({0, 0, 0.2}).rfind("light.position: the point light lies level with the surface's relief", 0), 0u);
+  EXPECT_EQ(said({40, 0, 0.2}).rfind("light.position: the point light lies level with the surface's relief", 0), 0u);
   // Lit from below with the screen above, the medium is above: taken.
   s.screen.center = {0, 0, 10};
   EXPECT_EQ(said({0, 0, -20}), "accepted");

@@ -109,7 +109,7 @@ bool in_box(const Placement& placement, const glm::dvec3& p) {
 // the screen included: each ray from the light refracts into it once. A
 // light on the screen's side lies in that medium, where nothing refracts
 // (the model would send its rays away from the screen: a black frame); one
-// within the surface's relief meets some of it from below. Refused, as a
+// level with the surface's relief meets some of it from below. Refused, as a
 // slab's light inside its glass is (docs/physics.md §14).
 void check_surface_light(const Scene& scene, const Placement& placement) {
   const glm::dvec3 nf = placement.flat_normal;
@@ -117,8 +117,9 @@ void check_surface_light(const Scene& scene, const Placement& placement) {
   const auto height = [&](const glm::dvec3& p) { return glm::dot(p, nf) - placement.flat_offset; };
   const double light = height(scene.light.position), screen = height(scene.screen.center);
   if (light <= eps && light >= -placement.max_depth - eps)
-    throw SceneError("light.position", "the point light lies within the surface's relief, between its lowest and "
-                                       "highest points: light it from one side (object.shape \"surface\")");
+    throw SceneError("light.position", "the point light lies level with the surface's relief, between the heights "
+                                       "of its lowest and highest points: light it from one side (object.shape "
+                                       "\"surface\")");
   const bool screen_above = screen > eps, screen_below = screen < -placement.max_depth - eps;
   if ((light > 0 && screen_above) || (light < 0 && screen_below))
     throw SceneError("light.position", "the point light lies on the screen's side of the surface, in the medium that "
