@@ -60,6 +60,17 @@ TEST(SceneShape, KeysTheShapeMakesMootAreWarnedAbout) {
   const auto water = shape_overrides(surface, scene_from_json(surface, "."));
   ASSERT_EQ(water.size(), 1u);
   EXPECT_NE(water[0].second.find("a surface traces one ray per vertex"), std::string::npos) << water[0].second;
+  // A mirror refracts nothing: its index and its point model were taken
+  // without a word (its glass was already said).
+  json mirror = with("object", "material", "reflective");
+  mirror["object"]["ior"] = 1.7;
+  mirror["light"] = {{"type", "point"}, {"point_model", "approximate"}};
+  mirror["render"]["fidelity"] = "manual";
+  std::vector<std::string> keys;
+  for (const auto& [key, detail] : shape_overrides(mirror, scene_from_json(mirror, "."))) keys.push_back(key);
+  EXPECT_EQ(keys, (std::vector<std::string>{"object.ior", "light.point_model"}));
+  mirror["object"]["material"] = "refractive";
+  EXPECT_TRUE(shape_overrides(mirror, scene_from_json(mirror, ".")).empty());
   // A complete file writes every key at its value: nothing to say.
   const Scene plain = scene_from_json(with("object", "shape", "solid"), ".");
   EXPECT_TRUE(shape_overrides(scene_to_json(plain), plain).empty());

@@ -123,6 +123,19 @@ std::vector<std::pair<std::string, std::string>> shape_overrides(const nlohmann:
   if (scene.water && written.is_object() && written.contains("mesh") && !written["mesh"].is_null())
     out.emplace_back("mesh", "mesh names a face to load; with a water section the solver makes the surface, so the "
                              "file is not read");
+  // A mirror refracts nothing: no index, and no flat face for a point
+  // light's entry (its light is aimed at each vertex). Its glass is said
+  // by spectral_overrides; a point model "auto" chooses, by fidelity_overrides.
+  const bool mirror = scene.object.material == Material::reflective;
+  const auto ior = written_number(written, "object", "ior");
+  if (mirror && !scene.object.glass && ior && *ior != ObjectParams{}.ior)
+    out.emplace_back("object.ior", "object.ior has no effect on a mirror (object.material \"reflective\"): it "
+                                   "reflects the light it meets and refracts none");
+  if (mirror && scene.light.type == LightType::point && scene.render.fidelity == Fidelity::manual &&
+      writes(written, "light", "point_model") && scene.light.point_model != LightParams{}.point_model)
+    out.emplace_back("light.point_model", "light.point_model is how a point light enters a slab's flat face; a "
+                                          "mirror (object.material \"reflective\") meets it at each vertex, and "
+                                          "it is ignored");
   const auto grid = written_number(written, "render", "light_grid");
   if (!solid && grid && *grid != RenderParams{}.light_grid)
     out.emplace_back("render.light_grid", std::string("render.light_grid sizes the light's grid for a solid "

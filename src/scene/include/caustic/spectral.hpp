@@ -51,10 +51,11 @@ void check_frame_cost(const Scene& scene);
 /// writes every key.
 std::vector<std::pair<std::string, std::string>> spectral_overrides(const nlohmann::json& written, const Scene& scene);
 
-/// The same for the object's shape (kept beside the spectral ones, whose
-/// readers of `written` it shares): object.flat_face_offset on a solid,
-/// which has no flat face, and render.light_grid on a slab, whose rays start
-/// at its vertices.
+/// The same for the object's shape and material (kept beside the spectral
+/// ones, whose readers of `written` it shares): object.flat_face_offset on a
+/// solid, which has no flat face, render.light_grid on a slab, whose rays
+/// start at its vertices, and object.ior and light.point_model on a mirror,
+/// which refracts nothing.
 std::vector<std::pair<std::string, std::string>> shape_overrides(const nlohmann::json& written, const Scene& scene);
 
 /// The same for keys that a setting of their own section leaves unused:
