@@ -2,7 +2,8 @@
 // Designs kept in the state folder across restarts: restored, expired
 // unless kept, deleted by their owner alone; one design's broken files
 // skip it alone; a design not read back is failed for that run only; a
-// stop once its files are whole leaves its read-back to the next start.
+// stop mid-design designs it again at the next start, and one once its
+// files are whole leaves only its read-back to that start.
 // Black box against `causticd serve` on loopback; every wait bounded.
 #include "design_api_support.hpp"
 
@@ -200,4 +201,25 @@ TEST_F(DesignApi, AStopOnceADesignsFilesAreWholeLeavesItsReadBackToTheNextStart)
   ServerProcess server({"--set", "state_dir=" + state.path.string()});
   EXPECT_EQ(wait_design(server, id).value("state", ""), "ready");
   EXPECT_TRUE(fs::exists(dir / "thumbnail.png"));
+}
+
+TEST_F(DesignApi, AStopMidDesignExitsCleanlyAndTheNextStartDesignsItAgain) {
+  // A stop in the designer's steps unwinds the design at its next step: the
+  // server exits 0 and keeps the picture, and the next start designs it.
+  TempDir state;
+  std::string id;
+  {
+    ServerProcess server({"--set", "state_dir=" + state.path.string(), "--set", "design_resolution=1024"});
+    id = upload(server, square_png(1024)).json().value("id", "");
+    ASSERT_FALSE(id.empty());
+    ASSERT_TRUE(wait_designing(server, id));
+    server.signal(SIGTERM);
+    EXPECT_EQ(server.wait_exit(120000), 0);
+  }
+  const fs::path dir = state.path / "designs" / id;
+  EXPECT_FALSE(fs::exists(dir / "report.json")) << "the design ran on to its end";
+  EXPECT_TRUE(fs::exists(dir / "picture.png"));
+  ServerProcess server(small_designs(state));
+  EXPECT_EQ(wait_design(server, id).value("state", ""), "ready");
+  EXPECT_FALSE(fs::exists(dir / "picture.png")) << "the visitor's picture is not kept once designed";
 }
