@@ -237,6 +237,28 @@ TEST_F(Rest, APatchSentWithAnOutdatedTagIsRefusedAndChangesNothing) {
       << list;
 }
 
+// An HTTP/1.0 client knows no 1xx answer, so its "Expect: 100-continue"
+// is ignored (RFC 9110 10.1.1): the library answered "HTTP/1.0 100
+// Continue" before the real answer, which such a client takes for the
+// answer. An HTTP/1.1 client still gets its 100. Head and body go
+// together: the 100, where one is sent, comes first all the same.
+TEST(HttpExpect, AnHttp10ClientsExpectationIsIgnored) {
+  ServerProcess server;
+  const std::string body = R"({"x": 1})";  // 422: an unknown key, and no session made
+  for (const std::string version : {"HTTP/1.0", "HTTP/1.1"}) {
+    const std::string answer =
+        raw_request(server.port(), "POST /api/v1/sessions " + version +
+                                       "\r\nHost: 127.0.0.1\r\nExpect: 100-continue\r\nContent-Type: application/json"
+                                       "\r\nContent-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body);
+    if (version == "HTTP/1.0") {
+      EXPECT_EQ(answer.rfind("HTTP/1.0 422 ", 0), 0u) << answer.substr(0, 200);
+    } else {
+      EXPECT_EQ(answer.rfind("HTTP/1.1 100 Continue\r\n", 0), 0u) << answer.substr(0, 200);
+      EXPECT_NE(answer.find("HTTP/1.1 422 "), std::string::npos) << answer.substr(0, 200);
+    }
+  }
+}
+
 // What api.md says of negotiation: Accept is not negotiated (a JSON path
 // answers JSON to a browser's Accept), and OPTIONS, a cross-origin
 // preflight included, is a method no path takes: 405 with Allow, and no

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <memory>
 #include <string>
+#include <string_view>
 
 namespace caustic::server {
 namespace {
@@ -32,6 +33,7 @@ struct GuardInput {
   std::uint64_t request_bytes;               // plain HTTP: head and body
   std::uint64_t read_bytes;                  // what the library read so far
   bool timed_out;                            // a 408 was sent
+  std::vector<std::size_t>* ignored_expects;  // plain HTTP: field names to hide
 };
 struct GuardInputClass {
   GFilterInputStreamClass parent_class;
@@ -62,9 +64,20 @@ bool time_out(GuardInput* self, const char* timeout) {
   return cut_off(self, 408, std::string("the request did not arrive in time (") + timeout + "); it was cut off");
 }
 
+// Rewrites each Expect field name the library must not see, where this
+// read holds it, as "Ignore" (as long, so no length changes).
+void hide_expects(GuardInput* self, void* buffer, std::size_t n) {
+  static constexpr std::string_view kName = "Ignore";
+  auto* bytes = static_cast<char*>(buffer);
+  for (const std::size_t at : *self->ignored_expects)
+    for (std::size_t i = 0; i < kName.size(); ++i)
+      if (at + i >= self->read_bytes && at + i < self->read_bytes + n) bytes[at + i - self->read_bytes] = kName[i];
+}
+
 // Checks what a read returned before the library sees it.
-gssize inspect(GuardInput* self, const void* buffer, gssize n, GError** error) {
+gssize inspect(GuardInput* self, void* buffer, gssize n, GError** error) {
   if (!self->frames) {
+    if (n > 0 && !self->ignored_expects->empty()) hide_expects(self, buffer, static_cast<std::size_t>(n));
     if (n > 0) self->read_bytes += static_cast<std::uint64_t>(n);
     else if (n < 0 && error && *error && g_error_matches(*error, G_IO_ERROR, G_IO_ERROR_TIMED_OUT))
       time_out(self, "connection_idle_timeout_s");
@@ -145,6 +158,7 @@ void guard_input_pollable_init(GPollableInputStreamInterface* iface) {
 void guard_finalize(GObject* object) {
   GuardInput* self = self_of(object);
   delete self->frames;
+  delete self->ignored_expects;
   g_clear_object(&self->connection);
   G_OBJECT_CLASS(guard_input_parent_class)->finalize(object);
 }
@@ -164,6 +178,7 @@ void guard_input_init(GuardInput* self) {
   self->refilled = std::chrono::steady_clock::now();
   self->request_bytes = self->read_bytes = 0;
   self->timed_out = false;
+  self->ignored_expects = nullptr;
 }
 
 }  // namespace
@@ -171,12 +186,14 @@ void guard_input_init(GuardInput* self) {
 GQuark guard_error_quark() { return g_quark_from_static_string("causticd-websocket-guard"); }
 
 GIOStream* guarded_stream_new(GSocketConnection* connection, std::size_t websocket_after,
-                              std::uint64_t max_message_bytes, std::uint64_t request_bytes) {
+                              std::uint64_t max_message_bytes, std::uint64_t request_bytes,
+                              const std::vector<std::size_t>& ignored_expects) {
   GIOStream* io = G_IO_STREAM(connection);
   auto* input = self_of(g_object_new(guard_input_get_type(), "base-stream", g_io_stream_get_input_stream(io),
                                      "close-base-stream", TRUE, nullptr));
   input->connection = G_SOCKET_CONNECTION(g_object_ref(connection));
   input->request_bytes = request_bytes;
+  input->ignored_expects = new std::vector<std::size_t>(ignored_expects);
   if (websocket_after) {
     input->skip = websocket_after;
     // Frames are at most the message limit too: one frame is one message.

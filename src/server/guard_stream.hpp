@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace caustic::server {
 
@@ -22,9 +23,12 @@ GQuark guard_error_quark();
 /// A new stream for the HTTP library over `connection` (a reference is
 /// taken). `websocket_after`: 0 for plain HTTP; otherwise the byte count of
 /// the request head, after which frames are checked. `request_bytes`, for
-/// plain HTTP: the head's and the body's length together.
+/// plain HTTP: the head's and the body's length together. `ignored_expects`:
+/// where Expect field names the library must not see start in the head
+/// (RequestHead::ignored_expects); each reaches it as "Ignore".
 GIOStream* guarded_stream_new(GSocketConnection* connection, std::size_t websocket_after,
-                              std::uint64_t max_message_bytes, std::uint64_t request_bytes = 0);
+                              std::uint64_t max_message_bytes, std::uint64_t request_bytes = 0,
+                              const std::vector<std::size_t>& ignored_expects = {});
 
 /// On a plain HTTP stream of guarded_stream_new() whose request has not all
 /// arrived, answers 408 (a problem naming `timeout`) straight on the socket

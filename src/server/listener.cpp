@@ -315,7 +315,7 @@ void Listener::hand_over(std::uint64_t id, const RequestHead& head) {
   g_socket_set_option(socket, IPPROTO_TCP, TCP_NODELAY, TRUE, nullptr);
   GSocketConnection* connection = g_socket_connection_factory_create_connection(socket);
   GIOStream* stream = guarded_stream_new(connection, head.websocket ? head.head_bytes : 0, limits_.max_ws_message_bytes,
-                                         head.head_bytes + head.content_length);
+                                         head.head_bytes + head.content_length, head.ignored_expects);
   g_weak_ref_set(&c.stream, stream);
   GSocketAddress* local = g_socket_get_local_address(socket, nullptr);
   GSocketAddress* remote = g_socket_get_remote_address(socket, nullptr);

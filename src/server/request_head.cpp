@@ -227,6 +227,8 @@ RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) 
     } else if (iequals(name, "Expect") && !iequals(value, "100-continue")) {
       // The library answers any other expectation with an empty 417.
       return refuse(417, "the only expectation served is 100-continue");
+    } else if (iequals(name, "Expect") && version == "HTTP/1.0") {
+      out.ignored_expects.push_back(static_cast<std::size_t>(field.data() - bytes.data()));
     }
   }
   if (lengths > 1) return refuse(400, "more than one Content-Length header");

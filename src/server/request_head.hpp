@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace caustic::server {
 
@@ -31,6 +32,10 @@ struct RequestHead {
   std::size_t head_bytes = 0;        ///< up to and including the blank line
   std::uint64_t content_length = 0;  ///< 0 when absent
   bool websocket = false;            ///< GET with "Upgrade: websocket"
+  /// Where each "Expect" field name of an HTTP/1.0 request starts: such a
+  /// client knows no 100 Continue, and the server must ignore the
+  /// expectation (RFC 9110 10.1.1), where the library would send one.
+  std::vector<std::size_t> ignored_expects;
   // refused:
   unsigned status = 0;  ///< 400, 411, 413, 417 or 431
   std::string detail;   ///< ASCII; never quotes the request's bytes
