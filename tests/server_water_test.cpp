@@ -123,9 +123,9 @@ TEST_F(Rest, BadDropsAreRefusedAndNamed) {
   EXPECT_EQ(http("GET", params, "", "", bearer(s)).json()["params"], pool_before) << "a refused patch changed the pool";
   const json dry = create("wavy");
   expect_problem(http("POST", session_url(dry) + "/drops", R"({"x": 0, "y": 0})", "application/json", bearer(dry)), 409);
-  // Water would turn the slab into a surface: refused as that.
+  // Water belongs to a surface, and the slab is none: refused naming the key written.
   const json dry_before = http("GET", session_url(dry) + "/params", "", "", bearer(dry)).json()["params"];
-  expect_problem(http("PATCH", session_url(dry) + "/params", R"({"water": {}})", type, bearer(dry)), 422, "object.shape");
+  expect_problem(http("PATCH", session_url(dry) + "/params", R"({"water": {}})", type, bearer(dry)), 422, "water");
   EXPECT_EQ(http("GET", session_url(dry) + "/params", "", "", bearer(dry)).json()["params"], dry_before);
   const Response metrics = http("GET", server_.url() + "/metrics");
   EXPECT_NE(metrics.body.find("causticd_water_drops_total 1\n"), std::string::npos);
