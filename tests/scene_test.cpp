@@ -327,3 +327,31 @@ TEST(LightWarnings, NameWhatSendsTheLightAwayFromTheScreen) {
   EXPECT_GT(proxy_share_on_screen(half, p), 0.0);
   EXPECT_LT(proxy_share_on_screen(half, p), 0.5);
 }
+
+// A prism bends its light towards its base, away from where a slab's would
+// land: a 35-degree wedge of index 1.5 under light along -z deviates it by
+// asin(1.5 sin 35°) - 35° = 24.4° towards +x, about 20 mm over the 45 mm to
+// a screen there. The box a wedge fills is thick across its width, so the
+// proxy may be such a wedge, and the screen where the prism's light lands
+// is not said to be beside it; one where no wedge the box holds could send
+// it still is.
+TEST(LightWarnings, AWedgesLightIsNotSaidToMissTheScreenItLandsOn) {
+  Mesh wedge;
+  const double drop = 10 * std::tan(glm::radians(35.0));
+  wedge.positions = {{-5, -5, -1}, {5, -5, -1 - drop}, {5, 5, -1 - drop}, {-5, 5, -1}};
+  wedge.normals.assign(4, glm::normalize(glm::dvec3(-std::sin(glm::radians(35.0)), 0, -std::cos(glm::radians(35.0)))));
+  wedge.triangles = {{0, 1, 2}, {0, 2, 3}};
+  json doc = minimal();
+  doc["object"]["flat_face_offset"] = 0;
+  doc["object"]["ior"] = 1.5;
+  doc["screen"] = {{"center", {20, 0, -50}}, {"normal", {0, 0, 1}}, {"width", 20}, {"height", 20}};
+  doc["light"]["direction"] = {0, 0, -1};
+  const Scene s = scene_from_json(doc, ".");
+  const Placement p = place_object(s.object, wedge);
+  EXPECT_EQ(proxy_share_on_screen(s, p), 0.0) << "the flat slab's light passes beside";
+  EXPECT_TRUE(light_warnings(s, p).empty()) << light_warnings(s, p)[0].detail;
+  Scene far = s;  // 60 mm off: beyond what a wedge of the box's slope (at most 38.7°) deviates
+  far.screen.center = {80, 0, -50};
+  ASSERT_EQ(light_warnings(far, p).size(), 1u);
+  EXPECT_EQ(light_warnings(far, p)[0].key, "screen.center");
+}

@@ -4,6 +4,7 @@
 #include "caustic/pool.hpp"
 #include "caustic/receiver_meshes.hpp"
 #include "caustic/resample.hpp"
+#include "caustic/scene_warnings.hpp"
 #include "caustic/screen_follow.hpp"
 #include "caustic/vertex_rays.hpp"
 
@@ -276,6 +277,10 @@ bool load_scene_levels(const char* command, const std::filesystem::path& file,
     const Placement placed = out->levels.place(scene->object);
     *scene = follow_light(*scene, placed);
     warn_self_shading(command, *scene, placed, *source);
+    // What the server says of a session's scene, said of the file too: a
+    // black picture without a word looks like a broken renderer.
+    for (const auto& w : light_warnings(*scene, placed))
+      std::cerr << "causticd " << command << ": warning: " << w.key << ": " << w.detail << "\n";
     out->written_light_grid = scene->render.light_grid;
     out->calibration = load_calibration(calibration_path(file), scene_fingerprint(*scene, *source));
     // Not said by calibrate, which is making the new one; "the same --set"

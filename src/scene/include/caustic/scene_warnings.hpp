@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Settings that are valid but show a visitor little or nothing: the light
 // travels away from the screen, or misses it. They are judged on the public
-// proxy only (the object's bounding slab, as a flat slab or a flat mirror),
+// proxy only (the object's bounding box, as glass or a mirror whose far
+// face is flat: parallel to the flat face, or tilted as far as the box's
+// thickness across its width allows, the tilt that lands the most light),
 // never on the freeform face, so a warning says nothing about the secret
-// mesh; a freeform face bends the light somewhat, so the shares are rough.
+// mesh; a freeform face bends the light unevenly, so the shares are rough.
 #pragma once
 
 #include "caustic/mesh.hpp"
