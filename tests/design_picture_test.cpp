@@ -208,3 +208,24 @@ TEST(DesignPicture, AReadersErrorIsSaidOnOneLine) {
   EXPECT_EQ(why.find('\n'), std::string::npos) << why;
   EXPECT_EQ(why.back(), ')') << why;
 }
+
+TEST(DesignPicture, ATiffCutShortIsRefusedNotDesignedWithItsRowsBlack) {
+  // libtiff says a strip it could not read, and the image library goes on:
+  // the rows were black, designed without a word.
+  Folder folder;
+  const auto whole = folder.path / "whole.tif";
+  {
+    std::vector<unsigned char> pixels(64 * 64 * 3);
+    for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<unsigned char>((i * 7919) % 251);
+    auto out = OIIO::ImageOutput::create(whole.string());
+    ASSERT_TRUE(out && out->open(whole.string(), OIIO::ImageSpec(64, 64, 3, OIIO::TypeDesc::UINT8)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+    out->close();
+  }
+  EXPECT_EQ(refused(whole), "accepted");
+  std::ifstream in(whole, std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const std::string why = refused(folder.write("cut.tif", bytes.substr(0, bytes.size() / 2)));
+  EXPECT_NE(why.find("cut.tif: the picture is damaged or cut short ("), std::string::npos) << why;
+  EXPECT_EQ(why.find('\n'), std::string::npos) << why;
+}

@@ -174,7 +174,17 @@ void read_bands(OIIO::ImageInput& in, const std::string& name, int channels,
     } catch (const std::exception& e) {
       throw TargetError(name + ": cannot decode the picture (" + reader_words(e.what()) + ")");
     }
-    if (!read) throw TargetError(name + ": cannot decode the picture (" + reader_words(in.geterror()) + ")");
+    // Read once: the reader forgets its error as it gives it (a message
+    // once said "cut short ()").
+    const std::string said = reader_words(in.geterror());
+    if (!read) throw TargetError(name + ": cannot decode the picture (" + said + ")");
+    // A reader that reads on past damage: libtiff's strips cut short were
+    // rows of black, and a JPEG cut short decodes its missing rows grey,
+    // with only a warning (libjpeg's "premature end"); designed, they drew
+    // a band the report could not see, since it judges against the decoded
+    // picture. libjpeg tells only its first warning, so any corrupt data is
+    // refused: a stray byte's warning once hid the truncation behind it.
+    if (!said.empty()) throw TargetError(name + ": the picture is damaged or cut short (" + said + "); save it again");
     take(y0, y1, raw.data());
   }
 }
@@ -246,18 +256,6 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
         }
       }
   });
-  // A JPEG cut short decodes, its missing rows grey, with only a warning
-  // (libjpeg's "premature end"): designed, it drew a grey band the report
-  // could not see, since it judges against the decoded picture. libjpeg
-  // tells only its first warning, so any corrupt data is refused: a stray
-  // byte's warning once hid the truncation behind it.
-  // Read once: the reader forgets its error as it gives it (the message
-  // said "cut short ()").
-  const std::string said = reader_words(in->geterror());
-  std::string warned = said;
-  std::transform(warned.begin(), warned.end(), warned.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (warned.find("premature end") != std::string::npos || warned.find("corrupt") != std::string::npos)
-    throw TargetError(name + ": the picture is damaged or cut short (" + said + "); save it again");
   return out;
 }
 
