@@ -210,3 +210,19 @@ TEST(SceneWater, APatchOfTheOtherKindOfSceneNamesItsKeyAndTheScenesShape) {
             "object.shape");
   EXPECT_FALSE(apply_merge_patch(water, {{"water", nullptr}, {"mesh", "m.obj"}}).water);
 }
+
+// Patches given together (the CLI's --set, one patch each) are validated
+// once, at the end: water's keys before the shape that takes them were
+// refused as belonging to another kind of scene, the reverse order taken.
+TEST(SceneWater, PatchesGivenTogetherAreJudgedTogetherInEitherOrder) {
+  const Scene slab = scene_from_json(minimal(), ".");
+  const json water = {{"water", {{"grid", 64}}}}, shape = {{"object", {{"shape", "surface"}}}};
+  const Scene one = apply_merge_patches(slab, {water, shape}), other = apply_merge_patches(slab, {shape, water});
+  ASSERT_TRUE(one.water && other.water);
+  EXPECT_EQ(one.water->grid, 64);
+  EXPECT_EQ(scene_to_json(one), scene_to_json(other));
+  // Alone, each refusal is as before, naming the key written.
+  EXPECT_EQ(refused_key<SceneError>([&] { apply_merge_patches(slab, {water}); }), "water.grid");
+  EXPECT_EQ(refused_key<SceneError>([&] { apply_merge_patches(slab, {water, {{"post", {{"gamma", 2}}}}}); }),
+            "water.grid");
+}

@@ -92,7 +92,9 @@ bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
   try {
     nlohmann::json written;
     *scene = load_scene(file, &written);
-    for (const auto& a : assignments) *scene = apply_merge_patch(*scene, patch_from_assignment(a));
+    std::vector<nlohmann::json> patches;
+    for (const auto& a : assignments) patches.push_back(patch_from_assignment(a));
+    *scene = apply_merge_patches(*scene, patches);
     *mesh = water::load_scene_mesh(*scene);
     warn_overrides(command, written, assignments, flags, *scene);
     return true;

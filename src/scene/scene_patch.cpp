@@ -90,21 +90,32 @@ bool json_number(const std::string& text) {
 }  // namespace
 
 Scene apply_merge_patch(const Scene& scene, const json& patch, const Scene* origin) {
-  if (!patch.is_object()) throw SceneError("", "a parameter patch must be a JSON object");
-  // Files are the scene file's to name: a patch that could would open them.
-  if (patch.contains("receiver_meshes"))
-    throw SceneError("receiver_meshes", "belongs to the scene file; a patch may use its shapes, not list files");
-  if (origin) {
+  if (origin && patch.is_object()) {
     const json origin_doc = scene_to_json(*origin);
-    return apply_merge_patch(scene, nulls_to_origin(patch, &origin_doc));
+    return apply_merge_patches(scene, {nulls_to_origin(patch, &origin_doc)});
   }
+  return apply_merge_patches(scene, {patch});
+}
+
+Scene apply_merge_patches(const Scene& scene, const std::vector<json>& patches) {
+  // A shape written by any patch answers for the keys the others bring.
+  const bool shape_written = std::any_of(patches.begin(), patches.end(), [](const json& patch) {
+    const auto object = patch.find("object");
+    return object != patch.end() && object->is_object() && object->contains("shape");
+  });
   json doc = scene_to_json(scene);
-  // The screen centre is stored resolved; a patch of focus_distance alone
-  // should move the screen, so drop the centre unless the patch sets it.
-  if (patch.contains("focus_distance") && !(patch.contains("screen") && patch["screen"].contains("center")))
-    doc["screen"].erase("center");
-  check_scene_kind(scene, doc, patch);
-  doc.merge_patch(patch);
+  for (const auto& patch : patches) {
+    if (!patch.is_object()) throw SceneError("", "a parameter patch must be a JSON object");
+    // Files are the scene file's to name: a patch that could would open them.
+    if (patch.contains("receiver_meshes"))
+      throw SceneError("receiver_meshes", "belongs to the scene file; a patch may use its shapes, not list files");
+    // The screen centre is stored resolved; a patch of focus_distance alone
+    // should move the screen, so drop the centre unless the patch sets it.
+    if (patch.contains("focus_distance") && !(patch.contains("screen") && patch["screen"].contains("center")))
+      doc["screen"].erase("center");
+    if (!shape_written) check_scene_kind(scene, doc, patch);
+    doc.merge_patch(patch);
+  }
   return scene_from_json(doc, scene.base_dir, scene.receiver_meshes);
 }
 

@@ -255,6 +255,11 @@ Scene load_scene(const std::filesystem::path& file, nlohmann::json* written = nu
 /// value at that place instead of the global default.
 Scene apply_merge_patch(const Scene& scene, const nlohmann::json& patch, const Scene* origin = nullptr);
 
+/// Applies `patches` in turn and validates once, at the end: a later patch
+/// may make an earlier one fit (the CLI's `--set water.grid=64 --set
+/// object.shape=surface`, in either order).
+Scene apply_merge_patches(const Scene& scene, const std::vector<nlohmann::json>& patches);
+
 /// Turns "a.b.c=value" into a merge patch {"a":{"b":{"c":value}}}; the value
 /// is read as JSON when it parses, otherwise as a string.
 nlohmann::json patch_from_assignment(const std::string& assignment);
