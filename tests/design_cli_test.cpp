@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <string>
@@ -242,6 +243,22 @@ TEST_F(DesignCli, AKernelFileThatWaitsOnAReadIsRefusedUnread) {
       causticd_with_env("timeout 60", "design --target /proc/kmsg -o " + (dir_ / "face.obj").string());
   EXPECT_EQ(run.status, 2) << run.output;
   EXPECT_NE(run.output.find("--target /proc/kmsg: is empty"), std::string::npos) << run.output;
+}
+
+TEST_F(DesignCli, ADamagedPngIsSaidInOneLineThatNamesItAndWhy) {
+  // libpng printed "libpng error: IDAT: ..." on its own line beside the
+  // command's message.
+  std::ifstream in(good_target(), std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const fs::path cut = dir_ / "bad-cut.png";
+  std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() - 20);
+  const CommandResult run = causticd("design --no-check --target " + cut.string() + " -o " + (dir_ / "face.obj").string());
+  EXPECT_EQ(run.status, 2) << run.output;
+  EXPECT_EQ(run.output.find("libpng"), std::string::npos) << run.output;
+  EXPECT_EQ(run.output.find('\n'), run.output.size() - 1) << run.output;
+  EXPECT_NE(run.output.find("--target " + cut.string() + ": the picture is damaged or cut short (cut short: "),
+            std::string::npos)
+      << run.output;
 }
 
 // The outputs are written as `render` writes its own: under hidden names,

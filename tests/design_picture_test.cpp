@@ -41,6 +41,33 @@ std::string refused(const std::filesystem::path& file) {
   return caustic::testing::refusal<TargetError>([&] { load_target_rgb(file); });
 }
 
+// A PNG's chunk: length, type, data and its CRC-32, computed here bit by
+// bit as the PNG spec's annex D defines it.
+std::string png_chunk(const std::string& type, const std::string& data) {
+  std::uint32_t c = 0xffffffffu;
+  for (const unsigned char b : type + data) {
+    c ^= b;
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+  }
+  std::string out;
+  for (const std::uint32_t v : {static_cast<std::uint32_t>(data.size()), ~c})
+    for (int k = 3; k >= 0; --k) out += static_cast<char>(v >> (8 * k));
+  return out.substr(0, 4) + type + data + out.substr(4);
+}
+
+// A 256 x 256 PNG of varied colour, as the image library writes it.
+std::string png_bytes(const Folder& folder) {
+  const auto file = folder.path / "written.png";
+  std::vector<unsigned char> pixels(256 * 256 * 3);
+  for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<unsigned char>((i * 7919) % 251);
+  auto out = OIIO::ImageOutput::create(file.string());
+  if (!out || !out->open(file.string(), OIIO::ImageSpec(256, 256, 3, OIIO::TypeDesc::UINT8)) ||
+      !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close())
+    return "";
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
 // Mean of channel 0 over [x0, x1) x [y0, y1), rows from the top.
 double mean(const RgbHdrImage& image, int x0, int y0, int x1, int y1) {
   double sum = 0;
@@ -189,24 +216,53 @@ TEST(DesignPicture, ATiledPictureReadsAsItsPixels) {
 }
 
 TEST(DesignPicture, AReadersErrorIsSaidOnOneLine) {
-  // libpng says a file cut short in three lines, which the message (and a
-  // problem+json detail) carried as they were.
+  // libpng says a picture whose compressed rows stop short in three lines,
+  // which the message (and a problem+json detail) carried as they were.
+  // Every chunk here is whole and its checksum right: only libpng sees it.
   Folder folder;
-  const auto whole = folder.path / "whole.png";
-  {
-    std::vector<unsigned char> pixels(256 * 256 * 3);
-    for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<unsigned char>((i * 7919) % 251);
-    auto out = OIIO::ImageOutput::create(whole.string());
-    ASSERT_TRUE(out && out->open(whole.string(), OIIO::ImageSpec(256, 256, 3, OIIO::TypeDesc::UINT8)));
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
-    out->close();
-  }
-  std::ifstream in(whole, std::ios::binary);
-  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  const std::string why = refused(folder.write("cut.png", bytes.substr(0, bytes.size() / 2)));
+  const std::string bytes = png_bytes(folder);
+  ASSERT_FALSE(bytes.empty());
+  const std::size_t idat = bytes.find("IDAT") - 4;
+  const std::uint32_t length = static_cast<unsigned char>(bytes[idat]) << 24 |
+                               static_cast<unsigned char>(bytes[idat + 1]) << 16 |
+                               static_cast<unsigned char>(bytes[idat + 2]) << 8 | static_cast<unsigned char>(bytes[idat + 3]);
+  const std::string rows = bytes.substr(idat + 8, length / 2);
+  const std::string why =
+      refused(folder.write("short.png", bytes.substr(0, idat) + png_chunk("IDAT", rows) + png_chunk("IEND", "")));
   EXPECT_NE(why.find("cannot decode the picture ("), std::string::npos) << why;
   EXPECT_EQ(why.find('\n'), std::string::npos) << why;
   EXPECT_EQ(why.back(), ')') << why;
+}
+
+TEST(DesignPicture, APngCutShortOrDamagedIsRefusedByItsOwnWordsAlone) {
+  // libpng printed its error on stderr itself ("libpng error: IDAT: ...")
+  // beside the refusal: the refusal now says why, and nothing else is said.
+  Folder folder;
+  const std::string bytes = png_bytes(folder);
+  ASSERT_FALSE(bytes.empty());
+  EXPECT_EQ(refused(folder.write("whole.png", bytes)), "accepted");
+  const std::size_t idat = bytes.find("IDAT") - 4, iend = bytes.find("IEND") - 4;
+  std::string flipped = bytes;
+  flipped[idat + 8 + 100] ^= 0x5a;
+  const std::string at = std::to_string(idat);
+  struct Case {
+    const char* name;
+    std::string bytes, reason;
+  };
+  for (const Case& c : {Case{"half.png", bytes.substr(0, bytes.size() / 2),
+                             "cut short: the IDAT chunk at byte " + at + " runs past the end of the file"},
+                        Case{"flipped.png", flipped, "the IDAT chunk at byte " + at + " fails its checksum"},
+                        Case{"endless.png", bytes.substr(0, iend),
+                             "cut short: it ends at byte " + std::to_string(iend) + ", before its IEND chunk"},
+                        Case{"headless.png", bytes.substr(0, 8) + bytes.substr(idat), "does not begin with its IHDR"}}) {
+    ::testing::internal::CaptureStderr();
+    const std::string why = refused(folder.write(c.name, c.bytes));
+    const std::string said = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(why.find(std::string(c.name) + ": the picture is damaged or cut short ("), std::string::npos) << why;
+    EXPECT_NE(why.find(c.reason), std::string::npos) << why;
+    EXPECT_EQ(why.find('\n'), std::string::npos) << why;
+    EXPECT_EQ(said, "") << c.name;
+  }
 }
 
 TEST(DesignPicture, ATiffCutShortIsRefusedNotDesignedWithItsRowsBlack) {

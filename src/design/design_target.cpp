@@ -2,6 +2,7 @@
 #include "caustic/design_target.hpp"
 
 #include "caustic/jpeg_scans.hpp"
+#include "png_chunks.hpp"
 
 #include <OpenImageIO/imageio.h>
 
@@ -92,6 +93,14 @@ void check_jpeg_scans(const std::filesystem::path& file, const std::string& name
   std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   if (jpeg_scans(bytes.data(), bytes.size()) > kMaxJpegScans)
     throw TargetError(name + ": the JPEG holds more than " + std::to_string(kMaxJpegScans) + " scans");
+}
+
+// A PNG's chunks, checked before libpng reads it (png_chunks.hpp): libpng
+// said its error on stderr itself, beside the message.
+void check_png_chunks(const std::filesystem::path& file, const std::string& name) {
+  std::ifstream in(file, std::ios::binary);
+  if (const std::string why = png_damage(in); !why.empty())
+    throw TargetError(name + ": the picture is damaged or cut short (" + why + "); save it again");
 }
 
 // The picture as it is meant to be seen: a camera that was held on its side
@@ -206,6 +215,7 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   check_opens(file, name);
   check_gif_screen(file, name);
   check_jpeg_scans(file, name);
+  check_png_chunks(file, name);
   std::unique_ptr<OIIO::ImageInput> in = open_picture(name);
   const OIIO::ImageSpec spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
