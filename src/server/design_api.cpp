@@ -74,9 +74,11 @@ bool valid_name(const std::string& name, std::string* why) {
 
 void upload(ServerState& s, SoupServerMessage* msg) {
   SoupMessageHeaders* response = soup_server_message_get_response_headers(msg);
-  if (!s.designs || !s.designs->built_in())
-    return refuse(s, msg, SOUP_STATUS_NOT_IMPLEMENTED,
-                  s.designs ? "design is not built into this server" : "this server cannot store designs");
+  if (!(s.designs ? s.designs->built_in() : design_backend().built_in))
+    return refuse(s, msg, SOUP_STATUS_NOT_IMPLEMENTED, "design is not built into this server");
+  // The state directory was unusable at the start (logged then): a fault
+  // the operator mends, not something this server lacks (501).
+  if (!s.designs) return refuse(s, msg, SOUP_STATUS_SERVICE_UNAVAILABLE, "this server cannot store designs now");
   if (!s.config.design_uploads) return refuse(s, msg, SOUP_STATUS_FORBIDDEN, "picture uploads are turned off here");
   if (!s.config.design_upload_token.empty() && !same_secret(bearer_token(msg), s.config.design_upload_token)) {
     soup_message_headers_replace(response, "WWW-Authenticate", "Bearer");

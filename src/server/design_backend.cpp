@@ -13,6 +13,8 @@
 #include "caustic/scene.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <optional>
 
 namespace caustic::server {
@@ -88,7 +90,13 @@ std::shared_ptr<const Mesh> run(const std::filesystem::path& target, const std::
     context.release_current();
   }
   progress({0.95, "storing"});
-  write_obj(d.face, folder / "face.obj");
+  try {
+    write_obj(d.face, folder / "face.obj");
+  } catch (const std::runtime_error&) {
+    // It fails only when a write does, and its message holds the path.
+    const int error = errno;
+    throw StorageError(error ? error : EIO, std::string("cannot write face.obj: ") + std::strerror(error ? error : EIO));
+  }
   write_atomic(folder / "scene.json", scene_to_json(design::design_scene(d, "face.obj", std::clamp(d.n, 256, 1024))).dump(2));
   // Last: its presence says the design is complete.
   write_atomic(folder / "report.json", report.dump(2));

@@ -5,8 +5,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cerrno>
 #include <cstddef>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 
 namespace caustic::server {
@@ -20,8 +22,21 @@ inline constexpr std::size_t kMaxDesignFileBytes = std::size_t{16} << 20;
 /// holds more than `limit` bytes.
 std::string read_text(const std::filesystem::path& file, std::size_t limit = kMaxDesignFileBytes);
 
-/// Written under a temporary name, then renamed: a crash leaves the old file
-/// or the new one, never half of one. Throws naming the file alone.
+/// A file of a design that could not be stored: `error` is the errno of the
+/// call that failed, what() names the file alone (never a path).
+struct StorageError : std::runtime_error {
+  StorageError(int error, const std::string& what) : std::runtime_error(what), error(error) {}
+  /// The filesystem is full, or the server's quota spent: it passes once
+  /// designs expire or the operator makes room. Anything else (EIO, EROFS)
+  /// is a fault of the disk or the mount.
+  bool no_room() const { return error == ENOSPC || error == EDQUOT; }
+  int error;
+};
+
+/// Written under a temporary name, synced, then renamed: a crash leaves the
+/// old file or the new one, never half of one. Every write, the sync and the
+/// close are checked (a full disk often shows only at the close); on a
+/// failure the temporary is removed and StorageError thrown.
 void write_atomic(const std::filesystem::path& file, const std::string& text);
 
 /// What a visitor may learn of a design: how well the glass forms the

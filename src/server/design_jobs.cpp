@@ -87,20 +87,38 @@ DesignJobs::Ticket DesignJobs::submit(const std::vector<unsigned char>& picture,
   job->extension = extension;
   job->created = unix_now();
   job->folder = settings_.folder / job->id;
-  fs::create_directory(job->folder);
-  fs::permissions(job->folder, fs::perms::owner_all, fs::perm_options::replace);
   try {
+    std::error_code ec;
+    fs::create_directory(job->folder, ec);
+    if (!ec) fs::permissions(job->folder, fs::perms::owner_all, fs::perm_options::replace, ec);
+    if (ec) throw StorageError(ec.value(), "cannot make the design's folder: " + ec.message());
     write_atomic(job->folder / ("picture" + extension), std::string(picture.begin(), picture.end()));
     save_meta(*job);
-  } catch (const std::exception& e) {
+  } catch (const StorageError& e) {
+    // Nothing of the upload stays: a folder without its picture or its
+    // meta.json would be skipped by every start and never expire.
     std::error_code ec;
     fs::remove_all(job->folder, ec);
-    throw;
+    refuse_unstored_locked(e);
   }
+  if (storage_failing_) log(Level::info, "designs are stored again in " + settings_.folder.string());
+  storage_failing_ = false;
   jobs_[job->id] = job;
   queue_.push_back(job);
   wake_.notify_all();
   return {job->id, job->token};
+}
+
+void DesignJobs::refuse_unstored_locked(const StorageError& e) {
+  // The operator learns where and why, once until a picture is stored
+  // again (each refused upload would repeat it); the visitor, that the
+  // server has no room, never a path.
+  if (!storage_failing_)
+    log(Level::error, "picture uploads refused: " + std::string(e.what()) + " in the state directory " +
+                          settings_.folder.string());
+  storage_failing_ = true;
+  if (e.no_room()) throw DesignRefusal(507, "the server has no room to store the picture; try again later");
+  throw DesignRefusal(503, "the server cannot store pictures now; try again later");
 }
 
 int DesignJobs::pending_locked() const {
@@ -320,6 +338,11 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
     return;
   } catch (const DesignFailure& e) {
     error = e.what();
+  } catch (const StorageError& e) {
+    // The design was made but cannot be kept: said as such, not blamed on the picture.
+    log(Level::error, "design " + job->id + ": " + e.what() + " in the state directory " + settings_.folder.string());
+    error = e.no_room() ? "the server had no room to store this design; try again later"
+                        : "the server could not store this design";
   } catch (const std::exception& e) {
     log(Level::error, "design " + job->id + ": " + e.what());
     error = "the server could not design this picture";
@@ -360,9 +383,17 @@ void DesignJobs::run_job(const std::shared_ptr<Job>& job) {
   } else {
     job->state = Job::State::failed;
     job->error = error;
+    // What the design wrote before it failed is thrown away, which also
+    // makes room for its error; without error.txt the folder would hold
+    // nothing a start can go on with, and goes too (the failure is kept
+    // in memory until the server stops).
+    for (const char* name : {"face.obj", "scene.json", "report.json", "scene.json.part", "report.json.part"})
+      fs::remove(job->folder / name, ec);
     try {
       write_atomic(job->folder / "error.txt", error);
-    } catch (const std::exception&) {
+    } catch (const StorageError& e) {
+      log(Level::error, "design " + job->id + ": " + e.what() + "; its folder is removed");
+      fs::remove_all(job->folder, ec);
     }
     log(Level::warning, "design " + job->id + " failed: " + error);
   }

@@ -66,6 +66,8 @@ struct DesignSettings {
   int max_stored = 100;          ///< designs kept (any state); 503 beyond
 };
 
+struct StorageError;  // design_files.hpp
+
 /// A refused upload: HTTP status and a detail for problem+json.
 struct DesignRefusal : std::runtime_error {
   DesignRefusal(unsigned status, const std::string& detail) : std::runtime_error(detail), status(status) {}
@@ -85,7 +87,8 @@ class DesignJobs {
     std::string id, token;
   };
   /// Queues a checked picture (its bytes and the file extension that names
-  /// its format). Throws DesignRefusal (503) when the queue is full.
+  /// its format). Throws DesignRefusal: 503 when the queue is full or the
+  /// state directory fails, 507 when it has no room for the picture.
   Ticket submit(const std::vector<unsigned char>& picture, const std::string& extension, const std::string& name,
                 bool colour = false);
 
@@ -125,6 +128,8 @@ class DesignJobs {
   int pending_locked() const;
   void hold_locked(const std::shared_ptr<const GalleryEntry>& entry);
   void save_meta(const Job& job) const;
+  // Logs and throws the DesignRefusal for an upload that could not be stored.
+  [[noreturn]] void refuse_unstored_locked(const StorageError& e);
 
   DesignSettings settings_;
   DesignBackend backend_;
@@ -136,6 +141,7 @@ class DesignJobs {
   static constexpr std::size_t kRecentScenes = 4;
   std::deque<std::shared_ptr<const GalleryEntry>> recent_;
   bool stop_ = false;
+  bool storage_failing_ = false;  ///< the last upload could not be stored (logged once)
   int designing_ = 0;  ///< designs the workers run now, deleted ones included
   std::vector<std::thread> workers_;
 };
