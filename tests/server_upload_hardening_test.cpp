@@ -38,6 +38,14 @@ std::string answer_until(int port, int host, int status) {
   return answer;
 }
 
+// causticd_http_errors_total from GET /metrics (-1 when it is not there).
+long long http_errors(const ServerProcess& server) {
+  const std::string text = http("GET", server.url() + "/metrics").body;
+  const std::string name = "\ncausticd_http_errors_total ";
+  const auto at = text.find(name);
+  return at == std::string::npos ? -1 : std::stoll(text.substr(at + name.size()));
+}
+
 }  // namespace
 
 TEST(Hardening, PicturesArrivingAtOnceAreBoundedPerAddressAndInAll) {
@@ -80,12 +88,15 @@ TEST(Hardening, AProxysVisitorsSendPicturesSideBySide) {
 }
 
 // A body that stops half-way, cut off by either timeout: the client is told
-// which (a 408 problem), not just disconnected. One connection each.
+// which (a 408 problem), not just disconnected, and the metrics count it
+// among the error answers either way. One connection each.
 TEST(Hardening, ABodyThatStopsComingIsAnswered408) {
   for (const char* timeout : {"body_timeout_s", "connection_idle_timeout_s"}) {
     const bool idle = std::string(timeout) == "connection_idle_timeout_s";
     ServerProcess server({"--set", std::string(idle ? "body_timeout_s" : "connection_idle_timeout_s") + "=60",
                           "--set", std::string(timeout) + "=1"});
+    const long long errors = http_errors(server);
+    ASSERT_GE(errors, 0);
     const int fd = raw_connect(server.port());
     ASSERT_GE(fd, 0);
     raw_send(fd, request_text("POST", "/api/v1/sessions", "Content-Type: application/json\r\nContent-Length: 100\r\n") +
@@ -96,6 +107,7 @@ TEST(Hardening, ABodyThatStopsComingIsAnswered408) {
     EXPECT_TRUE(closed) << timeout;
     expect_problem_answer(answer, 408);
     EXPECT_NE(raw_body(answer).find(timeout), std::string::npos) << answer;
+    EXPECT_EQ(http_errors(server), errors + 1) << timeout;
     EXPECT_EQ(http("GET", server.url() + "/api/v1/health").status, 200u);
   }
 }
@@ -103,9 +115,12 @@ TEST(Hardening, ABodyThatStopsComingIsAnswered408) {
 // A body cut short by the client's half-close will never finish: it is
 // answered 400 at once, as a head cut short is, rather than closed without
 // a word (or at a timeout, set here far longer than the test waits). A
-// whole body followed by a half-close is served as any other.
+// whole body followed by a half-close is served as any other. Each 400 is
+// counted among the error answers.
 TEST(Hardening, ABodyCutShortByTheClientIsAnsweredAtOnce) {
   ServerProcess server({"--set", "body_timeout_s=600", "--set", "connection_idle_timeout_s=600"});
+  const long long errors = http_errors(server);
+  ASSERT_GE(errors, 0);
   for (const std::string type : {"application/json", "image/png"}) {
     const int fd = raw_connect(server.port());
     ASSERT_GE(fd, 0);
@@ -114,6 +129,7 @@ TEST(Hardening, ABodyCutShortByTheClientIsAnsweredAtOnce) {
     ::shutdown(fd, SHUT_WR);
     expect_problem_then_close(fd, 400, 30000);
   }
+  EXPECT_EQ(http_errors(server), errors + 2);
   const int fd = raw_connect(server.port());
   ASSERT_GE(fd, 0);
   raw_send(fd, request_text("POST", "/api/v1/sessions", "Content-Type: application/json\r\n", R"({"scene": "lens"})"));

@@ -6,6 +6,7 @@
 #include <sys/socket.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <string>
@@ -34,6 +35,7 @@ struct GuardInput {
   std::uint64_t read_bytes;                  // what the library read so far
   bool timed_out;                            // a 408 was sent
   std::vector<std::size_t>* ignored_expects;  // plain HTTP: field names to hide
+  std::atomic<std::uint64_t>* errors;        // counts the answers sent here (http_errors)
 };
 struct GuardInputClass {
   GFilterInputStreamClass parent_class;
@@ -57,6 +59,9 @@ bool cut_off(GuardInput* self, unsigned status, const std::string& detail) {
   const std::string answer = canned_problem(status, detail);
   GSocket* socket = g_socket_connection_get_socket(self->connection);
   (void)::send(g_socket_get_fd(socket), answer.data(), answer.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
+  // Counted here, whichever timeout or cut sent it: the library never
+  // sees this answer, so the count of its answers misses it.
+  if (self->errors) ++*self->errors;
   return true;
 }
 
@@ -179,6 +184,7 @@ void guard_input_init(GuardInput* self) {
   self->request_bytes = self->read_bytes = 0;
   self->timed_out = false;
   self->ignored_expects = nullptr;
+  self->errors = nullptr;
 }
 
 }  // namespace
@@ -187,13 +193,14 @@ GQuark guard_error_quark() { return g_quark_from_static_string("causticd-websock
 
 GIOStream* guarded_stream_new(GSocketConnection* connection, std::size_t websocket_after,
                               std::uint64_t max_message_bytes, std::uint64_t request_bytes,
-                              const std::vector<std::size_t>& ignored_expects) {
+                              const std::vector<std::size_t>& ignored_expects, std::atomic<std::uint64_t>* errors) {
   GIOStream* io = G_IO_STREAM(connection);
   auto* input = self_of(g_object_new(guard_input_get_type(), "base-stream", g_io_stream_get_input_stream(io),
                                      "close-base-stream", TRUE, nullptr));
   input->connection = G_SOCKET_CONNECTION(g_object_ref(connection));
   input->request_bytes = request_bytes;
   input->ignored_expects = new std::vector<std::size_t>(ignored_expects);
+  input->errors = errors;
   if (websocket_after) {
     input->skip = websocket_after;
     // Frames are at most the message limit too: one frame is one message.

@@ -315,7 +315,7 @@ void Listener::hand_over(std::uint64_t id, const RequestHead& head) {
   g_socket_set_option(socket, IPPROTO_TCP, TCP_NODELAY, TRUE, nullptr);
   GSocketConnection* connection = g_socket_connection_factory_create_connection(socket);
   GIOStream* stream = guarded_stream_new(connection, head.websocket ? head.head_bytes : 0, limits_.max_ws_message_bytes,
-                                         head.head_bytes + head.content_length, head.ignored_expects);
+                                         head.head_bytes + head.content_length, head.ignored_expects, &metrics_.http_errors);
   g_weak_ref_set(&c.stream, stream);
   GSocketAddress* local = g_socket_get_local_address(socket, nullptr);
   GSocketAddress* remote = g_socket_get_remote_address(socket, nullptr);
@@ -339,7 +339,7 @@ void Listener::hand_over(std::uint64_t id, const RequestHead& head) {
     // A request still arriving is told why (408); then shutting the socket
     // down makes the library's next read or write fail, and it lets go.
     if (GIOStream* stream = static_cast<GIOStream*>(g_weak_ref_get(&it->second->stream))) {
-      if (guarded_stream_time_out(stream, "body_timeout_s")) ++l.metrics_.http_errors;
+      guarded_stream_time_out(stream, "body_timeout_s");  // counted by the stream
       g_object_unref(stream);
     }
     if (it->second->socket) g_socket_shutdown(it->second->socket, TRUE, TRUE, nullptr);
