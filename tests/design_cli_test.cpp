@@ -9,6 +9,7 @@
 #include "caustic/mesh.hpp"
 #include "caustic/scene.hpp"
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -257,6 +258,27 @@ TEST_F(DesignCli, ADamagedPngIsSaidInOneLineThatNamesItAndWhy) {
   EXPECT_EQ(run.output.find("libpng"), std::string::npos) << run.output;
   EXPECT_EQ(run.output.find('\n'), run.output.size() - 1) << run.output;
   EXPECT_NE(run.output.find("--target " + cut.string() + ": the picture is damaged or cut short (cut short: "),
+            std::string::npos)
+      << run.output;
+}
+
+TEST_F(DesignCli, AMultiPageTiffIsDesignedFromItsFirstPageWithAWarning) {
+  // Its first page the good target, its second black: designed, the second
+  // is named as not read.
+  const caustic::HdrImage first = caustic::read_hdr_image(good_target());
+  const fs::path tiff = dir_ / "target-pages.tif";
+  auto out = OIIO::ImageOutput::create(tiff.string());
+  std::vector<OIIO::ImageSpec> specs(2, OIIO::ImageSpec(48, 48, 1, OIIO::TypeDesc::FLOAT));
+  ASSERT_TRUE(out && out->open(tiff.string(), 2, specs.data()) &&
+              out->write_image(OIIO::TypeDesc::FLOAT, first.pixels.data()));
+  const std::vector<float> black(48 * 48, 0.0f);
+  ASSERT_TRUE(out->open(tiff.string(), specs[1], OIIO::ImageOutput::AppendSubimage) &&
+              out->write_image(OIIO::TypeDesc::FLOAT, black.data()) && out->close());
+  const CommandResult run = causticd("design --no-check --resolution 16 --target " + tiff.string() + " -o " +
+                                     (dir_ / "face.obj").string());
+  EXPECT_EQ(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find("causticd design: warning: --target " + tiff.string() +
+                            ": holds 2 images (pages, frames or parts); only the first is designed\n"),
             std::string::npos)
       << run.output;
 }

@@ -285,3 +285,32 @@ TEST(DesignPicture, ATiffCutShortIsRefusedNotDesignedWithItsRowsBlack) {
   EXPECT_NE(why.find("cut.tif: the picture is damaged or cut short ("), std::string::npos) << why;
   EXPECT_EQ(why.find('\n'), std::string::npos) << why;
 }
+
+TEST(DesignPicture, AFileOfSeveralImagesIsSaidToHaveThemAndItsFirstIsRead) {
+  // A multi-page TIFF and an animated GIF: a viewer shows the first page, a
+  // browser plays the frames, and only the first was designed, unsaid.
+  // Page k is grey (k + 1) / 4 all over: the first reads as 0.25, decoded.
+  Folder folder;
+  const auto grey = [](int k) { return std::vector<unsigned char>(32 * 32 * 3, static_cast<unsigned char>(64 * (k + 1) - 1)); };
+  for (const char* name : {"pages.tif", "frames.gif", "one.tif"}) {
+    const int images = std::string(name) == "one.tif" ? 1 : 3;
+    const auto file = folder.path / name;
+    auto out = OIIO::ImageOutput::create(file.string());
+    std::vector<OIIO::ImageSpec> specs(images, OIIO::ImageSpec(32, 32, 3, OIIO::TypeDesc::UINT8));
+    ASSERT_TRUE(out && out->open(file.string(), images, specs.data())) << name;
+    for (int k = 0; k < images; ++k) {
+      if (k > 0) ASSERT_TRUE(out->open(file.string(), specs[k], OIIO::ImageOutput::AppendSubimage)) << name;
+      ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, grey(k).data())) << name;
+    }
+    ASSERT_TRUE(out->close()) << name;
+    std::vector<std::string> warnings;
+    const RgbHdrImage read = load_target_rgb(file, &warnings);
+    EXPECT_NEAR(mean(read, 0, 0, 32, 32), std::pow((63 / 255.0 + 0.055) / 1.055, 2.4), 0.01) << name;
+    if (images == 1) {
+      EXPECT_TRUE(warnings.empty()) << name << ": " << warnings.front();
+      continue;
+    }
+    ASSERT_EQ(warnings.size(), 1u) << name;
+    EXPECT_EQ(warnings[0], file.string() + ": holds 3 images (pages, frames or parts); only the first is designed");
+  }
+}

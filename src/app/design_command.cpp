@@ -23,6 +23,7 @@
 #include <fstream>
 #include <optional>
 #include <string>
+#include <vector>
 #endif
 
 #include <iostream>
@@ -191,12 +192,14 @@ int run_design(DesignCommandOptions o) {
   if (const int status = check_flags(o); status != ok) return status;
   design::Image target;
   RgbHdrImage colour_target;  // --colour: the picture in RGB; the face is shaped for its brightest channel
+  std::vector<std::string> warnings;
   try {
-    if (o.colour) colour_target = design::load_target_rgb(o.target);
-    target = o.colour ? design::brightest_channel(colour_target) : design::load_target(o.target);
+    if (o.colour) colour_target = design::load_target_rgb(o.target, &warnings);
+    target = o.colour ? design::brightest_channel(colour_target) : design::load_target(o.target, &warnings);
   } catch (const design::TargetError& e) {
     return bad(std::string("--target ") + e.what());
   }
+  for (const std::string& w : warnings) std::cerr << "causticd design: warning: --target " << w << "\n";
   o.design.resample = o.regular;
   const bool bar = isatty(STDERR_FILENO);
   design::ProgressFn progress;

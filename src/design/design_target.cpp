@@ -82,6 +82,48 @@ void check_gif_screen(const std::filesystem::path& file, const std::string& name
   if (too_large(width, height)) throw TargetError(size_error(name, width, height));
 }
 
+// A GIF's images, counted by walking its blocks: its reader would decode
+// every frame onto the whole canvas to seek the last.
+int gif_images(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  unsigned char head[13] = {};
+  if (!in.read(reinterpret_cast<char*>(head), sizeof head)) return 1;
+  const auto table = [](unsigned char flags) { return flags & 0x80 ? 3 << ((flags & 7) + 1) : 0; };
+  in.seekg(table(head[10]), std::ios::cur);
+  const auto skip_blocks = [&] {  // sub-blocks, each its length first, a 0 last
+    for (int n = in.get(); n > 0; n = in.get()) in.seekg(n, std::ios::cur);
+  };
+  int images = 0;
+  for (int block = in.get(); in && block != 0x3b; block = in.get()) {
+    if (block == 0x21) {  // an extension: its label, then its sub-blocks
+      in.get();
+      skip_blocks();
+    } else if (block == 0x2c) {  // an image: its descriptor, colour table, code size, data
+      unsigned char d[9] = {};
+      if (!in.read(reinterpret_cast<char*>(d), sizeof d)) break;
+      in.seekg(table(d[8]) + 1, std::ios::cur);
+      skip_blocks();
+      ++images;
+    } else {
+      break;
+    }
+  }
+  return std::max(images, 1);
+}
+
+// How many images the file holds (pages, frames, parts), at most `bound`;
+// only the first is read. A Photoshop file's first is its composite, the
+// picture as shown, and its layers follow: it is one picture.
+int images_held(OIIO::ImageInput& in, const std::filesystem::path& file, int bound) {
+  const std::string format = in.format_name();
+  if (format == "psd") return 1;
+  if (format == "gif") return gif_images(file);
+  int n = 1;
+  while (n <= bound && in.seek_subimage(n, 0)) ++n;
+  in.geterror();  // a failed seek is no damage
+  return n;
+}
+
 // A JPEG's scans, counted before its decoder sees it (caustic/jpeg_scans.hpp:
 // each scan redoes the decoder's work, and 140,000 held a core for 40 min).
 void check_jpeg_scans(const std::filesystem::path& file, const std::string& name) {
@@ -200,7 +242,7 @@ void read_bands(OIIO::ImageInput& in, const std::string& name, int channels,
 
 }  // namespace
 
-RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
+RgbHdrImage load_target_rgb(const std::filesystem::path& file, std::vector<std::string>* warnings) {
   const std::string name = file.string();
   // A regular file of bounded size: a device or a pipe would be read, and
   // probed by every format's reader, without end.
@@ -234,6 +276,11 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   // of a few bytes may declare 64 M pixels, whose picture (12 bytes a pixel,
   // 768 MB) was set aside before the reader found no data behind it.
   read_bands(*in, name, channels, [](int, int, const float*) {});
+  // A multi-page TIFF or an animated GIF looks like one picture to whoever
+  // chose it (a viewer shows its first page, a browser plays the frames).
+  if (const int images = images_held(*in, file, 100); images > 1 && warnings)
+    warnings->push_back(name + ": holds " + (images > 100 ? "more than 100" : std::to_string(images)) +
+                        " images (pages, frames or parts); only the first is designed");
   in = open_picture(name, &spec);
   const bool srgb = encoded_srgb(spec);
   // Colour: the first three channels are R, G, B; grey (1 or 2 channels): the first.
@@ -269,7 +316,9 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file) {
   return out;
 }
 
-Image load_target(const std::filesystem::path& file) { return luminance(load_target_rgb(file)); }
+Image load_target(const std::filesystem::path& file, std::vector<std::string>* warnings) {
+  return luminance(load_target_rgb(file, warnings));
+}
 
 Image box_resample_square(const Image& image, int n) {
   const int side = std::min(image.width, image.height);

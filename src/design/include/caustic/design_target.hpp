@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace caustic::design {
@@ -36,13 +37,18 @@ inline constexpr std::uintmax_t kMaxTargetFileBytes = std::uintmax_t{256} << 20;
 /// Reads `file` (PNG, JPEG, EXR, TIFF, ...) as linear luminance
 /// Y = 0.2126 R + 0.7152 G + 0.0722 B. Integer formats are taken as sRGB
 /// (the curve is undone) unless the file says it is linear; float formats as
-/// linear. Grey files use their one channel; alpha is ignored. Throws
-/// TargetError for an unreadable, empty, oversized or non-finite picture.
-Image load_target(const std::filesystem::path& file);
+/// linear. Grey files use their one channel. Colour is as the picture shows
+/// laid over black (the reader multiplies it by alpha): a transparent pixel
+/// is black, and receives no light. Throws
+/// TargetError for an unreadable, damaged, empty, oversized or non-finite
+/// picture. What a user may not expect of a picture read (a file of several
+/// images, of which the first is read) is added to `warnings`, each naming
+/// the file.
+Image load_target(const std::filesystem::path& file, std::vector<std::string>* warnings = nullptr);
 
 /// The same picture in linear RGB (grey files: R = G = B), for colour
 /// designs (design_colour.hpp).
-RgbHdrImage load_target_rgb(const std::filesystem::path& file);
+RgbHdrImage load_target_rgb(const std::filesystem::path& file, std::vector<std::string>* warnings = nullptr);
 
 /// Centre square crop of `image`, then a box filter onto n x n cells: every
 /// cell is the exact area-weighted mean of the pixels it covers, so a picture
