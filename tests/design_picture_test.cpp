@@ -130,7 +130,10 @@ TEST(DesignPicture, AJpegCutShortIsRefusedNotDesignedWithItsRowsGrey) {
     const std::string whole = caustic::testing::jpeg_bytes(side, side, progressive, 0, pixels);
     EXPECT_EQ(refused(folder.write("whole.jpg", whole)), "accepted");
     const std::string cut = whole.substr(0, whole.size() / 2) + "\xff\xd9";
+    // libjpeg's warnings go to the message, none to stderr (as libpng's did).
+    ::testing::internal::CaptureStderr();
     const std::string why = refused(folder.write("cut.jpg", cut));
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
     EXPECT_NE(why.find("cut short"), std::string::npos) << side << (progressive ? " progressive: " : " baseline: ") << why;
     // With libjpeg's own words: the reader forgot them once asked, and the
     // message said "cut short ()".
@@ -281,8 +284,11 @@ TEST(DesignPicture, ATiffCutShortIsRefusedNotDesignedWithItsRowsBlack) {
   EXPECT_EQ(refused(whole), "accepted");
   std::ifstream in(whole, std::ios::binary);
   const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  ::testing::internal::CaptureStderr();
   const std::string why = refused(folder.write("cut.tif", bytes.substr(0, bytes.size() / 2)));
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "") << "libtiff's words go to the message alone";
   EXPECT_NE(why.find("cut.tif: the picture is damaged or cut short ("), std::string::npos) << why;
+  EXPECT_NE(why.find("Read error"), std::string::npos) << why;
   EXPECT_EQ(why.find('\n'), std::string::npos) << why;
 }
 
