@@ -4,6 +4,7 @@
 // channels beyond colour, a progressive JPEG whose scans never end, and
 // files cut short.
 #include "caustic/design_target.hpp"
+#include "caustic/image_io.hpp"  // Rgba8Image
 #include "jpeg_support.hpp"
 #include "refusal.hpp"
 
@@ -318,5 +319,37 @@ TEST(DesignPicture, AFileOfSeveralImagesIsSaidToHaveThemAndItsFirstIsRead) {
     }
     ASSERT_EQ(warnings.size(), 1u) << name;
     EXPECT_EQ(warnings[0], file.string() + ": holds 3 images (pages, frames or parts); only the first is designed");
+  }
+}
+
+TEST(DesignPicture, ADarkLogoOnATransparentGroundIsToldWhyItIsBlack) {
+  // A black disc on a transparent white ground: taken over black, as light
+  // would have it, it is all black; it was refused as "all black" alone,
+  // while a viewer shows a black disc on white. The same disc opaque on
+  // white is a picture.
+  Folder folder;
+  for (const bool clear : {true, false}) {
+    caustic::Rgba8Image logo{16, 16, std::vector<std::uint8_t>(16 * 16 * 4, 255)};
+    int ground = 0;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) {
+        std::uint8_t* p = &logo.pixels[(y * 16 + x) * 4];
+        if ((x - 8) * (x - 8) + (y - 8) * (y - 8) < 25) p[0] = p[1] = p[2] = 0;
+        else if (clear) p[3] = 0, ++ground;
+      }
+    const auto file = folder.path / (clear ? "clear.png" : "white.png");
+    // Written as given: white, not black, under the transparent pixels.
+    OIIO::ImageSpec spec(16, 16, 4, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    auto out = OIIO::ImageOutput::create(file.string());
+    ASSERT_TRUE(out && out->open(file.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, logo.pixels.data()) &&
+                out->close());
+    const std::string why = refused(file);
+    if (!clear) {
+      EXPECT_EQ(why, "accepted");
+      continue;
+    }
+    EXPECT_NE(why.find("clear.png: is all black: its " + std::to_string(ground) + " transparent pixels are taken as black"),
+              std::string::npos) << why;
   }
 }

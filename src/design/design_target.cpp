@@ -296,10 +296,17 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file, std::vector<std::
   } catch (const std::bad_alloc&) {
     throw TargetError(name + ": " + std::to_string(w) + "x" + std::to_string(h) + " pixels do not fit in memory");
   }
+  // Transparent pixels are black as read (the reader multiplies colour by
+  // alpha): a dark logo on a transparent ground, black all over as
+  // designed, is told why rather than only "all black".
+  const int alpha = spec.channelindex("A") < channels ? spec.channelindex("A") : -1;
+  std::size_t transparent = 0;
+  bool lit = false;
   read_bands(*in, name, channels, [&](int y0, int y1, const float* raw) {
     for (int sy = y0; sy < y1; ++sy)
       for (int sx = 0; sx < w; ++sx) {
         const float* c = &raw[(static_cast<std::size_t>(sy - y0) * w + sx) * channels];
+        transparent += alpha >= 0 && c[alpha] < 1;
         const double rgb[3] = {c[0], colour ? c[1] : c[0], colour ? c[2] : c[0]};
         int x = 0, y = 0;
         upright_pixel(orientation, w, h, sx, sy, x, y);
@@ -310,9 +317,14 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file, std::vector<std::
           v = std::max(v, 0.0);
           if (srgb) v = srgb_to_linear(std::min(v, 1.0));
           to[k] = static_cast<float>(v);
+          lit = lit || v > 0;
         }
       }
   });
+  if (!lit && transparent > 0)
+    throw TargetError(name + ": is all black: its " + std::to_string(transparent) +
+                      " transparent pixels are taken as black (no light) and the others are black; lay it over a "
+                      "light background to design it as a viewer shows it on one");
   return out;
 }
 
