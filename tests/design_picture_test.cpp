@@ -320,6 +320,23 @@ TEST(DesignPicture, AFileOfSeveralImagesIsSaidToHaveThemAndItsFirstIsRead) {
     ASSERT_EQ(warnings.size(), 1u) << name;
     EXPECT_EQ(warnings[0], file.string() + ": holds 3 images (pages, frames or parts); only the first is designed");
   }
+  // Counted up to 100, then said as more: each is a block walked or a seek.
+  for (const char* name : {"long.gif", "long.tif"}) {
+    const auto file = folder.path / name;
+    auto out = OIIO::ImageOutput::create(file.string());
+    std::vector<OIIO::ImageSpec> specs(102, OIIO::ImageSpec(4, 4, 3, OIIO::TypeDesc::UINT8));
+    const std::vector<unsigned char> white(4 * 4 * 3, 255);
+    ASSERT_TRUE(out && out->open(file.string(), 102, specs.data())) << name;
+    for (int k = 0; k < 102; ++k) {
+      if (k > 0) ASSERT_TRUE(out->open(file.string(), specs[k], OIIO::ImageOutput::AppendSubimage)) << name;
+      ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, white.data())) << name;
+    }
+    ASSERT_TRUE(out->close()) << name;
+    std::vector<std::string> warnings;
+    load_target_rgb(file, &warnings);
+    ASSERT_EQ(warnings.size(), 1u) << name;
+    EXPECT_NE(warnings[0].find(": holds more than 100 images"), std::string::npos) << warnings[0];
+  }
 }
 
 TEST(DesignPicture, ADarkLogoOnATransparentGroundIsToldWhyItIsBlack) {

@@ -82,16 +82,16 @@ void check_gif_screen(const std::filesystem::path& file, const std::string& name
   if (too_large(width, height)) throw TargetError(size_error(name, width, height));
 }
 
-// A GIF's images, counted by walking its blocks: its reader would decode
-// every frame onto the whole canvas to seek the last.
-int gif_images(const std::filesystem::path& file) {
+// A GIF's images, counted by walking its blocks up to `bound` + 1: its
+// reader would decode every frame onto the whole canvas to seek the last.
+int gif_images(const std::filesystem::path& file, int bound) {
   std::ifstream in(file, std::ios::binary);
   unsigned char head[13] = {};
   if (!in.read(reinterpret_cast<char*>(head), sizeof head)) return 1;
   const auto table = [](unsigned char flags) { return flags & 0x80 ? 3 << ((flags & 7) + 1) : 0; };
-  in.seekg(table(head[10]), std::ios::cur);
+  in.ignore(table(head[10]));
   const auto skip_blocks = [&] {  // sub-blocks, each its length first, a 0 last
-    for (int n = in.get(); n > 0; n = in.get()) in.seekg(n, std::ios::cur);
+    for (int n = in.get(); n > 0; n = in.get()) in.ignore(n);
   };
   int images = 0;
   for (int block = in.get(); in && block != 0x3b; block = in.get()) {
@@ -101,9 +101,9 @@ int gif_images(const std::filesystem::path& file) {
     } else if (block == 0x2c) {  // an image: its descriptor, colour table, code size, data
       unsigned char d[9] = {};
       if (!in.read(reinterpret_cast<char*>(d), sizeof d)) break;
-      in.seekg(table(d[8]) + 1, std::ios::cur);
+      in.ignore(table(d[8]) + 1);
       skip_blocks();
-      ++images;
+      if (++images > bound) break;
     } else {
       break;
     }
@@ -117,7 +117,7 @@ int gif_images(const std::filesystem::path& file) {
 int images_held(OIIO::ImageInput& in, const std::filesystem::path& file, int bound) {
   const std::string format = in.format_name();
   if (format == "psd") return 1;
-  if (format == "gif") return gif_images(file);
+  if (format == "gif") return gif_images(file, bound);
   int n = 1;
   while (n <= bound && in.seek_subimage(n, 0)) ++n;
   in.geterror();  // a failed seek is no damage
