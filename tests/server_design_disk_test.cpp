@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Designs when the state directory cannot take them: a full filesystem
 // refuses the upload with 507 and keeps nothing of it, a design whose own
-// files find no room fails saying so (not blaming the picture), and a
-// read-only state directory answers 503. The server runs in a mount
+// files find no room fails saying so (not blaming the picture), a file
+// size limit counts as no room, and a read-only state directory answers 503. The server runs in a mount
 // namespace of its own over a small tmpfs, so no disk of this machine
 // fills; skipped where that cannot be made (not root, no unshare).
 // Black box against `causticd serve` on loopback; every wait bounded.
@@ -125,6 +125,19 @@ TEST_F(DesignDisk, ADesignWhoseFilesFindNoRoomFailsSayingSoAndKeepsNoHalfFiles) 
   EXPECT_EQ(error.find('/'), std::string::npos) << error;
   // Its failure is kept for its owner; nothing the design began writing is.
   EXPECT_EQ(names_in(dir / "designs" / id), (std::vector<std::string>{"error.txt", "meta.json"}));
+}
+
+TEST_F(DesignApi, AFileSizeLimitIsNoRoomEither) {
+  // An operator's LimitFSIZE= (SIGXFSZ is ignored, so a write past it fails
+  // with EFBIG): the picture cannot be stored, and the visitor is told so.
+  gchar* prlimit = g_find_program_in_path("prlimit");
+  if (!prlimit) GTEST_SKIP() << "no prlimit here";
+  g_free(prlimit);
+  TempDir state;
+  ServerProcess server(small_designs(state), {}, CAUSTICD_BINARY, {"prlimit", "--fsize=64"});
+  ASSERT_FALSE(server.url().empty());
+  expect_problem(upload(server, square_png()), 507, "no room");
+  EXPECT_EQ(names_in(state.path / "designs"), std::vector<std::string>{});
 }
 
 TEST_F(DesignDisk, AReadOnlyStateDirectoryAnswersUploads503) {

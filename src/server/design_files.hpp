@@ -26,10 +26,11 @@ std::string read_text(const std::filesystem::path& file, std::size_t limit = kMa
 /// call that failed, what() names the file alone (never a path).
 struct StorageError : std::runtime_error {
   StorageError(int error, const std::string& what) : std::runtime_error(what), error(error) {}
-  /// The filesystem is full, or the server's quota spent: it passes once
+  /// The filesystem is full, the server's quota spent, or its file size
+  /// limit (RLIMIT_FSIZE, systemd's LimitFSIZE=) reached: it passes once
   /// designs expire or the operator makes room. Anything else (EIO, EROFS)
   /// is a fault of the disk or the mount.
-  bool no_room() const { return error == ENOSPC || error == EDQUOT; }
+  bool no_room() const { return error == ENOSPC || error == EDQUOT || error == EFBIG; }
   int error;
 };
 
