@@ -95,6 +95,21 @@ TEST_F(ObjFiles, RoundTripsThroughWriteObj) {
     }
 }
 
+// A disk that fills while the file is written fails the write: a small
+// file's only write happens at the close, which was not checked, and a
+// face cut short was kept as if whole. /dev/full fails every write (ENOSPC).
+TEST_F(ObjFiles, AWriteTheDiskHasNoRoomForFails) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full here";
+  const Mesh small = grid_mesh(plano_convex_lens(40, 10), 3, 3);
+  try {
+    write_obj(small, "/dev/full");
+    ADD_FAILURE() << "a write into a full disk succeeded";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("error while writing /dev/full: No space left on device"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST_F(ObjFiles, ReadsAndWritesVertexColoursAsTheFacesTint) {
   const Mesh m = load_obj(write("tinted.obj",
                                 "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 0.5 0.5 0.5\n"

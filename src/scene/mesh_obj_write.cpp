@@ -3,7 +3,9 @@
 // resampled level or a receiver's shape (with its atlas).
 #include "caustic/mesh.hpp"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 
@@ -33,7 +35,11 @@ void write_obj(const Mesh& mesh, const std::filesystem::path& file) {
     else
       std::fprintf(out.get(), "f %u//%u %u//%u %u//%u\n", t.x + 1, t.x + 1, t.y + 1, t.y + 1, t.z + 1, t.z + 1);
   }
-  if (std::ferror(out.get())) throw std::runtime_error("error while writing " + file.string());
+  // The last buffer is written at the close, so a disk that fills there
+  // fails the close alone (a small file: its only write).
+  const bool failed = std::ferror(out.get()) != 0;
+  if (std::fclose(out.release()) != 0 || failed)
+    throw std::runtime_error("error while writing " + file.string() + ": " + std::strerror(errno));
 }
 
 }  // namespace caustic
