@@ -111,8 +111,8 @@ int gif_images(const std::filesystem::path& file, int bound) {
   return std::max(images, 1);
 }
 
-// How many images the file holds (pages, frames, parts), at most `bound`;
-// only the first is read. A Photoshop file's first is its composite, the
+// How many images the file holds (pages, frames, parts), counted to
+// `bound` + 1 (more than `bound`); only the first is read. A Photoshop file's first is its composite, the
 // picture as shown, and its layers follow: it is one picture.
 int images_held(OIIO::ImageInput& in, const std::filesystem::path& file, int bound) {
   const std::string format = in.format_name();
@@ -278,7 +278,7 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file, std::vector<std::
   read_bands(*in, name, channels, [](int, int, const float*) {});
   // A multi-page TIFF or an animated GIF looks like one picture to whoever
   // chose it (a viewer shows its first page, a browser plays the frames).
-  if (const int images = images_held(*in, file, 100); images > 1 && warnings)
+  if (const int images = warnings ? images_held(*in, file, 100) : 1; images > 1)
     warnings->push_back(name + ": holds " + (images > 100 ? "more than 100" : std::to_string(images)) +
                         " images (pages, frames or parts); only the first is designed");
   in = open_picture(name, &spec);
