@@ -320,6 +320,19 @@ TEST(DesignPicture, AFileOfSeveralImagesIsSaidToHaveThemAndItsFirstIsRead) {
     ASSERT_EQ(warnings.size(), 1u) << name;
     EXPECT_EQ(warnings[0], file.string() + ": holds 3 images (pages, frames or parts); only the first is designed");
   }
+  // An animated PNG: its reader reads the still image, and the frames are
+  // counted by its acTL chunk (3 frames, played for ever).
+  const std::string still = png_bytes(folder);
+  ASSERT_FALSE(still.empty());
+  const std::string animated =
+      still.substr(0, 33) + png_chunk("acTL", std::string("\0\0\0\3\0\0\0\0", 8)) + still.substr(33);
+  std::vector<std::string> warnings;
+  const auto apng = folder.write("moving.png", animated);
+  load_target_rgb(folder.write("still.png", still), &warnings);
+  EXPECT_TRUE(warnings.empty());
+  load_target_rgb(apng, &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0], apng.string() + ": holds 3 images (pages, frames or parts); only the first is designed");
   // Counted up to 100, then said as more: each is a block walked or a seek.
   for (const char* name : {"long.gif", "long.tif"}) {
     const auto file = folder.path / name;

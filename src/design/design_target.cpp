@@ -138,11 +138,14 @@ void check_jpeg_scans(const std::filesystem::path& file, const std::string& name
 }
 
 // A PNG's chunks, checked before libpng reads it (png_chunks.hpp): libpng
-// said its error on stderr itself, beside the message.
-void check_png_chunks(const std::filesystem::path& file, const std::string& name) {
+// said its error on stderr itself, beside the message. Gives an animated
+// PNG's frame count (its reader reads the still image alone), else 1.
+std::uint32_t check_png_chunks(const std::filesystem::path& file, const std::string& name) {
   std::ifstream in(file, std::ios::binary);
-  if (const std::string why = png_damage(in); !why.empty())
+  std::uint32_t frames = 1;
+  if (const std::string why = png_damage(in, &frames); !why.empty())
     throw TargetError(name + ": the picture is damaged or cut short (" + why + "); save it again");
+  return frames;
 }
 
 // The picture as it is meant to be seen: a camera that was held on its side
@@ -257,7 +260,7 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file, std::vector<std::
   check_opens(file, name);
   check_gif_screen(file, name);
   check_jpeg_scans(file, name);
-  check_png_chunks(file, name);
+  const std::uint32_t png_frames = check_png_chunks(file, name);
   std::unique_ptr<OIIO::ImageInput> in = open_picture(name);
   const OIIO::ImageSpec spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
@@ -276,9 +279,13 @@ RgbHdrImage load_target_rgb(const std::filesystem::path& file, std::vector<std::
   // of a few bytes may declare 64 M pixels, whose picture (12 bytes a pixel,
   // 768 MB) was set aside before the reader found no data behind it.
   read_bands(*in, name, channels, [](int, int, const float*) {});
-  // A multi-page TIFF or an animated GIF looks like one picture to whoever
-  // chose it (a viewer shows its first page, a browser plays the frames).
-  if (const int images = warnings ? images_held(*in, file, 100) : 1; images > 1)
+  // A multi-page TIFF or an animated GIF or PNG looks like one picture to
+  // whoever chose it (a viewer shows its first page, a browser plays the
+  // frames).
+  const auto held = [&] {
+    return png_frames > 1 ? static_cast<int>(std::min<std::uint32_t>(png_frames, 101)) : images_held(*in, file, 100);
+  };
+  if (const int images = warnings ? held() : 1; images > 1)
     warnings->push_back(name + ": holds " + (images > 100 ? "more than 100" : std::to_string(images)) +
                         " images (pages, frames or parts); only the first is designed");
   in = open_picture(name, &spec);

@@ -32,8 +32,10 @@ inline std::uint32_t png_crc(std::uint32_t crc, const unsigned char* bytes, std:
 
 /// Why the PNG read from `in` is damaged, in words for a message; "" when
 /// its chunks are whole, each checksum right, and an IEND ends them, or
-/// when it is no PNG at all (its own reader judges it).
-inline std::string png_damage(std::istream& in) {
+/// when it is no PNG at all (its own reader judges it). An animated PNG's
+/// frame count (its acTL chunk's) goes to `frames`, which is left as it is
+/// for any other.
+inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr) {
   static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   unsigned char head[8] = {};
   if (!in.read(reinterpret_cast<char*>(head), 8) || !std::equal(head, head + 8, signature)) return "";
@@ -55,6 +57,8 @@ inline std::string png_damage(std::istream& in) {
       if (!in.read(reinterpret_cast<char*>(data.data()), n))
         return "cut short: the " + type + " chunk at byte " + std::to_string(at) + " runs past the end of the file";
       crc = png_crc(crc, data.data(), n);
+      if (type == "acTL" && left == length && n >= 4 && frames)
+        *frames = std::uint32_t{data[0]} << 24 | data[1] << 16 | data[2] << 8 | data[3];
       left -= n;
     }
     unsigned char stored[4] = {};
