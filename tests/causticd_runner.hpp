@@ -3,6 +3,8 @@
 // and everything it printed, and a fresh scratch folder per test.
 #pragma once
 
+#include "scratch_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -33,21 +35,6 @@ inline CommandResult causticd_with_env(const std::string& env, const std::string
 }
 
 inline CommandResult causticd(const std::string& args) { return causticd_with_env("", args); }
-
-/// A test with its own empty scratch folder, dir_, named after the test and
-/// removed afterwards.
-class ScratchDirTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() /
-           (std::string("causticd_") + info->test_suite_name() + "_" + info->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::filesystem::path dir_;
-};
 
 #ifdef CAUSTIC_ASSET_DIR
 /// A scratch folder, the built-in scenes, and a refusal's two marks.

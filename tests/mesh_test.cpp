@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // OBJ loading, normals, placement and geometry checks.
 #include "caustic/mesh.hpp"
+#include "scratch_dir.hpp"
 #include "caustic/surfaces.hpp"
 #include "scene_test_support.hpp"
 
@@ -18,15 +19,9 @@ using namespace caustic;
 
 namespace {
 
-class ObjFiles : public ::testing::Test {
+// A scratch folder of its own per test (dir_).
+class ObjFiles : public caustic::testing::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("caustic_mesh_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
   std::filesystem::path write(const std::string& name, const std::string& text) {
     const auto path = dir_ / name;
     std::ofstream(path) << text;
@@ -56,7 +51,6 @@ class ObjFiles : public ::testing::Test {
     }
   }
 
-  std::filesystem::path dir_;
 };
 
 const char* kSquare =

@@ -3,6 +3,7 @@
 // loader must read as the same value; what it would read otherwise is
 // refused with the file and the line.
 #include "caustic/mesh.hpp"
+#include "scratch_dir.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,15 +15,9 @@ using namespace caustic;
 
 namespace {
 
-class ObjNumbers : public ::testing::Test {
+// A scratch folder of its own per test (dir_).
+class ObjNumbers : public caustic::testing::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("caustic_obj_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
   std::filesystem::path write(const std::string& text) {
     const auto path = dir_ / "face.obj";
     std::ofstream(path, std::ios::binary) << text;
@@ -40,7 +35,6 @@ class ObjNumbers : public ::testing::Test {
     }
   }
 
-  std::filesystem::path dir_;
 };
 
 constexpr const char* kFace = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
