@@ -95,9 +95,15 @@ class ChildProcess {
       g_error_free(error);
     }
   }
+  /// SIGTERM, and SIGCONT after it so that a child left frozen (a test that
+  /// failed between SIGSTOP and SIGCONT) takes it; SIGKILL after 10 s.
   void stop() {
     if (!process_) return;
     g_subprocess_send_signal(process_, SIGTERM);
+    g_subprocess_send_signal(process_, SIGCONT);
+    // GLib's worker thread reaps the child; its identifier goes then.
+    for (int waited = 0; waited < 10000 && g_subprocess_get_identifier(process_); waited += 20) g_usleep(20000);
+    if (g_subprocess_get_identifier(process_)) g_subprocess_force_exit(process_);
     g_subprocess_wait(process_, nullptr, nullptr);
     g_object_unref(process_);
     process_ = nullptr;

@@ -3,7 +3,8 @@
 // configuration (janus/, with its ports and secrets filled in), on
 // loopback: the mountpoint comes and goes with the session and receives the
 // stream; viewer links carry tokens and a pin that Janus checks; only the
-// session's holder may change it; a Janus restart gets the mountpoint back.
+// session's holder may change it; a Janus restart gets the mountpoint back;
+// a Janus that answers late (frozen, then woken) keeps no mountpoint.
 // (Janus gathers no ICE candidates on loopback, so video to browsers is the
 // namespace test's: tests/janus/broadcast_test.sh.)
 #include "helper_processes.hpp"
@@ -15,6 +16,7 @@
 #include "../src/server/broadcast.hpp"
 
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <sstream>
 #include <tuple>
@@ -108,8 +110,6 @@ class Broadcast : public ::testing::Test {
     dir_ = fs::temp_directory_path() / ("causticd_janus_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    admin_port_ = ct::free_port();
-    ws_port_ = ct::free_port();
     // As the package does at install: secrets made once, shared by
     // Janus's files and causticd's environment (the units' EnvironmentFile=).
     std::string output;
@@ -124,14 +124,26 @@ class Broadcast : public ::testing::Test {
           value;
     ASSERT_EQ(admin_secret_.size(), 32u);
     janus_dir_ = dir_ / "janus";
-    // Ports of this test's own.
-    for (const auto& [name, from, to] : {std::tuple{"janus.transport.http.jcfg", "admin_port = 7088", admin_port_},
-                                         std::tuple{"janus.transport.websockets.jcfg", "ws_port = 8188", ws_port_}}) {
-      std::string text = ct::read_file(janus_dir_ / name);
-      ct::replace_all(text, from, std::string(from).substr(0, std::string(from).find('=') + 2) + std::to_string(to));
-      std::ofstream(janus_dir_ / name) << text;
+    // Ports of this test's own, picked free; another process may take one
+    // before Janus binds it, so Janus must be seen answering on both.
+    std::map<std::string, std::string> shipped;
+    for (const char* name : {"janus.transport.http.jcfg", "janus.transport.websockets.jcfg"})
+      shipped[name] = ct::read_file(janus_dir_ / name);
+    bool ours = false;
+    for (int attempt = 0; attempt < 3 && !ours; ++attempt) {
+      admin_port_ = ct::free_port();
+      do ws_port_ = ct::free_port();
+      while (ws_port_ == admin_port_);
+      for (const auto& [name, from, to] : {std::tuple{"janus.transport.http.jcfg", "admin_port = 7088", admin_port_},
+                                           std::tuple{"janus.transport.websockets.jcfg", "ws_port = 8188", ws_port_}}) {
+        std::string text = shipped[name];
+        ct::replace_all(text, from, std::string(from).substr(0, std::string(from).find('=') + 2) + std::to_string(to));
+        std::ofstream(janus_dir_ / name) << text;
+      }
+      ours = start_janus();
+      if (!ours) janus_.stop();
     }
-    start_janus();
+    ASSERT_TRUE(ours) << "Janus did not answer on the ports picked for it (three tries)";
     server_ = std::make_unique<ServerProcess>(
         std::vector<std::string>{"--width", "320", "--height", "240", "--set",
                                  "janus_admin_url=http://127.0.0.1:" + std::to_string(admin_port_) + "/admin", "--set",
@@ -145,9 +157,14 @@ class Broadcast : public ::testing::Test {
     if (!dir_.empty()) fs::remove_all(dir_);
   }
 
-  void start_janus() {
+  // Whether this Janus answers on both ports: its admin API with this
+  // test's secrets, and a Janus WebSocket (something else may hold a port).
+  bool start_janus() {
     janus_.start({ct::find_program("janus"), "-F", janus_dir_.string(), "-C", (janus_dir_ / "janus.jcfg").string(), "-o", "-d", "2"});
-    ct::raw_wait_listening(admin_port_);
+    if (!ct::raw_wait_listening(admin_port_) || !ct::raw_wait_listening(ws_port_)) return false;
+    bool answers = false;
+    for (int i = 0; i < 50 && !answers; ++i, g_usleep(100000)) answers = admin({{"request", "list"}}).contains("list");
+    return answers && JanusClient(ws_url()).call({{"janus", "info"}}).value("janus", "") == "server_info";
   }
   std::string ws_url() const { return "ws://127.0.0.1:" + std::to_string(ws_port_) + "/"; }
 
@@ -288,7 +305,7 @@ TEST_F(Broadcast, AJanusRestartGetsTheMountpointBack) {
   const json link = http("POST", server_->url() + s["viewers_url"].get<std::string>(), "", "", bearer_token(s["token"])).json();
   const std::uint64_t id = link["mountpoint"];
   janus_.stop();
-  start_janus();
+  ASSERT_TRUE(start_janus()) << "Janus did not come back on its ports";
   json found;
   for (int i = 0; i < 100 && found.is_null(); ++i, g_usleep(100000))
     for (const auto& m : admin({{"request", "list"}}).value("list", json::array()))
@@ -318,6 +335,25 @@ TEST_F(Broadcast, AStoppingServerTakesItsMountpointsWithIt) {
   EXPECT_EQ(admin({{"request", "list"}}).value("list", json::array()).size(), 0u) << "mountpoints outlived causticd";
 }
 
+// Janus frozen as the server stops: the destroys, asked side by side, wait
+// in Janus and are carried out when it wakes; the server has gone by then.
+TEST_F(Broadcast, AStoppingServerLeavesItsDestroysWithAFrozenJanus) {
+  create_broadcast();
+  create_broadcast();
+  ASSERT_EQ(admin({{"request", "list"}}).value("list", json::array()).size(), 2u);
+  janus_.signal(SIGSTOP);
+  server_->signal(SIGTERM);
+  EXPECT_EQ(server_->wait_exit(30000), 0);
+  janus_.signal(SIGCONT);
+  json list;
+  bool clean = false;
+  for (int i = 0; i < 100 && !clean; ++i, g_usleep(100000)) {
+    list = admin({{"request", "list"}});
+    clean = list.is_object() && list.contains("list") && list["list"].empty();
+  }
+  EXPECT_TRUE(clean) << "mountpoints outlived causticd: " << list.dump();
+}
+
 // A client that leaves while Janus is still answering (frozen here) gets no
 // session, and the mountpoint made for it goes.
 TEST_F(Broadcast, AClientThatLeavesBeforeJanusAnswersLeavesNothingBehind) {
@@ -340,6 +376,31 @@ TEST_F(Broadcast, AClientThatLeavesBeforeJanusAnswersLeavesNothingBehind) {
   EXPECT_TRUE(clean) << admin({{"request", "list"}}).dump();
   EXPECT_EQ(http("GET", server_->url() + "/api/v1/health").json()["sessions"], 0);
   // And the server goes on making broadcasts.
+  create_broadcast();
+}
+
+// A create that Janus takes only after the server gave up on it (5 s) is
+// still carried out when Janus wakes: the server destroys what it asked for.
+TEST_F(Broadcast, AMountpointThatJanusMakesAfterTheServerGaveUpGoesAgain) {
+  janus_.signal(SIGSTOP);
+  const auto r = http("POST", server_->url() + "/api/v1/sessions", R"({"scene": "lens", "mode": "broadcast"})");
+  EXPECT_EQ(r.status, 502u) << r.body;
+  janus_.signal(SIGCONT);
+  // Janus makes the mountpoint as it wakes; it must not stay.
+  json list;
+  bool clean = false;
+  for (int i = 0; i < 150 && !clean; ++i, g_usleep(100000)) {
+    list = admin({{"request", "list"}});
+    clean = list.is_object() && list.value("list", json::array()).empty();
+    if (clean) {  // gone, or not made yet: empty for 3 s running
+      for (int j = 0; j < 30 && clean; ++j, g_usleep(100000)) {
+        list = admin({{"request", "list"}});
+        clean = list.is_object() && list.value("list", json::array()).empty();
+      }
+    }
+  }
+  EXPECT_TRUE(clean) << list.dump();
+  EXPECT_EQ(http("GET", server_->url() + "/api/v1/health").json()["sessions"], 0);
   create_broadcast();
 }
 

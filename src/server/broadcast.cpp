@@ -49,6 +49,48 @@ void destroy(ServerState& s, const Mountpoint& m) {
                           });
 }
 
+// Strays beyond this many are forgotten (each costs a request every check,
+// and one at stop): a Janus that never answers takes no more of the server.
+constexpr std::size_t max_strays = 64;
+constexpr int stray_checks = 30;  // a minute of checks 2 s apart
+
+void keep_stray(ServerState& s, const Mountpoint& m) {
+  if (s.strays.size() >= max_strays) {
+    log(Level::warning, "mountpoint " + std::to_string(s.strays.begin()->first) +
+                            " is no longer asked after: too many creates went unanswered");
+    s.strays.erase(s.strays.begin());
+  }
+  s.strays[m.id] = StrayMountpoint{m};
+}
+
+void check_strays(ServerState& s) {
+  ServerState* state = &s;
+  for (auto& [mid, stray] : s.strays) {
+    if (stray.asking) continue;
+    stray.asking = true;
+    const std::uint64_t id = mid;
+    s.janus->plugin_request({{"request", "destroy"}, {"id", id}, {"secret", stray.m.secret}},
+                            [state, id](const JanusAdmin::Answer& a) {
+                              const auto it = state->strays.find(id);
+                              if (it == state->strays.end()) return;
+                              StrayMountpoint& stray = it->second;
+                              stray.asking = false;
+                              ++stray.asked;
+                              if (a.error.empty()) {
+                                log(Level::notice, "mountpoint " + std::to_string(id) +
+                                                       ", made by Janus after the server gave up on it, is destroyed");
+                                state->strays.erase(it);
+                              } else if (a.error_code == 455 && ++stray.absent >= 2) {
+                                state->strays.erase(it);  // Janus answers and has none: never made
+                              } else if (stray.asked >= stray_checks) {
+                                log(Level::warning, "mountpoint " + std::to_string(id) +
+                                                        " may remain in Janus: its destroy is not answered: " + a.error);
+                                state->strays.erase(it);
+                              }
+                            });
+  }
+}
+
 // A paused request, answered once Janus has. Holds the message; a client
 // that went away meanwhile is noticed.
 struct Pending {
@@ -139,6 +181,7 @@ void create_broadcast(ServerState& s, SoupServerMessage* msg, std::shared_ptr<co
     SoupServerMessage* out = pending->msg;
     if (!a.error.empty()) {
       log(Level::error, "broadcast: Janus did not create the mountpoint: " + a.error, {id, entry->id, codec, address});
+      if (a.unanswered) keep_stray(st, m);
       return reply_problem(out, st.metrics, SOUP_STATUS_BAD_GATEWAY, "the broadcast server did not take the stream");
     }
     if (!read_ports(a.response, m)) {
@@ -222,16 +265,29 @@ void end_broadcast(ServerState& s, const std::string& id) {
 
 void end_all_broadcasts(ServerState& s) {
   if (!s.janus) return;
+  // Asked side by side: a Janus that does not answer holds the stop for one
+  // timeout, not one per mountpoint.
+  std::vector<std::string> sessions;
+  std::vector<nlohmann::json> requests;
   for (const auto& [id, m] : s.mountpoints) {
-    const auto a = s.janus->plugin_request_now({{"request", "destroy"}, {"id", m.id}, {"secret", m.secret}});
-    if (!a.error.empty() && a.error_code != 455)
-      log(Level::warning, "broadcast " + id + ": mountpoint not destroyed: " + a.error);
+    sessions.push_back(id);
+    requests.push_back({{"request", "destroy"}, {"id", m.id}, {"secret", m.secret}});
   }
+  for (const auto& [mid, stray] : s.strays) {
+    sessions.emplace_back();
+    requests.push_back({{"request", "destroy"}, {"id", mid}, {"secret", stray.m.secret}});
+  }
+  const auto answers = s.janus->plugin_requests_now(std::move(requests));
+  for (std::size_t i = 0; i < answers.size(); ++i)
+    if (const auto& a = answers[i]; !a.error.empty() && a.error_code != 455 && !sessions[i].empty())
+      log(Level::warning, "broadcast " + sessions[i] + ": mountpoint not destroyed: " + a.error);
   s.mountpoints.clear();
+  s.strays.clear();
 }
 
 void check_broadcasts(ServerState& s) {
   if (!s.janus) return;
+  check_strays(s);
   ServerState* state = &s;
   for (auto& [sid, mountpoint] : s.mountpoints) {
     const auto now = std::chrono::steady_clock::now();

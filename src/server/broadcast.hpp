@@ -31,6 +31,15 @@ struct Mountpoint {
   std::chrono::steady_clock::time_point recreating{};
 };
 
+/// A mountpoint whose create got no answer (Janus frozen or slow past the
+/// timeout): Janus may make it still, so it is destroyed until Janus says
+/// so, or twice says it has none (the create never carried out).
+struct StrayMountpoint {
+  Mountpoint m;
+  int asked = 0, absent = 0;
+  bool asking = false;
+};
+
 /// The RTP and data ports in Janus's answer to a create (`response`) into
 /// `m`; false unless both are there and RTCP sits on the port after RTP
 /// (what rtpsink sends to and listens on). Fields of other types: false.
@@ -53,7 +62,8 @@ void end_broadcast(ServerState& s, const std::string& id);
 void end_all_broadcasts(ServerState& s);
 
 /// Asks Janus for each mountpoint; one it lost (a restart) is created again
-/// on the same ports, so the running pipeline needs no change.
+/// on the same ports, so the running pipeline needs no change. Asks Janus
+/// to destroy each stray (for at most a minute).
 void check_broadcasts(ServerState& s);
 
 /// Janus's token_auth token for the streaming plugin, valid until

@@ -4,6 +4,8 @@
 #include "caustic/json_text.hpp"
 #include "log.hpp"
 
+#include <algorithm>
+
 namespace caustic::server {
 
 JanusAdmin::JanusAdmin(std::string url, std::string admin_secret, std::string streaming_key, int timeout_s)
@@ -37,6 +39,10 @@ JanusAdmin::Answer JanusAdmin::read_answer(SoupMessage* msg, GBytes* reply, GErr
   Answer answer;
   if (error) {
     answer.error = std::string("Janus does not answer: ") + error->message;
+    // Refused or unreachable: nothing reached Janus.
+    answer.unanswered = !g_error_matches(error, G_IO_ERROR, G_IO_ERROR_CONNECTION_REFUSED) &&
+                        !g_error_matches(error, G_IO_ERROR, G_IO_ERROR_HOST_UNREACHABLE) &&
+                        !g_error_matches(error, G_IO_ERROR, G_IO_ERROR_NETWORK_UNREACHABLE);
   } else if (soup_message_get_status(msg) != SOUP_STATUS_OK) {
     answer.error = "Janus answered HTTP " + std::to_string(soup_message_get_status(msg));
   } else {
@@ -79,18 +85,49 @@ JanusAdmin::Answer JanusAdmin::parse_answer(std::string_view body) {
   return answer;
 }
 
-JanusAdmin::Answer JanusAdmin::plugin_request_now(nlohmann::json request, int timeout_s) {
-  SoupMessage* msg = message(std::move(request));
-  if (!msg) return {{}, "not a URL: " + url_};
-  SoupSession* http = soup_session_new_with_options("timeout", timeout_s, nullptr);
-  GError* error = nullptr;
-  GBytes* reply = soup_session_send_and_read(http, msg, nullptr, &error);
-  Answer answer = read_answer(msg, reply, error);
-  if (error) g_error_free(error);
-  if (reply) g_bytes_unref(reply);
-  g_object_unref(msg);
+std::vector<JanusAdmin::Answer> JanusAdmin::plugin_requests_now(std::vector<nlohmann::json> requests, int timeout_s) {
+  // On a context of their own, pushed for this thread: the loop's other
+  // sources (requests, timers) do not run while the server stops.
+  GMainContext* context = g_main_context_new();
+  g_main_context_push_thread_default(context);
+  SoupSession* http = soup_session_new_with_options("timeout", timeout_s, "max-conns", 64, "max-conns-per-host", 64, nullptr);
+  struct Call {
+    SoupMessage* msg = nullptr;
+    Answer answer;
+    bool done = false;
+  };
+  std::vector<Call> calls(requests.size());
+  for (std::size_t i = 0; i < requests.size(); ++i) {
+    calls[i].msg = message(std::move(requests[i]));
+    if (!calls[i].msg) {
+      calls[i] = {nullptr, {{}, "not a URL: " + url_}, true};
+      continue;
+    }
+    soup_session_send_and_read_async(
+        http, calls[i].msg, G_PRIORITY_DEFAULT, nullptr,
+        [](GObject* source, GAsyncResult* result, gpointer data) {
+          auto* call = static_cast<Call*>(data);
+          GError* error = nullptr;
+          GBytes* reply = soup_session_send_and_read_finish(SOUP_SESSION(source), result, &error);
+          call->answer = read_answer(call->msg, reply, error);
+          call->done = true;
+          if (error) g_error_free(error);
+          if (reply) g_bytes_unref(reply);
+        },
+        &calls[i]);
+  }
+  // Each ends within the session's timeout (an answer or an error).
+  const auto all_done = [&] { return std::all_of(calls.begin(), calls.end(), [](const Call& c) { return c.done; }); };
+  while (!all_done()) g_main_context_iteration(context, TRUE);
+  std::vector<Answer> answers;
+  for (Call& c : calls) {
+    answers.push_back(std::move(c.answer));
+    if (c.msg) g_object_unref(c.msg);
+  }
   g_object_unref(http);
-  return answer;
+  g_main_context_pop_thread_default(context);
+  g_main_context_unref(context);
+  return answers;
 }
 
 void JanusAdmin::plugin_request(nlohmann::json request, Done done) {

@@ -13,6 +13,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace caustic::server {
 
@@ -30,6 +31,9 @@ class JanusAdmin {
     nlohmann::json response;
     std::string error;
     int error_code = 0;
+    /// Sent, but no answer came (a timeout, a connection lost): Janus may
+    /// still carry the request out, a frozen one when it wakes.
+    bool unanswered = false;
   };
   using Done = std::function<void(const Answer&)>;
 
@@ -37,9 +41,10 @@ class JanusAdmin {
   /// with the admin credentials added. `done` runs on the main loop.
   void plugin_request(nlohmann::json request, Done done);
 
-  /// The same, waiting for the answer (at most `timeout_s`): for the last
-  /// requests while the server stops, when no main loop runs any more.
-  Answer plugin_request_now(nlohmann::json request, int timeout_s = 2);
+  /// Sends them all at once and waits for every answer (each within
+  /// `timeout_s`, side by side): for the last requests while the server
+  /// stops, when no main loop runs any more. Answers in request order.
+  std::vector<Answer> plugin_requests_now(std::vector<nlohmann::json> requests, int timeout_s = 2);
 
   /// Janus's reply body read as an Answer; never throws: a body that is not
   /// a JSON object, or fields of other types, give an error instead.
