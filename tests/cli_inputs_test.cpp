@@ -3,6 +3,7 @@
 // unsaid: each is now refused with exit status 2 and a message naming the
 // flag or key, or warned about, before any work.
 #include "causticd_runner.hpp"
+#include "png_chunk.hpp"
 
 #include <gtest/gtest.h>
 
@@ -266,20 +267,6 @@ TEST_F(CliInputs, AFaceTheLightMeetsFromBehindIsSaid) {
 }
 
 namespace {
-
-// A PNG chunk: its length, type and data, and their CRC-32 (ISO 3309).
-std::string png_chunk(const std::string& type, const std::string& data) {
-  std::uint32_t c = 0xffffffffu;
-  for (const unsigned char b : type + data) {
-    c ^= b;
-    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
-  }
-  const auto be = [](std::uint32_t v) {
-    return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
-                       static_cast<char>(v)};
-  };
-  return be(static_cast<std::uint32_t>(data.size())) + type + data + be(~c);
-}
 
 // A black PNG of w x h pixels by its header, one bit a pixel, with `rows`
 // rows of data behind it, stored in zlib's blocks without compression.

@@ -6,6 +6,7 @@
 #include "caustic/design_target.hpp"
 #include "caustic/image_io.hpp"  // Rgba8Image
 #include "jpeg_support.hpp"
+#include "png_chunk.hpp"
 #include "refusal.hpp"
 
 #include <OpenImageIO/imageio.h>
@@ -24,6 +25,8 @@
 
 using namespace caustic;
 using namespace caustic::design;
+using caustic::testing::animated_png;
+using caustic::testing::png_chunk;
 
 namespace {
 
@@ -40,20 +43,6 @@ struct Folder {
 
 std::string refused(const std::filesystem::path& file) {
   return caustic::testing::refusal<TargetError>([&] { load_target_rgb(file); });
-}
-
-// A PNG's chunk: length, type, data and its CRC-32, computed here bit by
-// bit as the PNG spec's annex D defines it.
-std::string png_chunk(const std::string& type, const std::string& data) {
-  std::uint32_t c = 0xffffffffu;
-  for (const unsigned char b : type + data) {
-    c ^= b;
-    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
-  }
-  std::string out;
-  for (const std::uint32_t v : {static_cast<std::uint32_t>(data.size()), ~c})
-    for (int k = 3; k >= 0; --k) out += static_cast<char>(v >> (8 * k));
-  return out.substr(0, 4) + type + data + out.substr(4);
 }
 
 // A 256 x 256 PNG of varied colour, as the image library writes it.
@@ -306,7 +295,9 @@ TEST(DesignPicture, AFileOfSeveralImagesIsSaidToHaveThemAndItsFirstIsRead) {
     std::vector<OIIO::ImageSpec> specs(images, OIIO::ImageSpec(32, 32, 3, OIIO::TypeDesc::UINT8));
     ASSERT_TRUE(out && out->open(file.string(), images, specs.data())) << name;
     for (int k = 0; k < images; ++k) {
-      if (k > 0) ASSERT_TRUE(out->open(file.string(), specs[k], OIIO::ImageOutput::AppendSubimage)) << name;
+      if (k > 0) {
+        ASSERT_TRUE(out->open(file.string(), specs[k], OIIO::ImageOutput::AppendSubimage)) << name;
+      }
       ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, grey(k).data())) << name;
     }
     ASSERT_TRUE(out->close()) << name;
@@ -324,8 +315,7 @@ TEST(DesignPicture, AFileOfSeveralImagesIsSaidToHaveThemAndItsFirstIsRead) {
   // counted by its acTL chunk (3 frames, played for ever).
   const std::string still = png_bytes(folder);
   ASSERT_FALSE(still.empty());
-  const std::string animated =
-      still.substr(0, 33) + png_chunk("acTL", std::string("\0\0\0\3\0\0\0\0", 8)) + still.substr(33);
+  const std::string animated = animated_png(still, 3);
   std::vector<std::string> warnings;
   const auto apng = folder.write("moving.png", animated);
   load_target_rgb(folder.write("still.png", still), &warnings);
@@ -341,7 +331,9 @@ TEST(DesignPicture, AFileOfSeveralImagesIsSaidToHaveThemAndItsFirstIsRead) {
     const std::vector<unsigned char> white(4 * 4 * 3, 255);
     ASSERT_TRUE(out && out->open(file.string(), 102, specs.data())) << name;
     for (int k = 0; k < 102; ++k) {
-      if (k > 0) ASSERT_TRUE(out->open(file.string(), specs[k], OIIO::ImageOutput::AppendSubimage)) << name;
+      if (k > 0) {
+        ASSERT_TRUE(out->open(file.string(), specs[k], OIIO::ImageOutput::AppendSubimage)) << name;
+      }
       ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, white.data())) << name;
     }
     ASSERT_TRUE(out->close()) << name;

@@ -6,6 +6,7 @@
 #include "design_api_support.hpp"
 #include "jpeg_support.hpp"
 #include "openapi_check.hpp"
+#include "png_chunk.hpp"
 
 #include <sys/stat.h>
 
@@ -38,6 +39,7 @@ TEST_F(DesignApi, APictureBecomesAPrivateSceneWhoseCausticIsThePicture) {
   EXPECT_EQ(done["name"], "Square");
   EXPECT_EQ(done["scene"], id);
   EXPECT_EQ(done["report"]["tir_vertices"], 0);
+  EXPECT_EQ(done["report"]["warnings"], json::array());
   // A ready design converged: at most 5% of the light misplaced, and some
   // residual is always left (the solve stops at a stall, not at zero).
   EXPECT_GT(done["report"]["transport_residual"].get<double>(), 0.0) << done.dump();
@@ -83,6 +85,22 @@ TEST_F(DesignApi, APictureBecomesAPrivateSceneWhoseCausticIsThePicture) {
   // The picture itself is not kept once designed.
   for (const auto& f : fs::directory_iterator(state.path / "designs" / id))
     EXPECT_NE(f.path().stem(), "picture") << f.path();
+}
+
+// An animated PNG looks like one picture to whoever sends it (a browser
+// plays it); only its still image is designed, and the report says so.
+TEST_F(DesignApi, AnAnimatedPictureIsDesignedFromItsFirstImageAndSaidSo) {
+  TempDir state;
+  ServerProcess server(small_designs(state));
+  const Response posted = upload(server, caustic::testing::animated_png(square_png(), 3));
+  ASSERT_EQ(posted.status, 202u) << posted.body;
+  const json done = wait_design(server, posted.json()["id"]);
+  ASSERT_EQ(done.value("state", ""), "ready") << done.dump();
+  EXPECT_EQ(caustic::testing::OpenApi().check("/api/v1/designs/{id}", "get", 200, "application/json", done), "");
+  EXPECT_EQ(done["report"]["warnings"],
+            json::parse(R"([{"key": "picture", "detail": "holds 3 images (pages, frames or parts); only the first is designed"}])"))
+      << done.dump();
+  EXPECT_EQ(done.dump().find(state.path.string()), std::string::npos) << done.dump();
 }
 
 TEST_F(DesignApi, AColourPictureDesignedInColourThrowsItsColours) {

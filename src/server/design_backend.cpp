@@ -37,14 +37,15 @@ std::shared_ptr<const Mesh> run(const std::filesystem::path& target, const std::
   // design's minutes instead of after them.
   design::Image picture;
   RgbHdrImage colours;  // in colour: the face is shaped for the brightest channel, then tinted
+  std::vector<std::string> said;  // what the picture holds that is not designed (an animated PNG's frames)
   try {
     if (colour) {
-      const RgbHdrImage full = design::load_target_rgb(target);
+      const RgbHdrImage full = design::load_target_rgb(target, &said);
       // The brightest channel of the full picture, as it was designed before.
       picture = design::box_resample_square(design::brightest_channel(full), resolution);
       colours = design::box_resample_square(full, resolution);
     } else {
-      picture = design::box_resample_square(design::load_target(target), resolution);
+      picture = design::box_resample_square(design::load_target(target, &said), resolution);
     }
   } catch (const design::TargetError& e) {
     throw DesignFailure(visitor_reason(e.what(), target.string()));
@@ -74,7 +75,11 @@ std::shared_ptr<const Mesh> run(const std::filesystem::path& target, const std::
                            {"tir_vertices", d.report.tir_vertices},
                            {"max_slope_deg", d.report.max_slope_deg},
                            {"relief_mm", d.report.relief},
-                           {"min_thickness_mm", d.report.min_thickness}};
+                           {"min_thickness_mm", d.report.min_thickness},
+                        {"warnings", nlohmann::json::array()}};
+  for (const std::string& w : said)
+    report["warnings"].push_back(
+        {{"key", "picture"}, {"detail", w.rfind(target.string() + ": ", 0) == 0 ? w.substr(target.string().size() + 2) : w}});
   {
     GlContext context(egl_platform_from_environment());
     // A colour design's one render gives both the shape's figures and the colours'.
