@@ -37,7 +37,7 @@ packages=(
   g++ make cmake pkg-config
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   libglm-dev nlohmann-json3-dev libtinyobjloader-dev libcli11-dev
-  libopenimageio-dev libembree-dev libfftw3-dev gnuplot-nox
+  libopenimageio-dev zlib1g-dev libembree-dev libfftw3-dev gnuplot-nox
   libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstreamer-plugins-bad1.0-dev
   gstreamer1.0-plugins-base gstreamer1.0-plugins-good gstreamer1.0-plugins-bad gstreamer1.0-plugins-ugly
   gstreamer1.0-nice gstreamer1.0-libav libsoup-3.0-dev

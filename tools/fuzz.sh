@@ -38,6 +38,7 @@ signal      8192 signal
 static_path 512  static_path
 request_head 4096 request_head
 picture_header 256 -
+png         2048 -
 "
 
 for tool in clang clang++ cmake; do

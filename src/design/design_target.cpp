@@ -143,7 +143,10 @@ void check_jpeg_scans(const std::filesystem::path& file, const std::string& name
 std::uint32_t check_png_chunks(const std::filesystem::path& file, const std::string& name) {
   std::ifstream in(file, std::ios::binary);
   std::uint32_t frames = 1;
-  if (const std::string why = png_damage(in, &frames); !why.empty())
+  // Rows of the largest picture designed (16-bit RGBA, a filter byte a
+  // row): a header beyond it is refused by its size, its data not inflated.
+  constexpr std::uint64_t rows = static_cast<std::uint64_t>(kMaxTargetPixels) * 8 + kMaxTargetSide;
+  if (const std::string why = png_damage(in, &frames, rows); !why.empty())
     throw TargetError(name + ": the picture is damaged or cut short (" + why + "); save it again");
   return frames;
 }
@@ -169,8 +172,9 @@ void upright_pixel(int orientation, int w, int h, int sx, int sy, int& x, int& y
   }
 }
 
-// What a reader says, on one line: libpng's error is three lines, which a
-// message (and a problem+json detail) would carry as they are.
+// What a reader says, on one line: libtiff's (and libpng's) errors may be
+// several lines, which a message (and a problem+json detail) would carry
+// as they are.
 std::string reader_words(std::string said) {
   while (!said.empty() && (said.back() == '\n' || said.back() == ' ')) said.pop_back();
   for (std::size_t at = said.find('\n'); at != std::string::npos; at = said.find('\n', at))

@@ -1,15 +1,20 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
-// A PNG's chunks walked, and their checksums checked, before its reader
-// sees it: libpng prints each error on stderr itself ("libpng error: ...")
-// beside the one line the refusal says, and the image library gives it no
-// way to be quiet. A file cut short or with a damaged byte fails here,
-// named; libpng then reads only whole files.
+// A PNG's chunks walked, their checksums checked, and its image data
+// inflated and its rows' filter bytes read, before its reader sees it:
+// libpng prints each error on stderr itself ("libpng error: ...") beside
+// the one line the refusal says, and the image library gives it no way to
+// be quiet. A file cut short, with a damaged byte, or whose compressed data
+// is damaged or ends before its rows do, fails here, named; libpng then
+// reads only whole files.
 #pragma once
+
+#include <zlib.h>
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
 #include <istream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -30,16 +35,129 @@ inline std::uint32_t png_crc(std::uint32_t crc, const unsigned char* bytes, std:
   return crc;
 }
 
+/// A PNG's image data as its header lays it out, checked as it is
+/// inflated: each row's filter byte (0 to 4), and that the zlib stream is
+/// whole and holds every row. Rows of each interlace pass in turn (Adam7),
+/// or of the one image.
+class PngRows {
+ public:
+  /// From the IHDR chunk's 13 bytes; inert (checks nothing) when they are
+  /// not a header libpng would take, or the rows would exceed `max_bytes`
+  /// (a header beyond the designer's sizes, refused from its size later).
+  PngRows(const unsigned char* ihdr, std::uint64_t max_bytes) {
+    const auto be = [&](int at) { return std::uint32_t{ihdr[at]} << 24 | ihdr[at + 1] << 16 | ihdr[at + 2] << 8 | ihdr[at + 3]; };
+    const std::uint64_t w = be(0), h = be(4);
+    const int depth = ihdr[8], type = ihdr[9], interlace = ihdr[12];
+    const int samples = type == 0 || type == 3 ? 1 : type == 2 ? 3 : type == 4 ? 2 : type == 6 ? 4 : 0;
+    if (!w || !h || !samples || (depth != 1 && depth != 2 && depth != 4 && depth != 8 && depth != 16) || interlace > 1)
+      return;
+    // Each pass's first column and row, and its steps across and down.
+    static const int adam7[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4}, {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}};
+    static const int whole[4] = {0, 0, 1, 1};
+    std::uint64_t total = 0;
+    for (int p = 0; p < (interlace ? 7 : 1); ++p) {
+      const int* a = interlace ? adam7[p] : whole;
+      const std::uint64_t pw = w > std::uint64_t(a[0]) ? (w - a[0] + a[2] - 1) / a[2] : 0;
+      const std::uint64_t ph = h > std::uint64_t(a[1]) ? (h - a[1] + a[3] - 1) / a[3] : 0;
+      if (!pw || !ph) continue;  // an empty pass has no rows, not even filter bytes
+      passes_.push_back({ph, 1 + (pw * samples * depth + 7) / 8});
+      total += ph * passes_.back().row_bytes;
+      if (total > max_bytes) {
+        passes_.clear();
+        return;
+      }
+    }
+    expected_ = total;
+    active_ = inflateInit(&zs_) == Z_OK;
+  }
+  ~PngRows() {
+    if (active_) inflateEnd(&zs_);
+  }
+  PngRows(const PngRows&) = delete;
+  PngRows& operator=(const PngRows&) = delete;
+
+  /// A piece of the IDAT chunks' data, in order; "" or why it is damaged.
+  std::string feed(const unsigned char* data, std::size_t n) {
+    if (!active_ || done_) return "";
+    zs_.next_in = const_cast<unsigned char*>(data);
+    zs_.avail_in = static_cast<uInt>(n);
+    while (zs_.avail_in > 0 && !done_) {
+      zs_.next_out = out_.data();
+      zs_.avail_out = static_cast<uInt>(out_.size());
+      const int r = inflate(&zs_, Z_NO_FLUSH);
+      if (r != Z_OK && r != Z_STREAM_END && r != Z_BUF_ERROR)
+        return std::string("its image data does not decompress: zlib says ") + (zs_.msg ? zs_.msg : "error " + std::to_string(r));
+      if (const std::string why = read_rows(out_.size() - zs_.avail_out); !why.empty()) return why;
+      // Rows whole: what follows (more data, an extra block) is libpng's
+      // to warn about, not a damage.
+      if (r == Z_STREAM_END || produced_ >= expected_) done_ = true;
+      if (r == Z_BUF_ERROR) break;
+    }
+    return "";
+  }
+  /// At IEND: "" when every row came.
+  std::string end() const {
+    if (!active_ || produced_ >= expected_) return "";
+    return "its image data ends after " + std::to_string(produced_) + " of the " + std::to_string(expected_) +
+           " bytes its header lays out";
+  }
+
+ private:
+  std::string read_rows(std::size_t n) {
+    for (std::size_t i = 0; i < n && produced_ < expected_; ++i, ++produced_) {
+      if (at_ == 0 && out_[i] > 4)
+        return "row " + std::to_string(row_) + (passes_.size() > 1 ? " of interlace pass " + std::to_string(pass_ + 1) : "") +
+               " has filter type " + std::to_string(out_[i]) + ", which PNG does not define";
+      if (++at_ == passes_[pass_].row_bytes) {
+        at_ = 0;
+        if (++row_ == passes_[pass_].rows) row_ = 0, ++pass_;
+      }
+    }
+    return "";
+  }
+  struct Pass {
+    std::uint64_t rows, row_bytes;
+  };
+  std::vector<Pass> passes_;
+  std::uint64_t expected_ = 0, produced_ = 0, at_ = 0, row_ = 0;
+  std::size_t pass_ = 0;
+  z_stream zs_{};
+  bool active_ = false, done_ = false;
+  std::vector<unsigned char> out_ = std::vector<unsigned char>(1 << 16);
+};
+
+/// Why a PNG's IHDR chunk (its 13 bytes) is not one the PNG spec defines
+/// (section 11.2.2), or "": sizes, bit depth for the colour type, methods.
+inline std::string png_header_fault(const unsigned char* ihdr) {
+  const auto be = [&](int at) { return std::uint32_t{ihdr[at]} << 24 | ihdr[at + 1] << 16 | ihdr[at + 2] << 8 | ihdr[at + 3]; };
+  const int depth = ihdr[8], type = ihdr[9];
+  if (be(0) == 0 || be(4) == 0 || be(0) > 0x7fffffffu || be(4) > 0x7fffffffu)
+    return "its header gives a size of " + std::to_string(be(0)) + "x" + std::to_string(be(4)) + ", which PNG does not allow";
+  const bool depth_fits = type == 0   ? depth == 1 || depth == 2 || depth == 4 || depth == 8 || depth == 16
+                          : type == 3 ? depth == 1 || depth == 2 || depth == 4 || depth == 8
+                          : type == 2 || type == 4 || type == 6 ? depth == 8 || depth == 16
+                                                                 : false;
+  if (!depth_fits)
+    return "its header gives colour type " + std::to_string(type) + " at " + std::to_string(depth) +
+           " bits, which PNG does not define";
+  if (ihdr[10] != 0 || ihdr[11] != 0 || ihdr[12] > 1)
+    return "its header names a compression, filter or interlace method PNG does not define";
+  return "";
+}
+
 /// Why the PNG read from `in` is damaged, in words for a message; "" when
 /// its chunks are whole, each checksum right, and an IEND ends them, or
 /// when it is no PNG at all (its own reader judges it). An animated PNG's
 /// frame count (its acTL chunk's) goes to `frames`, which is left as it is
-/// for any other.
-inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr) {
+/// for any other. Its rows are checked (PngRows) when they take at most
+/// `max_row_bytes`.
+inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr, std::uint64_t max_row_bytes = 1ull << 32) {
   static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   unsigned char head[8] = {};
   if (!in.read(reinterpret_cast<char*>(head), 8) || !std::equal(head, head + 8, signature)) return "";
   std::vector<unsigned char> data(1 << 16);
+  std::unique_ptr<PngRows> rows;
+  std::string header, inflated;  // what the header and the image data's inflation have wrong
   for (std::uint64_t at = 8, chunks = 0;; ++chunks) {
     if (!in.read(reinterpret_cast<char*>(head), 8))
       return "cut short: it ends at byte " + std::to_string(at) + ", before its IEND chunk";
@@ -57,6 +175,12 @@ inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr)
       if (!in.read(reinterpret_cast<char*>(data.data()), n))
         return "cut short: the " + type + " chunk at byte " + std::to_string(at) + " runs past the end of the file";
       crc = png_crc(crc, data.data(), n);
+      if (type == "IHDR" && left == length && n >= 13) {
+        header = png_header_fault(data.data());
+        rows = std::make_unique<PngRows>(data.data(), max_row_bytes);
+      }
+      // Said once the checksum is right: a damaged byte is the first cause.
+      if (type == "IDAT" && rows && inflated.empty()) inflated = rows->feed(data.data(), n);
       if (type == "acTL" && left == length && n >= 4 && frames)
         *frames = std::uint32_t{data[0]} << 24 | data[1] << 16 | data[2] << 8 | data[3];
       left -= n;
@@ -67,7 +191,10 @@ inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr)
     const std::uint32_t expected = std::uint32_t{stored[0]} << 24 | stored[1] << 16 | stored[2] << 8 | stored[3];
     if ((crc ^ 0xffffffffu) != expected)
       return "the " + type + " chunk at byte " + std::to_string(at) + " fails its checksum";
-    if (type == "IEND") return "";
+    if (type == "IHDR" && length != 13) return "its IHDR chunk holds " + std::to_string(length) + " bytes, not 13";
+    if (!header.empty()) return header;
+    if (!inflated.empty()) return inflated;
+    if (type == "IEND") return rows ? rows->end() : "";
     at += 12 + std::uint64_t{length};
   }
 }
