@@ -105,6 +105,20 @@ TEST_F(CliLimits, AWriteThatFailsLeavesNoFileBehind) {
   }
 }
 
+// A bench's table, collected as it runs and written at its end: a write
+// that fails is said (exit 1, naming the file) where the bench said it wrote
+// the table and left it cut short, and no part of it is left.
+TEST_F(CliLimits, ABenchWhoseTableCannotBeWrittenSaysSo) {
+  const CommandResult r = causticd_with_env(
+      "prlimit --fsize=100", "bench --perf --out " + dir_.string() + " --frames 1 --meshes 16 32 --sizes 128");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("causticd bench: cannot write " + (dir_ / "perf.csv").string() + ": File too large"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("wrote "), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::is_empty(dir_)) << r.output;
+}
+
 // Stopped while it writes (Ctrl-C; SIGTERM from a service manager is
 // handled alike), a command removes the hidden files its outputs were being
 // written under and ends by the signal, as a shell or a supervisor expects.

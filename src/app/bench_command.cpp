@@ -21,9 +21,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <map>
+#include <sstream>
 #include <type_traits>
 
 namespace caustic::app {
@@ -70,7 +70,7 @@ void write_charts(const std::filesystem::path& out, const std::vector<Setup>& se
     for (const auto& [method, patch] : setup.methods) series += (series.empty() ? "" : " ") + setup.name + ":" + method;
   std::string convergence;
   for (const auto& s : engine_series) convergence += (convergence.empty() ? "" : " ") + s;
-  std::ofstream plot(out / "chart.gp");
+  std::ostringstream plot;
   plot << "set datafile separator ','\nset key outside right\nset grid\nset logscale xy\n"
           "set fit quiet\nset fit logfile '/dev/null'\n"
           "files = 'png svg'\ndo for [f in files] {\n"
@@ -91,7 +91,7 @@ void write_charts(const std::filesystem::path& out, const std::vector<Setup>& se
        << convergence
        << "'] 'convergence.csv' using (strcol(1) eq s ? $2 : 1/0):3 with linespoints title s.' px'\n"
           "  unset multiplot\n  set format x '%g'\n  set format y '%g'\n  set key outside right\n}\n";
-  plot.close();
+  write_text_files({{out / "chart.gp", plot.str()}});
   if (!run_gnuplot(out, "chart.gp", "gnuplot.log"))
     std::cerr << "causticd bench: gnuplot failed (see gnuplot.log); the CSV files are complete\n";
 }
@@ -113,7 +113,7 @@ int run_bench(const BenchOptions& opt) {
   for (int n : opt.meshes) meshes[n] = std::make_shared<const Mesh>(resample_face(source, {0, 0, 1}, n));
   GlContext context(egl_platform_from_environment());
   Engine engine;
-  std::ofstream csv(opt.out / "results.csv"), conv(opt.out / "convergence.csv");
+  std::ostringstream csv, conv;  // written whole at the end
   csv << "setup,method,mesh,pixels,ray_ms,post_ms,relative_l1,relative_rmse,ssim\n";
   conv << "series,x,relative_l1\n";
   std::vector<std::string> engine_series;
@@ -164,8 +164,7 @@ int run_bench(const BenchOptions& opt) {
       }
     }
   }
-  csv.close();
-  conv.close();
+  write_text_files({{opt.out / "results.csv", csv.str()}, {opt.out / "convergence.csv", conv.str()}});
   write_charts(opt.out, setups, engine_series);
   std::printf("wrote %s/results.csv, convergence.csv, accuracy.png/.svg, convergence.png/.svg\n",
               opt.out.string().c_str());

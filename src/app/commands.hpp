@@ -113,6 +113,12 @@ bool output_writable(const char* command, const std::filesystem::path& out, cons
 void write_complete(const std::vector<std::filesystem::path>& outputs,
                     const std::function<void(const std::filesystem::path&, const std::filesystem::path&)>& write);
 
+/// Each (file, text) written whole through write_complete: a write that
+/// fails (a full disk, a file size limit) throws, naming the file, and
+/// leaves none of them. For what a command collects as it goes (a bench's
+/// rows) and writes at its end.
+void write_text_files(const std::vector<std::pair<std::filesystem::path, std::string>>& files);
+
 /// The files a scene was read from: the scene file, its mesh and the
 /// receivers' meshes it names.
 std::vector<std::filesystem::path> scene_inputs(const std::filesystem::path& file, const Scene& scene);

@@ -4,6 +4,7 @@
 // 64..512 rays a side, at each --sizes: the caustic pass's time (CPU trace
 // plus GPU splat) and its error against the photon reference, both images
 // box-filtered to 128 x 128 as every accuracy figure here is.
+#include "commands.hpp"
 #include "perf_bench.hpp"
 
 #include "caustic/engine.hpp"
@@ -16,7 +17,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
-#include <fstream>
+#include <sstream>
 
 namespace caustic::app {
 
@@ -36,7 +37,7 @@ Scene bench_biconvex_scene(int size) {
 int run_multipass_bench(const PerfOptions& opt) {
   GlContext context(egl_platform_from_environment());
   Engine engine;
-  std::ofstream csv(opt.out / "multipass.csv");
+  std::ostringstream csv;  // written whole at the end
   csv << "faces,pixels,light_grid,ray_ms,trace_ms,relative_l1\n";
   std::printf("renderer: %s; median of %d frames per row; reference %llu photons\n", context.renderer().c_str(),
               opt.frames, static_cast<unsigned long long>(opt.photons));
@@ -68,14 +69,14 @@ int run_multipass_bench(const PerfOptions& opt) {
       }
     }
   }
-  csv.close();
+  write_text_files({{opt.out / "multipass.csv", csv.str()}});
   // One size (the default): it goes in the axis label and each point's
   // label names only its grid, short enough not to run into the next.
   const bool one_size = opt.sizes.size() == 1;
   const std::string axis = one_size ? "caustic pass at " + std::to_string(opt.sizes[0]) + "^2 px (ms): CPU trace + splat"
                                     : "caustic pass (ms): CPU trace + splat";
   const std::string label = one_size ? "sprintf('%d^2 rays', $3)" : "sprintf('%d^2 rays, %d^2 px', $3, $2)";
-  std::ofstream plot(opt.out / "multipass.gp");
+  std::ostringstream plot;
   plot << "set datafile separator ','\nset grid\nset logscale xy\nset key off\n"
           "set xlabel '" << axis << "'\nset ylabel 'relative L1 against the reference'\n"
           "do for [f in 'png svg'] {\n"
@@ -83,7 +84,7 @@ int run_multipass_bench(const PerfOptions& opt) {
           "  set output 'multipass.'.f\n"
           "  plot 'multipass.csv' using 4:6 every ::1 with linespoints pointsize 1.2, "
           "'' using 4:6:(" << label << ") every ::1 with labels left offset 1,0.7\n}\n";
-  plot.close();
+  write_text_files({{opt.out / "multipass.gp", plot.str()}});
   if (!run_gnuplot(opt.out, "multipass.gp", "gnuplot.log"))
     std::cerr << "causticd bench: gnuplot failed (see gnuplot.log); multipass.csv is complete\n";
   std::printf("wrote %s/multipass.csv, multipass.png/.svg\n", opt.out.string().c_str());

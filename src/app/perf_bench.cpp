@@ -3,6 +3,7 @@
 // grow: caustic pass, post-processing, and the two ways out of GL (RGBA
 // read-back, and I420 converted on the GPU then read back). Writes perf.csv
 // and a chart (time against triangles and against pixels).
+#include "commands.hpp"
 #include "perf_bench.hpp"
 
 #include "caustic/engine.hpp"
@@ -13,15 +14,15 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <iostream>
+#include <sstream>
 
 namespace caustic::app {
 namespace {
 
 void write_perf_chart(const std::filesystem::path& out, const std::vector<int>& sizes, const std::vector<int>& meshes) {
   const int mesh = meshes[meshes.size() / 2];  // the per-pixel stages, at a middle mesh
-  std::ofstream plot(out / "perf.gp");
+  std::ostringstream plot;
   plot << "set datafile separator ','\nset grid\nset logscale xy\nset key inside top left\n"
           "set format x '10^{%T}'\nfiles = 'png svg'\ndo for [f in files] {\n"
           "  if (f eq 'png') { set terminal pngcairo size 1100,500 } else { set terminal svg size 1100,500 }\n"
@@ -35,7 +36,7 @@ void write_perf_chart(const std::filesystem::path& out, const std::vector<int>& 
        << "'' using ($1 == " << mesh << " ? $2*$2 : 1/0):6 with linespoints title 'RGBA read-back', "
        << "'' using ($1 == " << mesh << " ? $2*$2 : 1/0):7 with linespoints title 'I420 convert + read-back'\n"
        << "  unset multiplot\n}\n";
-  plot.close();
+  write_text_files({{out / "perf.gp", plot.str()}});
   if (!run_gnuplot(out, "perf.gp", "gnuplot-perf.log")) std::cerr << "causticd bench: gnuplot failed; perf.csv is complete\n";
 }
 
@@ -44,7 +45,7 @@ void write_perf_chart(const std::filesystem::path& out, const std::vector<int>& 
 int run_perf_bench(const PerfOptions& opt) {
   GlContext context(egl_platform_from_environment());
   Engine engine;
-  std::ofstream csv(opt.out / "perf.csv");
+  std::ostringstream csv;  // written whole at the end
   csv << "mesh,pixels,triangles,ray_ms,post_ms,rgba_readback_ms,i420_ms\n";
   std::printf("renderer: %s; median of %d frames per row\n", context.renderer().c_str(), opt.frames);
   for (int n : opt.meshes) {
@@ -82,7 +83,7 @@ int run_perf_bench(const PerfOptions& opt) {
       std::fflush(stdout);
     }
   }
-  csv.close();
+  write_text_files({{opt.out / "perf.csv", csv.str()}});
   write_perf_chart(opt.out, opt.sizes, opt.meshes);
   std::printf("wrote %s/perf.csv, perf.png, perf.svg\n", opt.out.string().c_str());
   return 0;

@@ -5,6 +5,7 @@
 // tracer at 32 bands, the densest sampling the scene format allows: the
 // error is what band quantisation costs (a beam fans into K steps rather
 // than a continuous spectrum), on the accuracy/speed chart as K grows.
+#include "commands.hpp"
 #include "perf_bench.hpp"
 
 #include "caustic/engine.hpp"
@@ -14,9 +15,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <iostream>
 #include <numbers>
+#include <sstream>
 
 namespace caustic::app {
 namespace {
@@ -57,7 +58,7 @@ void run_spectral_accuracy(const std::filesystem::path& out, int frames, std::ui
   ro.photons = photons;
   const ReferenceResult ref = trace_reference(prism_scene(size, optics::kMaxWavelengths), *mesh, ro);
   std::printf("prism %d^2: reference at %d wavelengths, %.1f s\n", size, optics::kMaxWavelengths, ref.seconds);
-  std::ofstream csv(out / "spectral_accuracy.csv");
+  std::ostringstream csv;  // written whole at the end
   csv << "wavelengths,ray_ms,relative_l1_rgb\n";
   for (int k : {1, kPreviewWavelengths, 8, 16, optics::kMaxWavelengths}) {
     const Scene s = prism_scene(size, k);
@@ -73,8 +74,8 @@ void run_spectral_accuracy(const std::filesystem::path& out, int frames, std::ui
                 k == 1 ? " " : "s", middle_sample(ray), l1);
     std::fflush(stdout);
   }
-  csv.close();
-  std::ofstream plot(out / "spectral_accuracy.gp");
+  write_text_files({{out / "spectral_accuracy.csv", csv.str()}});
+  std::ostringstream plot;
   plot << "set datafile separator ','\nset grid\nset logscale xy\nset key off\n"
           "set xlabel 'caustic pass (ms), prism at 1024^2'\nset ylabel 'relative L1 (mean of R, G, B) against 32 bands'\n"
           "do for [f in 'png svg'] {\n"
@@ -82,7 +83,7 @@ void run_spectral_accuracy(const std::filesystem::path& out, int frames, std::ui
           "  set output 'spectral_accuracy.'.f\n"
           "  plot 'spectral_accuracy.csv' using 2:3 every ::1 with linespoints pointsize 1.2, "
           "'' using 2:3:(sprintf('K = %d', $1)) every ::1 with labels offset 1.5,0.8\n}\n";
-  plot.close();
+  write_text_files({{out / "spectral_accuracy.gp", plot.str()}});
   if (!run_gnuplot(out, "spectral_accuracy.gp", "gnuplot.log"))
     std::cerr << "causticd bench: gnuplot failed (see gnuplot.log); spectral_accuracy.csv is complete\n";
 }

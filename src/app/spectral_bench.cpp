@@ -3,6 +3,7 @@
 // (one caustic pass) and spectral in BK7 at K wavelengths (K passes into a
 // colour target, colour post-processing), at each --meshes x --sizes pair;
 // the ratio to grey is the figure docs/performance.md quotes.
+#include "commands.hpp"
 #include "perf_bench.hpp"
 
 #include "caustic/engine.hpp"
@@ -11,8 +12,8 @@
 
 #include <cstdio>
 #include <ctime>
-#include <fstream>
 #include <memory>
+#include <sstream>
 #include <vector>
 
 namespace caustic::app {
@@ -31,7 +32,7 @@ double process_cpu_ms() {
 
 int run_spectral_bench(const PerfOptions& opt) {
   GlContext context(egl_platform_from_environment());
-  std::ofstream csv(opt.out / "spectral.csv");
+  std::ostringstream csv;  // written whole at the end
   csv << "mesh,pixels,wavelengths,ray_ms,post_ms,frame_ms,ratio_to_grey,cpu_ms,cpu_ratio_to_grey\n";
   std::printf("renderer: %s; median of %d frames per row\n", context.renderer().c_str(), opt.frames);
   const std::vector<int> counts{1, kPreviewWavelengths, 8, 16};  // 1: the grey frame, no glass
@@ -81,7 +82,7 @@ int run_spectral_bench(const PerfOptions& opt) {
       std::fflush(stdout);
     }
   }
-  csv.close();
+  write_text_files({{opt.out / "spectral.csv", csv.str()}});
   Engine engine;
   run_spectral_accuracy(opt.out, opt.frames, opt.photons, engine);
   std::printf("wrote %s/spectral.csv, spectral_accuracy.csv, spectral_accuracy.png/.svg\n", opt.out.string().c_str());

@@ -5,6 +5,7 @@
 // the floor and post-processes it, and reads the picture back as I420, as
 // the stream does; the frame is new every time, so nothing is cached.
 // Then the simulation alone, on the CPU and on the GL.
+#include "commands.hpp"
 #include "perf_bench.hpp"
 
 #include "caustic/engine.hpp"
@@ -17,7 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <sstream>
 
 namespace caustic::app {
 namespace {
@@ -66,7 +67,7 @@ water::WaveParams pool_water(int grid) {
 // The simulation alone, a frame's steps at a time, on the CPU and on the GL
 // (finished, then read back as the CPU's surface mesh would need it).
 void time_solvers(const std::vector<int>& grids, double seconds, const std::filesystem::path& out) {
-  std::ofstream csv(out / "water-solver.csv");
+  std::ostringstream csv;  // written whole at the end
   csv << "grid,steps_per_frame,cpu_ms,gl_ms,gl_readback_ms\n";
   for (int grid : grids) {
     const water::WaveParams params = pool_water(grid);
@@ -91,6 +92,7 @@ void time_solvers(const std::vector<int>& grids, double seconds, const std::file
     csv << grid << ',' << steps << ',' << middle_sample(cpu_ms) << ',' << middle_sample(gl_ms) << ','
         << middle_sample(read_ms) << '\n';
   }
+  write_text_files({{out / "water-solver.csv", csv.str()}});
 }
 
 // --setups' spelling of a setup.
@@ -113,7 +115,7 @@ std::vector<std::pair<TriangleSetup, int>> rows(const WaterBenchOptions& water) 
 int run_water_bench(const PerfOptions& opt, const WaterBenchOptions& water) {
   const double seconds = water.seconds;
   GlContext context(egl_platform_from_environment());
-  std::ofstream csv(opt.out / "water.csv");
+  std::ostringstream csv;  // written whole at the end
   csv << "grid,pixels,setup,divisor,steps_per_frame,sim_ms,mesh_ms,caustic_ms,post_ms,i420_ms,frame_ms,frame_p95_ms,"
          "over_budget,frames\n";
   std::printf("renderer: %s; %.0f s of water per row, one frame per 1/30 s\n", context.renderer().c_str(), seconds);
@@ -182,6 +184,7 @@ int run_water_bench(const PerfOptions& opt, const WaterBenchOptions& water) {
       }
     }
   }
+  write_text_files({{opt.out / "water.csv", csv.str()}});
   time_solvers(water.grids, seconds, opt.out);
   std::printf("wrote %s/water.csv, water-solver.csv and the last frame of each row, "
               "water-GRID-SIZE[-SETUP][-pDIVISOR].png\n",
