@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 
 namespace caustic::app {
@@ -64,12 +63,7 @@ int run_calibrate(const CalibrateCommandOptions& opt) {
                 static_cast<unsigned long long>(options.photons));
     const Calibration c = calibrate(scene, levels.levels, engine, context.renderer(), options);
     // Readers never see half a file, and a failed write leaves none.
-    write_complete({output}, [&](const std::filesystem::path&, const std::filesystem::path& to) {
-      std::ofstream out(to);
-      out << calibration_to_json(c).dump(2) << "\n";
-      out.close();
-      if (!out) throw std::runtime_error("cannot write " + output.string());
-    });
+    write_text_files({{output, calibration_to_json(c).dump(2) + "\n"}});
     const FidelityChoice choice = choose_fidelity(c, scene.render.accuracy_target, levels.levels, light_grid_bound(scene));
     const std::string grid = choice.config.light_grid > 0
                                  ? ", light grid " + std::to_string(choice.config.light_grid) + "^2"

@@ -113,6 +113,10 @@ bool output_writable(const char* command, const std::filesystem::path& out, cons
 void write_complete(const std::vector<std::filesystem::path>& outputs,
                     const std::function<void(const std::filesystem::path&, const std::filesystem::path&)>& write);
 
+/// `text` written to `file`; a write that fails throws, naming the file and
+/// the reason (errno's words; the close is checked too).
+void write_text(const std::filesystem::path& file, const std::string& text);
+
 /// Each (file, text) written whole through write_complete: a write that
 /// fails (a full disk, a file size limit) throws, naming the file, and
 /// leaves none of them. For what a command collects as it goes (a bench's

@@ -20,7 +20,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -270,16 +269,10 @@ int run_design(DesignCommandOptions o) {
     for (const auto* p : {&o.face, &o.scene, &o.solid, &o.side_by_side, &o.report})
       if (!p->empty()) outputs.push_back(*p);
     write_complete(outputs, [&](const std::filesystem::path& out, const std::filesystem::path& to) {
-      const auto write_text = [&](const std::string& text) {
-        std::ofstream file(to);
-        file << text;
-        file.close();
-        if (!file) throw std::runtime_error(out.string() + ": write failed");
-      };
       if (out == o.face) {
         write_obj(d.face, to);
       } else if (out == o.scene) {
-        write_text(scene_to_json(scene).dump(2) + "\n");
+        write_text(to, scene_to_json(scene).dump(2) + "\n");
       } else if (out == o.solid) {
         design::write_solid_obj(design::solid_mesh(d.grid, r.flat_offset), to);
       } else if (out == o.side_by_side) {
@@ -294,7 +287,7 @@ int run_design(DesignCommandOptions o) {
         if (reference) panels.push_back(as_rgb(reference->render));
         write_png(side_by_side(std::move(panels), exposure), to);
       } else {
-        write_text(report.dump(2) + "\n");
+        write_text(to, report.dump(2) + "\n");
       }
     });
 

@@ -199,19 +199,22 @@ void write_complete(const std::vector<std::filesystem::path>& outputs,
   }
 }
 
+void write_text(const std::filesystem::path& file, const std::string& text) {
+  FILE* f = std::fopen(file.c_str(), "wb");
+  if (!f) throw std::runtime_error("cannot write " + file.string() + ": " + std::strerror(errno));
+  const bool whole = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  int error = whole ? 0 : errno;
+  // The close may be the first to say there was no room.
+  if (std::fclose(f) != 0 && !error) error = errno;
+  if (!whole || error) throw std::runtime_error("cannot write " + file.string() + ": " + std::strerror(error ? error : EIO));
+}
+
 void write_text_files(const std::vector<std::pair<std::filesystem::path, std::string>>& files) {
   std::vector<std::filesystem::path> names;
   for (const auto& [name, text] : files) names.push_back(name);
   std::size_t next = 0;  // write_complete writes them in the order given
   write_complete(names, [&](const std::filesystem::path&, const std::filesystem::path& temporary) {
-    const std::string& text = files[next++].second;
-    FILE* f = std::fopen(temporary.c_str(), "wb");
-    if (!f) throw std::runtime_error("cannot write " + temporary.string() + ": " + std::strerror(errno));
-    const bool whole = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-    int error = whole ? 0 : errno;
-    // The close may be the first to say there was no room.
-    if (std::fclose(f) != 0 && !error) error = errno;
-    if (!whole || error) throw std::runtime_error("cannot write " + temporary.string() + ": " + std::strerror(error ? error : EIO));
+    write_text(temporary, files[next++].second);
   });
 }
 
