@@ -109,6 +109,11 @@ class ChildProcess {
     process_ = nullptr;
   }
   bool running() const { return process_ != nullptr; }
+  /// The process id as text; "" once it exited (or before it started).
+  std::string pid() const {
+    const char* id = process_ ? g_subprocess_get_identifier(process_) : nullptr;
+    return id ? id : "";
+  }
   /// SIGSTOP freezes it (a server that takes long to answer), SIGCONT thaws it.
   void signal(int sig) {
     if (process_) g_subprocess_send_signal(process_, sig);

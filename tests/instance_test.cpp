@@ -4,6 +4,7 @@
 // refused, X-Forwarded-For believed only from a trusted proxy, ICE
 // candidates kept inside the configured port range, and the capacity agent
 // telling the proxy its free share and its drain.
+#include "held_ports.hpp"
 #include "helper_processes.hpp"
 #include "raw_http.hpp"
 #include "server_process.hpp"
@@ -38,17 +39,23 @@ std::string agent_line(int port) {
 }  // namespace
 
 TEST(Instance, TheAgentTellsTheFreeShareAndTheDrain) {
-  const int agent = ct::free_port();
-  ServerProcess server({"--max-sessions", "3", "--set", "agent_port=" + std::to_string(agent), "--set",
-                        "max_sessions_per_address=10", "--set", "drain_timeout_s=120"});
+  // The server binds the agent port itself and stops if another process
+  // took it since it was picked: then another port.
+  std::unique_ptr<ServerProcess> server;
+  const int agent = ct::start_on_a_free_port([&](int port) {
+    server = ServerProcess::try_start({"--max-sessions", "3", "--set", "agent_port=" + std::to_string(port), "--set",
+                                       "max_sessions_per_address=10", "--set", "drain_timeout_s=120"});
+    return !server->url().empty() && ct::holds_port(server->pid(), port);
+  });
+  ASSERT_NE(agent, 0) << "the server did not start with an agent port of its own (three tried)";
   EXPECT_EQ(agent_line(agent), "up ready 100%\n");
-  const json s = http("POST", server.url() + "/api/v1/sessions", R"({"scene": "lens"})").json();
+  const json s = http("POST", server->url() + "/api/v1/sessions", R"({"scene": "lens"})").json();
   EXPECT_EQ(agent_line(agent), "up ready 67%\n");  // 2 of 3 free
-  for (int i = 0; i < 2; ++i) http("POST", server.url() + "/api/v1/sessions", R"({"scene": "lens"})");
+  for (int i = 0; i < 2; ++i) http("POST", server->url() + "/api/v1/sessions", R"({"scene": "lens"})");
   EXPECT_EQ(agent_line(agent), "up ready 0%\n");
   // Stopped with sessions running: it drains, and says so until it leaves.
-  server.signal(SIGTERM);
-  for (int i = 0; i < 50 && http("GET", server.url() + "/api/v1/health").status != 503; ++i) g_usleep(100000);
+  server->signal(SIGTERM);
+  for (int i = 0; i < 50 && http("GET", server->url() + "/api/v1/health").status != 503; ++i) g_usleep(100000);
   EXPECT_EQ(agent_line(agent), "up drain\n");
 }
 

@@ -5,6 +5,7 @@
 // drains (its running sessions go on, new ones go to the other) and then
 // exits. The proxies run as plain processes on loopback ports; the shipped
 // files are used as they are, with only addresses and ports replaced.
+#include "held_ports.hpp"
 #include "helper_processes.hpp"
 #include "raw_http.hpp"
 #include "server_process.hpp"
@@ -22,7 +23,6 @@
 #include <sstream>
 
 using caustic::testing::find_program;
-using caustic::testing::free_port;
 using caustic::testing::bearer;
 using caustic::testing::http;
 using caustic::testing::read_file;
@@ -74,33 +74,55 @@ class Proxied : public ::testing::TestWithParam<std::string> {
     fs::create_directories(dir_);
     fs::permissions(dir_, fs::perms::all);
     // Instance 1 holds three sessions, instance 2 one: the spread shows.
+    // causticd binds its agent port itself and stops if it cannot.
     for (int n : {1, 2}) {
-      const int agent = free_port();
-      instances_.push_back({agent, std::make_unique<ServerProcess>(std::vector<std::string>{
-                                       "--max-sessions", n == 1 ? "3" : "1", "--set", "instance_index=" + std::to_string(n),
-                                       "--set", "agent_port=" + std::to_string(agent), "--set", "trusted_proxies=127.0.0.1",
-                                       "--set", "max_sessions_per_address=10", "--set", "drain_timeout_s=120",
-                                       "--set", "design_resolution=64", "--width", "320", "--height", "240"})});
-      ASSERT_FALSE(instances_.back().server->url().empty());
+      std::unique_ptr<ServerProcess> server;
+      const int agent = ct::start_on_a_free_port([&](int port) {
+        server = ServerProcess::try_start({"--max-sessions", n == 1 ? "3" : "1", "--set",
+                                           "instance_index=" + std::to_string(n), "--set",
+                                           "agent_port=" + std::to_string(port), "--set", "trusted_proxies=127.0.0.1",
+                                           "--set", "max_sessions_per_address=10", "--set", "drain_timeout_s=120",
+                                           "--set", "design_resolution=64", "--width", "320", "--height", "240"});
+        return !server->url().empty() && ct::holds_port(server->pid(), port);
+      });
+      ASSERT_NE(agent, 0) << "instance " << n << " did not start with an agent port of its own (three tried)";
+      instances_.push_back({agent, std::move(server)});
     }
-    port_ = free_port();
-    std::string config = read_file(fs::path(CAUSTIC_PROXY_DIR) / (GetParam() == "haproxy" ? "haproxy.cfg" : "nginx.conf"));
+    const std::string shipped =
+        read_file(fs::path(CAUSTIC_PROXY_DIR) / (GetParam() == "haproxy" ? "haproxy.cfg" : "nginx.conf"));
+    // What answers on the proxy's port must be this proxy: another test's
+    // server there would pass a request check.
+    port_ = ct::start_on_a_free_port([&](int port) {
+      proxy_.start(proxy_argv(program, shipped, port));
+      return ct::comes_to_hold(proxy_, port);
+    });
+    ASSERT_NE(port_, 0) << GetParam() << " did not hold a port of its own (three tried)";
+    ASSERT_EQ(http("GET", url() + "/api/v1/scenes").status, 200u) << GetParam() << " does not answer";
+    if (GetParam() == "haproxy") {  // until both agents have reported once
+      bool reported = false;
+      for (int i = 0; i < 100 && !reported; ++i, g_usleep(100000))
+        reported = !agent_said("i1").empty() && !agent_said("i2").empty();
+      ASSERT_TRUE(reported) << "HAProxy heard from no capacity agent";
+    }
+  }
+  // The proxy's command line, its configuration (the shipped one, adapted)
+  // written for listening on `port`.
+  std::vector<std::string> proxy_argv(const std::string& program, std::string config, int port) {
     for (int n : {1, 2}) {
       replace_all(config, "127.0.0.1:808" + std::to_string(n),
                   "127.0.0.1:" + std::to_string(instances_[n - 1].server->port()));
       if (GetParam() == "haproxy")
         replace_all(config, "agent-port 908" + std::to_string(n), "agent-port " + std::to_string(instances_[n - 1].agent_port));
     }
-    std::vector<std::string> argv;
     if (GetParam() == "haproxy") {
-      replace_all(config, "bind :80", "bind 127.0.0.1:" + std::to_string(port_));
+      replace_all(config, "bind :80", "bind 127.0.0.1:" + std::to_string(port));
       replace_all(config, "log /dev/log local0", "log stderr local0");
       // The test's own view of what the agents told HAProxy.
       replace_all(config, "    maxconn 4096", "    maxconn 4096\n    stats socket " + stats_socket().string() + " mode 600");
       std::ofstream(dir_ / "haproxy.cfg") << config;
-      argv = {program, "-db", "-f", (dir_ / "haproxy.cfg").string()};
+      return {program, "-db", "-f", (dir_ / "haproxy.cfg").string()};
     } else {
-      replace_all(config, "listen 80;", "listen 127.0.0.1:" + std::to_string(port_) + ";");
+      replace_all(config, "listen 80;", "listen 127.0.0.1:" + std::to_string(port) + ";");
       replace_all(config, "/var/log/nginx/causticd.log", (dir_ / "access.log").string());
       std::ofstream(dir_ / "site.conf") << config;
       std::ofstream(dir_ / "nginx.conf") << "daemon off;\nworker_processes 1;\npid " << (dir_ / "nginx.pid").string()
@@ -108,17 +130,7 @@ class Proxied : public ::testing::TestWithParam<std::string> {
                                          << (dir_ / "body").string() << ";\n  proxy_temp_path "
                                          << (dir_ / "proxy").string() << ";\n  include " << (dir_ / "site.conf").string()
                                          << ";\n}\n";
-      argv = {program, "-p", dir_.string(), "-c", (dir_ / "nginx.conf").string()};
-    }
-    proxy_.start(argv);
-    ASSERT_TRUE(proxy_.running());
-    ct::raw_wait_listening(port_);
-    ASSERT_EQ(http("GET", url() + "/api/v1/scenes").status, 200u) << GetParam() << " does not answer";
-    if (GetParam() == "haproxy") {  // until both agents have reported once
-      bool reported = false;
-      for (int i = 0; i < 100 && !reported; ++i, g_usleep(100000))
-        reported = !agent_said("i1").empty() && !agent_said("i2").empty();
-      ASSERT_TRUE(reported) << "HAProxy heard from no capacity agent";
+      return {program, "-p", dir_.string(), "-c", (dir_ / "nginx.conf").string()};
     }
   }
   fs::path stats_socket() const { return dir_ / "haproxy.sock"; }
