@@ -5,9 +5,9 @@
 // files cut short.
 #include "caustic/design_target.hpp"
 #include "caustic/image_io.hpp"  // Rgba8Image
+#include "design_picture_support.hpp"
 #include "jpeg_support.hpp"
 #include "png_chunk.hpp"
-#include "refusal.hpp"
 
 #include <OpenImageIO/imageio.h>
 
@@ -26,38 +26,9 @@
 using namespace caustic;
 using namespace caustic::design;
 using caustic::testing::animated_png;
-using caustic::testing::png_chunk;
-using caustic::testing::png_file;
+using namespace caustic::testing::design_picture;
 
 namespace {
-
-struct Folder {
-  std::filesystem::path path =
-      std::filesystem::temp_directory_path() / ("causticd_design_picture_" + std::to_string(::getpid()));
-  Folder() { std::filesystem::create_directories(path); }
-  ~Folder() { std::filesystem::remove_all(path); }
-  std::filesystem::path write(const std::string& name, const std::string& bytes) const {
-    std::ofstream(path / name, std::ios::binary) << bytes;
-    return path / name;
-  }
-};
-
-std::string refused(const std::filesystem::path& file) {
-  return caustic::testing::refusal<TargetError>([&] { load_target_rgb(file); });
-}
-
-// A 256 x 256 PNG of varied colour, as the image library writes it.
-std::string png_bytes(const Folder& folder) {
-  const auto file = folder.path / "written.png";
-  std::vector<unsigned char> pixels(256 * 256 * 3);
-  for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<unsigned char>((i * 7919) % 251);
-  auto out = OIIO::ImageOutput::create(file.string());
-  if (!out || !out->open(file.string(), OIIO::ImageSpec(256, 256, 3, OIIO::TypeDesc::UINT8)) ||
-      !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close())
-    return "";
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 // Mean of channel 0 over [x0, x1) x [y0, y1), rows from the top.
 double mean(const RgbHdrImage& image, int x0, int y0, int x1, int y1) {
@@ -206,99 +177,6 @@ TEST(DesignPicture, ATiledPictureReadsAsItsPixels) {
     for (std::size_t i = 0; i < pixels.size(); ++i)
       if (std::abs(read.pixels[i] - pixels[i]) > 1e-6f && wrong++ == 0) first = i;
     EXPECT_EQ(wrong, 0u) << name << ": first at pixel " << first / 3 % w << ", row " << first / 3 / w;
-  }
-}
-
-TEST(DesignPicture, AReadersErrorIsSaidOnOneLine) {
-  // A palette picture without its palette: whole, its rows whole, and only
-  // libpng finds it wrong (and still says so on stderr itself); its words
-  // come in the message on one line.
-  Folder folder;
-  const std::string rows(16 * 17, '\0');  // 16 rows: filter 0, 16 indices
-  const std::string why = refused(folder.write("paletteless.png", png_file(16, 16, 8, 3, 0, rows)));
-  EXPECT_NE(why.find("cannot read the picture (PNG read error: "), std::string::npos) << why;
-  EXPECT_EQ(why.find('\n'), std::string::npos) << why;
-  EXPECT_EQ(why.back(), ')') << why;
-}
-
-TEST(DesignPicture, APngsImageDataIsCheckedBeforeItsReader) {
-  // Chunks whole and checksums right, but the data inside damaged: libpng
-  // said "libpng error: ..." on stderr beside the refusal. Now the rows are
-  // inflated and counted first, and the refusal alone says why.
-  Folder folder;
-  const std::string bytes = png_bytes(folder);
-  ASSERT_FALSE(bytes.empty());
-  const std::size_t idat = bytes.find("IDAT") - 4;
-  const std::uint32_t length = static_cast<unsigned char>(bytes[idat]) << 24 |
-                               static_cast<unsigned char>(bytes[idat + 1]) << 16 |
-                               static_cast<unsigned char>(bytes[idat + 2]) << 8 | static_cast<unsigned char>(bytes[idat + 3]);
-  std::string data = bytes.substr(idat + 8, length);
-  const std::string head = bytes.substr(0, idat);
-  std::string scrambled = data;
-  for (std::size_t k = 10; k + 6 < scrambled.size(); ++k) scrambled[k] ^= 0x5a;
-  // 5 x 5 grey in Adam7's seven passes, every pixel 7: a row counted from
-  // the wrong place reads a 7 as its filter type. Passes 1 to 7 have 1, 1,
-  // 1, 2, 1, 3 and 2 rows of 1, 1, 2, 1, 3, 2 and 5 pixels.
-  std::string adam7;
-  for (const auto& [rows, pixels] : {std::pair{1, 1}, {1, 1}, {1, 2}, {2, 1}, {1, 3}, {3, 2}, {2, 5}})
-    for (int r = 0; r < rows; ++r) adam7 += '\0' + std::string(pixels, '\7');
-  std::string plain;
-  for (int r = 0; r < 5; ++r) plain += '\0' + std::string(5, '\7');
-  EXPECT_EQ(refused(folder.write("interlaced.png", png_file(5, 5, 8, 0, 1, adam7))), "accepted");
-  EXPECT_EQ(refused(folder.write("plain.png", png_file(5, 5, 8, 0, 0, plain))), "accepted");
-  std::string filtered = plain;
-  filtered[2 * 6] = 9;  // row 2's filter byte
-  struct Case {
-    const char* name;
-    std::string bytes, reason;
-  };
-  for (const Case& c :
-       {Case{"scrambled.png", head + png_chunk("IDAT", scrambled) + png_chunk("IEND", ""),
-             "its image data does not decompress: zlib says "},
-        Case{"short.png", head + png_chunk("IDAT", data.substr(0, length / 2)) + png_chunk("IEND", ""),
-             "its image data ends after "},
-        Case{"few-rows.png", png_file(5, 5, 8, 0, 0, plain.substr(0, 18)), "its image data ends after 18 of the 30 bytes"},
-        Case{"filter.png", png_file(5, 5, 8, 0, 0, filtered), "row 2 has filter type 9, which PNG does not define"},
-        Case{"interlace-filter.png", png_file(5, 5, 8, 0, 0, adam7), "has filter type 7"},
-        Case{"depth.png", png_file(5, 5, 4, 2, 0, plain), "its header gives colour type 2 at 4 bits"},
-        Case{"empty.png", png_file(0, 5, 8, 0, 0, ""), "its header gives a size of 0x5"}}) {
-    ::testing::internal::CaptureStderr();
-    const std::string why = refused(folder.write(c.name, c.bytes));
-    const std::string said = ::testing::internal::GetCapturedStderr();
-    EXPECT_NE(why.find(std::string(c.name) + ": the picture is damaged or cut short ("), std::string::npos) << why;
-    EXPECT_NE(why.find(c.reason), std::string::npos) << why;
-    EXPECT_EQ(said, "") << c.name;
-  }
-}
-
-TEST(DesignPicture, APngCutShortOrDamagedIsRefusedByItsOwnWordsAlone) {
-  // libpng printed its error on stderr itself ("libpng error: IDAT: ...")
-  // beside the refusal: the refusal now says why, and nothing else is said.
-  Folder folder;
-  const std::string bytes = png_bytes(folder);
-  ASSERT_FALSE(bytes.empty());
-  EXPECT_EQ(refused(folder.write("whole.png", bytes)), "accepted");
-  const std::size_t idat = bytes.find("IDAT") - 4, iend = bytes.find("IEND") - 4;
-  std::string flipped = bytes;
-  flipped[idat + 8 + 100] ^= 0x5a;
-  const std::string at = std::to_string(idat);
-  struct Case {
-    const char* name;
-    std::string bytes, reason;
-  };
-  for (const Case& c : {Case{"half.png", bytes.substr(0, bytes.size() / 2),
-                             "cut short: the IDAT chunk at byte " + at + " runs past the end of the file"},
-                        Case{"flipped.png", flipped, "the IDAT chunk at byte " + at + " fails its checksum"},
-                        Case{"endless.png", bytes.substr(0, iend),
-                             "cut short: it ends at byte " + std::to_string(iend) + ", before its IEND chunk"},
-                        Case{"headless.png", bytes.substr(0, 8) + bytes.substr(idat), "does not begin with its IHDR"}}) {
-    ::testing::internal::CaptureStderr();
-    const std::string why = refused(folder.write(c.name, c.bytes));
-    const std::string said = ::testing::internal::GetCapturedStderr();
-    EXPECT_NE(why.find(std::string(c.name) + ": the picture is damaged or cut short ("), std::string::npos) << why;
-    EXPECT_NE(why.find(c.reason), std::string::npos) << why;
-    EXPECT_EQ(why.find('\n'), std::string::npos) << why;
-    EXPECT_EQ(said, "") << c.name;
   }
 }
 

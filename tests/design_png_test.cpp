@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// A PNG given to the designer: its chunks, checksums, header and image data
+// checked before libpng reads it, so that a damaged file is refused in one
+// line of its own words and nothing else is printed.
+#include "design_picture_support.hpp"
+#include "png_chunk.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
+
+using namespace caustic::testing::design_picture;
+using caustic::testing::png_chunk;
+using caustic::testing::png_file;
+
+TEST(DesignPicture, AReadersErrorIsSaidOnOneLine) {
+  // A palette picture without its palette: whole, its rows whole, and only
+  // libpng finds it wrong (and still says so on stderr itself); its words
+  // come in the message on one line.
+  Folder folder;
+  const std::string rows(16 * 17, '\0');  // 16 rows: filter 0, 16 indices
+  const std::string why = refused(folder.write("paletteless.png", png_file(16, 16, 8, 3, 0, rows)));
+  EXPECT_NE(why.find("cannot read the picture (PNG read error: "), std::string::npos) << why;
+  EXPECT_EQ(why.find('\n'), std::string::npos) << why;
+  EXPECT_EQ(why.back(), ')') << why;
+}
+
+TEST(DesignPicture, APngsImageDataIsCheckedBeforeItsReader) {
+  // Chunks whole and checksums right, but the data inside damaged: libpng
+  // said "libpng error: ..." on stderr beside the refusal. Now the rows are
+  // inflated and counted first, and the refusal alone says why.
+  Folder folder;
+  const std::string bytes = png_bytes(folder);
+  ASSERT_FALSE(bytes.empty());
+  const std::size_t idat = bytes.find("IDAT") - 4;
+  const std::uint32_t length = static_cast<unsigned char>(bytes[idat]) << 24 |
+                               static_cast<unsigned char>(bytes[idat + 1]) << 16 |
+                               static_cast<unsigned char>(bytes[idat + 2]) << 8 | static_cast<unsigned char>(bytes[idat + 3]);
+  std::string data = bytes.substr(idat + 8, length);
+  const std::string head = bytes.substr(0, idat);
+  std::string scrambled = data;
+  for (std::size_t k = 10; k + 6 < scrambled.size(); ++k) scrambled[k] ^= 0x5a;
+  // 5 x 5 grey in Adam7's seven passes, every pixel 7: a row counted from
+  // the wrong place reads a 7 as its filter type. Passes 1 to 7 have 1, 1,
+  // 1, 2, 1, 3 and 2 rows of 1, 1, 2, 1, 3, 2 and 5 pixels.
+  std::string adam7;
+  for (const auto& [rows, pixels] : {std::pair{1, 1}, {1, 1}, {1, 2}, {2, 1}, {1, 3}, {3, 2}, {2, 5}})
+    for (int r = 0; r < rows; ++r) adam7 += '\0' + std::string(pixels, '\7');
+  std::string plain;
+  for (int r = 0; r < 5; ++r) plain += '\0' + std::string(5, '\7');
+  EXPECT_EQ(refused(folder.write("interlaced.png", png_file(5, 5, 8, 0, 1, adam7))), "accepted");
+  EXPECT_EQ(refused(folder.write("plain.png", png_file(5, 5, 8, 0, 0, plain))), "accepted");
+  std::string filtered = plain;
+  filtered[2 * 6] = 9;  // row 2's filter byte
+  struct Case {
+    const char* name;
+    std::string bytes, reason;
+  };
+  for (const Case& c :
+       {Case{"scrambled.png", head + png_chunk("IDAT", scrambled) + png_chunk("IEND", ""),
+             "its image data does not decompress: zlib says "},
+        Case{"short.png", head + png_chunk("IDAT", data.substr(0, length / 2)) + png_chunk("IEND", ""),
+             "its image data ends after "},
+        Case{"few-rows.png", png_file(5, 5, 8, 0, 0, plain.substr(0, 18)), "its image data ends after 18 of the 30 bytes"},
+        Case{"filter.png", png_file(5, 5, 8, 0, 0, filtered), "row 2 has filter type 9, which PNG does not define"},
+        Case{"interlace-filter.png", png_file(5, 5, 8, 0, 0, adam7), "has filter type 7"},
+        Case{"depth.png", png_file(5, 5, 4, 2, 0, plain), "its header gives colour type 2 at 4 bits"},
+        Case{"empty.png", png_file(0, 5, 8, 0, 0, ""), "its header gives a size of 0x5"}}) {
+    ::testing::internal::CaptureStderr();
+    const std::string why = refused(folder.write(c.name, c.bytes));
+    const std::string said = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(why.find(std::string(c.name) + ": the picture is damaged or cut short ("), std::string::npos) << why;
+    EXPECT_NE(why.find(c.reason), std::string::npos) << why;
+    EXPECT_EQ(said, "") << c.name;
+  }
+}
+
+TEST(DesignPicture, APngCutShortOrDamagedIsRefusedByItsOwnWordsAlone) {
+  // libpng printed its error on stderr itself ("libpng error: IDAT: ...")
+  // beside the refusal: the refusal now says why, and nothing else is said.
+  Folder folder;
+  const std::string bytes = png_bytes(folder);
+  ASSERT_FALSE(bytes.empty());
+  EXPECT_EQ(refused(folder.write("whole.png", bytes)), "accepted");
+  const std::size_t idat = bytes.find("IDAT") - 4, iend = bytes.find("IEND") - 4;
+  std::string flipped = bytes;
+  flipped[idat + 8 + 100] ^= 0x5a;
+  const std::string at = std::to_string(idat);
+  struct Case {
+    const char* name;
+    std::string bytes, reason;
+  };
+  for (const Case& c : {Case{"half.png", bytes.substr(0, bytes.size() / 2),
+                             "cut short: the IDAT chunk at byte " + at + " runs past the end of the file"},
+                        Case{"flipped.png", flipped, "the IDAT chunk at byte " + at + " fails its checksum"},
+                        Case{"endless.png", bytes.substr(0, iend),
+                             "cut short: it ends at byte " + std::to_string(iend) + ", before its IEND chunk"},
+                        Case{"headless.png", bytes.substr(0, 8) + bytes.substr(idat), "does not begin with its IHDR"}}) {
+    ::testing::internal::CaptureStderr();
+    const std::string why = refused(folder.write(c.name, c.bytes));
+    const std::string said = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(why.find(std::string(c.name) + ": the picture is damaged or cut short ("), std::string::npos) << why;
+    EXPECT_NE(why.find(c.reason), std::string::npos) << why;
+    EXPECT_EQ(why.find('\n'), std::string::npos) << why;
+    EXPECT_EQ(said, "") << c.name;
+  }
+}
