@@ -9,6 +9,7 @@ import { after, before, test } from 'node:test';
 
 import { launchChromium } from './chromium.mjs';
 import { startServer, stopServer, until, withServer } from './harness.mjs';
+import { holdsPort, quietPort } from './ports.mjs';
 
 let browser;
 before(async () => {
@@ -60,7 +61,17 @@ test('an unknown scene is a permanent error: the page says what to do and does n
 });
 
 test('a server restart shows reconnecting and the page comes back live', async () => {
-  let server = await startServer();
+  // It comes back on the port it had: one that no other process takes by
+  // chance while it is down (ports.mjs). A first start on a port taken
+  // before it bound it is tried again on another, three times in all.
+  let server;
+  for (let attempt = 0; !server; attempt += 1) {
+    try {
+      server = await startServer(['--port', `${await quietPort()}`]);
+    } catch (e) {
+      if (attempt === 2) throw e;
+    }
+  }
   const port = new URL(server.url).port;
   try {
     const page = await browser.newPage();
@@ -72,6 +83,7 @@ test('a server restart shows reconnecting and the page comes back live', async (
     await until(page, () => /the server does not answer; retrying in \d+ s/.test(document.getElementById('state').textContent),
                 30, 'the countdown to the next try');
     server = await startServer(['--port', port]);
+    assert.ok(holdsPort(server.pid, Number(port)), `the restarted server is not alone on port ${port}`);
     await until(page, () => window.caustic.connection === 'live', 60, 'live again after the restart');
     await page.close();
   } finally {
