@@ -106,3 +106,44 @@ TEST(DesignPicture, APngCutShortOrDamagedIsRefusedByItsOwnWordsAlone) {
     EXPECT_EQ(said, "") << c.name;
   }
 }
+
+TEST(DesignPicture, APngsImageDataEndsWholeInItsFirstIdatChunks) {
+  // libpng reads the image data from the first IDAT chunks in a row and on
+  // to the zlib stream's end (its checksum checked) after the last row: a
+  // stream cut short after its rows, or rows in an IDAT after another
+  // chunk, were its fatal "Not enough image data" on stderr.
+  Folder folder;
+  std::string plain;
+  for (int r = 0; r < 5; ++r) plain += '\0' + std::string(5, '\7');
+  const std::string z = caustic::testing::zlib_stored(plain);
+  const auto with = [&](const std::string& chunks) {
+    return png_file(5, 5, 8, 0, 0, plain).substr(0, 33) + chunks + png_chunk("IEND", "");
+  };
+  const std::string text = png_chunk("tEXt", std::string("Comment\0x", 9));
+  // Whole, in three IDATs; a later IDAT after another chunk, and data past
+  // the rows, are libpng's warnings only (not printed).
+  for (const std::string& bytes :
+       {with(png_chunk("IDAT", z.substr(0, 3)) + png_chunk("IDAT", z.substr(3, 20)) + png_chunk("IDAT", z.substr(23))),
+        with(png_chunk("IDAT", z) + text + png_chunk("IDAT", "\x03")),
+        with(png_chunk("IDAT", caustic::testing::zlib_stored(plain + "\1\2\3")))}) {
+    ::testing::internal::CaptureStderr();
+    EXPECT_EQ(refused(folder.write("sound.png", bytes)), "accepted");
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  }
+  struct Case {
+    const char* name;
+    std::string bytes, reason;
+  };
+  for (const Case& c :
+       {Case{"checksumless.png", with(png_chunk("IDAT", z.substr(0, z.size() - 4))), "zlib stream is cut short after its rows"},
+        Case{"half-checksum.png", with(png_chunk("IDAT", z.substr(0, z.size() - 2))), "zlib stream is cut short after its rows"},
+        Case{"parted.png", with(png_chunk("IDAT", z.substr(0, 20)) + text + png_chunk("IDAT", z.substr(20))),
+             "its image data ends after 13 of the 30 bytes"}}) {
+    ::testing::internal::CaptureStderr();
+    const std::string why = refused(folder.write(c.name, c.bytes));
+    const std::string said = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(why.find(std::string(c.name) + ": the picture is damaged or cut short ("), std::string::npos) << why;
+    EXPECT_NE(why.find(c.reason), std::string::npos) << why;
+    EXPECT_EQ(said, "") << c.name;
+  }
+}

@@ -77,29 +77,35 @@ class PngRows {
   PngRows& operator=(const PngRows&) = delete;
 
   /// A piece of the IDAT chunks' data, in order; "" or why it is damaged.
+  /// Inflated to the stream's end, past the rows: libpng reads on to it
+  /// (and checks its Adler-32) once the last row is read, and a stream that
+  /// stops short of it is its fatal "Not enough image data". What follows
+  /// the rows (more data, an extra block) is only libpng's warning.
   std::string feed(const unsigned char* data, std::size_t n) {
-    if (!active_ || done_) return "";
+    if (!active_ || ended_) return "";
     zs_.next_in = const_cast<unsigned char*>(data);
     zs_.avail_in = static_cast<uInt>(n);
-    while (zs_.avail_in > 0 && !done_) {
+    while (zs_.avail_in > 0 && !ended_) {
       zs_.next_out = out_.data();
       zs_.avail_out = static_cast<uInt>(out_.size());
       const int r = inflate(&zs_, Z_NO_FLUSH);
       if (r != Z_OK && r != Z_STREAM_END && r != Z_BUF_ERROR)
         return std::string("its image data does not decompress: zlib says ") + (zs_.msg ? zs_.msg : "error " + std::to_string(r));
       if (const std::string why = read_rows(out_.size() - zs_.avail_out); !why.empty()) return why;
-      // Rows whole: what follows (more data, an extra block) is libpng's
-      // to warn about, not a damage.
-      if (r == Z_STREAM_END || produced_ >= expected_) done_ = true;
+      if (r == Z_STREAM_END) ended_ = true;
       if (r == Z_BUF_ERROR) break;
     }
     return "";
   }
-  /// At IEND: "" when every row came.
+  /// Once the IDAT chunks end (the first chunk after them, or IEND): ""
+  /// when every row came and the stream ended whole.
   std::string end() const {
-    if (!active_ || produced_ >= expected_) return "";
-    return "its image data ends after " + std::to_string(produced_) + " of the " + std::to_string(expected_) +
-           " bytes its header lays out";
+    if (!active_) return "";
+    if (produced_ < expected_)
+      return "its image data ends after " + std::to_string(produced_) + " of the " + std::to_string(expected_) +
+             " bytes its header lays out";
+    if (!ended_) return "its image data's zlib stream is cut short after its rows (its end or its checksum is missing)";
+    return "";
   }
 
  private:
@@ -122,7 +128,7 @@ class PngRows {
   std::uint64_t expected_ = 0, produced_ = 0, at_ = 0, row_ = 0;
   std::size_t pass_ = 0;
   z_stream zs_{};
-  bool active_ = false, done_ = false;
+  bool active_ = false, ended_ = false;
   std::vector<unsigned char> out_ = std::vector<unsigned char>(1 << 16);
 };
 
@@ -158,6 +164,9 @@ inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr,
   std::vector<unsigned char> data(1 << 16);
   std::unique_ptr<PngRows> rows;
   std::string header, inflated;  // what the header and the image data's inflation have wrong
+  // libpng reads the image data from the first IDAT chunks in a row alone:
+  // its stream must end there, and a later IDAT is only its warning.
+  bool idat_seen = false, idat_over = false;
   for (std::uint64_t at = 8, chunks = 0;; ++chunks) {
     if (!in.read(reinterpret_cast<char*>(head), 8))
       return "cut short: it ends at byte " + std::to_string(at) + ", before its IEND chunk";
@@ -180,7 +189,7 @@ inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr,
         rows = std::make_unique<PngRows>(data.data(), max_row_bytes);
       }
       // Said once the checksum is right: a damaged byte is the first cause.
-      if (type == "IDAT" && rows && inflated.empty()) inflated = rows->feed(data.data(), n);
+      if (type == "IDAT" && rows && inflated.empty() && !idat_over) inflated = rows->feed(data.data(), n);
       if (type == "acTL" && left == length && n >= 4 && frames)
         *frames = std::uint32_t{data[0]} << 24 | data[1] << 16 | data[2] << 8 | data[3];
       left -= n;
@@ -194,6 +203,12 @@ inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr,
     if (type == "IHDR" && length != 13) return "its IHDR chunk holds " + std::to_string(length) + " bytes, not 13";
     if (!header.empty()) return header;
     if (!inflated.empty()) return inflated;
+    if (type == "IDAT") {
+      idat_seen = true;
+    } else if (idat_seen && !idat_over) {
+      idat_over = true;
+      if (const std::string why = rows ? rows->end() : ""; !why.empty()) return why;
+    }
     if (type == "IEND") return rows ? rows->end() : "";
     at += 12 + std::uint64_t{length};
   }
