@@ -6,6 +6,7 @@
 #include "png_chunk.hpp"
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <cstdint>
 #include <string>
@@ -146,4 +147,48 @@ TEST(DesignPicture, APngsImageDataEndsWholeInItsFirstIdatChunks) {
     EXPECT_NE(why.find(c.reason), std::string::npos) << why;
     EXPECT_EQ(said, "") << c.name;
   }
+}
+
+TEST(DesignPicture, APngsImageDataIsInflatedWithTheWindowItsHeaderGives) {
+  // Rows alike 301 bytes apart, compressed with a 32 KiB window, the zlib
+  // header then made to say 256 bytes: libpng inflates with the window the
+  // header gives and finds "invalid distance too far back" (on stderr).
+  // A preset dictionary, which PNG does not allow, is said in words.
+  Folder folder;
+  std::string row(1, '\0');
+  for (std::uint32_t i = 0, x = 12345; i < 300; ++i) row += static_cast<char>((x = x * 1103515245u + 12345u) >> 24);
+  const std::string raw = row + row + row;
+  std::string z(compressBound(raw.size()), '\0');
+  uLongf size = z.size();
+  ASSERT_EQ(compress2(reinterpret_cast<Bytef*>(z.data()), &size, reinterpret_cast<const Bytef*>(raw.data()), raw.size(), 9),
+            Z_OK);
+  z.resize(size);
+  const std::string head = png_file(300, 3, 8, 0, 0, raw).substr(0, 33);
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(refused(folder.write("window.png", head + png_chunk("IDAT", z) + png_chunk("IEND", ""))), "accepted");
+  z[0] = 0x08, z[1] = 29;  // CINFO 0: a 256-byte window; 0x081d is a multiple of 31
+  const std::string narrow = refused(folder.write("narrow.png", head + png_chunk("IDAT", z) + png_chunk("IEND", "")));
+  // The same distance within one row, which libpng inflates in one call:
+  // zlib lets a call reach back over what it gave itself, and libpng reads.
+  const std::string wide = row + row.substr(1) + std::string(601, '\0');
+  z.assign(compressBound(wide.size()), '\0');
+  size = z.size();
+  ASSERT_EQ(compress2(reinterpret_cast<Bytef*>(z.data()), &size, reinterpret_cast<const Bytef*>(wide.data()), wide.size(), 9),
+            Z_OK);
+  z.resize(size);
+  z[0] = 0x08, z[1] = 29;
+  EXPECT_EQ(refused(folder.write("one-row.png", png_file(600, 2, 8, 0, 0, wide).substr(0, 33) + png_chunk("IDAT", z) +
+                                                    png_chunk("IEND", ""))),
+            "accepted");
+  // FDICT set (0x7820 is a multiple of 31), a dictionary's Adler-32, then rows.
+  const std::string stored = caustic::testing::zlib_stored(raw);
+  const std::string preset = std::string("\x78\x20\0\0\0\1", 6) + stored.substr(2);
+  const std::string dictionary = refused(folder.write("dictionary.png", head + png_chunk("IDAT", preset) + png_chunk("IEND", "")));
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  EXPECT_NE(narrow.find("narrow.png: the picture is damaged or cut short (its image data does not decompress: zlib says "
+                        "invalid distance too far back)"),
+            std::string::npos)
+      << narrow;
+  EXPECT_NE(dictionary.find("(its image data asks for a preset dictionary, which PNG does not allow)"), std::string::npos)
+      << dictionary;
 }

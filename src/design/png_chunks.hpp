@@ -68,7 +68,12 @@ class PngRows {
       }
     }
     expected_ = total;
-    active_ = inflateInit(&zs_) == Z_OK;
+    // Room for a whole row, as libpng's row buffer (every row the designer
+    // takes fits; a wider one is inflated in pieces).
+    for (const Pass& pass : passes_) out_.resize(std::clamp<std::uint64_t>(pass.row_bytes, out_.size(), 1 << 20));
+    // With the window the stream's header gives (windowBits 0), as libpng
+    // inflates it: a distance past it is libpng's "too far back".
+    active_ = inflateInit2(&zs_, 0) == Z_OK;
   }
   ~PngRows() {
     if (active_) inflateEnd(&zs_);
@@ -76,7 +81,8 @@ class PngRows {
   PngRows(const PngRows&) = delete;
   PngRows& operator=(const PngRows&) = delete;
 
-  /// A piece of the IDAT chunks' data, in order; "" or why it is damaged.
+  /// A piece of the IDAT chunks' data, in order, as libpng reads it (at
+  /// most kInputPiece bytes, from an IDAT's start); "" or why it is damaged.
   /// Inflated to the stream's end, past the rows: libpng reads on to it
   /// (and checks its Adler-32) once the last row is read, and a stream that
   /// stops short of it is its fatal "Not enough image data". What follows
@@ -86,12 +92,17 @@ class PngRows {
     zs_.next_in = const_cast<unsigned char*>(data);
     zs_.avail_in = static_cast<uInt>(n);
     while (zs_.avail_in > 0 && !ended_) {
+      // Asked for as libpng asks: the rest of the row, then 1024 bytes at a
+      // time past the rows. zlib finds a distance too far back from where
+      // each call began, so other pieces would judge some streams otherwise.
+      const std::uint64_t want = produced_ < expected_ ? passes_[pass_].row_bytes - at_ : 1024;
       zs_.next_out = out_.data();
-      zs_.avail_out = static_cast<uInt>(out_.size());
+      zs_.avail_out = static_cast<uInt>(std::min<std::uint64_t>(want, out_.size()));
       const int r = inflate(&zs_, Z_NO_FLUSH);
+      if (r == Z_NEED_DICT) return "its image data asks for a preset dictionary, which PNG does not allow";
       if (r != Z_OK && r != Z_STREAM_END && r != Z_BUF_ERROR)
         return std::string("its image data does not decompress: zlib says ") + (zs_.msg ? zs_.msg : "error " + std::to_string(r));
-      if (const std::string why = read_rows(out_.size() - zs_.avail_out); !why.empty()) return why;
+      if (const std::string why = read_rows(zs_.next_out - out_.data()); !why.empty()) return why;
       if (r == Z_STREAM_END) ended_ = true;
       if (r == Z_BUF_ERROR) break;
     }
@@ -107,6 +118,9 @@ class PngRows {
     if (!ended_) return "its image data's zlib stream is cut short after its rows (its end or its checksum is missing)";
     return "";
   }
+
+  /// libpng's IDAT reads (PNG_IDAT_READ_SIZE).
+  static constexpr std::size_t kInputPiece = 8192;
 
  private:
   std::string read_rows(std::size_t n) {
@@ -189,7 +203,10 @@ inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr,
         rows = std::make_unique<PngRows>(data.data(), max_row_bytes);
       }
       // Said once the checksum is right: a damaged byte is the first cause.
-      if (type == "IDAT" && rows && inflated.empty() && !idat_over) inflated = rows->feed(data.data(), n);
+      // The pieces libpng reads: `data` holds a whole number of them.
+      if (type == "IDAT" && rows && !idat_over)
+        for (std::uint32_t k = 0; k < n && inflated.empty(); k += PngRows::kInputPiece)
+          inflated = rows->feed(data.data() + k, std::min<std::size_t>(PngRows::kInputPiece, n - k));
       if (type == "acTL" && left == length && n >= 4 && frames)
         *frames = std::uint32_t{data[0]} << 24 | data[1] << 16 | data[2] << 8 | data[3];
       left -= n;
