@@ -339,8 +339,11 @@ TEST(Sessions, IdleSessionIsReclaimed) {
 
 TEST(ServeCommand, BadConfigurationExitsNonZeroNamingTheKey) {
   const auto file = std::filesystem::temp_directory_path() / "causticd_serve_bad.conf";
-  std::ofstream(file) << "port = 8080\nbitrate_kbps = lots\n";
-  const std::string command = std::string(CAUSTICD_BINARY) + " serve --config " + file.string() + " 2>&1";
+  std::ofstream(file) << "port = 0\nbitrate_kbps = lots\n";
+  // Bounded, and on a port of the kernel's choosing: a server that took
+  // the file would listen (on 8080, named before) and the test wait on it.
+  const std::string command =
+      "timeout 60 " + std::string(CAUSTICD_BINARY) + " serve --bind 127.0.0.1 --config " + file.string() + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   std::string output;
   char buf[512];
