@@ -49,7 +49,8 @@ export class Janus {
     this.process = spawn('janus', ['-F', this.dir, '-C', `${this.dir}/janus.jcfg`, '-o', '-d', '3',
                                     '-E', process.env.JANUS_ICE_INTERFACE], { stdio: ['ignore', log, log] });
     closeSync(log);
-    for (let i = 0; i < 100 && this.process.exitCode === null && this.process.signalCode === null; i += 1) {
+    const end = Date.now() + 10000;
+    while (Date.now() < end && this.process.exitCode === null && this.process.signalCode === null) {
       if (holdsPort(this.process.pid, this.ports.ws) && holdsPort(this.process.pid, this.ports.admin) &&
           await this.answersAdmin()) return true;
       await new Promise((r) => setTimeout(r, 100));
