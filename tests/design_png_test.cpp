@@ -97,7 +97,10 @@ TEST(DesignPicture, APngCutShortOrDamagedIsRefusedByItsOwnWordsAlone) {
                         Case{"flipped.png", flipped, "the IDAT chunk at byte " + at + " fails its checksum"},
                         Case{"endless.png", bytes.substr(0, iend),
                              "cut short: it ends at byte " + std::to_string(iend) + ", before its IEND chunk"},
-                        Case{"headless.png", bytes.substr(0, 8) + bytes.substr(idat), "does not begin with its IHDR"}}) {
+                        Case{"headless.png", bytes.substr(0, 8) + bytes.substr(idat), "does not begin with its IHDR"},
+                        // The header again (libpng's "IHDR: out of place").
+                        Case{"two-headers.png", bytes.substr(0, 33) + bytes.substr(8, 25) + bytes.substr(33),
+                             "it holds a second IHDR chunk at byte 33"}}) {
     ::testing::internal::CaptureStderr();
     const std::string why = refused(folder.write(c.name, c.bytes));
     const std::string said = ::testing::internal::GetCapturedStderr();

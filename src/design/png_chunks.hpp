@@ -198,7 +198,7 @@ inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr,
       if (!in.read(reinterpret_cast<char*>(data.data()), n))
         return "cut short: the " + type + " chunk at byte " + std::to_string(at) + " runs past the end of the file";
       crc = png_crc(crc, data.data(), n);
-      if (type == "IHDR" && left == length && n >= 13) {
+      if (type == "IHDR" && chunks == 0 && left == length && n >= 13) {
         header = png_header_fault(data.data());
         rows = std::make_unique<PngRows>(data.data(), max_row_bytes);
       }
@@ -218,6 +218,8 @@ inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr,
     if ((crc ^ 0xffffffffu) != expected)
       return "the " + type + " chunk at byte " + std::to_string(at) + " fails its checksum";
     if (type == "IHDR" && length != 13) return "its IHDR chunk holds " + std::to_string(length) + " bytes, not 13";
+    // libpng's fatal "out of place"; its rows were laid out by the first.
+    if (type == "IHDR" && chunks > 0) return "it holds a second IHDR chunk at byte " + std::to_string(at);
     if (!header.empty()) return header;
     if (!inflated.empty()) return inflated;
     if (type == "IDAT") {
