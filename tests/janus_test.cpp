@@ -6,7 +6,8 @@
 // session's holder may change it; a Janus restart gets the mountpoint back;
 // a Janus that answers late (frozen, then woken) keeps no mountpoint.
 // (Janus gathers no ICE candidates on loopback, so video to browsers is the
-// namespace test's: tests/janus/broadcast_test.sh.)
+// namespace test's: browser_broadcast, tests/browser/broadcast_test.mjs run by
+// tests/janus/in_namespace.sh.)
 #include "janus_fixture.hpp"
 
 #include "../src/server/broadcast.hpp"

@@ -6,7 +6,7 @@
 // open page by itself); a
 // scene's receivers each wear their tile; a pool's viewer draws the water
 // of the frame it shows.
-// Run by tests/janus/broadcast_test.sh inside a network namespace (Janus
+// Run by tests/janus/in_namespace.sh inside a network namespace (Janus
 // needs a non-loopback interface for ICE: JANUS_ICE_INTERFACE). Every wait
 // is bounded.
 import assert from 'node:assert/strict';
