@@ -3,6 +3,7 @@
 // checked before libpng reads it, so that a damaged file is refused in one
 // line of its own words and nothing else is printed.
 #include "design_picture_support.hpp"
+#include "png_chunks.hpp"
 #include "png_chunk.hpp"
 
 #include <gtest/gtest.h>
@@ -194,4 +195,22 @@ TEST(DesignPicture, APngsImageDataIsInflatedWithTheWindowItsHeaderGives) {
       << narrow;
   EXPECT_NE(dictionary.find("(its image data asks for a preset dictionary, which PNG does not allow)"), std::string::npos)
       << dictionary;
+}
+
+TEST(DesignPicture, APngHeaderBeyondTheBoundLaysOutNoRows) {
+  // 1073751857 x 2147463582 at 16-bit RGBA: 2147463582 rows of 8590014857
+  // bytes, 2^64 + 536886158 in all, which wrapped to 536886158 and was
+  // taken as within a bound of 2^30 (its rows then "missing"). Beyond the
+  // bound, nothing is checked; the picture is refused for its size.
+  const std::uint32_t w = 1073751857u, h = 2147463582u;
+  const unsigned char ihdr[13] = {static_cast<unsigned char>(w >> 24), static_cast<unsigned char>(w >> 16),
+                                  static_cast<unsigned char>(w >> 8),  static_cast<unsigned char>(w),
+                                  static_cast<unsigned char>(h >> 24), static_cast<unsigned char>(h >> 16),
+                                  static_cast<unsigned char>(h >> 8),  static_cast<unsigned char>(h),
+                                  16, 6, 0, 0, 0};
+  const caustic::design::PngRows rows(ihdr, 1ull << 30);
+  EXPECT_EQ(rows.end(), "");
+  // Within the bound, the same arithmetic counts every byte.
+  const unsigned char small[13] = {0, 0, 0, 5, 0, 0, 0, 5, 16, 6, 0, 0, 1};
+  EXPECT_EQ(caustic::design::PngRows(small, 1ull << 30).end(), "its image data ends after 0 of the 211 bytes its header lays out");
 }

@@ -60,12 +60,16 @@ class PngRows {
       const std::uint64_t pw = w > std::uint64_t(a[0]) ? (w - a[0] + a[2] - 1) / a[2] : 0;
       const std::uint64_t ph = h > std::uint64_t(a[1]) ? (h - a[1] + a[3] - 1) / a[3] : 0;
       if (!pw || !ph) continue;  // an empty pass has no rows, not even filter bytes
-      passes_.push_back({ph, 1 + (pw * samples * depth + 7) / 8});
-      total += ph * passes_.back().row_bytes;
-      if (total > max_bytes) {
+      const std::uint64_t row_bytes = 1 + (pw * samples * depth + 7) / 8;  // at most 2^35
+      // Compared before it is multiplied: rows of 2^35 bytes 2^32 times
+      // over wrap past 2^64, and a header of 2^31 x 2^30 once laid out a
+      // few hundred megabytes.
+      if (ph > (max_bytes - total) / row_bytes) {
         passes_.clear();
         return;
       }
+      passes_.push_back({ph, row_bytes});
+      total += ph * row_bytes;
     }
     expected_ = total;
     // Room for a whole row, as libpng's row buffer (every row the designer
