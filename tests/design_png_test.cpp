@@ -214,3 +214,27 @@ TEST(DesignPicture, APngHeaderBeyondTheBoundLaysOutNoRows) {
   const unsigned char small[13] = {0, 0, 0, 5, 0, 0, 0, 5, 16, 6, 0, 0, 1};
   EXPECT_EQ(caustic::design::PngRows(small, 1ull << 30).end(), "its image data ends after 0 of the 211 bytes its header lays out");
 }
+
+TEST(DesignPicture, APngBeyondTheSizesIsRefusedForItsSizeBeforeItsReader) {
+  // 2,000,000 x 2, whole: libpng refuses a side over a million itself
+  // ("Invalid IHDR data", on stderr too) before the designer's size.
+  Folder folder;
+  const std::string raw(2 * 2000001, '\0');
+  std::string z(compressBound(raw.size()), '\0');
+  uLongf size = z.size();
+  ASSERT_EQ(compress2(reinterpret_cast<Bytef*>(z.data()), &size, reinterpret_cast<const Bytef*>(raw.data()), raw.size(), 9),
+            Z_OK);
+  z.resize(size);
+  const std::string wide = png_file(2000000, 2, 8, 0, 0, "").substr(0, 33) + png_chunk("IDAT", z) + png_chunk("IEND", "");
+  // 4096 x 16384 at 16-bit RGBA, Adam7: the largest picture designed, its
+  // 30,720 filter bytes beyond the rows' bound once allowed (16,384), so its
+  // data went unchecked to libpng ("bad adaptive filter value").
+  const std::string adam7 = png_file(4096, 16384, 16, 6, 1, std::string(1, '\x09') + std::string(4096, '\0'));
+  ::testing::internal::CaptureStderr();
+  const std::string too_wide = refused(folder.write("wide.png", wide));
+  const std::string filtered = refused(folder.write("adam7.png", adam7));
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  EXPECT_NE(too_wide.find("wide.png: 2000000x2 pixels is too large"), std::string::npos) << too_wide;
+  EXPECT_NE(filtered.find("(row 0 of interlace pass 1 has filter type 9, which PNG does not define)"), std::string::npos)
+      << filtered;
+}

@@ -143,11 +143,22 @@ void check_jpeg_scans(const std::filesystem::path& file, const std::string& name
 std::uint32_t check_png_chunks(const std::filesystem::path& file, const std::string& name) {
   std::ifstream in(file, std::ios::binary);
   std::uint32_t frames = 1;
-  // Rows of the largest picture designed (16-bit RGBA, a filter byte a
-  // row): a header beyond it is refused by its size, its data not inflated.
-  constexpr std::uint64_t rows = static_cast<std::uint64_t>(kMaxTargetPixels) * 8 + kMaxTargetSide;
+  // Rows of the largest picture designed (16-bit RGBA), and a filter byte a
+  // row: Adam7's passes hold at most 15/8 rows a row, and 7 more. A header
+  // beyond it is refused by its size below, its data not inflated.
+  constexpr std::uint64_t rows = static_cast<std::uint64_t>(kMaxTargetPixels) * 8 + 2 * kMaxTargetSide;
   if (const std::string why = png_damage(in, &frames, rows); !why.empty())
     throw TargetError(name + ": the picture is damaged or cut short (" + why + "); save it again");
+  // Its size, from the IHDR found whole above, before libpng: a side over
+  // its limit (a million) was its "Invalid IHDR data", on stderr as well.
+  unsigned char head[24] = {};
+  in.clear();
+  in.seekg(0);
+  if (in.read(reinterpret_cast<char*>(head), sizeof head) && std::memcmp(head, "\x89PNG\r\n\x1a\n", 8) == 0 &&
+      std::memcmp(head + 12, "IHDR", 4) == 0) {
+    const auto be = [&](int at) { return std::uint32_t{head[at]} << 24 | head[at + 1] << 16 | head[at + 2] << 8 | head[at + 3]; };
+    if (too_large(be(16), be(20))) throw TargetError(size_error(name, be(16), be(20)));
+  }
   return frames;
 }
 
