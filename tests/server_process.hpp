@@ -61,12 +61,10 @@ class ServerProcess {
       g_error_free(error);
       return;
     }
-    GDataInputStream* out = g_data_input_stream_new(g_subprocess_get_stdout_pipe(process_));
-    // The first line names the URL (the port the kernel picked).
-    gchar* line = g_data_input_stream_read_line(out, nullptr, nullptr, nullptr);
-    g_object_unref(out);
-    const std::string text = line ? line : "";
-    g_free(line);
+    // The first line names the URL (the port the kernel picked), read with
+    // a deadline: a server that hangs before it listens fails the test here
+    // rather than holding it to ctest's timeout.
+    const std::string text = first_line(120);
     const std::string prefix = "listening on ";
     if (text.rfind(prefix, 0) != 0) {
       if (must_start) ADD_FAILURE() << "server did not start: \"" << text << "\"";
@@ -125,6 +123,29 @@ class ServerProcess {
   }
 
  private:
+  // The process's first line of output, without its newline; what came
+  // when it ended, or when `seconds` passed, otherwise.
+  std::string first_line(int seconds) {
+    auto* pipe = G_POLLABLE_INPUT_STREAM(g_subprocess_get_stdout_pipe(process_));
+    const gint64 deadline = g_get_monotonic_time() + gint64{seconds} * G_USEC_PER_SEC;
+    std::string text;
+    while (g_get_monotonic_time() < deadline) {
+      char c = 0;
+      GError* error = nullptr;
+      const gssize n = g_pollable_input_stream_read_nonblocking(pipe, &c, 1, nullptr, &error);
+      if (n == 1) {
+        if (c == '\n') return text;
+        text += c;
+        continue;
+      }
+      const bool waiting = error && g_error_matches(error, G_IO_ERROR, G_IO_ERROR_WOULD_BLOCK);
+      if (error) g_error_free(error);
+      if (!waiting) return text;  // the end of its output, or a read error
+      g_usleep(10000);
+    }
+    return text + " (no line within " + std::to_string(seconds) + " s)";
+  }
+
   GSubprocess* process_ = nullptr;
   std::string url_;
   std::string state_home_;
