@@ -62,8 +62,8 @@ class PngRows {
       if (!pw || !ph) continue;  // an empty pass has no rows, not even filter bytes
       const std::uint64_t row_bytes = 1 + (pw * samples * depth + 7) / 8;  // at most 2^35
       // Compared before it is multiplied: rows of 2^35 bytes 2^32 times
-      // over wrap past 2^64, and a header of 2^31 x 2^30 once laid out a
-      // few hundred megabytes.
+      // over wrap past 2^64, and a header of 2^31 x 2^30 would lay out a
+      // few hundred megabytes, within the bound.
       if (ph > (max_bytes - total) / row_bytes) {
         passes_.clear();
         return;
