@@ -175,8 +175,10 @@ void create_broadcast(ServerState& s, SoupServerMessage* msg, std::shared_ptr<co
   ServerState* state = &s;
   const std::string group = address_group(address);
   ++s.starting[group];  // until the answer (the callback runs once, whatever Janus does)
+  s.creating[m.id] = m;  // a stop before the answer destroys it too
   s.janus->plugin_request(create_request(m, id, codec, s.config), [=](const JanusAdmin::Answer& a) mutable {
     ServerState& st = *state;
+    st.creating.erase(m.id);
     if (const auto it = st.starting.find(group); it != st.starting.end() && --it->second <= 0) st.starting.erase(it);
     SoupServerMessage* out = pending->msg;
     if (!a.error.empty()) {
@@ -273,9 +275,16 @@ void end_all_broadcasts(ServerState& s) {
     sessions.push_back(id);
     requests.push_back({{"request", "destroy"}, {"id", m.id}, {"secret", m.secret}});
   }
+  // Strays, and creates still waiting for their answer: sent after the
+  // create, the destroy comes after it to a Janus that answers (one that is
+  // frozen may take them in either order when it wakes).
   for (const auto& [mid, stray] : s.strays) {
     sessions.emplace_back();
     requests.push_back({{"request", "destroy"}, {"id", mid}, {"secret", stray.m.secret}});
+  }
+  for (const auto& [mid, m] : s.creating) {
+    sessions.emplace_back();
+    requests.push_back({{"request", "destroy"}, {"id", mid}, {"secret", m.secret}});
   }
   const auto answers = s.janus->plugin_requests_now(std::move(requests));
   for (std::size_t i = 0; i < answers.size(); ++i)
@@ -283,6 +292,11 @@ void end_all_broadcasts(ServerState& s) {
       log(Level::warning, "broadcast " + sessions[i] + ": mountpoint not destroyed: " + a.error);
   s.mountpoints.clear();
   s.strays.clear();
+  s.creating.clear();
+  // Nothing more is asked of Janus, and an answer still on its way (a
+  // create's, while the server stops) is dropped: it would start a session
+  // in a server being taken down.
+  s.janus.reset();
 }
 
 void check_broadcasts(ServerState& s) {

@@ -76,10 +76,15 @@ std::shared_ptr<const Mesh> run(const std::filesystem::path& target, const std::
                            {"max_slope_deg", d.report.max_slope_deg},
                            {"relief_mm", d.report.relief},
                            {"min_thickness_mm", d.report.min_thickness},
-                        {"warnings", nlohmann::json::array()}};
-  for (const std::string& w : said)
-    report["warnings"].push_back(
-        {{"key", "picture"}, {"detail", w.rfind(target.string() + ": ", 0) == 0 ? w.substr(target.string().size() + 2) : w}});
+                           {"warnings", nlohmann::json::array()}};
+  // In the designer's words, with the picture's path (in the state
+  // directory) taken out wherever it stands.
+  for (std::string w : said) {
+    if (w.rfind(target.string() + ": ", 0) == 0) w.erase(0, target.string().size() + 2);
+    for (auto at = w.find(target.string()); at != std::string::npos; at = w.find(target.string(), at))
+      w.replace(at, target.string().size(), "the picture");
+    report["warnings"].push_back({{"key", "picture"}, {"detail", w}});
+  }
   {
     GlContext context(egl_platform_from_environment());
     // A colour design's one render gives both the shape's figures and the colours'.

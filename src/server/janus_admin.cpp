@@ -90,7 +90,10 @@ std::vector<JanusAdmin::Answer> JanusAdmin::plugin_requests_now(std::vector<nloh
   // sources (requests, timers) do not run while the server stops.
   GMainContext* context = g_main_context_new();
   g_main_context_push_thread_default(context);
-  SoupSession* http = soup_session_new_with_options("timeout", timeout_s, "max-conns", 64, "max-conns-per-host", 64, nullptr);
+  // A connection each, so that all wait out one timeout together.
+  const int conns = static_cast<int>(std::max<std::size_t>(requests.size(), 1));
+  SoupSession* http =
+      soup_session_new_with_options("timeout", timeout_s, "max-conns", conns, "max-conns-per-host", conns, nullptr);
   struct Call {
     SoupMessage* msg = nullptr;
     Answer answer;

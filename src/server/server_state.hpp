@@ -43,6 +43,7 @@ struct ServerState {
   std::unique_ptr<JanusAdmin> janus;      ///< when janus_admin_url is set: broadcasts
   std::map<std::string, Mountpoint> mountpoints;  ///< by session id, for broadcasts
   std::map<std::uint64_t, StrayMountpoint> strays;  ///< by mountpoint id: creates that got no answer
+  std::map<std::uint64_t, Mountpoint> creating;     ///< by mountpoint id: creates not yet answered
   /// Broadcasts waiting for Janus to make their mountpoint, by address
   /// group: held already, so that requests made side by side are refused
   /// at once rather than each asking Janus for a mountpoint.
