@@ -11,10 +11,35 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 using namespace caustic::testing::design_picture;
 using caustic::testing::png_chunk;
 using caustic::testing::png_file;
+
+namespace {
+
+// A PNG that must be refused as damaged, and the words that must say why.
+struct Damaged {
+  const char* name;
+  std::string bytes, reason;
+};
+
+// Each refused as damaged or cut short, on one line that names it and its
+// reason, with nothing printed besides (libpng's own line would be).
+void expect_refused_alone(const Folder& folder, const std::vector<Damaged>& cases) {
+  for (const Damaged& c : cases) {
+    ::testing::internal::CaptureStderr();
+    const std::string why = refused(folder.write(c.name, c.bytes));
+    const std::string said = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(why.find(std::string(c.name) + ": the picture is damaged or cut short ("), std::string::npos) << why;
+    EXPECT_NE(why.find(c.reason), std::string::npos) << why;
+    EXPECT_EQ(why.find('\n'), std::string::npos) << why;
+    EXPECT_EQ(said, "") << c.name;
+  }
+}
+
+}  // namespace
 
 TEST(DesignPicture, AReadersErrorIsSaidOnOneLine) {
   // A palette picture without its palette: whole, its rows whole, and only
@@ -55,27 +80,17 @@ TEST(DesignPicture, APngsImageDataIsCheckedBeforeItsReader) {
   EXPECT_EQ(refused(folder.write("plain.png", png_file(5, 5, 8, 0, 0, plain))), "accepted");
   std::string filtered = plain;
   filtered[2 * 6] = 9;  // row 2's filter byte
-  struct Case {
-    const char* name;
-    std::string bytes, reason;
-  };
-  for (const Case& c :
-       {Case{"scrambled.png", head + png_chunk("IDAT", scrambled) + png_chunk("IEND", ""),
-             "its image data does not decompress: zlib says "},
-        Case{"short.png", head + png_chunk("IDAT", data.substr(0, length / 2)) + png_chunk("IEND", ""),
-             "its image data ends after "},
-        Case{"few-rows.png", png_file(5, 5, 8, 0, 0, plain.substr(0, 18)), "its image data ends after 18 of the 30 bytes"},
-        Case{"filter.png", png_file(5, 5, 8, 0, 0, filtered), "row 2 has filter type 9, which PNG does not define"},
-        Case{"interlace-filter.png", png_file(5, 5, 8, 0, 0, adam7), "has filter type 7"},
-        Case{"depth.png", png_file(5, 5, 4, 2, 0, plain), "its header gives colour type 2 at 4 bits"},
-        Case{"empty.png", png_file(0, 5, 8, 0, 0, ""), "its header gives a size of 0x5"}}) {
-    ::testing::internal::CaptureStderr();
-    const std::string why = refused(folder.write(c.name, c.bytes));
-    const std::string said = ::testing::internal::GetCapturedStderr();
-    EXPECT_NE(why.find(std::string(c.name) + ": the picture is damaged or cut short ("), std::string::npos) << why;
-    EXPECT_NE(why.find(c.reason), std::string::npos) << why;
-    EXPECT_EQ(said, "") << c.name;
-  }
+  expect_refused_alone(folder, {
+      Damaged{"scrambled.png", head + png_chunk("IDAT", scrambled) + png_chunk("IEND", ""),
+              "its image data does not decompress: zlib says "},
+      Damaged{"short.png", head + png_chunk("IDAT", data.substr(0, length / 2)) + png_chunk("IEND", ""),
+              "its image data ends after "},
+      Damaged{"few-rows.png", png_file(5, 5, 8, 0, 0, plain.substr(0, 18)), "its image data ends after 18 of the 30 bytes"},
+      Damaged{"filter.png", png_file(5, 5, 8, 0, 0, filtered), "row 2 has filter type 9, which PNG does not define"},
+      Damaged{"interlace-filter.png", png_file(5, 5, 8, 0, 0, adam7), "has filter type 7"},
+      Damaged{"depth.png", png_file(5, 5, 4, 2, 0, plain), "its header gives colour type 2 at 4 bits"},
+      Damaged{"empty.png", png_file(0, 5, 8, 0, 0, ""), "its header gives a size of 0x5"},
+  });
 }
 
 TEST(DesignPicture, APngCutShortOrDamagedIsRefusedByItsOwnWordsAlone) {
@@ -89,27 +104,17 @@ TEST(DesignPicture, APngCutShortOrDamagedIsRefusedByItsOwnWordsAlone) {
   std::string flipped = bytes;
   flipped[idat + 8 + 100] ^= 0x5a;
   const std::string at = std::to_string(idat);
-  struct Case {
-    const char* name;
-    std::string bytes, reason;
-  };
-  for (const Case& c : {Case{"half.png", bytes.substr(0, bytes.size() / 2),
-                             "cut short: the IDAT chunk at byte " + at + " runs past the end of the file"},
-                        Case{"flipped.png", flipped, "the IDAT chunk at byte " + at + " fails its checksum"},
-                        Case{"endless.png", bytes.substr(0, iend),
-                             "cut short: it ends at byte " + std::to_string(iend) + ", before its IEND chunk"},
-                        Case{"headless.png", bytes.substr(0, 8) + bytes.substr(idat), "does not begin with its IHDR"},
-                        // The header again (libpng's "IHDR: out of place").
-                        Case{"two-headers.png", bytes.substr(0, 33) + bytes.substr(8, 25) + bytes.substr(33),
-                             "it holds a second IHDR chunk at byte 33"}}) {
-    ::testing::internal::CaptureStderr();
-    const std::string why = refused(folder.write(c.name, c.bytes));
-    const std::string said = ::testing::internal::GetCapturedStderr();
-    EXPECT_NE(why.find(std::string(c.name) + ": the picture is damaged or cut short ("), std::string::npos) << why;
-    EXPECT_NE(why.find(c.reason), std::string::npos) << why;
-    EXPECT_EQ(why.find('\n'), std::string::npos) << why;
-    EXPECT_EQ(said, "") << c.name;
-  }
+  expect_refused_alone(folder, {
+      Damaged{"half.png", bytes.substr(0, bytes.size() / 2),
+              "cut short: the IDAT chunk at byte " + at + " runs past the end of the file"},
+      Damaged{"flipped.png", flipped, "the IDAT chunk at byte " + at + " fails its checksum"},
+      Damaged{"endless.png", bytes.substr(0, iend),
+              "cut short: it ends at byte " + std::to_string(iend) + ", before its IEND chunk"},
+      Damaged{"headless.png", bytes.substr(0, 8) + bytes.substr(idat), "does not begin with its IHDR"},
+      // The header again (libpng's "IHDR: out of place").
+      Damaged{"two-headers.png", bytes.substr(0, 33) + bytes.substr(8, 25) + bytes.substr(33),
+              "it holds a second IHDR chunk at byte 33"},
+  });
 }
 
 TEST(DesignPicture, APngsImageDataEndsWholeInItsFirstIdatChunks) {
@@ -135,22 +140,12 @@ TEST(DesignPicture, APngsImageDataEndsWholeInItsFirstIdatChunks) {
     EXPECT_EQ(refused(folder.write("sound.png", bytes)), "accepted");
     EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
   }
-  struct Case {
-    const char* name;
-    std::string bytes, reason;
-  };
-  for (const Case& c :
-       {Case{"checksumless.png", with(png_chunk("IDAT", z.substr(0, z.size() - 4))), "zlib stream is cut short after its rows"},
-        Case{"half-checksum.png", with(png_chunk("IDAT", z.substr(0, z.size() - 2))), "zlib stream is cut short after its rows"},
-        Case{"parted.png", with(png_chunk("IDAT", z.substr(0, 20)) + text + png_chunk("IDAT", z.substr(20))),
-             "its image data ends after 13 of the 30 bytes"}}) {
-    ::testing::internal::CaptureStderr();
-    const std::string why = refused(folder.write(c.name, c.bytes));
-    const std::string said = ::testing::internal::GetCapturedStderr();
-    EXPECT_NE(why.find(std::string(c.name) + ": the picture is damaged or cut short ("), std::string::npos) << why;
-    EXPECT_NE(why.find(c.reason), std::string::npos) << why;
-    EXPECT_EQ(said, "") << c.name;
-  }
+  expect_refused_alone(folder, {
+      Damaged{"checksumless.png", with(png_chunk("IDAT", z.substr(0, z.size() - 4))), "zlib stream is cut short after its rows"},
+      Damaged{"half-checksum.png", with(png_chunk("IDAT", z.substr(0, z.size() - 2))), "zlib stream is cut short after its rows"},
+      Damaged{"parted.png", with(png_chunk("IDAT", z.substr(0, 20)) + text + png_chunk("IDAT", z.substr(20))),
+              "its image data ends after 13 of the 30 bytes"},
+  });
 }
 
 TEST(DesignPicture, APngsImageDataIsInflatedWithTheWindowItsHeaderGives) {
