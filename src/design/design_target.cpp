@@ -156,8 +156,8 @@ std::uint32_t check_png_chunks(const std::filesystem::path& file, const std::str
   in.seekg(0);
   if (in.read(reinterpret_cast<char*>(head), sizeof head) && std::memcmp(head, "\x89PNG\r\n\x1a\n", 8) == 0 &&
       std::memcmp(head + 12, "IHDR", 4) == 0) {
-    const auto be = [&](int at) { return std::uint32_t{head[at]} << 24 | head[at + 1] << 16 | head[at + 2] << 8 | head[at + 3]; };
-    if (too_large(be(16), be(20))) throw TargetError(size_error(name, be(16), be(20)));
+    if (too_large(png_be32(head + 16), png_be32(head + 20)))
+      throw TargetError(size_error(name, png_be32(head + 16), png_be32(head + 20)));
   }
   return frames;
 }

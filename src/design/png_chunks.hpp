@@ -35,6 +35,11 @@ inline std::uint32_t png_crc(std::uint32_t crc, const unsigned char* bytes, std:
   return crc;
 }
 
+/// The big-endian 32-bit number at `p`: a PNG's lengths, sizes and checksums.
+inline std::uint32_t png_be32(const unsigned char* p) {
+  return std::uint32_t{p[0]} << 24 | std::uint32_t{p[1]} << 16 | std::uint32_t{p[2]} << 8 | p[3];
+}
+
 /// A PNG's image data as its header lays it out, checked as it is
 /// inflated: each row's filter byte (0 to 4), and that the zlib stream is
 /// whole and holds every row. Rows of each interlace pass in turn (Adam7),
@@ -45,7 +50,7 @@ class PngRows {
   /// not a header libpng would take, or the rows would exceed `max_bytes`
   /// (a header beyond the designer's sizes, refused from its size later).
   PngRows(const unsigned char* ihdr, std::uint64_t max_bytes) {
-    const auto be = [&](int at) { return std::uint32_t{ihdr[at]} << 24 | ihdr[at + 1] << 16 | ihdr[at + 2] << 8 | ihdr[at + 3]; };
+    const auto be = [&](int at) { return png_be32(ihdr + at); };
     const std::uint64_t w = be(0), h = be(4);
     const int depth = ihdr[8], type = ihdr[9], interlace = ihdr[12];
     const int samples = type == 0 || type == 3 ? 1 : type == 2 ? 3 : type == 4 ? 2 : type == 6 ? 4 : 0;
@@ -153,7 +158,7 @@ class PngRows {
 /// Why a PNG's IHDR chunk (its 13 bytes) is not one the PNG spec defines
 /// (section 11.2.2), or "": sizes, bit depth for the colour type, methods.
 inline std::string png_header_fault(const unsigned char* ihdr) {
-  const auto be = [&](int at) { return std::uint32_t{ihdr[at]} << 24 | ihdr[at + 1] << 16 | ihdr[at + 2] << 8 | ihdr[at + 3]; };
+  const auto be = [&](int at) { return png_be32(ihdr + at); };
   const int depth = ihdr[8], type = ihdr[9];
   if (be(0) == 0 || be(4) == 0 || be(0) > 0x7fffffffu || be(4) > 0x7fffffffu)
     return "its header gives a size of " + std::to_string(be(0)) + "x" + std::to_string(be(4)) + ", which PNG does not allow";
@@ -188,7 +193,7 @@ inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr,
   for (std::uint64_t at = 8, chunks = 0;; ++chunks) {
     if (!in.read(reinterpret_cast<char*>(head), 8))
       return "cut short: it ends at byte " + std::to_string(at) + ", before its IEND chunk";
-    const std::uint32_t length = std::uint32_t{head[0]} << 24 | head[1] << 16 | head[2] << 8 | head[3];
+    const std::uint32_t length = png_be32(head);
     const std::string type(reinterpret_cast<const char*>(head + 4), 4);
     for (const char c : type)
       if (!((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z')))
@@ -212,13 +217,13 @@ inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr,
         for (std::uint32_t k = 0; k < n && inflated.empty(); k += PngRows::kInputPiece)
           inflated = rows->feed(data.data() + k, std::min<std::size_t>(PngRows::kInputPiece, n - k));
       if (type == "acTL" && left == length && n >= 4 && frames)
-        *frames = std::uint32_t{data[0]} << 24 | data[1] << 16 | data[2] << 8 | data[3];
+        *frames = png_be32(data.data());
       left -= n;
     }
     unsigned char stored[4] = {};
     if (!in.read(reinterpret_cast<char*>(stored), 4))
       return "cut short: the " + type + " chunk at byte " + std::to_string(at) + " runs past the end of the file";
-    const std::uint32_t expected = std::uint32_t{stored[0]} << 24 | stored[1] << 16 | stored[2] << 8 | stored[3];
+    const std::uint32_t expected = png_be32(stored);
     if ((crc ^ 0xffffffffu) != expected)
       return "the " + type + " chunk at byte " + std::to_string(at) + " fails its checksum";
     if (type == "IHDR" && length != 13) return "its IHDR chunk holds " + std::to_string(length) + " bytes, not 13";
