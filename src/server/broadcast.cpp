@@ -39,10 +39,15 @@ nlohmann::json create_request(const Mountpoint& m, const std::string& session_id
           {"media", {video, data}}};
 }
 
+// The streaming plugin's destroy request: the mountpoint's id and secret.
+nlohmann::json destroy_request(const Mountpoint& m) {
+  return {{"request", "destroy"}, {"id", m.id}, {"secret", m.secret}};
+}
+
 void destroy(ServerState& s, const Mountpoint& m) {
   if (!s.janus) return;
   const std::uint64_t id = m.id;
-  s.janus->plugin_request({{"request", "destroy"}, {"id", m.id}, {"secret", m.secret}},
+  s.janus->plugin_request(destroy_request(m),
                           [id](const JanusAdmin::Answer& a) {
                             if (!a.error.empty() && a.error_code != 455)
                               log(Level::warning, "mountpoint " + std::to_string(id) + " not destroyed: " + a.error);
@@ -69,7 +74,7 @@ void check_strays(ServerState& s) {
     if (stray.asking) continue;
     stray.asking = true;
     const std::uint64_t id = mid;
-    s.janus->plugin_request({{"request", "destroy"}, {"id", id}, {"secret", stray.m.secret}},
+    s.janus->plugin_request(destroy_request(stray.m),
                             [state, id](const JanusAdmin::Answer& a) {
                               const auto it = state->strays.find(id);
                               if (it == state->strays.end()) return;
@@ -269,23 +274,18 @@ void end_all_broadcasts(ServerState& s) {
   if (!s.janus) return;
   // Asked side by side: a Janus that does not answer holds the stop for one
   // timeout, not one per mountpoint.
-  std::vector<std::string> sessions;
+  std::vector<std::string> sessions;  // "" for those of no session
   std::vector<nlohmann::json> requests;
-  for (const auto& [id, m] : s.mountpoints) {
-    sessions.push_back(id);
-    requests.push_back({{"request", "destroy"}, {"id", m.id}, {"secret", m.secret}});
-  }
+  const auto add = [&](const std::string& session, const Mountpoint& m) {
+    sessions.push_back(session);
+    requests.push_back(destroy_request(m));
+  };
+  for (const auto& [id, m] : s.mountpoints) add(id, m);
   // Strays, and creates still waiting for their answer: sent after the
   // create, the destroy comes after it to a Janus that answers (one that is
   // frozen may take them in either order when it wakes).
-  for (const auto& [mid, stray] : s.strays) {
-    sessions.emplace_back();
-    requests.push_back({{"request", "destroy"}, {"id", mid}, {"secret", stray.m.secret}});
-  }
-  for (const auto& [mid, m] : s.creating) {
-    sessions.emplace_back();
-    requests.push_back({{"request", "destroy"}, {"id", mid}, {"secret", m.secret}});
-  }
+  for (const auto& [mid, stray] : s.strays) add("", stray.m);
+  for (const auto& [mid, m] : s.creating) add("", m);
   const auto answers = s.janus->plugin_requests_now(std::move(requests));
   for (std::size_t i = 0; i < answers.size(); ++i)
     if (const auto& a = answers[i]; !a.error.empty() && a.error_code != 455 && !sessions[i].empty())
