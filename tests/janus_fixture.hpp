@@ -8,6 +8,7 @@
 #include "helper_processes.hpp"
 #include "raw_http.hpp"
 #include "server_process.hpp"
+#include "websocket_listener.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,6 +23,7 @@ namespace caustic::testing::janus_fixture {
 using caustic::testing::bearer_token;
 using caustic::testing::http;
 using caustic::testing::ServerProcess;
+using caustic::testing::WebSocketListener;
 using nlohmann::json;
 namespace fs = std::filesystem;
 namespace ct = caustic::testing;
@@ -37,46 +39,25 @@ inline std::string broadcast_request() {
 // follow an "ack" included), synchronously on the thread-default loop.
 class JanusClient {
  public:
-  explicit JanusClient(const std::string& url) {
-    SoupMessage* msg = soup_message_new("GET", url.c_str());
-    const char* protocols[] = {"janus-protocol", nullptr};
-    soup_session_websocket_connect_async(
-        http_, msg, nullptr, const_cast<char**>(protocols), G_PRIORITY_DEFAULT, nullptr,
-        [](GObject* source, GAsyncResult* result, gpointer data) {
-          auto* self = static_cast<JanusClient*>(data);
-          self->socket_ = soup_session_websocket_connect_finish(SOUP_SESSION(source), result, nullptr);
-          if (!self->socket_) return;
-          g_signal_connect(self->socket_, "message", G_CALLBACK(+[](SoupWebsocketConnection*, gint, GBytes* b, gpointer me) {
-                             gsize size = 0;
-                             const auto* text = static_cast<const char*>(g_bytes_get_data(b, &size));
-                             static_cast<JanusClient*>(me)->inbox_.push_back(json::parse(text, text + size, nullptr, false));
-                           }),
-                           self);
-        },
-        this);
-    g_object_unref(msg);
-    spin([&] { return socket_ != nullptr; }, 5000);
-  }
-  ~JanusClient() {
-    if (socket_) g_object_unref(socket_);
-    g_object_unref(http_);
-  }
-  bool connected() const { return socket_ != nullptr; }
+  explicit JanusClient(const std::string& url) : ws_(url, "janus-protocol") {}
+  bool connected() const { return ws_.socket != nullptr; }
 
   // Sends `m` and returns the first answer for its transaction that is not an ack.
   json call(json m, int ms = 10000) {
     const std::string t = std::to_string(++transaction_);
     m["transaction"] = t;
-    soup_websocket_connection_send_text(socket_, m.dump().c_str());
+    soup_websocket_connection_send_text(ws_.socket, m.dump().c_str());
     json found;
-    spin(
+    ws_.spin(
         [&] {
-          for (auto it = inbox_.begin(); it != inbox_.end(); ++it)
-            if (it->value("transaction", "") == t && it->value("janus", "") != "ack") {
-              found = *it;
-              inbox_.erase(it);
+          for (auto it = ws_.messages.begin(); it != ws_.messages.end(); ++it) {
+            const json answer = json::parse(*it, nullptr, false);
+            if (answer.is_object() && answer.value("transaction", "") == t && answer.value("janus", "") != "ack") {
+              found = answer;
+              ws_.messages.erase(it);
               return true;
             }
+          }
           return false;
         },
         ms);
@@ -84,17 +65,7 @@ class JanusClient {
   }
 
  private:
-  bool spin(const std::function<bool()>& done, int ms) {
-    for (int waited = 0; waited < ms && !done(); waited += 5) {
-      while (g_main_context_iteration(nullptr, FALSE)) {
-      }
-      g_usleep(5000);
-    }
-    return done();
-  }
-  SoupSession* http_ = soup_session_new();
-  SoupWebsocketConnection* socket_ = nullptr;
-  std::vector<json> inbox_;
+  WebSocketListener ws_;
   int transaction_ = 0;
 };
 

@@ -5,10 +5,10 @@
 // service_reload_test.cpp; what check-config and serve refuse:
 // serve_cli_test.cpp). Every wait is bounded; traffic stays on 127.0.0.1.
 #include "service_support.hpp"
+#include "websocket_listener.hpp"
 
 #include <chrono>
 #include <filesystem>
-#include <functional>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -43,49 +43,7 @@ TEST(Service, ReadyOnlyOnceListeningThenWatchdogPings) {
 }
 
 // A viewer's signalling socket that only listens.
-struct Listener {
-  SoupSession* http = soup_session_new();
-  SoupWebsocketConnection* socket = nullptr;
-  std::vector<std::string> messages;
-
-  explicit Listener(const std::string& ws_url) {
-    SoupMessage* msg = soup_message_new("GET", ws_url.c_str());
-    soup_session_websocket_connect_async(
-        http, msg, nullptr, nullptr, G_PRIORITY_DEFAULT, nullptr,
-        [](GObject* source, GAsyncResult* result, gpointer data) {
-          auto* self = static_cast<Listener*>(data);
-          self->socket = soup_session_websocket_connect_finish(SOUP_SESSION(source), result, nullptr);
-          if (!self->socket) return;
-          g_signal_connect(self->socket, "message",
-                           G_CALLBACK(+[](SoupWebsocketConnection*, gint, GBytes* bytes, gpointer me) {
-                             gsize size = 0;
-                             const auto* text = static_cast<const char*>(g_bytes_get_data(bytes, &size));
-                             static_cast<Listener*>(me)->messages.emplace_back(text, size);
-                           }),
-                           self);
-        },
-        this);
-    g_object_unref(msg);
-    spin([&] { return socket != nullptr; }, 5000);
-  }
-  ~Listener() {
-    if (socket) g_object_unref(socket);
-    g_object_unref(http);
-  }
-  bool spin(const std::function<bool()>& done, int ms) {
-    for (int waited = 0; waited < ms && !done(); waited += 10) {
-      while (g_main_context_iteration(nullptr, FALSE)) {
-      }
-      g_usleep(10000);
-    }
-    return done();
-  }
-  bool heard(const std::string& what) const {
-    for (const auto& m : messages)
-      if (m.find(what) != std::string::npos) return true;
-    return false;
-  }
-};
+using Listener = caustic::testing::WebSocketListener;
 
 TEST(Service, WithoutDrainSigtermClosesOpenSessionsAndExitsZeroWithoutWaitingForThem) {
   NotifySocket notify(fs::temp_directory_path() / "causticd_notify_term.sock");
