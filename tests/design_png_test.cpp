@@ -41,16 +41,33 @@ void expect_refused_alone(const Folder& folder, const std::vector<Damaged>& case
 
 }  // namespace
 
-TEST(DesignPicture, AReadersErrorIsSaidOnOneLine) {
-  // A palette picture without its palette: whole, its rows whole, and only
-  // libpng finds it wrong (and still says so on stderr itself); its words
-  // come in the message on one line.
+TEST(DesignPicture, APngsPaletteIsCheckedBeforeItsReader) {
+  // A palette picture without its palette was libpng's fatal "missing
+  // PLTE", on stderr beside the refusal; a palette of the wrong size or a
+  // second one its errors, printed as well.
   Folder folder;
-  const std::string rows(16 * 17, '\0');  // 16 rows: filter 0, 16 indices
-  const std::string why = refused(folder.write("paletteless.png", png_file(16, 16, 8, 3, 0, rows)));
-  EXPECT_NE(why.find("cannot read the picture (PNG read error: "), std::string::npos) << why;
-  EXPECT_EQ(why.find('\n'), std::string::npos) << why;
-  EXPECT_EQ(why.back(), ')') << why;
+  const std::string rows(4 * 5, '\0');  // 4 rows: filter 0, 4 indices 0
+  const std::string two_colours = png_chunk("PLTE", std::string("\xff\x00\x00\x00\x00\xff", 6));
+  const std::string bad_size = png_chunk("PLTE", std::string("\xff\x00\x00\x00", 4));
+  const auto palette = [&](const std::string& before_idat) { return png_file(4, 4, 8, 3, 0, rows, before_idat); };
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(refused(folder.write("palette.png", palette(two_colours))), "accepted");
+  // A suggested palette in an RGB picture is PNG's (its 8-bit rows: 4 x 3 bytes).
+  const std::string rgb_rows(4 * 13, '\0');
+  EXPECT_EQ(refused(folder.write("suggested.png", png_file(4, 4, 8, 2, 0, rgb_rows, two_colours))), "accepted");
+  // A palette where PNG has none (a grey picture's, or an RGB picture's
+  // after its image data) libpng ignores without a word: read as it is.
+  const std::string grey_rows(4 * 5, '\0'), rgb = png_file(4, 4, 8, 2, 0, rgb_rows);
+  EXPECT_EQ(refused(folder.write("grey.png", png_file(4, 4, 8, 0, 0, grey_rows, two_colours))), "accepted");
+  const std::size_t iend = rgb.size() - 12;
+  EXPECT_EQ(refused(folder.write("late.png", rgb.substr(0, iend) + two_colours + rgb.substr(iend))), "accepted");
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  expect_refused_alone(folder, {
+      Damaged{"paletteless.png", palette(""), "palette picture without its palette: no PLTE chunk before its image data at byte 33"},
+      Damaged{"odd-palette.png", palette(bad_size), "its PLTE chunk at byte 33 holds 4 bytes, not 1 to 256 colours of 3"},
+      Damaged{"empty-palette.png", palette(png_chunk("PLTE", "")), "holds 0 bytes, not 1 to 256 colours of 3"},
+      Damaged{"two-palettes.png", palette(two_colours + two_colours), "it holds a second PLTE chunk at byte 51"},
+  });
 }
 
 TEST(DesignPicture, APngsImageDataIsCheckedBeforeItsReader) {

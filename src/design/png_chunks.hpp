@@ -190,6 +190,11 @@ inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr,
   // libpng reads the image data from the first IDAT chunks in a row alone:
   // its stream must end there, and a later IDAT is only its warning.
   bool idat_seen = false, idat_over = false;
+  // libpng's fatal "missing PLTE", "invalid" and "duplicate" (PNG 11.2.3).
+  // A palette in a grey picture, or after an RGB picture's image data,
+  // libpng ignores without a word, and so does this.
+  int colour_type = -1;
+  bool palette_seen = false;
   for (std::uint64_t at = 8, chunks = 0;; ++chunks) {
     if (!in.read(reinterpret_cast<char*>(head), 8))
       return "cut short: it ends at byte " + std::to_string(at) + ", before its IEND chunk";
@@ -209,6 +214,7 @@ inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr,
       crc = png_crc(crc, data.data(), n);
       if (type == "IHDR" && chunks == 0 && left == length && n >= 13) {
         header = png_header_fault(data.data());
+        colour_type = data[9];
         rows = std::make_unique<PngRows>(data.data(), max_row_bytes);
       }
       // Said once the checksum is right: a damaged byte is the first cause.
@@ -231,6 +237,15 @@ inline std::string png_damage(std::istream& in, std::uint32_t* frames = nullptr,
     if (type == "IHDR" && chunks > 0) return "it holds a second IHDR chunk at byte " + std::to_string(at);
     if (!header.empty()) return header;
     if (!inflated.empty()) return inflated;
+    const std::string where = " at byte " + std::to_string(at);
+    if (type == "PLTE") {
+      if (palette_seen) return "it holds a second PLTE chunk" + where;
+      if (length == 0 || length % 3 != 0 || length > 3 * 256)
+        return "its PLTE chunk" + where + " holds " + std::to_string(length) + " bytes, not 1 to 256 colours of 3";
+      palette_seen = true;
+    }
+    if (type == "IDAT" && colour_type == 3 && !palette_seen)
+      return "it is a palette picture without its palette: no PLTE chunk before its image data" + where;
     if (type == "IDAT") {
       idat_seen = true;
     } else if (idat_seen && !idat_over) {
