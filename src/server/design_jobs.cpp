@@ -17,14 +17,12 @@
 #include <cstring>
 #include <fstream>
 #include <mutex>
-#include <sstream>
 
 #include <sys/resource.h>
 #include <unistd.h>
 
 namespace caustic::server {
 namespace fs = std::filesystem;
-
 
 namespace {
 
@@ -50,7 +48,6 @@ DesignJobs::DesignJobs(DesignSettings settings, DesignBackend backend)
   expire_locked(unix_now());
   for (int i = 0; i < std::max(1, settings_.workers); ++i) workers_.emplace_back([this] { work(); });
 }
-
 
 DesignJobs::~DesignJobs() {
   {
