@@ -19,6 +19,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <unistd.h>
@@ -177,6 +178,54 @@ TEST(DesignPicture, ATiledPictureReadsAsItsPixels) {
     for (std::size_t i = 0; i < pixels.size(); ++i)
       if (std::abs(read.pixels[i] - pixels[i]) > 1e-6f && wrong++ == 0) first = i;
     EXPECT_EQ(wrong, 0u) << name << ": first at pixel " << first / 3 % w << ", row " << first / 3 / w;
+  }
+}
+
+TEST(DesignPicture, ATileLargerThanThePictureAndTheBoundIsRefusedBeforeItIsDecoded) {
+  // A 256 x 256 TIFF in 16-pixel tiles, its tile sizes then raised in its
+  // header: decoded, one tile of 32752 a side held 16 GB before libtiff
+  // found no data behind it (8192 here: 1 GB should the check fail).
+  Folder folder;
+  const auto tiled = folder.path / "tiled.tif";
+  {
+    std::vector<unsigned char> pixels(256 * 256 * 3);
+    for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<unsigned char>((i * 7) % 251);
+    auto out = OIIO::ImageOutput::create(tiled.string());
+    OIIO::ImageSpec spec(256, 256, 3, OIIO::TypeDesc::UINT8);
+    spec.tile_width = spec.tile_height = 16;
+    ASSERT_TRUE(out && out->open(tiled.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+    out->close();
+  }
+  EXPECT_EQ(refused(tiled), "accepted");
+  std::ifstream in(tiled, std::ios::binary);
+  std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  // The first IFD's TileWidth (322) and TileLength (323), little-endian
+  // SHORT or LONG values in their entries.
+  ASSERT_EQ(bytes.substr(0, 2), "II");
+  const auto u16 = [&](std::size_t at) { return static_cast<unsigned char>(bytes[at]) | static_cast<unsigned char>(bytes[at + 1]) << 8; };
+  const std::size_t ifd = u16(4) | static_cast<std::size_t>(u16(6)) << 16;
+  int patched = 0;
+  for (int k = 0; k < u16(ifd); ++k) {
+    const std::size_t entry = ifd + 2 + 12 * static_cast<std::size_t>(k);
+    if (u16(entry) != 322 && u16(entry) != 323) continue;
+    bytes[entry + 8] = static_cast<char>(8192 & 0xff), bytes[entry + 9] = static_cast<char>(8192 >> 8);
+    if (u16(entry + 2) == 4) bytes[entry + 10] = bytes[entry + 11] = 0;  // LONG
+    ++patched;
+  }
+  ASSERT_EQ(patched, 2);
+  const std::string why = refused(folder.write("huge-tiles.tif", bytes));
+  EXPECT_NE(why.find("huge-tiles.tif: its tiles of 8192x8192 pixels are larger than the picture and than 4096 a side"),
+            std::string::npos) << why;
+  // A tile the size of the picture, or a usual one over a small picture, is read.
+  for (const auto& [w, h, tile] : {std::tuple{600, 40, 608}, {40, 30, 256}}) {
+    const auto file = folder.path / ("t" + std::to_string(tile) + ".tif");
+    std::vector<unsigned char> pixels(static_cast<std::size_t>(w) * h * 3, 200);
+    auto out = OIIO::ImageOutput::create(file.string());
+    OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+    spec.tile_width = tile, spec.tile_height = 16 * ((h + 15) / 16);
+    ASSERT_TRUE(out && out->open(file.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+    out->close();
+    EXPECT_EQ(refused(file), "accepted") << tile;
   }
 }
 

@@ -27,6 +27,9 @@ using Image = HdrImage;
 /// above any useful design resolution.
 inline constexpr int kMaxTargetSide = 16384;
 inline constexpr long long kMaxTargetPixels = 1LL << 26;
+/// Largest tile side accepted beyond the picture's own size: a tile is
+/// decoded whole wherever the picture ends, and writers tile at 64 to 512.
+inline constexpr int kMaxTargetTile = 4096;
 /// Smallest side accepted: the design takes the picture's centre square,
 /// and a picture a pixel wide left one pixel of it (refused as black).
 inline constexpr int kMinTargetSide = 2;
