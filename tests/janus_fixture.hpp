@@ -2,7 +2,8 @@
 // The Broadcast fixture: a real Janus from the shipped configuration (its
 // ports and secrets filled in) and causticd pointed at it, on loopback;
 // a Janus WebSocket client; the admin API as the tests read it. Shared by
-// janus_test.cpp and janus_frozen_test.cpp (Janus frozen with SIGSTOP).
+// janus_test.cpp, janus_frozen_test.cpp (Janus frozen with SIGSTOP) and
+// janus_leftover_test.cpp (causticd killed).
 #pragma once
 
 #include "helper_processes.hpp"
@@ -81,12 +82,11 @@ class Broadcast : public ::testing::Test {
     // Janus's files and causticd's environment (the units' EnvironmentFile=).
     std::string output;
     ASSERT_EQ(ct::run_command(std::string(CAUSTIC_JANUS_DIR "/setup-broadcast ") + dir_.string(), &output), 0) << output;
-    std::vector<std::pair<std::string, std::string>> environment;
     std::istringstream env(ct::read_file(dir_ / "broadcast.env"));
     for (std::string line; std::getline(env, line);)
       if (const auto eq = line.find('='); line.rfind("CAUSTICD_", 0) == 0 && eq != std::string::npos)
-        environment.emplace_back(line.substr(0, eq), line.substr(eq + 1));
-    for (const auto& [key, value] : environment)
+        environment_.emplace_back(line.substr(0, eq), line.substr(eq + 1));
+    for (const auto& [key, value] : environment_)
       (key == "CAUSTICD_JANUS_ADMIN_SECRET" ? admin_secret_ : key == "CAUSTICD_JANUS_STREAMING_KEY" ? streaming_key_ : token_secret_) =
           value;
     ASSERT_EQ(admin_secret_.size(), 32u);
@@ -111,12 +111,19 @@ class Broadcast : public ::testing::Test {
       if (!ours) janus_.stop();
     }
     ASSERT_TRUE(ours) << "Janus did not answer on the ports picked for it (three tries)";
-    server_ = std::make_unique<ServerProcess>(
-        std::vector<std::string>{"--width", "320", "--height", "240", "--set",
-                                 "janus_admin_url=http://127.0.0.1:" + std::to_string(admin_port_) + "/admin", "--set",
-                                 "janus_ws_url=" + ws_url(), "--set", "viewer_link_ttl_s=60", "--set", "drain_timeout_s=0"},
-        environment);
+    server_ = start_server();
     ASSERT_FALSE(server_->url().empty());
+  }
+  // causticd pointed at this Janus; `extra` arguments added, its log
+  // appended to `log` when named.
+  std::unique_ptr<ServerProcess> start_server(const std::vector<std::string>& extra = {}, const fs::path& log = {}) {
+    std::vector<std::string> args{"--width", "320", "--height", "240", "--set",
+                                  "janus_admin_url=http://127.0.0.1:" + std::to_string(admin_port_) + "/admin", "--set",
+                                  "janus_ws_url=" + ws_url(), "--set", "viewer_link_ttl_s=60", "--set", "drain_timeout_s=0"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    std::vector<std::string> wrapper;
+    if (!log.empty()) wrapper = {"sh", "-c", "exec \"$@\" 2>>" + log.string(), "sh"};
+    return std::make_unique<ServerProcess>(args, environment_, CAUSTICD_BINARY, wrapper);
   }
   void TearDown() override {
     server_.reset();
@@ -188,6 +195,7 @@ class Broadcast : public ::testing::Test {
   }
 
   fs::path dir_, janus_dir_;
+  std::vector<std::pair<std::string, std::string>> environment_;  // broadcast.env's secrets
   std::string admin_secret_, streaming_key_, token_secret_;
   int admin_port_ = 0, ws_port_ = 0;
   ct::ChildProcess janus_;

@@ -6,6 +6,7 @@
 #include "http_util.hpp"
 #include "janus_admin.hpp"
 #include "log.hpp"
+#include "mountpoint_ledger.hpp"
 #include "server_state.hpp"
 
 #include <glib.h>
@@ -44,56 +45,70 @@ nlohmann::json destroy_request(const Mountpoint& m) {
   return {{"request", "destroy"}, {"id", m.id}, {"secret", m.secret}};
 }
 
-void destroy(ServerState& s, const Mountpoint& m) {
-  if (!s.janus) return;
-  const std::uint64_t id = m.id;
-  s.janus->plugin_request(destroy_request(m),
-                          [id](const JanusAdmin::Answer& a) {
-                            if (!a.error.empty() && a.error_code != 455)
-                              log(Level::warning, "mountpoint " + std::to_string(id) + " not destroyed: " + a.error);
-                          });
-}
-
-// Strays beyond this many are forgotten (each costs a request every check,
-// and one at stop): a Janus that never answers takes no more of the server.
+// Strays beyond the server's sessions and this many more are forgotten
+// (each costs a request every check, and one at stop): a Janus that never
+// answers takes no more of the server.
 constexpr std::size_t max_strays = 64;
 constexpr int stray_checks = 30;  // a minute of checks 2 s apart
 
-void keep_stray(ServerState& s, const Mountpoint& m) {
-  if (s.strays.size() >= max_strays) {
+std::size_t stray_limit(const ServerState& s) { return max_strays + static_cast<std::size_t>(s.config.max_sessions); }
+
+StrayMountpoint& keep_stray(ServerState& s, const Mountpoint& m, StrayMountpoint::Origin origin) {
+  if (s.strays.size() >= stray_limit(s) && !s.strays.count(m.id)) {
     log(Level::warning, "mountpoint " + std::to_string(s.strays.begin()->first) +
-                            " is no longer asked after: too many creates went unanswered");
+                            " is no longer asked after: too many destroys went unanswered");
     s.strays.erase(s.strays.begin());
   }
-  s.strays[m.id] = StrayMountpoint{m};
+  return s.strays[m.id] = StrayMountpoint{m, origin};
+}
+
+// Asks Janus to destroy the stray; it goes from the list once Janus has,
+// or says it has none (twice, unless it surely made it), or after a minute.
+void ask_destroy(ServerState& s, StrayMountpoint& stray) {
+  stray.asking = true;
+  ServerState* state = &s;
+  const std::uint64_t id = stray.m.id;
+  s.janus->plugin_request(destroy_request(stray.m), [state, id](const JanusAdmin::Answer& a) {
+    const auto it = state->strays.find(id);
+    if (it == state->strays.end()) return;
+    StrayMountpoint& stray = it->second;
+    using Origin = StrayMountpoint::Origin;
+    stray.asking = false;
+    ++stray.asked;
+    const std::string name = "mountpoint " + std::to_string(id);
+    if (a.error.empty()) {
+      if (stray.origin == Origin::unanswered)
+        log(Level::notice, name + ", made by Janus after the server gave up on it, is destroyed");
+      else if (stray.origin == Origin::leftover)
+        log(Level::notice, name + ", left in Janus by an earlier run of the server, is destroyed");
+    } else if (a.error_code == 455 && (stray.origin == Origin::ended || ++stray.absent >= 2)) {
+      // Janus answers and has none: gone, or never made.
+    } else if (stray.asked < stray_checks) {
+      if (stray.origin == Origin::ended && stray.asked == 1) log(Level::warning, name + " not destroyed: " + a.error);
+      return;  // asked again at the next check
+    } else {
+      log(Level::warning, name + " may remain in Janus: its destroy is not answered: " + a.error);
+    }
+    state->strays.erase(it);
+    record_mountpoints(*state);
+  });
+}
+
+// Listed until Janus answers its destroy: a server killed meanwhile
+// destroys it at its next start.
+void destroy(ServerState& s, const Mountpoint& m) {
+  if (!s.janus) return;
+  ask_destroy(s, keep_stray(s, m, StrayMountpoint::Origin::ended));
+  record_mountpoints(s);
 }
 
 void check_strays(ServerState& s) {
-  ServerState* state = &s;
-  for (auto& [mid, stray] : s.strays) {
-    if (stray.asking) continue;
-    stray.asking = true;
-    const std::uint64_t id = mid;
-    s.janus->plugin_request(destroy_request(stray.m),
-                            [state, id](const JanusAdmin::Answer& a) {
-                              const auto it = state->strays.find(id);
-                              if (it == state->strays.end()) return;
-                              StrayMountpoint& stray = it->second;
-                              stray.asking = false;
-                              ++stray.asked;
-                              if (a.error.empty()) {
-                                log(Level::notice, "mountpoint " + std::to_string(id) +
-                                                       ", made by Janus after the server gave up on it, is destroyed");
-                                state->strays.erase(it);
-                              } else if (a.error_code == 455 && ++stray.absent >= 2) {
-                                state->strays.erase(it);  // Janus answers and has none: never made
-                              } else if (stray.asked >= stray_checks) {
-                                log(Level::warning, "mountpoint " + std::to_string(id) +
-                                                        " may remain in Janus: its destroy is not answered: " + a.error);
-                                state->strays.erase(it);
-                              }
-                            });
-  }
+  // Ids first: an answer given at once (a bad URL) may end a stray.
+  std::vector<std::uint64_t> ids;
+  for (const auto& [mid, stray] : s.strays)
+    if (!stray.asking) ids.push_back(mid);
+  for (const std::uint64_t id : ids)
+    if (const auto it = s.strays.find(id); it != s.strays.end()) ask_destroy(s, it->second);
 }
 
 // A paused request, answered once Janus has. Holds the message; a client
@@ -181,14 +196,20 @@ void create_broadcast(ServerState& s, SoupServerMessage* msg, std::shared_ptr<co
   const std::string group = address_group(address);
   ++s.starting[group];  // until the answer (the callback runs once, whatever Janus does)
   s.creating[m.id] = m;  // a stop before the answer destroys it too
+  record_mountpoints(s);  // and so does the next start, after a kill
   s.janus->plugin_request(create_request(m, id, codec, s.config), [=](const JanusAdmin::Answer& a) mutable {
     ServerState& st = *state;
     st.creating.erase(m.id);
+    // However it ends (running, a stray, destroyed, never made), listed so.
+    struct Listed {
+      ServerState& s;
+      ~Listed() { record_mountpoints(s); }
+    } listed{st};
     if (const auto it = st.starting.find(group); it != st.starting.end() && --it->second <= 0) st.starting.erase(it);
     SoupServerMessage* out = pending->msg;
     if (!a.error.empty()) {
       log(Level::error, "broadcast: Janus did not create the mountpoint: " + a.error, {id, entry->id, codec, address});
-      if (a.unanswered) keep_stray(st, m);
+      if (a.unanswered) keep_stray(st, m, StrayMountpoint::Origin::unanswered);
       return reply_problem(out, st.metrics, SOUP_STATUS_BAD_GATEWAY, "the broadcast server did not take the stream");
     }
     if (!read_ports(a.response, m)) {
@@ -276,9 +297,11 @@ void end_all_broadcasts(ServerState& s) {
   // timeout, not one per mountpoint.
   std::vector<std::string> sessions;  // "" for those of no session
   std::vector<nlohmann::json> requests;
+  std::vector<Mountpoint> asked;
   const auto add = [&](const std::string& session, const Mountpoint& m) {
     sessions.push_back(session);
     requests.push_back(destroy_request(m));
+    asked.push_back(m);
   };
   for (const auto& [id, m] : s.mountpoints) add(id, m);
   // Strays, and creates still waiting for their answer: sent after the
@@ -287,16 +310,43 @@ void end_all_broadcasts(ServerState& s) {
   for (const auto& [mid, stray] : s.strays) add("", stray.m);
   for (const auto& [mid, m] : s.creating) add("", m);
   const auto answers = s.janus->plugin_requests_now(std::move(requests));
-  for (std::size_t i = 0; i < answers.size(); ++i)
-    if (const auto& a = answers[i]; !a.error.empty() && a.error_code != 455 && !sessions[i].empty())
-      log(Level::warning, "broadcast " + sessions[i] + ": mountpoint not destroyed: " + a.error);
   s.mountpoints.clear();
   s.strays.clear();
   s.creating.clear();
+  // Those Janus did not say are gone stay listed, for the next start.
+  for (std::size_t i = 0; i < answers.size(); ++i) {
+    const auto& a = answers[i];
+    if (a.error.empty() || a.error_code == 455) continue;
+    if (!sessions[i].empty()) log(Level::warning, "broadcast " + sessions[i] + ": mountpoint not destroyed: " + a.error);
+    s.strays[asked[i].id] = StrayMountpoint{asked[i], StrayMountpoint::Origin::leftover};
+  }
+  record_mountpoints(s);
+  s.strays.clear();
   // Nothing more is asked of Janus, and an answer still on its way (a
   // create's, while the server stops) is dropped: it would start a session
   // in a server being taken down.
   s.janus.reset();
+}
+
+void destroy_leftover_mountpoints(ServerState& s) {
+  if (!s.janus) return;
+  const auto file = ledger_file(state_folder(s.config));
+  std::string problem;
+  // At most what a run lists: its sessions' mountpoints and its strays.
+  const std::size_t most = static_cast<std::size_t>(s.config.max_sessions) + stray_limit(s);
+  const MountpointLedger leftovers = read_ledger(file, most, &problem);
+  if (!problem.empty())
+    log(Level::warning, "broadcasts: " + file.string() + ": " + problem + (leftovers.empty() ? "; it is ignored" : ""));
+  for (const auto& [id, secret] : leftovers) {
+    Mountpoint m;
+    m.id = id;
+    m.secret = secret;
+    s.strays[id] = StrayMountpoint{m, StrayMountpoint::Origin::leftover};
+  }
+  if (!leftovers.empty())
+    log(Level::notice, "broadcasts: destroying " + std::to_string(leftovers.size()) + " mountpoints that " + file.string() +
+                           " lists, left in Janus by an earlier run");
+  record_mountpoints(s);  // a damaged ledger is replaced
 }
 
 void check_broadcasts(ServerState& s) {

@@ -31,11 +31,15 @@ struct Mountpoint {
   std::chrono::steady_clock::time_point recreating{};
 };
 
-/// A mountpoint whose create got no answer (Janus frozen or slow past the
-/// timeout): Janus may make it still, so it is destroyed until Janus says
-/// so, or twice says it has none (the create never carried out).
+/// A mountpoint being destroyed, asked again every check until Janus says
+/// it is gone: one whose create got no answer (Janus frozen or slow past
+/// the timeout: Janus may make it still, so it goes once Janus twice says
+/// it has none), one whose session ended, or one that the ledger of an
+/// earlier run lists (mountpoint_ledger.hpp).
 struct StrayMountpoint {
+  enum class Origin { unanswered, ended, leftover };
   Mountpoint m;
+  Origin origin = Origin::unanswered;
   int asked = 0, absent = 0;
   bool asking = false;
 };
@@ -60,6 +64,12 @@ void end_broadcast(ServerState& s, const std::string& id);
 /// The server stops: every mountpoint goes now (waiting for Janus's answers,
 /// briefly), so that none outlives causticd in a Janus that keeps running.
 void end_all_broadcasts(ServerState& s);
+
+/// The server starts with broadcasts: each mountpoint that the ledger in
+/// the state folder lists (left by a run killed before it destroyed them)
+/// becomes a stray, destroyed by check_broadcasts. A damaged ledger is
+/// logged and ignored.
+void destroy_leftover_mountpoints(ServerState& s);
 
 /// Asks Janus for each mountpoint; one it lost (a restart) is created again
 /// on the same ports, so the running pipeline needs no change. Asks Janus

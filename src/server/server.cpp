@@ -134,6 +134,7 @@ Server::Server(ServerConfig config, std::filesystem::path data_dir) : state_(std
     check_broadcast_keys(s.config);
     s.janus = std::make_unique<JanusAdmin>(s.config.janus_admin_url, s.config.janus_admin_secret,
                                            s.config.janus_streaming_key);
+    destroy_leftover_mountpoints(s);  // those a killed run left in Janus
   }
   auto gallery = load_checked_gallery(scenes_folder(s.config, s.data_dir));
   s.renderer = gallery->renderer;
