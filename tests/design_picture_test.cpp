@@ -186,19 +186,9 @@ TEST(DesignPicture, ATileLargerThanThePictureAndTheBoundIsRefusedBeforeItIsDecod
   // header: decoded, one tile of 32752 a side held 16 GB before libtiff
   // found no data behind it (8192 here: 1 GB should the check fail).
   Folder folder;
-  const auto tiled = folder.path / "tiled.tif";
-  {
-    std::vector<unsigned char> pixels(256 * 256 * 3);
-    for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<unsigned char>((i * 7) % 251);
-    auto out = OIIO::ImageOutput::create(tiled.string());
-    OIIO::ImageSpec spec(256, 256, 3, OIIO::TypeDesc::UINT8);
-    spec.tile_width = spec.tile_height = 16;
-    ASSERT_TRUE(out && out->open(tiled.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
-    out->close();
-  }
-  EXPECT_EQ(refused(tiled), "accepted");
-  std::ifstream in(tiled, std::ios::binary);
-  std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  std::string bytes = written_bytes(folder, "tiled.tif", 256, 256, 16, 16);
+  ASSERT_FALSE(bytes.empty());
+  EXPECT_EQ(refused(folder.path / "tiled.tif"), "accepted");
   // The first IFD's TileWidth (322) and TileLength (323), little-endian
   // SHORT or LONG values in their entries.
   ASSERT_EQ(bytes.substr(0, 2), "II");
@@ -218,14 +208,9 @@ TEST(DesignPicture, ATileLargerThanThePictureAndTheBoundIsRefusedBeforeItIsDecod
             std::string::npos) << why;
   // A tile the size of the picture, or a usual one over a small picture, is read.
   for (const auto& [w, h, tile] : {std::tuple{600, 40, 608}, {40, 30, 256}}) {
-    const auto file = folder.path / ("t" + std::to_string(tile) + ".tif");
-    std::vector<unsigned char> pixels(static_cast<std::size_t>(w) * h * 3, 200);
-    auto out = OIIO::ImageOutput::create(file.string());
-    OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
-    spec.tile_width = tile, spec.tile_height = 16 * ((h + 15) / 16);
-    ASSERT_TRUE(out && out->open(file.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
-    out->close();
-    EXPECT_EQ(refused(file), "accepted") << tile;
+    const std::string name = "t" + std::to_string(tile) + ".tif";
+    ASSERT_FALSE(written_bytes(folder, name, w, h, tile, 16 * ((h + 15) / 16)).empty()) << name;
+    EXPECT_EQ(refused(folder.path / name), "accepted") << name;
   }
 }
 
@@ -233,18 +218,9 @@ TEST(DesignPicture, ATiffCutShortIsRefusedNotDesignedWithItsRowsBlack) {
   // libtiff says a strip it could not read, and the image library goes on:
   // the rows were black, designed without a word.
   Folder folder;
-  const auto whole = folder.path / "whole.tif";
-  {
-    std::vector<unsigned char> pixels(64 * 64 * 3);
-    for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<unsigned char>((i * 7919) % 251);
-    auto out = OIIO::ImageOutput::create(whole.string());
-    ASSERT_TRUE(out && out->open(whole.string(), OIIO::ImageSpec(64, 64, 3, OIIO::TypeDesc::UINT8)));
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
-    out->close();
-  }
-  EXPECT_EQ(refused(whole), "accepted");
-  std::ifstream in(whole, std::ios::binary);
-  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const std::string bytes = written_bytes(folder, "whole.tif", 64, 64);
+  ASSERT_FALSE(bytes.empty());
+  EXPECT_EQ(refused(folder.path / "whole.tif"), "accepted");
   ::testing::internal::CaptureStderr();
   const std::string why = refused(folder.write("cut.tif", bytes.substr(0, bytes.size() / 2)));
   EXPECT_EQ(::testing::internal::GetCapturedStderr(), "") << "libtiff's words go to the message alone";
