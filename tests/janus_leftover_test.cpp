@@ -52,7 +52,7 @@ TEST(MountpointLedger, WrittenWholeAndPrivateAndReadBack) {
   struct stat st {};
   ASSERT_EQ(::stat(file.c_str(), &st), 0);
   EXPECT_EQ(st.st_mode & 0777, 0600u) << "it holds the secrets";
-  EXPECT_FALSE(fs::exists(file.string() + ".new")) << "the temporary file stayed";
+  EXPECT_FALSE(fs::exists(file.string() + ".part")) << "the temporary file stayed";
   std::string problem;
   EXPECT_EQ(read_ledger(file, 10, &problem), ledger);
   EXPECT_EQ(problem, "");

@@ -1,17 +1,15 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "mountpoint_ledger.hpp"
 
+#include "atomic_file.hpp"
+#include "caustic/json_text.hpp"
 #include "log.hpp"
 #include "server_state.hpp"
-
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
 #include <cerrno>
-#include <cstring>
+#include <optional>
 #include <set>
 #include <system_error>
 
@@ -19,52 +17,13 @@ namespace caustic::server {
 namespace {
 
 // Far above what the most sessions and strays take (about 70 bytes each).
-constexpr off_t kMaxLedgerBytes = 1 << 20;
-
-std::string errno_text() { return std::strerror(errno); }
+constexpr std::size_t kMaxLedgerBytes = 1 << 20;
 
 bool our_secret(const std::string& s) {
   if (s.size() != kMountpointSecretLength) return false;
   for (const char c : s)
     if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
   return true;
-}
-
-// The file's text, "" with `*problem` set when it cannot be read. Opened
-// without blocking and checked as opened: a FIFO or a device put in its
-// place neither holds the start nor is read endlessly.
-std::string read_text(const std::filesystem::path& file, std::string* problem) {
-  const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) {
-    if (errno != ENOENT) *problem = "cannot open it: " + errno_text();
-    return "";
-  }
-  std::string text;
-  struct stat st {};
-  if (::fstat(fd, &st) != 0) {
-    *problem = "cannot read it: " + errno_text();
-  } else if (!S_ISREG(st.st_mode)) {
-    *problem = "it is not a regular file";
-  } else if (st.st_size > kMaxLedgerBytes) {
-    *problem = "it is over " + std::to_string(kMaxLedgerBytes) + " bytes";
-  } else {
-    // Read to one byte past the limit: a file that grows meanwhile is caught too.
-    char buffer[65536];
-    for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) != 0;) {
-      if (n < 0 && errno == EINTR) continue;
-      if (n < 0) {
-        *problem = "cannot read it: " + errno_text();
-        break;
-      }
-      text.append(buffer, static_cast<std::size_t>(n));
-      if (text.size() > static_cast<std::size_t>(kMaxLedgerBytes)) {
-        *problem = "it is over " + std::to_string(kMaxLedgerBytes) + " bytes";
-        break;
-      }
-    }
-  }
-  ::close(fd);
-  return problem->empty() ? text : "";
 }
 
 }  // namespace
@@ -74,44 +33,35 @@ std::filesystem::path ledger_file(const std::filesystem::path& folder) { return 
 std::string write_ledger(const std::filesystem::path& file, const MountpointLedger& ledger) {
   nlohmann::json list = nlohmann::json::array();
   for (const auto& [id, secret] : ledger) list.push_back({{"id", id}, {"secret", secret}});
-  const std::string text = nlohmann::json{{"mountpoints", list}}.dump() + "\n";
   std::error_code ec;
   std::filesystem::create_directories(file.parent_path(), ec);
   if (ec) return "cannot create " + file.parent_path().string() + ": " + ec.message();
-  // A temporary file renamed over the ledger: a server killed while writing
-  // leaves the old ledger whole, never half of a new one.
-  const std::filesystem::path temporary = file.string() + ".new";
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0600);
-  if (fd < 0) return "cannot write " + temporary.string() + ": " + errno_text();
-  std::string problem;
-  // One left by an earlier run may have another mode.
-  if (::fchmod(fd, 0600) != 0) problem = "cannot make " + temporary.string() + " private: " + errno_text();
-  for (std::size_t done = 0; problem.empty() && done < text.size();) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) problem = "cannot write " + temporary.string() + ": " + errno_text();
-    else done += static_cast<std::size_t>(n);
+  // Private: it holds the secrets. Not synced: it is written at every
+  // create and destroy on the main loop, and what it guards against is a
+  // server killed, not the machine (whose Janus then goes too).
+  try {
+    write_atomic(file, nlohmann::json{{"mountpoints", list}}.dump() + "\n", 0600, false);
+  } catch (const StorageError& e) {
+    return e.what();
   }
-  if (::close(fd) != 0 && problem.empty()) problem = "cannot write " + temporary.string() + ": " + errno_text();
-  if (problem.empty() && ::rename(temporary.c_str(), file.c_str()) != 0)
-    problem = "cannot rename " + temporary.string() + " to " + file.string() + ": " + errno_text();
-  if (!problem.empty()) ::unlink(temporary.c_str());
-  return problem;
+  return "";
 }
 
 MountpointLedger read_ledger(const std::filesystem::path& file, std::size_t limit, std::string* problem) {
   problem->clear();
-  const std::string text = read_text(file, problem);
-  if (!problem->empty() || text.empty()) {
-    std::error_code ec;
-    if (problem->empty() && std::filesystem::exists(file, ec)) *problem = "it is empty";
+  const FileText read = read_file_text(file, kMaxLedgerBytes);
+  if (read.not_a_file) *problem = "it is not a regular file";
+  else if (!read.opened && read.error != ENOENT) *problem = "cannot read it" + why_unread(read);
+  else if (read.too_large) *problem = "it is over " + std::to_string(kMaxLedgerBytes) + " bytes";
+  else if (read.opened && read.text.empty()) *problem = "it is empty";
+  if (!problem->empty() || !read.opened) return {};
+  JsonTextError error;
+  const std::optional<nlohmann::json> parsed = parse_json_text(read.text, &error);
+  if (!parsed) {
+    *problem = "it is not JSON: " + error.message;
     return {};
   }
-  const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
-  if (doc.is_discarded()) {
-    *problem = "it is not JSON";
-    return {};
-  }
+  const nlohmann::json& doc = *parsed;
   const auto list = doc.is_object() ? doc.find("mountpoints") : doc.end();
   if (!doc.is_object() || list == doc.end() || !list->is_array()) {
     *problem = "it is not an object with a \"mountpoints\" array";
