@@ -222,17 +222,24 @@ TEST_F(CliLimits, AFrameLargerThanTheCgroupAllowsIsRefused) {
 
 // A file the user may write in a folder that takes no new file: written
 // beside its name and renamed, it failed after the frame was rendered; it
-// is refused before. Root writes anywhere, so it runs as nobody there.
+// is refused before. Root writes anywhere, so it runs as nobody there,
+// with a copy of the scene: a checkout in root's home (mode 0700) is out
+// of nobody's reach, and its scene was "File does not exist".
 TEST_F(CliLimits, AnOutputWhoseFolderTakesNoNewFileIsRefusedBeforeTheWork) {
   const fs::path folder = dir_ / "read-only", png = folder / "x.png";
   fs::create_directories(folder);
+  fs::create_directories(dir_ / "scenes");
+  fs::create_directories(dir_ / "meshes");
+  const fs::path slab = dir_ / "scenes" / "slab.json";
+  fs::copy_file(scene("slab"), slab);
+  fs::copy_file(fs::path(scene("slab")).parent_path() / ".." / "meshes" / "slab.obj", dir_ / "meshes" / "slab.obj");
   std::ofstream(png) << "old";
   fs::permissions(png, fs::perms::all & ~(fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec));
   fs::permissions(folder, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
                               fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec);
   const std::string as_nobody = ::geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups" : "";
   const CommandResult r = causticd_with_env(
-      as_nobody, "render --scene " + scene("slab") + " -o " + png.string() + " --width 32 --height 32");
+      as_nobody, "render --scene " + slab.string() + " -o " + png.string() + " --width 32 --height 32");
   fs::permissions(folder, fs::perms::owner_all);
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("--output " + png.string() + ": its folder takes no new file"), std::string::npos)
