@@ -12,6 +12,7 @@
 #include <glib.h>
 
 #include <chrono>
+#include <set>
 
 namespace caustic::server {
 namespace {
@@ -65,15 +66,16 @@ StrayMountpoint& keep_stray(ServerState& s, const Mountpoint& m, StrayMountpoint
 // Asks Janus to destroy the stray; it goes from the list once Janus has,
 // or says it has none (twice, unless it surely made it), or after a minute.
 void ask_destroy(ServerState& s, StrayMountpoint& stray) {
-  stray.asking = true;
+  static std::uint64_t requests = 0;
+  const std::uint64_t request = stray.asking = ++requests;
   ServerState* state = &s;
   const std::uint64_t id = stray.m.id;
-  s.janus->plugin_request(destroy_request(stray.m), [state, id](const JanusAdmin::Answer& a) {
+  s.janus->plugin_request(destroy_request(stray.m), [state, id, request](const JanusAdmin::Answer& a) {
     const auto it = state->strays.find(id);
-    if (it == state->strays.end()) return;
+    if (it == state->strays.end() || it->second.asking != request) return;
     StrayMountpoint& stray = it->second;
     using Origin = StrayMountpoint::Origin;
-    stray.asking = false;
+    stray.asking = 0;
     ++stray.asked;
     const std::string name = "mountpoint " + std::to_string(id);
     if (a.error.empty()) {
@@ -298,7 +300,9 @@ void end_all_broadcasts(ServerState& s) {
   std::vector<std::string> sessions;  // "" for those of no session
   std::vector<nlohmann::json> requests;
   std::vector<Mountpoint> asked;
+  std::set<std::uint64_t> ids;  // a re-create on its way is its session's too
   const auto add = [&](const std::string& session, const Mountpoint& m) {
+    if (!ids.insert(m.id).second) return;
     sessions.push_back(session);
     requests.push_back(destroy_request(m));
     asked.push_back(m);
@@ -368,14 +372,24 @@ void check_broadcasts(ServerState& s) {
             log(Level::debug, "broadcast " + id + ": mountpoint check: " + a.error);
           if (a.error_code != 455 || it == state->mountpoints.end() || session == state->sessions.end()) return;
           // Janus lost it (a restart): the same id, secret, pin and ports.
-          it->second.recreating = std::chrono::steady_clock::now();
-          log(Level::notice, "broadcast " + id + ": Janus lost mountpoint " + std::to_string(it->second.id) +
+          // Listed as a create until answered: its session may end meanwhile.
+          Mountpoint& m = it->second;
+          m.recreating = std::chrono::steady_clock::now();
+          state->creating[m.id] = m;
+          log(Level::notice, "broadcast " + id + ": Janus lost mountpoint " + std::to_string(m.id) +
                                  "; creating it again", session->second->log_context());
           state->janus->plugin_request(
-              create_request(it->second, id, session->second->codec(), state->config),
-              [state, id](const JanusAdmin::Answer& made) {
+              create_request(m, id, session->second->codec(), state->config),
+              [state, id, m](const JanusAdmin::Answer& made) {
+                state->creating.erase(m.id);
                 auto again = state->mountpoints.find(id);
-                if (again == state->mountpoints.end()) return;
+                if (again == state->mountpoints.end() || again->second.id != m.id) {
+                  // Its session ended meanwhile (its destroy may have come
+                  // first, and found none): what Janus made, or may have, goes.
+                  if (made.error.empty()) return destroy(*state, m);
+                  if (made.unanswered) keep_stray(*state, m, StrayMountpoint::Origin::unanswered);
+                  return record_mountpoints(*state);
+                }
                 again->second.recreating = {};
                 if (!made.error.empty())
                   log(Level::warning, "broadcast " + id + ": mountpoint not created again: " + made.error);

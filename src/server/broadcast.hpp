@@ -41,7 +41,9 @@ struct StrayMountpoint {
   Mountpoint m;
   Origin origin = Origin::unanswered;
   int asked = 0, absent = 0;
-  bool asking = false;
+  /// The destroy on its way (0: none). An answer to an earlier one (sent
+  /// before the stray was kept again) is not this stray's.
+  std::uint64_t asking = 0;
 };
 
 /// The RTP and data ports in Janus's answer to a create (`response`) into
