@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "../src/server/broadcast.hpp"
+#include "../src/server/janus_requests.hpp"
 #include "../src/server/janus_admin.hpp"
 
 #include <string>

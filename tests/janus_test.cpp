@@ -10,7 +10,7 @@
 // tests/janus/in_namespace.sh.)
 #include "janus_fixture.hpp"
 
-#include "../src/server/broadcast.hpp"
+#include "../src/server/janus_requests.hpp"
 
 using namespace caustic::testing::janus_fixture;
 

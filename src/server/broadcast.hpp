@@ -46,11 +46,6 @@ struct StrayMountpoint {
   std::uint64_t asking = 0;
 };
 
-/// The RTP and data ports in Janus's answer to a create (`response`) into
-/// `m`; false unless both are there and RTCP sits on the port after RTP
-/// (what rtpsink sends to and listens on). Fields of other types: false.
-bool read_ports(const nlohmann::json& response, Mountpoint& m);
-
 /// Answers POST /api/v1/sessions with "mode": "broadcast" (the request was
 /// checked and admitted): creates the mountpoint, then the session, and
 /// answers once Janus has (the message is paused meanwhile).
@@ -77,10 +72,5 @@ void destroy_leftover_mountpoints(ServerState& s);
 /// on the same ports, so the running pipeline needs no change. Asks Janus
 /// to destroy each stray (for at most a minute).
 void check_broadcasts(ServerState& s);
-
-/// Janus's token_auth token for the streaming plugin, valid until
-/// `expires` (Unix seconds): "<expires>,janus,janus.plugin.streaming:" and
-/// the Base64 HMAC-SHA1 of what precedes the colon, keyed with `secret`.
-std::string janus_token(const std::string& secret, std::int64_t expires);
 
 }  // namespace caustic::server
