@@ -5,6 +5,7 @@
 // Whatever Janus makes then is destroyed, and it stays in the state folder's
 // list of mountpoints until Janus has said it is gone.
 #include "janus_fake.hpp"
+#include "raw_http.hpp"
 #include "server_process.hpp"
 
 #include "../src/server/mountpoint_ledger.hpp"
@@ -118,7 +119,7 @@ class FakeBroadcast : public ::testing::Test {
     if (what == "create") {
       const json media = r.value("media", json::array());
       const bool again = media.is_array() && !media.empty() && media[0].is_object() && media[0].value("port", 0) != 0;
-      if (again && ++recreates_ == 1) return std::nullopt;
+      if (again ? ++recreates_ == 1 : hold_first_create_.load()) return std::nullopt;
       return created(id, ports_);
     }
     if (what == "info") return none(id);
@@ -174,6 +175,7 @@ class FakeBroadcast : public ::testing::Test {
 
   MountpointPorts ports_;
   std::atomic<bool> holding_{true};
+  std::atomic<bool> hold_first_create_{false};  // a session's first create, held too
   int recreates_ = 0;  // on the fake's thread alone
   int recreate_ = -1;  // the held re-create's request
   FakeJanus fake_{[this](const json& r) { return script(r); }};
@@ -262,4 +264,26 @@ TEST_F(FakeBroadcast, AServerStoppedWhileItsMountpointIsMadeAgainAsksOnceForItsD
   int destroys = 0;
   for (int i = destroy_of(id, 0, 0); i >= 0; i = destroy_of(id, i + 1, 0)) ++destroys;
   EXPECT_EQ(destroys, 1);
+}
+
+// A server stopped while Janus has not answered a session's first create:
+// Janus may carry it out after it answered the stop's destroy "none", so
+// the mountpoint stays listed, for the next start to destroy.
+TEST_F(FakeBroadcast, AStopWhileACreateIsUnansweredKeepsItListed) {
+  hold_first_create_ = true;
+  holding_ = false;
+  // Sent by hand: its answer never comes (the server stops meanwhile).
+  const int client = caustic::testing::raw_connect(server_->port());
+  ASSERT_GE(client, 0);
+  ASSERT_TRUE(caustic::testing::raw_send(
+      client, caustic::testing::request_text("POST", "/api/v1/sessions", "Content-Type: application/json\r\n",
+                                             R"({"scene": "lens", "mode": "broadcast"})")));
+  const int create = fake_.wait_for(0, [](const json& q) { return q.value("request", "") == "create"; });
+  ASSERT_GE(create, 0);
+  const std::uint64_t id = fake_.request(create).value("id", std::uint64_t{0});
+  ASSERT_TRUE(listed().count(id)) << "a create is listed before it is sent";
+  server_->stop();
+  ::close(client);
+  ASSERT_GE(destroy_of(id, 0, 0), 0) << "the stop did not destroy the create on its way";
+  EXPECT_TRUE(listed().count(id)) << "Janus said it has none before its create: it may make it still";
 }

@@ -239,6 +239,9 @@ void end_all_broadcasts(ServerState& s) {
   // frozen may take them in either order when it wakes).
   for (const auto& [mid, stray] : s.strays) add("", stray.m);
   for (const auto& [mid, m] : s.creating) add("", m);
+  // Janus's "none" to these may come before it carries out their create.
+  std::set<std::uint64_t> creating;
+  for (const auto& [mid, m] : s.creating) creating.insert(mid);
   const auto answers = s.janus->plugin_requests_now(std::move(requests));
   s.mountpoints.clear();
   s.strays.clear();
@@ -246,8 +249,9 @@ void end_all_broadcasts(ServerState& s) {
   // Those Janus did not say are gone stay listed, for the next start.
   for (std::size_t i = 0; i < answers.size(); ++i) {
     const auto& a = answers[i];
-    if (a.error.empty() || a.error_code == 455) continue;
-    if (!sessions[i].empty()) log(Level::warning, "broadcast " + sessions[i] + ": mountpoint not destroyed: " + a.error);
+    const bool unsure = creating.count(asked[i].id) > 0;
+    if (a.error.empty() || (a.error_code == 455 && !unsure)) continue;
+    if (!sessions[i].empty() && a.error_code != 455) log(Level::warning, "broadcast " + sessions[i] + ": mountpoint not destroyed: " + a.error);
     s.strays[asked[i].id] = StrayMountpoint{asked[i], StrayMountpoint::Origin::leftover};
   }
   record_mountpoints(s);
