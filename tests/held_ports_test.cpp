@@ -16,6 +16,7 @@
 #include <vector>
 
 namespace ct = caustic::testing;
+using caustic::testing::port_of;
 
 namespace {
 
@@ -33,13 +34,6 @@ int listen_on(int port, bool share = false) {
     return -1;
   }
   return fd;
-}
-
-int port_of(int fd) {
-  sockaddr_in a{};
-  socklen_t size = sizeof a;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &size);
-  return ntohs(a.sin_port);
 }
 
 // Another process holding a listening socket of its own on a port: a

@@ -20,17 +20,24 @@
 
 namespace caustic::testing {
 
+/// The local port of IPv4 socket `fd` (0 when it has none).
+inline int port_of(int fd) {
+  sockaddr_in a{};
+  socklen_t size = sizeof a;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &size);
+  return ntohs(a.sin_port);
+}
+
 /// A loopback TCP port free right now (the kernel's pick, then released).
 inline int free_port() {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
   sockaddr_in a{};
   a.sin_family = AF_INET;
   a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t size = sizeof a;
   ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &size);
+  const int port = port_of(fd);
   ::close(fd);
-  return ntohs(a.sin_port);
+  return port;
 }
 
 inline std::string read_file(const std::filesystem::path& p) {

@@ -4,6 +4,7 @@
 // ends while Janus is creating its mountpoint again (after a Janus restart).
 // Whatever Janus makes then is destroyed, and it stays in the state folder's
 // list of mountpoints until Janus has said it is gone.
+#include "helper_processes.hpp"
 #include "janus_fake.hpp"
 #include "raw_http.hpp"
 #include "server_process.hpp"
@@ -22,6 +23,7 @@
 using caustic::testing::bearer_token;
 using caustic::testing::FakeJanus;
 using caustic::testing::http;
+using caustic::testing::port_of;
 using caustic::testing::ServerProcess;
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -42,13 +44,6 @@ int udp_socket(int port) {
     return -1;
   }
   return fd;
-}
-
-int port_of(int fd) {
-  sockaddr_in a{};
-  socklen_t size = sizeof a;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &size);
-  return ntohs(a.sin_port);
 }
 
 // The ports a mountpoint would have, held by the test so that the stream
