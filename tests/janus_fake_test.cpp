@@ -133,6 +133,17 @@ class FakeBroadcast : public ::testing::Test {
     recreate_ = fake_.wait_for(create + 1, [&](const json& q) { return q.value("request", "") == "create"; });
     return {r.json().value("id", ""), r.json().value("token", ""), id};
   }
+  // The same broadcast's session ended and its destroy seen: the
+  // mountpoint's id and that destroy's request (-1: not seen).
+  std::pair<std::uint64_t, int> ended_while_made_again() {
+    const auto [session, token, id] = broadcast_being_recreated();
+    EXPECT_GE(recreate_, 0) << "causticd did not create the lost mountpoint again";
+    if (recreate_ < 0) return {id, -1};
+    end_session(session, token);
+    const int first = destroy_of(id, recreate_ + 1);
+    EXPECT_GE(first, 0) << "the session's end did not destroy its mountpoint";
+    return {id, first};
+  }
   int destroy_of(std::uint64_t id, std::size_t from, int seconds = 20) {
     return fake_.wait_for(
         from, [&](const json& q) { return q.value("request", "") == "destroy" && q.value("id", std::uint64_t{0}) == id; },
@@ -186,11 +197,8 @@ class FakeBroadcast : public ::testing::Test {
 // Janus says it is gone: a server killed meanwhile would destroy it at its
 // next start.
 TEST_F(FakeBroadcast, AMountpointMadeAgainAfterItsSessionEndedIsDestroyed) {
-  const auto [session, token, id] = broadcast_being_recreated();
-  ASSERT_GE(recreate_, 0) << "causticd did not create the lost mountpoint again";
-  end_session(session, token);
-  const int first = destroy_of(id, recreate_ + 1);
-  ASSERT_GE(first, 0) << "the session's end did not destroy its mountpoint";
+  const auto [id, first] = ended_while_made_again();
+  ASSERT_GE(first, 0);
   const ino_t before = ledger_inode();
   fake_.answer(first, none(id));
   ASSERT_TRUE(rewritten(before)) << "the destroy's answer was not taken";
@@ -209,11 +217,8 @@ TEST_F(FakeBroadcast, AMountpointMadeAgainAfterItsSessionEndedIsDestroyed) {
 // nothing of the mountpoint made since, whose own destroy is asked again
 // until Janus answers it.
 TEST_F(FakeBroadcast, ADestroysAnswerThatCrossesTheCreateIsNotTheLastWord) {
-  const auto [session, token, id] = broadcast_being_recreated();
-  ASSERT_GE(recreate_, 0) << "causticd did not create the lost mountpoint again";
-  end_session(session, token);
-  const int first = destroy_of(id, recreate_ + 1);
-  ASSERT_GE(first, 0) << "the session's end did not destroy its mountpoint";
+  const auto [id, first] = ended_while_made_again();
+  ASSERT_GE(first, 0);
   fake_.answer(recreate_, created(id, ports_));
   const int second = destroy_of(id, first + 1);
   ASSERT_GE(second, 0) << "the mountpoint Janus made after the session ended stays in Janus";
@@ -234,11 +239,8 @@ TEST_F(FakeBroadcast, ADestroysAnswerThatCrossesTheCreateIsNotTheLastWord) {
 // timeout) while the session ends: it may make it still, so it is asked
 // to destroy it once causticd gives up.
 TEST_F(FakeBroadcast, AnUnansweredCreateAfterItsSessionEndedIsDestroyed) {
-  const auto [session, token, id] = broadcast_being_recreated();
-  ASSERT_GE(recreate_, 0) << "causticd did not create the lost mountpoint again";
-  end_session(session, token);
-  const int first = destroy_of(id, recreate_ + 1);
-  ASSERT_GE(first, 0) << "the session's end did not destroy its mountpoint";
+  const auto [id, first] = ended_while_made_again();
+  ASSERT_GE(first, 0);
   fake_.answer(first, none(id));
   // Asked once causticd gives up on the create (its timeout: 5 s).
   const int again = destroy_of(id, first + 1, 60);
