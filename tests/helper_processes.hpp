@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -38,6 +39,28 @@ inline int free_port() {
   const int port = port_of(fd);
   ::close(fd);
   return port;
+}
+
+/// "first-last": `count` UDP ports (at most 64) free right now, in a block
+/// picked at random below the kernel's range for port 0, where nothing takes
+/// them by chance: a program told to use a range keeps to it while tests run
+/// side by side. "" after 20 tries.
+inline std::string free_udp_block(int count) {
+  static unsigned seed = static_cast<unsigned>(::getpid()) ^ static_cast<unsigned>(g_get_monotonic_time());
+  for (int attempt = 0; attempt < 20; ++attempt) {
+    const int first = 20000 + 64 * static_cast<int>(::rand_r(&seed) % 180);  // up to 31,583
+    bool free = true;
+    for (int port = first; port < first + count && free; ++port) {
+      const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+      sockaddr_in a{};
+      a.sin_family = AF_INET;
+      a.sin_port = htons(static_cast<std::uint16_t>(port));
+      free = fd >= 0 && ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
+      if (fd >= 0) ::close(fd);
+    }
+    if (free) return std::to_string(first) + "-" + std::to_string(first + count - 1);
+  }
+  return "";
 }
 
 inline std::string read_file(const std::filesystem::path& p) {

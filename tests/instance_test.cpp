@@ -115,7 +115,12 @@ TEST(Instance, ForwardedForCountsOnlyFromATrustedProxy) {
 }
 
 TEST(Instance, IceCandidatesUseOnlyTheConfiguredPorts) {
-  ServerProcess server({"--set", "ice_port_range=41700-41709"});
+  // A block of ten free ports: a fixed range could be held by another test's
+  // socket, and the server would then find no port to gather from.
+  const std::string range = ct::free_udp_block(10);
+  ASSERT_FALSE(range.empty()) << "no block of free UDP ports";
+  const int first = std::stoi(range);
+  ServerProcess server({"--set", "ice_port_range=" + range});
   const json s = http("POST", server.url() + "/api/v1/sessions", R"({"scene": "lens"})").json();
   const int fd = ct::ws_open(server.port(), s["signal_url"]);
   ASSERT_GE(fd, 0);
@@ -130,8 +135,8 @@ TEST(Instance, IceCandidatesUseOnlyTheConfiguredPorts) {
     // Active TCP candidates name port 9, as RFC 6544 has them: no socket.
     if (candidate.find(" UDP ") == std::string::npos) continue;
     ASSERT_TRUE(std::regex_search(candidate, port, std::regex(" ([0-9]+) typ "))) << candidate;
-    EXPECT_GE(std::stoi(port[1]), 41700) << candidate;
-    EXPECT_LE(std::stoi(port[1]), 41709) << candidate;
+    EXPECT_GE(std::stoi(port[1]), first) << candidate;
+    EXPECT_LE(std::stoi(port[1]), first + 9) << candidate;
     ++candidates;
   }
   ::close(fd);

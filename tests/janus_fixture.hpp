@@ -96,7 +96,7 @@ class Broadcast : public ::testing::Test {
     // gives a mountpoint's RTCP the port after its RTP port only when that
     // one is free, and the Janus instances of tests run side by side, on the
     // shipped range, took each other's (causticd refuses such ports).
-    const std::string range = free_udp_block();
+    const std::string range = ct::free_udp_block(64);
     ASSERT_FALSE(range.empty()) << "no block of free UDP ports";
     std::string streaming = ct::read_file(janus_dir_ / "janus.plugin.streaming.jcfg");
     ct::replace_all(streaming, "rtp_port_range = \"31000-31999\"", "rtp_port_range = \"" + range + "\"");
@@ -140,27 +140,6 @@ class Broadcast : public ::testing::Test {
     server_.reset();
     janus_.stop();
     if (!dir_.empty()) fs::remove_all(dir_);
-  }
-
-  // "first-last": 64 UDP ports free right now, in a block picked at random
-  // below the kernel's range for port 0 (nothing takes them by chance); ""
-  // after 20 tries.
-  static std::string free_udp_block() {
-    std::srand(static_cast<unsigned>(::getpid() ^ g_get_monotonic_time()));
-    for (int attempt = 0; attempt < 20; ++attempt) {
-      const int first = 20000 + 64 * (std::rand() % 180);  // up to 31,583
-      bool free = true;
-      for (int port = first; port < first + 64 && free; ++port) {
-        const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-        sockaddr_in a{};
-        a.sin_family = AF_INET;
-        a.sin_port = htons(static_cast<std::uint16_t>(port));
-        free = fd >= 0 && ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
-        if (fd >= 0) ::close(fd);
-      }
-      if (free) return std::to_string(first) + "-" + std::to_string(first + 63);
-    }
-    return "";
   }
 
   // Whether this Janus answers on both ports: its admin API with this
