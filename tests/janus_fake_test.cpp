@@ -70,14 +70,15 @@ struct MountpointPorts {
   }
 };
 
-// The streaming plugin's answers, as Janus gives them.
-json created(std::uint64_t id, const MountpointPorts& p) {
+// The streaming plugin's answers, as Janus gives them; `rtcp` ports after
+// the video's, its RTCP (1 unless Janus found the next port taken).
+json created(std::uint64_t id, const MountpointPorts& p, int rtcp = 1) {
   return {{"streaming", "created"},
           {"create", "causticd"},
           {"permanent", false},
           {"stream",
            {{"id", id}, {"type", "live"}, {"is_private", true},
-            {"ports", {{{"type", "video"}, {"mid", "v"}, {"port", p.video}, {"rtcp_port", p.video + 1}},
+            {"ports", {{{"type", "video"}, {"mid", "v"}, {"port", p.video}, {"rtcp_port", p.video + rtcp}},
                        {{"type", "data"}, {"mid", "d"}, {"port", p.data}}}}}}};
 }
 json none(std::uint64_t id) {
@@ -115,6 +116,7 @@ class FakeBroadcast : public ::testing::Test {
       const json media = r.value("media", json::array());
       const bool again = media.is_array() && !media.empty() && media[0].is_object() && media[0].value("port", 0) != 0;
       if (again ? ++recreates_ == 1 : hold_first_create_.load()) return std::nullopt;
+      if (!again && split_creates_ > 0) return --split_creates_, created(id, ports_, 3);
       return created(id, ports_);
     }
     if (what == "info") return none(id);
@@ -143,6 +145,18 @@ class FakeBroadcast : public ::testing::Test {
     const int first = destroy_of(id, recreate_ + 1);
     EXPECT_GE(first, 0) << "the session's end did not destroy its mountpoint";
     return {id, first};
+  }
+  // A session's first creates seen so far (a re-create names its ports).
+  std::vector<std::uint64_t> first_creates() {
+    std::vector<std::uint64_t> ids;
+    const auto first = [](const json& q) {
+      const json media = q.value("media", json::array());
+      return q.value("request", "") == "create" && media.is_array() && !media.empty() && media[0].is_object() &&
+             media[0].value("port", 0) == 0;
+    };
+    for (int i = fake_.wait_for(0, first, 0); i >= 0; i = fake_.wait_for(i + 1, first, 0))
+      ids.push_back(fake_.request(i).value("id", std::uint64_t{0}));
+    return ids;
   }
   int destroy_of(std::uint64_t id, std::size_t from, int seconds = 20) {
     return fake_.wait_for(
@@ -182,6 +196,7 @@ class FakeBroadcast : public ::testing::Test {
   MountpointPorts ports_;
   std::atomic<bool> holding_{true};
   std::atomic<bool> hold_first_create_{false};  // a session's first create, held too
+  std::atomic<int> split_creates_{0};  // first creates answered with RTCP apart from RTP
   int recreates_ = 0;  // on the fake's thread alone
   int recreate_ = -1;  // the held re-create's request
   FakeJanus fake_{[this](const json& r) { return script(r); }};
@@ -283,4 +298,33 @@ TEST_F(FakeBroadcast, AStopWhileACreateIsUnansweredKeepsItListed) {
   ::close(client);
   ASSERT_GE(destroy_of(id, 0, 0), 0) << "the stop did not destroy the create on its way";
   EXPECT_TRUE(listed().count(id)) << "Janus said it has none before its create: it may make it still";
+}
+
+// Janus hands out ports in turn and gives RTCP the next one only when it is
+// free: past a wrap of its range, a port held elsewhere splits a pair, and
+// the stream (RTCP on the port after RTP) could not use it. That mountpoint
+// is destroyed and another asked for; the session starts on it.
+TEST_F(FakeBroadcast, APortPairThatJanusSplitIsAskedForAgain) {
+  split_creates_ = 1;
+  holding_ = false;
+  const auto r = http("POST", server_->url() + "/api/v1/sessions", R"({"scene": "lens", "mode": "broadcast"})");
+  EXPECT_EQ(r.status, 201u) << r.body;
+  const auto ids = first_creates();
+  ASSERT_EQ(ids.size(), 2u) << "one create for the split pair, one for the session's";
+  EXPECT_NE(ids[0], ids[1]);
+  EXPECT_GE(destroy_of(ids[0], 0), 0) << "the mountpoint with the split pair stays in Janus";
+  EXPECT_LT(destroy_of(ids[1], 0, 0), 0) << "the session's own mountpoint was destroyed";
+}
+
+// A Janus that splits every pair (its range nearly full) is asked three
+// times, each mountpoint destroyed, and the client told.
+TEST_F(FakeBroadcast, AJanusThatSplitsEveryPairIsReportedAfterThreeCreates) {
+  split_creates_ = 100;
+  holding_ = false;
+  const auto r = http("POST", server_->url() + "/api/v1/sessions", R"({"scene": "lens", "mode": "broadcast"})");
+  EXPECT_EQ(r.status, 502u) << r.body;
+  EXPECT_NE(r.body.find("unusable ports"), std::string::npos) << r.body;
+  const auto ids = first_creates();
+  ASSERT_EQ(ids.size(), 3u);
+  for (const std::uint64_t id : ids) EXPECT_GE(destroy_of(id, 0), 0) << "mountpoint " << id << " stays in Janus";
 }

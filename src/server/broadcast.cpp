@@ -110,16 +110,20 @@ struct Pending {
   }
 };
 
-}  // namespace
+// Janus gives a mountpoint's ports from its range in turn, RTCP the port
+// after RTP only when that one is free: once its range has wrapped, a port
+// held by a live mountpoint can split the pair. The stream's RTCP goes to the
+// port after its RTP, so such a pair is destroyed and asked for again; Janus
+// has moved on by then, and the next pair is most likely whole.
+constexpr int kCreateTries = 3;
 
-void create_broadcast(ServerState& s, SoupServerMessage* msg, std::shared_ptr<const GalleryEntry> entry,
-                      const std::string& codec, const std::string& address) {
-  const std::string id = random_hex();
+// One create request for session `id`'s mountpoint, `tries` of them left.
+void ask_create(ServerState& s, std::shared_ptr<Pending> pending, std::shared_ptr<const GalleryEntry> entry,
+                const std::string& codec, const std::string& address, const std::string& id, int tries) {
   Mountpoint m;
   m.id = std::stoull(random_hex().substr(0, 12), nullptr, 16) | 1;  // Janus's ids: positive, not 0
   m.secret = random_hex();
   m.pin = random_hex().substr(0, 16);
-  auto pending = std::make_shared<Pending>(msg);
   ServerState* state = &s;
   const std::string group = address_group(address);
   ++s.starting[group];  // until the answer (the callback runs once, whatever Janus does)
@@ -142,6 +146,12 @@ void create_broadcast(ServerState& s, SoupServerMessage* msg, std::shared_ptr<co
     }
     if (!read_ports(a.response, m)) {
       destroy(st, m);
+      if (tries > 1 && !st.draining && !pending->gone && st.listener->client_connected(out)) {
+        log(Level::warning, "broadcast: Janus gave mountpoint " + std::to_string(m.id) +
+                                " ports the stream cannot use (RTCP not after RTP); asking again",
+            {id, entry->id, codec, address});
+        return ask_create(st, pending, entry, codec, address, id, tries - 1);
+      }
       return reply_problem(out, st.metrics, SOUP_STATUS_BAD_GATEWAY, "the broadcast server gave unusable ports");
     }
     // While Janus answered, the client may have left, or the server begun
@@ -189,6 +199,13 @@ void create_broadcast(ServerState& s, SoupServerMessage* msg, std::shared_ptr<co
                {{"id", id}, {"token", session->token()}, {"codec", codec}, {"mode", "broadcast"}, {"url", url},
                 {"viewers_url", url + "/viewers"}, {"params", public_params(*session)}});
   });
+}
+
+}  // namespace
+
+void create_broadcast(ServerState& s, SoupServerMessage* msg, std::shared_ptr<const GalleryEntry> entry,
+                      const std::string& codec, const std::string& address) {
+  ask_create(s, std::make_shared<Pending>(msg), std::move(entry), codec, address, random_hex(), kCreateTries);
 }
 
 void broadcast_viewers(ServerState& s, SoupServerMessage* msg, Session& session) {
