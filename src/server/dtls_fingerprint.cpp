@@ -30,12 +30,6 @@ const Hash* hash_named(std::string_view name) {
   return nullptr;
 }
 
-int hex_digit(char c) {
-  if (c >= '0' && c <= '9') return c - '0';
-  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-  return c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
-}
-
 // The DER bytes of the first certificate in `pem`; empty when there is none.
 std::vector<unsigned char> der_of(std::string_view pem) {
   constexpr std::string_view begin = "-----BEGIN CERTIFICATE-----", end = "-----END CERTIFICATE-----";
@@ -63,7 +57,7 @@ std::optional<Fingerprint> parse_fingerprint(std::string_view value) {
   if (hex.size() != 3 * hash->bytes - 1) return std::nullopt;
   Fingerprint out{hash->name, {}};
   for (std::size_t i = 0; i < hash->bytes; ++i) {
-    const int hi = hex_digit(hex[3 * i]), lo = hex_digit(hex[3 * i + 1]);
+    const int hi = ascii_hex_value(hex[3 * i]), lo = ascii_hex_value(hex[3 * i + 1]);
     if (hi < 0 || lo < 0 || (i + 1 < hash->bytes && hex[3 * i + 2] != ':')) return std::nullopt;
     out.digest.push_back(static_cast<unsigned char>(16 * hi + lo));
   }

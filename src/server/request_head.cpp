@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "request_head.hpp"
 
+#include "ascii.hpp"
+
 #include <libsoup/soup.h>
 
 #include <cctype>
@@ -29,13 +31,6 @@ std::string_view trim_ows(std::string_view s) {
   return s;
 }
 
-int hex_value(char c) {
-  if (c >= '0' && c <= '9') return c - '0';
-  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-  return -1;
-}
-
 // What the HTTP library would refuse later with an empty answer is refused
 // here with a reason: characters outside RFC 3986's path and query sets,
 // broken or NUL percent escapes, and ".." segments hidden in escapes.
@@ -51,8 +46,8 @@ const char* target_problem(std::string_view target) {
       if (i < raw.size()) path += target[i];
       continue;
     }
-    const int hi = i + 2 < target.size() ? hex_value(target[i + 1]) : -1;
-    const int lo = hi >= 0 ? hex_value(target[i + 2]) : -1;
+    const int hi = i + 2 < target.size() ? ascii_hex_value(target[i + 1]) : -1;
+    const int lo = hi >= 0 ? ascii_hex_value(target[i + 2]) : -1;
     if (hi < 0 || lo < 0) return "a percent sign in the request target must start an escape like %2F";
     if (hi == 0 && lo == 0) return "the request target must not encode a NUL byte";
     if (i < raw.size()) path += static_cast<char>(hi * 16 + lo);
@@ -73,7 +68,7 @@ bool host_ok(std::string_view value) {
     if (close == std::string_view::npos) return false;
     const std::string literal(value.substr(1, close - 1));
     for (char c : literal)
-      if (hex_value(c) < 0 && c != ':' && c != '.') return false;
+      if (ascii_hex_value(c) < 0 && c != ':' && c != '.') return false;
     if (literal.find(':') == std::string::npos || !g_hostname_is_ip_address(literal.c_str())) return false;
     host = value.substr(0, close + 1);
     value.remove_prefix(close + 1);
