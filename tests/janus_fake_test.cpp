@@ -119,8 +119,9 @@ class FakeBroadcast : public ::testing::Test {
       if (!again && split_creates_ > 0) return --split_creates_, created(id, ports_, 3);
       return created(id, ports_);
     }
-    if (what == "info") return none(id);
+    if (what == "info") return lost_ ? none(id) : json{{"streaming", "info"}, {"info", {{"id", id}}}};
     if (what == "destroy" && holding_) return std::nullopt;
+    if (what == "destroy" && refuse_destroys_) return refused();
     return what == "destroy" ? none(id) : json::object();
   }
 
@@ -197,6 +198,8 @@ class FakeBroadcast : public ::testing::Test {
   std::atomic<bool> holding_{true};
   std::atomic<bool> hold_first_create_{false};  // a session's first create, held too
   std::atomic<int> split_creates_{0};  // first creates answered with RTCP apart from RTP
+  std::atomic<bool> lost_{true};  // "info" says Janus has no such mountpoint
+  std::atomic<bool> refuse_destroys_{false};  // destroys answered with a refusal
   int recreates_ = 0;  // on the fake's thread alone
   int recreate_ = -1;  // the held re-create's request
   FakeJanus fake_{[this](const json& r) { return script(r); }};
@@ -327,4 +330,36 @@ TEST_F(FakeBroadcast, AJanusThatSplitsEveryPairIsReportedAfterThreeCreates) {
   const auto ids = first_creates();
   ASSERT_EQ(ids.size(), 3u);
   for (const std::uint64_t id : ids) EXPECT_GE(destroy_of(id, 0), 0) << "mountpoint " << id << " stays in Janus";
+}
+
+// A Janus that will not destroy a stray (here it refuses; one frozen never
+// answers) is asked at every check for a minute, then every 10 s: it may
+// still hold the mountpoint, which stays listed meanwhile, so a server
+// killed then leaves it to its next start. Once Janus says it is gone, unlisted.
+TEST_F(FakeBroadcast, AStrayThatJanusKeepsRefusingStaysListedAndIsAskedLessOften) {
+  lost_ = false;
+  holding_ = false;
+  refuse_destroys_ = true;
+  const auto r = http("POST", server_->url() + "/api/v1/sessions", R"({"scene": "lens", "mode": "broadcast"})");
+  ASSERT_EQ(r.status, 201u) << r.body;
+  const auto ids = first_creates();
+  ASSERT_EQ(ids.size(), 1u);
+  const std::uint64_t id = ids[0];
+  end_session(r.json().value("id", ""), r.json().value("token", ""));
+  int last = -1;
+  for (int n = 0; n < 30; ++n) {
+    last = destroy_of(id, static_cast<std::size_t>(last + 1));
+    ASSERT_GE(last, 0) << "destroy " << n + 1 << " of the first minute not asked";
+  }
+  const auto minute = std::chrono::steady_clock::now();
+  EXPECT_TRUE(listed().count(id)) << "unlisted while Janus may still hold it";
+  const int slow = destroy_of(id, static_cast<std::size_t>(last + 1), 40);
+  ASSERT_GE(slow, 0) << "no longer asked after the first minute";
+  // Five checks 2 s apart: a loaded machine only lengthens it.
+  EXPECT_GE(std::chrono::steady_clock::now() - minute, std::chrono::seconds(6)) << "still asked at every check";
+  EXPECT_TRUE(listed().count(id));
+  refuse_destroys_ = false;
+  const int destroyed_now = destroy_of(id, static_cast<std::size_t>(slow + 1), 40);
+  ASSERT_GE(destroyed_now, 0);
+  EXPECT_TRUE(unlisted(id)) << "listed after Janus destroyed it";
 }

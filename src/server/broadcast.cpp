@@ -22,6 +22,10 @@ namespace {
 // answers takes no more of the server.
 constexpr std::size_t max_strays = 64;
 constexpr int stray_checks = 30;  // a minute of checks 2 s apart
+// Past that minute, a Janus that does not answer (frozen, or swapped out)
+// is asked every this many checks: it may wake with the mountpoint, which
+// stays listed meanwhile, so that even a kill leaves it to the next start.
+constexpr int slow_checks = 5;
 
 std::size_t stray_limit(const ServerState& s) { return max_strays + static_cast<std::size_t>(s.config.max_sessions); }
 
@@ -35,7 +39,7 @@ StrayMountpoint& keep_stray(ServerState& s, const Mountpoint& m, StrayMountpoint
 }
 
 // Asks Janus to destroy the stray; it goes from the list once Janus has,
-// or says it has none (twice, unless it surely made it), or after a minute.
+// or says it has none (twice, unless it surely made it).
 void ask_destroy(ServerState& s, StrayMountpoint& stray) {
   static std::uint64_t requests = 0;
   const std::uint64_t request = stray.asking = ++requests;
@@ -56,11 +60,12 @@ void ask_destroy(ServerState& s, StrayMountpoint& stray) {
         log(Level::notice, name + ", left in Janus by an earlier run of the server, is destroyed");
     } else if (a.error_code == 455 && (stray.origin == Origin::ended || ++stray.absent >= 2)) {
       // Janus answers and has none: gone, or never made.
-    } else if (stray.asked < stray_checks) {
-      if (stray.origin == Origin::ended && stray.asked == 1) log(Level::warning, name + " not destroyed: " + a.error);
-      return;  // asked again at the next check
     } else {
-      log(Level::warning, name + " may remain in Janus: its destroy is not answered: " + a.error);
+      if (stray.origin == Origin::ended && stray.asked == 1) log(Level::warning, name + " not destroyed: " + a.error);
+      if (stray.asked == stray_checks)
+        log(Level::warning, name + " not destroyed after a minute of asking (" + a.error + "); asked every " +
+                                std::to_string(2 * slow_checks) + " s until Janus answers");
+      return;  // asked again at a later check
     }
     state->strays.erase(it);
     record_mountpoints(*state);
@@ -78,8 +83,8 @@ void destroy(ServerState& s, const Mountpoint& m) {
 void check_strays(ServerState& s) {
   // Ids first: an answer given at once (a bad URL) may end a stray.
   std::vector<std::uint64_t> ids;
-  for (const auto& [mid, stray] : s.strays)
-    if (!stray.asking) ids.push_back(mid);
+  for (auto& [mid, stray] : s.strays)
+    if (!stray.asking && (stray.asked < stray_checks || ++stray.checks % slow_checks == 0)) ids.push_back(mid);
   for (const std::uint64_t id : ids)
     if (const auto it = s.strays.find(id); it != s.strays.end()) ask_destroy(s, it->second);
 }

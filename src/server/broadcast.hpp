@@ -41,6 +41,7 @@ struct StrayMountpoint {
   Mountpoint m;
   Origin origin = Origin::unanswered;
   int asked = 0, absent = 0;
+  int checks = 0;  ///< checks passed since the first minute's asks
   /// The destroy on its way (0: none). An answer to an earlier one (sent
   /// before the stray was kept again) is not this stray's.
   std::uint64_t asking = 0;
@@ -70,7 +71,8 @@ void destroy_leftover_mountpoints(ServerState& s);
 
 /// Asks Janus for each mountpoint; one it lost (a restart) is created again
 /// on the same ports, so the running pipeline needs no change. Asks Janus
-/// to destroy each stray (for at most a minute).
+/// to destroy each stray: every check for a minute, then every 10 s while
+/// Janus does not answer (it stays listed until Janus has).
 void check_broadcasts(ServerState& s);
 
 }  // namespace caustic::server
