@@ -48,6 +48,16 @@ class CausticSrc : public ::testing::Test {
   // The next sample, or null after 10 s.
   GstSample* pull() { return gst_app_sink_try_pull_sample(GST_APP_SINK(sink_), 10 * GST_SECOND); }
 
+  // The pipeline's running time now (what a frame's timestamp counts);
+  // GST_CLOCK_TIME_NONE before it has a clock.
+  GstClockTime running_time() {
+    GstClock* clock = gst_element_get_clock(pipeline_.get());
+    if (!clock) return GST_CLOCK_TIME_NONE;
+    const GstClockTime now = gst_clock_get_time(clock) - gst_element_get_base_time(pipeline_.get());
+    gst_object_unref(clock);
+    return now;
+  }
+
   std::uint64_t renders() {
     guint64 n = 0;
     g_object_get(src_, "renders", &n, nullptr);
