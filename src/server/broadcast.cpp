@@ -153,7 +153,7 @@ void ask_create(ServerState& s, std::shared_ptr<Pending> pending, std::shared_pt
       destroy(st, m);
       if (tries > 1 && !st.draining && !pending->gone && st.listener->client_connected(out)) {
         log(Level::warning, "broadcast: Janus gave mountpoint " + std::to_string(m.id) +
-                                " ports the stream cannot use (RTCP not after RTP); asking again",
+                                " ports the stream cannot use (its RTCP must be on the port after RTP); asking again",
             {id, entry->id, codec, address});
         return ask_create(st, pending, entry, codec, address, id, tries - 1);
       }
