@@ -70,6 +70,13 @@ struct MountpointPorts {
   }
 };
 
+// Whether a create names its video port: a mountpoint made again on the
+// ports it had (after a Janus restart), not a session's first.
+bool names_its_ports(const json& create) {
+  const json media = create.value("media", json::array());
+  return media.is_array() && !media.empty() && media[0].is_object() && media[0].value("port", 0) != 0;
+}
+
 // The streaming plugin's answers, as Janus gives them; `rtcp` ports after
 // the video's, its RTCP (1 unless Janus found the next port taken).
 json created(std::uint64_t id, const MountpointPorts& p, int rtcp = 1) {
@@ -113,8 +120,7 @@ class FakeBroadcast : public ::testing::Test {
     const std::string what = r.value("request", "");
     const auto id = r.value("id", std::uint64_t{0});
     if (what == "create") {
-      const json media = r.value("media", json::array());
-      const bool again = media.is_array() && !media.empty() && media[0].is_object() && media[0].value("port", 0) != 0;
+      const bool again = names_its_ports(r);
       if (again ? ++recreates_ == 1 : hold_first_create_.load()) return std::nullopt;
       if (!again && split_creates_ > 0) return --split_creates_, created(id, ports_, 3);
       return created(id, ports_);
@@ -150,11 +156,7 @@ class FakeBroadcast : public ::testing::Test {
   // A session's first creates seen so far (a re-create names its ports).
   std::vector<std::uint64_t> first_creates() {
     std::vector<std::uint64_t> ids;
-    const auto first = [](const json& q) {
-      const json media = q.value("media", json::array());
-      return q.value("request", "") == "create" && media.is_array() && !media.empty() && media[0].is_object() &&
-             media[0].value("port", 0) == 0;
-    };
+    const auto first = [](const json& q) { return q.value("request", "") == "create" && !names_its_ports(q); };
     for (int i = fake_.wait_for(0, first, 0); i >= 0; i = fake_.wait_for(i + 1, first, 0))
       ids.push_back(fake_.request(i).value("id", std::uint64_t{0}));
     return ids;
