@@ -187,3 +187,30 @@ TEST(SceneLathe, AReceiverReadAgainIsBuiltOnceAndSharedUntilItChanges) {
   doc["receivers"][0]["lathe"]["segments"] = 49;
   EXPECT_NE(scene_from_json(doc, ".").receivers[0].lathe->mesh.get(), moved.receivers[0].lathe->mesh.get());
 }
+
+TEST(SceneLathe, EveryReceiverAScenesHoldsIsFoundHoweverManyThereAre) {
+  // The sessions together may hold more receivers than the few kept for no
+  // scene: a patch must still find each rather than build them all again
+  // (a cache of the last 32 alone was missed by every patch past that).
+  constexpr int kHeld = 48;
+  json doc = minimal();
+  doc["receivers"] = {vase()};
+  std::vector<Scene> held;
+  for (int i = 0; i < kHeld; ++i) {
+    doc["receivers"][0]["center"] = {40 + i, 0, -30};
+    held.push_back(scene_from_json(doc, "."));
+  }
+  for (int i = 0; i < kHeld; ++i) {
+    doc["receivers"][0]["center"] = {40 + i, 0, -30};
+    EXPECT_EQ(scene_from_json(doc, ".").receivers[0].lathe->mesh.get(), held[i].receivers[0].lathe->mesh.get())
+        << "receiver " << i << " was built again";
+  }
+  // What no scene holds is let go past the last few: the cache is bounded.
+  std::vector<std::weak_ptr<const ReceiverMesh>> dropped;
+  for (int i = 0; i < kHeld; ++i) {
+    doc["receivers"][0]["center"] = {40 + i, 1, -30};
+    dropped.push_back(scene_from_json(doc, ".").receivers[0].lathe->mesh);
+  }
+  EXPECT_TRUE(dropped.front().expired());
+  EXPECT_FALSE(dropped.back().expired());
+}

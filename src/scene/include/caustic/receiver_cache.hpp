@@ -3,9 +3,10 @@
 // scenes that ask for the same one. A parameter patch reads its whole scene
 // again (twice: once to check the fixed keys, once to apply it), and every
 // lathe and shape was built anew each time: seven lathes held the server's
-// main loop 0.3 s a patch. The last few are kept; a shape is known by its
-// table (held weakly, so that a table read later at the same address is
-// never taken for it), its name and where it stands.
+// main loop 0.3 s a patch. Every one a scene holds is found, and the last
+// few that no scene holds are kept; a shape is known by its table (held
+// weakly, so that a table read later at the same address is never taken
+// for it), its name and where it stands.
 #pragma once
 
 #include "caustic/receiver_mesh.hpp"
