@@ -2,6 +2,7 @@
 #include "http_util.hpp"
 
 #include "request_head.hpp"
+#include "uri_path.hpp"
 
 #include "caustic/json_text.hpp"
 
@@ -48,20 +49,7 @@ std::string request_path(SoupServerMessage* msg) {
   const char* raw = g_uri_get_path(soup_server_message_get_uri(msg));
   std::string path = raw ? raw : "";
   path.erase(std::min(path.find('?'), path.size()));  // a "?" in a path is the query's (request_query())
-  std::string out;
-  for (std::size_t i = 0; i < path.size(); ++i) {
-    const int hi = path[i] == '%' && i + 2 < path.size() ? g_ascii_xdigit_value(path[i + 1]) : -1;
-    const int lo = hi >= 0 ? g_ascii_xdigit_value(path[i + 2]) : -1;
-    if (lo < 0) {
-      out += path[i];
-      continue;
-    }
-    const char c = static_cast<char>(hi * 16 + lo);
-    if (g_ascii_isalnum(c) || c == '-' || c == '.' || c == '_' || c == '~') out += c;
-    else out += '%', out += g_ascii_toupper(path[i + 1]), out += g_ascii_toupper(path[i + 2]);
-    i += 2;
-  }
-  return out;
+  return routed_path(path);
 }
 
 bool lists_tag(SoupServerMessage* msg, const char* header, const std::string& etag, bool weak) {

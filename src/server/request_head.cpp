@@ -2,9 +2,11 @@
 #include "request_head.hpp"
 
 #include "ascii.hpp"
+#include "uri_path.hpp"
 
 #include <libsoup/soup.h>
 
+#include <algorithm>
 #include <cctype>
 #include <unordered_set>
 
@@ -234,8 +236,9 @@ RequestHead scan_request_head(std::string_view bytes, const HeadLimits& limits) 
   if (chunked_or_other && lengths) return refuse(400, "Content-Length and Transfer-Encoding together");
   if (chunked_or_other) return refuse(411, "request bodies need a Content-Length (no Transfer-Encoding)");
   if (hosts > 1 || (hosts == 0 && version == "HTTP/1.1")) return refuse(400, "HTTP/1.1 requests need one Host header");
-  const bool upload = !limits.upload_path.empty() && method == "POST" &&
-                      target.substr(0, target.find('?')) == limits.upload_path;
+  const std::string routed = routed_path(target.substr(0, target.find('?')));
+  const bool upload = method == "POST" && std::find(limits.upload_paths.begin(), limits.upload_paths.end(),
+                                                    routed) != limits.upload_paths.end();
   const std::size_t max_body = upload ? limits.max_upload_bytes : limits.max_body_bytes;
   if (out.content_length > max_body)
     return refuse(413, "the body is larger than " + std::to_string(max_body) + " bytes");

@@ -19,9 +19,9 @@ struct HeadLimits {
   std::size_t max_head_bytes = 16 * 1024;  ///< request line and headers
   std::size_t max_headers = 64;
   std::size_t max_body_bytes = 64 * 1024;
-  /// POSTs to this exact path (query aside) may send up to max_upload_bytes
-  /// instead: pictures for the designer. Empty: none.
-  std::string upload_path;
+  /// POSTs to these paths (as routed_path() gives them) may send up to
+  /// max_upload_bytes instead: pictures for the designer. Empty: none.
+  std::vector<std::string> upload_paths;
   std::size_t max_upload_bytes = 0;
 };
 

@@ -4,6 +4,7 @@
 #include "address_group.hpp"
 #include "broadcast.hpp"
 #include "http_util.hpp"
+#include "instance.hpp"
 #include "log.hpp"
 #include "server_state.hpp"
 
@@ -68,7 +69,9 @@ ListenerLimits listener_limits(const ServerConfig& c) {
   l.max_ws_message_bytes = c.max_ws_message_bytes;
   l.trusted_proxies = c.trusted_proxies;
   l.head.max_body_bytes = c.max_body_bytes;
-  l.head.upload_path = "/api/v1/designs";
+  // An instance's prefix is its path's too (instance.hpp): the same route.
+  l.head.upload_paths = {"/api/v1/designs"};
+  if (!url_prefix(c).empty()) l.head.upload_paths.push_back(url_prefix(c) + "/api/v1/designs");
   l.head.max_upload_bytes = static_cast<std::size_t>(c.design_max_upload_bytes);
   return l;
 }
