@@ -48,9 +48,10 @@ CapacityAgent::CapacityAgent(const ServerState& state, const std::string& addres
   if (inet) g_object_unref(inet);
   if (!bound) {
     const std::string why = error ? error->message : "not an address";
+    const bool port_taken = port_trouble(error);
     if (error) g_error_free(error);
     g_object_unref(service_);
-    throw ConfigError("agent_port: cannot listen on " + address + ":" + std::to_string(port) + ": " + why);
+    throw ListenError("cannot listen on " + address + ":" + std::to_string(port) + ": " + why, port_taken);
   }
   g_signal_connect(service_, "incoming",
                    G_CALLBACK(+[](GSocketService*, GSocketConnection* connection, GObject*, gpointer data) -> gboolean {

@@ -37,7 +37,7 @@ std::string agent_answer(const ServerState& s);
 /// agent_answer() and closes it. Lives on the main loop's thread.
 class CapacityAgent {
  public:
-  /// Throws ConfigError when the port cannot be bound.
+  /// Throws ListenError when the port cannot be bound.
   CapacityAgent(const ServerState& state, const std::string& address, int port);
   ~CapacityAgent();
   CapacityAgent(const CapacityAgent&) = delete;

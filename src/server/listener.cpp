@@ -95,18 +95,24 @@ Listener::~Listener() {
   }
 }
 
+bool port_trouble(const GError* error) {
+  return error && (g_error_matches(error, G_IO_ERROR, G_IO_ERROR_ADDRESS_IN_USE) ||
+                   g_error_matches(error, G_IO_ERROR, G_IO_ERROR_PERMISSION_DENIED));
+}
+
 std::string Listener::listen(const std::string& address, int port) {
   GInetAddress* inet = g_inet_address_new_from_string(address == "localhost" ? "127.0.0.1" : address.c_str());
-  if (!inet) throw std::runtime_error("cannot use bind address " + address);
+  if (!inet) throw ListenError("cannot use bind address " + address, false);
   GSocketAddress* where = g_inet_socket_address_new(inet, static_cast<guint16>(port));
   GError* error = nullptr;
   socket_ = g_socket_new(g_inet_address_get_family(inet), G_SOCKET_TYPE_STREAM, G_SOCKET_PROTOCOL_TCP, &error);
   g_object_unref(inet);
   auto fail = [&](const std::string& what) {
-    std::string message = what + ": " + (error ? error->message : "unknown error");
+    const std::string message = what + ": " + (error ? error->message : "unknown error");
+    const bool port = port_trouble(error);
     if (error) g_error_free(error);
     g_object_unref(where);
-    throw std::runtime_error(message);
+    throw ListenError(message, port);
   };
   if (!socket_) fail("cannot make a socket");
   g_socket_set_blocking(socket_, FALSE);

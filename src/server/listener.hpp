@@ -19,8 +19,9 @@
 #include <chrono>
 #include <cstdint>
 #include <map>
-#include <optional>
 #include <memory>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,19 @@ struct ListenerLimits {
   HeadLimits head;
 };
 
+/// A socket that could not be bound. `port`: the port stands in the way
+/// (taken, or below 1024 without the right to it); otherwise the address
+/// (not this host's, or not up yet). A restart may mend either, the port
+/// freed or the address up: the caller names the setting, and the process
+/// exits 1, which systemd retries, rather than 2.
+struct ListenError : std::runtime_error {
+  ListenError(const std::string& what, bool port) : std::runtime_error(what), port(port) {}
+  bool port;
+};
+
+/// Whether a failed bind's `error` is the port's (ListenError::port).
+bool port_trouble(const GError* error);
+
 class Listener {
  public:
   Listener(SoupServer* server, Metrics& metrics, ListenerLimits limits);
@@ -49,7 +63,7 @@ class Listener {
   Listener& operator=(const Listener&) = delete;
 
   /// Binds and listens (backlog 1024); returns the URL with the real port.
-  /// Throws std::runtime_error.
+  /// Throws ListenError.
   std::string listen(const std::string& address, int port);
   /// Limits for connections accepted from now on.
   void set_limits(const ListenerLimits& limits) { limits_ = limits; }

@@ -205,8 +205,18 @@ Server::~Server() {
 
 std::string Server::listen() {
   auto& s = state_->shared;
-  const std::string url = s.listener->listen(s.config.bind_address, s.config.port);
-  if (s.config.agent_port > 0) s.agent = std::make_unique<CapacityAgent>(s, s.config.bind_address, s.config.agent_port);
+  // The setting in the way named, for the journal: a restart may mend it.
+  std::string url;
+  try {
+    url = s.listener->listen(s.config.bind_address, s.config.port);
+  } catch (const ListenError& e) {
+    throw std::runtime_error(std::string(e.port ? "port" : "bind_address") + ": " + e.what());
+  }
+  try {
+    if (s.config.agent_port > 0) s.agent = std::make_unique<CapacityAgent>(s, s.config.bind_address, s.config.agent_port);
+  } catch (const ListenError& e) {
+    throw std::runtime_error(std::string(e.port ? "agent_port" : "bind_address") + ": " + e.what());
+  }
   return url;
 }
 
