@@ -12,6 +12,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string>
+#include <utility>
+#include <vector>
 
 using namespace caustic::server;
 
@@ -180,6 +183,19 @@ TEST(Config, ValuesAreCheckedAndNamed) {
   // webrtcbin's URI parser ends at a '#' or '?': TURN was off without a word.
   for (const char* raw : {"turn://u:p#ss@host:3478", "turn://u:p?ss@host:3478", "turn://u:p\"ss@host:3478"})
     expect_error(c, "turn_server", raw, "as %XX (%23 for #)");
+  // A URL's port is 1 to 65535, and its host a name, an IPv4 address or
+  // an IPv6 one in brackets: five digits and a host of colons let these by.
+  expect_error(c, "stun_server", "stun://h:99999", "stun_server: the port must be 1 to 65535");
+  expect_error(c, "turn_server", "turn://u:p@h:70000", "turn_server: the port must be 1 to 65535");
+  expect_error(c, "stun_server", "stun://a:b:c:d", "stun_server: must look like");
+  expect_error(c, "janus_ws_url", "ws://h:99999/x", "janus_ws_url: the port must be 1 to 65535");
+  expect_error(c, "janus_admin_url", "http://127.0.0.1:99999/admin", "janus_admin_url: the port must be 1 to 65535");
+  expect_error(c, "janus_admin_url", "http://127.0.0.1:0/admin", "janus_admin_url: the port must be 1 to 65535");
+  for (const auto& [key, value] : std::vector<std::pair<std::string, std::string>>{
+           {"stun_server", "stun://[::1]:3478"}, {"stun_server", "stun://stun.example"},
+           {"turn_server", "turns://user:pw@turn.example.org:65535"}, {"janus_ws_url", "ws://[::1]:8188/janus"},
+           {"janus_ws_url", "/janus"}, {"janus_admin_url", "http://[::1]:7088/admin"}})
+    EXPECT_NO_THROW(set_config_value(c, key, value)) << key << " = " << value;
   expect_error(c, "width", "8", "width");
   expect_error(c, "nonsense", "1", "unknown key");
 }

@@ -36,14 +36,26 @@ std::string trim(const std::string& s) {
   return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
 }
 
+// A host as RFC 3986 writes it (a name or IPv4 address, or an IPv6
+// address in brackets), then an optional port: groups host, ":port", port.
+constexpr const char* kHostPort = "([A-Za-z0-9.-]+|\\[[0-9A-Fa-f:.]+\\])(:([0-9]{1,5}))?";
+
+// A port a URL names, when it names one, is 1 to 65535: five digits alone
+// let 99999 through to a STUN, TURN or Janus address nothing listens on.
+void check_port(const std::string& key, const std::string& value, const std::ssub_match& port) {
+  if (port.matched && (std::stoi(port.str()) < 1 || std::stoi(port.str()) > 65535))
+    throw ConfigError(key + ": the port must be 1 to 65535" + got(value));
+}
+
 // A user and password are RFC 3986 userinfo: any other byte percent-encoded
 // (a '#' or '?' ended the URI that webrtcbin parses, which then left TURN
 // off without a word; a quote would end the pipeline's text).
 void check_uri(const std::string& key, const std::string& value, const char* schemes) {
-  const std::regex pattern(std::string("^(") + schemes +
-                           ")://([A-Za-z0-9._~%!$&()*+,;=:-]+@)?[A-Za-z0-9.:\\[\\]-]+(:[0-9]{1,5})?$");
-  if (value.empty() || std::regex_match(value, pattern)) return;
-  const std::regex userinfo(std::string("^(") + schemes + ")://[^\\s/]*@[A-Za-z0-9.:\\[\\]-]+(:[0-9]{1,5})?$");
+  const std::regex pattern(std::string("^(") + schemes + ")://([A-Za-z0-9._~%!$&()*+,;=:-]+@)?" + kHostPort + "$");
+  std::smatch m;
+  if (value.empty()) return;
+  if (std::regex_match(value, m, pattern)) return check_port(key, value, m[5]);
+  const std::regex userinfo(std::string("^(") + schemes + ")://[^\\s/]*@" + kHostPort + "$");
   if (std::regex_match(value, userinfo))
     throw ConfigError(key + ": write a '#', '?', '@', '/', quote or space in the user or password as %XX (%23 for #)");
   throw ConfigError(key + ": must look like " + std::string(schemes) + "://host:port" + got(value));
@@ -195,9 +207,11 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
     c.trusted_proxies = address_list(key, value);
   } else if (key == "janus_admin_url") {
     // Janus's admin API can do anything to it: it stays on this host.
-    static const std::regex admin("^http://(127\\.0\\.0\\.1|localhost|\\[::1\\]):[0-9]{1,5}(/[A-Za-z0-9._~/-]*)?$");
-    if (!value.empty() && !std::regex_match(value, admin))
+    static const std::regex admin("^http://(127\\.0\\.0\\.1|localhost|\\[::1\\]):([0-9]{1,5})(/[A-Za-z0-9._~/-]*)?$");
+    std::smatch m;
+    if (!value.empty() && !std::regex_match(value, m, admin))
       throw ConfigError(key + ": must be http://127.0.0.1:PORT/PATH (the admin API stays on this host)" + got(value));
+    if (!value.empty()) check_port(key, value, m[2]);
     c.janus_admin_url = value;
   } else if (key == "janus_admin_secret" || key == "janus_streaming_key" || key == "janus_token_secret") {
     static const std::regex secret("^[A-Za-z0-9._~+/=-]{16,256}$");
@@ -206,9 +220,11 @@ void set_config_value(ServerConfig& c, const std::string& key, const std::string
     (key == "janus_admin_secret" ? c.janus_admin_secret
                                  : key == "janus_streaming_key" ? c.janus_streaming_key : c.janus_token_secret) = value;
   } else if (key == "janus_ws_url") {
-    static const std::regex ws("^(wss?://[A-Za-z0-9.:\\[\\]-]+)?/[A-Za-z0-9._~/-]*$");
-    if (!value.empty() && !std::regex_match(value, ws))
+    static const std::regex ws(std::string("^(wss?://") + kHostPort + ")?/[A-Za-z0-9._~/-]*$");
+    std::smatch m;
+    if (!value.empty() && !std::regex_match(value, m, ws))
       throw ConfigError(key + ": must be ws://host:port/path, wss://host/path or a path on this server" + got(value));
+    if (!value.empty()) check_port(key, value, m[4]);
     c.janus_ws_url = value;
   } else if (key == "janus_rtp_address") {
     const auto list = address_list(key, value);
