@@ -52,10 +52,17 @@ void warn_overrides(const char* command, const nlohmann::json& file_doc, const s
   const auto written_as = [&](std::size_t i) { return flag(i).empty() ? assignments[i] : flag(i); };
   std::vector<nlohmann::json> written{file_doc};
   for (const auto& a : assignments) written.push_back(patch_from_assignment(a));
+  // And all of them merged as the scene was: a key in the file that a --set
+  // overrides (focus_distance, then screen.center) is in no one document.
+  nlohmann::json merged = file_doc;
+  for (std::size_t i = 1; i < written.size(); ++i) merged.merge_patch(written[i]);
   std::set<std::string> said;
-  for (const auto& w : written)
+  const auto say = [&](const nlohmann::json& w) {
     for (const auto& [key, detail] : scene_overrides(w, scene))
       if (said.insert(key).second) std::cerr << "causticd " << command << ": warning: " << detail << "\n";
+  };
+  for (const auto& w : written) say(w);
+  say(merged);
   // Two assignments that write one key, directly or inside an object one of
   // them sets whole (post={"gamma":3}, then post.gamma=2), or that reset the
   // object the earlier one wrote into (post.gamma=2, then post=null).
@@ -96,6 +103,9 @@ bool load_scene_and_mesh(const char* command, const std::filesystem::path& file,
     for (const auto& a : assignments) patches.push_back(patch_from_assignment(a));
     *scene = apply_merge_patches(*scene, patches);
     *mesh = water::load_scene_mesh(*scene);
+    // With the screen where following the light puts it, as every command
+    // renders or traces it: a written centre that it moves is then said.
+    *scene = follow_light(*scene, place_object(scene->object, *mesh));
     warn_overrides(command, written, assignments, flags, *scene);
     return true;
   } catch (const SceneError& e) {
@@ -275,9 +285,8 @@ bool load_scene_levels(const char* command, const std::filesystem::path& file,
         std::find(resolutions.begin(), resolutions.end(), named) == resolutions.end())
       resolutions.push_back(named);
     out->levels = build_mesh_levels(source, scene->object.flat_face_normal, resolutions);
-    // Calibrated as rendered: with the screen where following puts it.
+    // Calibrated as rendered: with the screen where following put it (above).
     const Placement placed = out->levels.place(scene->object);
-    *scene = follow_light(*scene, placed);
     warn_self_shading(command, *scene, placed, *source);
     // What the server says of a session's scene, said of the file too: a
     // black picture without a word looks like a broken renderer.
