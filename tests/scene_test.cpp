@@ -311,6 +311,13 @@ TEST(LightWarnings, NameWhatSendsTheLightAwayFromTheScreen) {
   up.light.direction = {0, 0, 1};  // from below the screen, away from it... and through the back face
   ASSERT_EQ(light_warnings(up, p).size(), 1u);
   EXPECT_EQ(light_warnings(up, p)[0].key, "light.direction");
+  // A point light below the object shines away from the screen too, but it
+  // is aimed by where it stands: light.direction, which it ignores, was named.
+  Scene below = s;
+  below.light.type = LightType::point;
+  below.light.position = {0, 0, -30};
+  ASSERT_EQ(light_warnings(below, p).size(), 1u);
+  EXPECT_EQ(light_warnings(below, p)[0].key, "light.position");
 
   Scene beside = s;
   beside.light.direction = glm::normalize(glm::dvec3(0.8, 0, -0.6));  // lands 67 mm off the centre

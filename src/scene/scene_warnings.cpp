@@ -137,18 +137,23 @@ double proxy_share_on_screen(const Scene& scene, const Placement& placement) {
 std::vector<SceneWarning> light_warnings(const Scene& scene, const Placement& placement) {
   const Traced t = trace_proxy(scene, placement, true);
   const bool mirror = scene.object.material == Material::reflective;
+  // A point light is aimed by where it stands, and ignores light.direction.
+  const bool point = scene.light.type == LightType::point;
+  const char* aim = point ? "light.position" : "light.direction";
   std::vector<SceneWarning> out;
   if (t.ahead == 0) {
-    out.push_back({mirror ? "object.material" : "light.direction",
+    out.push_back({mirror ? "object.material" : aim,
                    mirror ? "no light reaches the screen: the mirror sends it away from the screen; turn the light or "
                             "the object, or place the screen on the reflection's side (screen.center, screen.normal)"
-                          : "no light reaches the screen: the light travels away from it; point the light towards "
-                            "the screen"});
+                   : point ? "no light reaches the screen: the light travels away from it; place the light on the "
+                             "object's other side from the screen"
+                           : "no light reaches the screen: the light travels away from it; point the light towards "
+                             "the screen"});
   } else if (t.on_screen == 0) {
     out.push_back({"screen.center", "no light lands on the screen rectangle: it passes beside it; move the screen "
                                     "or make it larger (screen.width, screen.height), or turn the light back"});
   } else if (t.on_screen * 10 < kGrid * kGrid) {
-    out.push_back({"light.direction", "little light lands on the screen (about " +
+    out.push_back({aim, "little light lands on the screen (about " +
                                           std::to_string(100 * t.on_screen / (kGrid * kGrid)) +
                                           "% of the object's outline); much of the picture is off the screen"});
   }
