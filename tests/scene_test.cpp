@@ -106,6 +106,16 @@ TEST(SceneJson, RejectsBadValuesNamingTheKey) {
   // Shown in the gallery: no NUL, no escape sequence (as the designer's --name).
   expect_rejected(json{{"mesh", "m.obj"}, {"name", std::string("a\0b", 3)}}, "name");
   expect_rejected(json{{"mesh", "m.obj"}, {"description", "\x1b[2Jcleared"}}, "description");
+  // The limits count bytes of UTF-8, as the designer's --name does, and say
+  // so: 101 "é" are 202 bytes (the answer said 200 "characters").
+  std::string accents;
+  for (int i = 0; i < 101; ++i) accents += "\u00e9";
+  try {
+    scene_from_json(json{{"mesh", "m.obj"}, {"name", accents}}, ".");
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("name: is longer than 200 bytes"), std::string::npos) << e.what();
+  }
 }
 
 TEST(SceneJson, RejectsUnknownKeysAtEveryLevel) {

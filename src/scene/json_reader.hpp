@@ -98,7 +98,8 @@ class Reader {
     if (!v) return fallback;
     if (!v->is_string()) throw SceneError(key(k), "must be a string");
     auto s = v->get<std::string>();
-    if (s.size() > max_len) throw SceneError(key(k), "is longer than " + std::to_string(max_len) + " characters");
+    // Bytes of UTF-8, as every text limit of the project counts them.
+    if (s.size() > max_len) throw SceneError(key(k), "is longer than " + std::to_string(max_len) + " bytes");
     return s;
   }
 
