@@ -54,7 +54,9 @@ void check_numbers(std::string_view text, const std::string& label, const MeshLi
   static const char* const kStatements[] = {"v", "vn", "vt", "f", "o", "g", "s", "l", "usemtl"};
   // One pass over the text with no stream a line: a caustic face is
   // megabytes, and every gallery scene's is read at start-up.
-  const auto blank = [](char ch) { return ch == ' ' || ch == '\t' || ch == '\v' || ch == '\f'; };
+  // The loader's blanks: a form feed or vertical tab is none to it, so a
+  // line holding one (or a NUL, which ends its line there) is refused below.
+  const auto blank = [](char ch) { return ch == ' ' || ch == '\t'; };
   const auto fail = [&](std::size_t number, const std::string& what) {
     throw SceneError("mesh", "mesh file " + label + " line " + std::to_string(number) + ": " + what);
   };
@@ -66,7 +68,9 @@ void check_numbers(std::string_view text, const std::string& label, const MeshLi
   for (std::size_t number = 1; p < end; ++number) {
     // The loader ends a line at '\r' as well as '\n'; "\r\n" is one end.
     const char* line_end = p;
-    while (line_end < end && *line_end != '\n' && *line_end != '\r') ++line_end;
+    bool control = false;  // a byte below 0x20 other than a tab, or DEL
+    for (; line_end < end && *line_end != '\n' && *line_end != '\r'; ++line_end)
+      control = control || (static_cast<unsigned char>(*line_end) < 0x20 && *line_end != '\t') || *line_end == 0x7f;
     const char* const next = line_end + (line_end + 1 < end && line_end[0] == '\r' && line_end[1] == '\n' ? 2 : 1);
     // The loader copies each line, growing its copy by doubling: one line
     // of 1 GiB (a comment) would take 2 GiB more. A triangle's is ~100 bytes.
@@ -83,6 +87,8 @@ void check_numbers(std::string_view text, const std::string& label, const MeshLi
       p = next;
       continue;
     }
+    // Not quoted: the words around it would carry it into the message.
+    if (control) fail(number, "holds a control character; only spaces and tabs separate an OBJ line's words");
     const std::string tag = word;
     bool known = false;
     for (const char* statement : kStatements) known = known || tag == statement;
@@ -130,6 +136,7 @@ void check_numbers(std::string_view text, const std::string& label, const MeshLi
     std::size_t count = 0;
     for (; next_word(); ++count) {
       char* stop = nullptr;
+      if (word[0] == '#') fail(number, "a comment (#) must be a line of its own");
       const double x = std::strtod(word.c_str(), &stop);
       if (stop != word.c_str() + word.size() || !std::isfinite(x))
         fail(number, "\"" + word + "\" is not a finite number (NaN, Inf or malformed)");
