@@ -90,10 +90,13 @@ void validate(const WaveParams& p) {
   require(std::isfinite(p.warmup_s) && p.warmup_s >= 0 && p.warmup_s <= kMaxWarmup, "water.warmup_s",
           "must be 0 to " + text(kMaxWarmup) + " seconds");
   const double per_second = double(p.grid) * p.grid / step_seconds(p);
-  require(per_second <= kMaxUpdatesPerSecond, p.time_step > 0 ? "water.time_step" : "water.grid",
+  // Without a step of its own, the step is the wave speed's: named by that,
+  // which a session may change (its grid is fixed).
+  require(per_second <= kMaxUpdatesPerSecond, p.time_step > 0 ? "water.time_step" : "water.wave_speed",
           "a second of this water is " + text(per_second) + " cell updates (grid² / step), more than " +
               text(kMaxUpdatesPerSecond) + ": " +
-              (p.time_step > 0 ? "lengthen the step or coarsen the grid" : "coarsen the grid or slow the waves"));
+              (p.time_step > 0 ? "lengthen the step or coarsen the grid (water.grid)"
+                               : "slow the waves or coarsen the grid (water.grid)"));
   require(p.warmup_s * per_second <= kMaxWarmupUpdates, "water.warmup_s",
           "must be at most " + text(kMaxWarmupUpdates / per_second) + " s for this grid and step (" +
               text(per_second) + " cell updates a second, " + text(kMaxWarmupUpdates) +
