@@ -5,7 +5,7 @@
 // render thread copies and encodes the picture at its next turn (a few
 // milliseconds), once for every request then waiting, and the answer is
 // written on the main loop. A session that stops first, or a render thread
-// that does not come round within kFrameWait, gets 503; requests beyond
+// that does not come round within kFrameWaitMs, gets 503; requests beyond
 // kMaxFrameWaiters at once, 429. Sixty at once once held sixty copies of a
 // colour picture (1.2 GB) and encoded each on the main loop.
 #include "caustic/gst/causticsrc.hpp"
@@ -46,18 +46,26 @@ struct FrameRequest {
   }
 };
 
-// `bytes`: the encoded picture, or null when the session has none (or,
-// `crowded`, when too many requests wait for it already).
-void finish(FrameRequest& r, const std::vector<unsigned char>* bytes, bool crowded = false) {
+// Why a request gets no picture: the session has none (or is stopping),
+// its render thread is still on a frame past kFrameWaitMs (a scene that
+// takes seconds a frame: the next request may get it), or too many wait.
+enum class NoPicture { none_yet, late, crowded };
+
+// `bytes`: the encoded picture, or null with `why`.
+void finish(FrameRequest& r, const std::vector<unsigned char>* bytes, NoPicture why = NoPicture::none_yet) {
   if (r.answered) return;
   r.answered = true;
   if (r.timeout) g_source_remove(r.timeout);
   r.timeout = 0;
   if (!bytes) {
     soup_message_headers_replace(soup_server_message_get_response_headers(r.msg), "Retry-After", "1");
-    if (crowded)
+    if (why == NoPicture::crowded)
       reply_problem(r.msg, r.state->metrics, 429,
                     std::to_string(kMaxFrameWaiters) + " requests wait for this session's next picture already; retry");
+    else if (why == NoPicture::late)
+      reply_problem(r.msg, r.state->metrics, SOUP_STATUS_SERVICE_UNAVAILABLE,
+                    "the session's renderer did not hand its picture over within " + std::to_string(kFrameWaitMs / 1000) +
+                        " s (a frame of this scene takes longer); retry");
     else
       reply_problem(r.msg, r.state->metrics, SOUP_STATUS_SERVICE_UNAVAILABLE, "the session has no picture yet; retry");
   } else {
@@ -140,12 +148,12 @@ void session_frame(ServerState& s, SoupServerMessage* msg, Session& session, boo
       [](gpointer data) -> gboolean {
         FrameRequest& r = **static_cast<std::shared_ptr<FrameRequest>*>(data);
         r.timeout = 0;
-        finish(r, nullptr);
+        finish(r, nullptr, NoPicture::late);
         return G_SOURCE_REMOVE;
       },
       keep, [](gpointer data) { delete static_cast<std::shared_ptr<FrameRequest>*>(data); });
   if (!session.frame(hdr, [request](const std::vector<unsigned char>* bytes) { finish(*request, bytes); }))
-    finish(*request, nullptr, true);
+    finish(*request, nullptr, NoPicture::crowded);
 }
 
 }  // namespace caustic::server
