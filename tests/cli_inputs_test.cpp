@@ -398,3 +398,16 @@ TEST_F(CliInputs, AServerThatCannotListenNamesTheSettingInItsWay) {
   expect(causticd_with_env("timeout 30", "serve --bind 192.0.2.1 --port 0"), "bind_address: cannot listen on 192.0.2.1:0: ");
   ::close(held);
 }
+
+// A named flag applies after every --set, wherever each was written, as
+// render's do; the --set it overrides is said. The parser handed the flags
+// over before the --set items, so the --set won (the comment promised the
+// line's order, which the parser does not keep).
+TEST_F(CliInputs, AServeFlagAppliesAfterEverySet) {
+  // Were the --set to win, the server would try 192.0.2.1 (no host's) and exit.
+  const CommandResult r =
+      causticd_with_env("timeout 10", "serve --port 0 --bind 127.0.0.1 --set bind_address=192.0.2.1");
+  EXPECT_NE(r.output.find("listening on http://127.0.0.1:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("bind_address: the value set at --set bind_address is overridden by --bind"), std::string::npos)
+      << r.output;
+}

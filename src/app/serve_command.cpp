@@ -30,9 +30,12 @@ namespace {
 
 struct ServeOptions {
   std::string config_file;
-  // (config key, value, the flag that said it), in command-line order: a
-  // key given twice is said, not silently the last.
-  std::vector<std::tuple<std::string, std::string, std::string>> overrides;
+  // (config key, value, the flag that said it): the --set items in
+  // command-line order, then the named flags, which apply after every --set
+  // as render's do (the parser hands flags over in its own order, not the
+  // line's). A key given twice is said, not silently the last.
+  using Override = std::tuple<std::string, std::string, std::string>;
+  std::vector<Override> assignments, flags;
   std::vector<std::string> ice_addresses;
   std::string instance;
   std::vector<std::string> environment;  // CAUSTICD_ variables as the process began
@@ -58,7 +61,8 @@ server::ServerConfig read_config(const ServeOptions& opt) {
     set("port", m[1], "--instance");
     if (m[3].matched) set("egl_device", m[3], "--instance");
   }
-  for (const auto& [key, value, flag] : opt.overrides) set(key, value, flag);
+  for (const auto& [key, value, flag] : opt.assignments) set(key, value, flag);
+  for (const auto& [key, value, flag] : opt.flags) set(key, value, flag);
   if (!opt.ice_addresses.empty()) {
     std::string joined;
     for (const auto& a : opt.ice_addresses) joined += (joined.empty() ? "" : ",") + a;
@@ -187,7 +191,7 @@ std::function<int()> add_serve_command(CLI::App& app) {
           // variable) served the built-in gallery. --set key= keeps the key's
           // own meaning of an empty value.
           if (value.empty()) throw CLI::ValidationError(f, "must not be empty (leave the flag out for the default)");
-          opt->overrides.emplace_back(k, value, f);
+          opt->flags.emplace_back(k, value, f);
         },
         "Overrides the config key " + k);
   }
@@ -200,7 +204,7 @@ std::function<int()> add_serve_command(CLI::App& app) {
           if (eq == std::string::npos)
             throw CLI::ValidationError("--set", "expected key=value, got " +
                                                     (item.empty() ? "nothing" : "\"" + printable_name(item) + "\""));
-          opt->overrides.emplace_back(item.substr(0, eq), item.substr(eq + 1), "--set " + item.substr(0, eq));
+          opt->assignments.emplace_back(item.substr(0, eq), item.substr(eq + 1), "--set " + item.substr(0, eq));
         }
       },
       "Sets any config key: --set key=value (repeatable; docs/configuration.md)");
