@@ -289,3 +289,16 @@ TEST(Config, AKeySetAgainInALaterPlaceIsWarnedAbout) {
   load_config_file(plain, file);
   EXPECT_TRUE(plain.warnings.empty());
 }
+
+TEST(Config, AFileThatCannotBeReadSaysWhy) {
+  // check-config and serve said "cannot read config file X" and no more.
+  ServerConfig c;
+  try {
+    load_config_file(c, "/nonexistent-folder/causticd.conf");
+    ADD_FAILURE() << "read";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent-folder/causticd.conf (No such file or directory)"),
+              std::string::npos)
+        << e.what();
+  }
+}

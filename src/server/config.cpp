@@ -293,7 +293,7 @@ void load_config_file(ServerConfig& config, const std::filesystem::path& file, C
   // for input that may never come.
   FileText read = read_file_text(file, kMaxBytes);
   if (read.not_a_file) throw ConfigError("config file " + file.string() + " is a pipe, socket, device or kernel file, not a file");
-  if (!read.opened) throw ConfigError("cannot read config file " + file.string());
+  if (!read.opened) throw ConfigError("cannot read config file " + file.string() + why_unread(read));
   if (read.too_large) throw ConfigError("config file " + file.string() + " is larger than 1 MiB");
   std::string text = std::move(read.text);
   // Some editors start a UTF-8 file with a byte-order mark: no part of the first key.
