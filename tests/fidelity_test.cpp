@@ -16,6 +16,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <tuple>
 
 using namespace caustic;
 using namespace caustic::testing;
@@ -201,6 +203,16 @@ TEST(Calibration, RoundTripsAndNamesWhatIsWrongInAFile) {
   j = good;
   j["entries"][0]["fresnel"] = "yes";
   rejects(j, "entries[0].fresnel");
+  // Whole numbers in range: 2.7 was read as 2, -5 vertices as 18
+  // quintillion, a width of 1e30 as whatever the conversion made of it.
+  for (const auto& [where, key, value] :
+       {std::tuple{"entries", "mesh_resolution", nlohmann::json(2.7)}, std::tuple{"entries", "vertices", nlohmann::json(-5)},
+        std::tuple{"", "reference_photons", nlohmann::json(-1)}, std::tuple{"", "width", nlohmann::json(1e30)},
+        std::tuple{"", "height", nlohmann::json(4294967296LL)}}) {
+    j = good;
+    (std::string(where).empty() ? j : j["entries"][0])[key] = value;
+    rejects(j, std::string(where).empty() ? key : std::string("entries[0].") + key);
+  }
 
   const auto dir = std::filesystem::temp_directory_path() / "causticd_fidelity_test";
   std::filesystem::create_directories(dir);

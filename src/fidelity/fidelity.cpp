@@ -9,7 +9,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
+#include <string>
 #include <tuple>
+#include <type_traits>
+#include <utility>
 
 namespace caustic {
 namespace {
@@ -26,8 +30,25 @@ std::tuple<std::size_t, int, int, int> cost(const CalibrationEntry& e) {
 template <typename T>
 T field(const json& j, const std::string& key, const std::string& where) {
   if (!j.is_object() || !j.contains(key)) throw SceneError(where + key, "is missing");
+  const json& v = j.at(key);
+  if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+    // The library's get<int>() cuts 2.7 to 2, wraps -5 into a count of
+    // 18 quintillion and 1e30 into anything: a whole number in range, or none.
+    const auto top = static_cast<std::uint64_t>(std::numeric_limits<T>::max());
+    const auto bottom = static_cast<std::int64_t>(std::numeric_limits<T>::min());
+    bool fits = false;
+    if (v.is_number_unsigned()) {
+      fits = v.get<std::uint64_t>() <= top;
+    } else if (v.is_number_integer()) {  // either sign: a document built in code keeps 5 signed
+      const std::int64_t n = v.get<std::int64_t>();
+      fits = n < 0 ? std::is_signed_v<T> && n >= bottom : static_cast<std::uint64_t>(n) <= top;
+    }
+    if (!fits) throw SceneError(where + key, "must be a whole number from " + std::to_string(std::numeric_limits<T>::min()) +
+                                                 " to " + std::to_string(std::numeric_limits<T>::max()));
+    return v.get<T>();
+  }
   try {
-    return j.at(key).get<T>();
+    return v.get<T>();
   } catch (const json::exception&) {
     throw SceneError(where + key, "has the wrong type");
   }
