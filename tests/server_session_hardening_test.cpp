@@ -318,6 +318,10 @@ TEST(Hardening, SignallingSocketsAreNotCompressed) {
   }
   ASSERT_EQ(raw_status(head), 101) << head;
   EXPECT_EQ(raw_header(head, "Sec-WebSocket-Extensions"), "") << head;
+  // One Connection field, the upgrade's: every plain answer's "close" stood
+  // beside it and contradicted the 101.
+  EXPECT_EQ(raw_header(head, "Connection"), "Upgrade") << head;
+  EXPECT_EQ(head.find("close"), std::string::npos) << head;
   // A frame marked compressed (RSV1) is then a protocol error, not inflated.
   const std::string stored = std::string("\x00\x01\x00\xfe\xff", 5) + "x";  // a deflate stored block
   std::string frame = "\xc1";

@@ -264,7 +264,10 @@ void route_http(ServerState& s, SoupServerMessage* msg, const std::string& path)
     // takes a few at once, then one every 2 s.
     if (!s.within(s.reconnect_rate, msg, it->first, kReconnectsPerS, kReconnectBurst,
                   "this session's stream was rebuilt for new connections too often"))
-      closing();
+      return closing();
+    // Going ahead: the 101's Connection field is the upgrade's alone, not
+    // beside the "close" that every plain answer carries (on_request_started).
+    soup_message_headers_remove(soup_server_message_get_response_headers(msg), "Connection");
     return;
   }
   if (path == "/metrics") {
