@@ -404,9 +404,16 @@ TEST_F(CliInputs, AServerThatCannotListenNamesTheSettingInItsWay) {
 // over before the --set items, so the --set won (the comment promised the
 // line's order, which the parser does not keep).
 TEST_F(CliInputs, AServeFlagAppliesAfterEverySet) {
+  // A gallery of one small scene: listening in well under a second, so the
+  // bound below leaves room on a loaded machine.
+  fs::create_directories(dir_ / "scenes");
+  fs::create_directories(dir_ / "meshes");
+  fs::copy_file(scene("slab"), dir_ / "scenes" / "slab.json");
+  fs::copy_file(fs::path(CAUSTIC_ASSET_DIR) / "meshes" / "slab.obj", dir_ / "meshes" / "slab.obj");
   // Were the --set to win, the server would try 192.0.2.1 (no host's) and exit.
   const CommandResult r =
-      causticd_with_env("timeout 10", "serve --port 0 --bind 127.0.0.1 --set bind_address=192.0.2.1");
+      causticd_with_env("timeout 10", "serve --port 0 --bind 127.0.0.1 --set bind_address=192.0.2.1 --scenes-dir " +
+                                          (dir_ / "scenes").string());
   EXPECT_NE(r.output.find("listening on http://127.0.0.1:"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("bind_address: the value set at --set bind_address is overridden by --bind"), std::string::npos)
       << r.output;
