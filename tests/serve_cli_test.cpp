@@ -78,6 +78,14 @@ TEST(CheckConfig, AcceptsTheShippedFileAndNamesTheKeyOfABrokenOne) {
   std::ofstream(dir / "state.conf") << "state_dir = " << (dir / "state").string() << "\n";
   EXPECT_EQ(run((dir / "state.conf").string(), &output), 0) << output;
   EXPECT_EQ(output.find("state_dir"), std::string::npos) << output;
+  // Inside the served folder, the designs' records (each with its delete
+  // token) were static files for anyone: refused, naming the key.
+  fs::create_directories(dir / "web");
+  std::ofstream(dir / "state.conf") << "web_dir = " << (dir / "web").string() << "\nstate_dir = "
+                                    << (dir / "web" / "." / "state").string() << "\n";
+  EXPECT_EQ(run((dir / "state.conf").string(), &output), 2) << output;
+  EXPECT_NE(output.find("state_dir: " + (dir / "web" / "state").string() + " lies inside web_dir"), std::string::npos)
+      << output;
   fs::remove_all(dir);
 }
 

@@ -359,6 +359,17 @@ void check_config(const ServerConfig& c, const std::filesystem::path& data_dir) 
   // Unwritable, it leaves uploads off (said); a file there is a mistake.
   if (!c.state_dir.empty() && std::filesystem::exists(c.state_dir, ec) && !std::filesystem::is_directory(c.state_dir, ec))
     throw ConfigError("state_dir: " + printable_name(c.state_dir.string(), 256) + " is not a folder");
+  // Every file under web_dir is served: a state folder there would hand out
+  // each design's record, its delete token and the figures kept from visitors.
+  const auto real = [](const std::filesystem::path& p) {
+    std::error_code e;
+    const auto r = std::filesystem::weakly_canonical(p, e);
+    return e ? p.lexically_normal() : r;
+  };
+  const auto state = real(state_folder(c)), served = real(web);
+  if (std::mismatch(served.begin(), served.end(), state.begin(), state.end()).first == served.end())
+    throw ConfigError("state_dir: " + printable_name(state.string(), 256) + " lies inside web_dir " +
+                      printable_name(served.string(), 256) + ", whose files are served; keep it outside");
   check_broadcast_keys(c);
 }
 
