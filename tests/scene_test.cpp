@@ -106,6 +106,11 @@ TEST(SceneJson, RejectsBadValuesNamingTheKey) {
   // Shown in the gallery: no NUL, no escape sequence (as the designer's --name).
   expect_rejected(json{{"mesh", "m.obj"}, {"name", std::string("a\0b", 3)}}, "name");
   expect_rejected(json{{"mesh", "m.obj"}, {"description", "\x1b[2Jcleared"}}, "description");
+  // Unicode's controls too: NEL (a C1 control), a line separator, and a
+  // right-to-left override that shows what follows it reversed.
+  for (const char* shown : {"a\u0085b", "two\u2028lines", "photo\u202egpj.exe", "x\u2066y"})
+    expect_rejected(json{{"mesh", "m.obj"}, {"name", shown}}, "name");
+  EXPECT_NO_THROW(scene_from_json(json{{"mesh", "m.obj"}, {"name", "Caf\u00e9 \u2014 \u732b"}}, "."));
   // The limits count bytes of UTF-8, as the designer's --name does, and say
   // so: 101 "é" are 202 bytes (the answer said 200 "characters").
   std::string accents;

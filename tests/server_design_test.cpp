@@ -185,6 +185,8 @@ TEST_F(DesignApi, BadUploadsAreRefusedAndLeaveNothingBehind) {
   expect_problem(upload(server, std::string(100001, 'x'), "image/png", "", {{"Expect", "100-continue"}}), 413,
                  "100000 bytes");
   expect_problem(upload(server, square_png(), "image/png", "?name=%01"), 422, "control");
+  for (const char* name : {"%C2%85x", "%E2%80%A8", "a%E2%80%AEb"})  // NEL, a line separator, a right-to-left override
+    expect_problem(upload(server, square_png(), "image/png", std::string("?name=") + name), 422, "control");
   expect_problem(upload(server, square_png(), "image/png", "?name=" + std::string(65, 'a')), 422, "name");
   expect_problem(upload(server, square_png(), "image/png", "?shape=round"), 422, "shape: unknown query key");
   expect_problem(upload(server, square_png(), "image/png", "?name=a&name=b"), 422, "name is given twice");

@@ -13,6 +13,7 @@
 #include "caustic/gl_context.hpp"
 #include "caustic/image_compare.hpp"
 #include "caustic/image_io.hpp"
+#include "caustic/shown_text.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -53,8 +54,7 @@ int bad(const std::string& message) {
 std::string text_problem(const std::string& text, std::size_t max_len, bool may_be_empty) {
   if (text.empty() && !may_be_empty) return "must not be empty";
   if (text.size() > max_len) return "is longer than " + std::to_string(max_len) + " bytes";
-  for (const unsigned char c : text)
-    if (c < 0x20 || c == 0x7f) return "must not contain control characters";
+  if (holds_control_characters(text)) return "must not contain control characters";
   try {
     (void)nlohmann::json(text).dump();
   } catch (const nlohmann::json::exception&) {

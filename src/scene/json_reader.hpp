@@ -6,6 +6,7 @@
 
 #include "caustic/json_text.hpp"
 #include "caustic/scene.hpp"
+#include "caustic/shown_text.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -108,8 +109,7 @@ class Reader {
   /// name are (a NUL or an escape sequence in a gallery title).
   std::string text(const std::string& k, std::size_t max_len) {
     std::string s = string(k, "", max_len);
-    for (unsigned char ch : s)
-      if (ch < 0x20 || ch == 0x7f) throw SceneError(key(k), "must not hold control characters");
+    if (holds_control_characters(s)) throw SceneError(key(k), "must not hold control characters");
     return s;
   }
 

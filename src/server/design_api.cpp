@@ -10,6 +10,7 @@
 
 #include "caustic/jpeg_scans.hpp"
 #include "caustic/json_text.hpp"
+#include "caustic/shown_text.hpp"
 
 #include <algorithm>
 #include <regex>
@@ -60,11 +61,10 @@ bool valid_name(const std::string& name, std::string* why) {
     *why = "name: must be 1 to " + std::to_string(kMaxNameBytes) + " bytes";
     return false;
   }
-  for (unsigned char c : name)
-    if (c < 0x20 || c == 0x7f) {
-      *why = "name: must not hold control characters";
-      return false;
-    }
+  if (holds_control_characters(name)) {
+    *why = "name: must not hold control characters";
+    return false;
+  }
   if (!g_utf8_validate(name.data(), static_cast<gssize>(name.size()), nullptr)) {
     *why = "name: must be UTF-8";
     return false;
