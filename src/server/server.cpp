@@ -206,17 +206,17 @@ Server::~Server() {
 std::string Server::listen() {
   auto& s = state_->shared;
   // The setting in the way named, for the journal: a restart may mend it.
-  std::string url;
-  try {
-    url = s.listener->listen(s.config.bind_address, s.config.port);
-  } catch (const ListenError& e) {
-    throw std::runtime_error(std::string(e.port ? "port" : "bind_address") + ": " + e.what());
-  }
-  try {
-    if (s.config.agent_port > 0) s.agent = std::make_unique<CapacityAgent>(s, s.config.bind_address, s.config.agent_port);
-  } catch (const ListenError& e) {
-    throw std::runtime_error(std::string(e.port ? "agent_port" : "bind_address") + ": " + e.what());
-  }
+  const auto naming = [](const char* port_key, auto&& bind) {
+    try {
+      return bind();
+    } catch (const ListenError& e) {
+      throw std::runtime_error(std::string(e.port ? port_key : "bind_address") + ": " + e.what());
+    }
+  };
+  const std::string url = naming("port", [&] { return s.listener->listen(s.config.bind_address, s.config.port); });
+  if (s.config.agent_port > 0)
+    s.agent = naming("agent_port",
+                     [&] { return std::make_unique<CapacityAgent>(s, s.config.bind_address, s.config.agent_port); });
   return url;
 }
 
