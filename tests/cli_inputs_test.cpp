@@ -7,9 +7,6 @@
 
 #include <gtest/gtest.h>
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 
@@ -20,7 +17,6 @@
 #include <numbers>
 #include <string>
 #include <tuple>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 using namespace caustic::testing;
@@ -369,34 +365,6 @@ TEST_F(CliInputs, ANumberFlagIsReadInDecimal) {
   expect_rejected("design --target " + logo + " -o " + (dir_ / "face.obj").string() + " --no-check --size 0x10",
                   "--size: must be a number in decimal notation, got \"0x10\"");
   EXPECT_FALSE(fs::exists(dir_ / "face.obj"));
-}
-
-// A socket that cannot be bound names the setting in its way: the port
-// (taken here by the test), the agent's port, or an address not on this
-// host. Exit 1, not 2: a restart may mend it (the port freed, the address
-// up), and systemd retries 1 but not 2 (docs/operations.md).
-TEST_F(CliInputs, AServerThatCannotListenNamesTheSettingInItsWay) {
-  const int held = ::socket(AF_INET, SOCK_STREAM, 0);
-  ASSERT_GE(held, 0);
-  sockaddr_in at{};
-  at.sin_family = AF_INET;
-  at.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t size = sizeof at;
-  ASSERT_EQ(::bind(held, reinterpret_cast<sockaddr*>(&at), sizeof at), 0);
-  ASSERT_EQ(::listen(held, 1), 0);
-  ASSERT_EQ(::getsockname(held, reinterpret_cast<sockaddr*>(&at), &size), 0);
-  const std::string port = std::to_string(ntohs(at.sin_port));
-  const auto expect = [](const CommandResult& r, const std::string& said) {
-    EXPECT_EQ(r.status, 1) << r.output;
-    EXPECT_NE(r.output.find(said), std::string::npos) << r.output;
-  };
-  expect(causticd_with_env("timeout 30", "serve --bind 127.0.0.1 --port " + port),
-         "port: cannot listen on 127.0.0.1:" + port + ": ");
-  expect(causticd_with_env("timeout 30", "serve --bind 127.0.0.1 --port 0 --set agent_port=" + port),
-         "agent_port: cannot listen on 127.0.0.1:" + port + ": ");
-  // 192.0.2.1 is for documentation (RFC 5737): no host holds it.
-  expect(causticd_with_env("timeout 30", "serve --bind 192.0.2.1 --port 0"), "bind_address: cannot listen on 192.0.2.1:0: ");
-  ::close(held);
 }
 
 // A named flag applies after every --set, wherever each was written, as

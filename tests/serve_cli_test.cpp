@@ -1,10 +1,14 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // `causticd check-config` and `causticd serve` refusing what they are given:
-// exit 2 naming the key, before anything starts. Each run is bounded by
-// `timeout`; nothing listens for long.
+// exit 2 naming the key, before anything starts (or 1 naming the setting
+// when a socket cannot be bound, which a restart may mend). Each run is
+// bounded by `timeout`; nothing listens for long.
 #include <glib.h>
 #include <gtest/gtest.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -159,4 +163,32 @@ TEST(Serve, ADataFolderThatIsNotThereIsAConfigurationErrorThatNamesIt) {
     EXPECT_EQ(output.find("listening"), std::string::npos) << output;
   }
   fs::remove_all(dir);
+}
+
+// A socket that cannot be bound names the setting in its way: the port
+// (taken here by the test), the agent's port, or an address not on this
+// host. Exit 1, not 2: a restart may mend it (the port freed, the address
+// up), and systemd retries 1 but not 2 (docs/operations.md).
+TEST(Serve, AServerThatCannotListenNamesTheSettingInItsWay) {
+  const int held = ::socket(AF_INET, SOCK_STREAM, 0);
+  ASSERT_GE(held, 0);
+  sockaddr_in at{};
+  at.sin_family = AF_INET;
+  at.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t size = sizeof at;
+  ASSERT_EQ(::bind(held, reinterpret_cast<sockaddr*>(&at), sizeof at), 0);
+  ASSERT_EQ(::listen(held, 1), 0);
+  ASSERT_EQ(::getsockname(held, reinterpret_cast<sockaddr*>(&at), &size), 0);
+  const std::string port = std::to_string(ntohs(at.sin_port));
+  const auto expect = [](const std::string& args, const std::string& said) {
+    std::string output;
+    EXPECT_EQ(run_causticd(args, &output), 1) << output;
+    EXPECT_NE(output.find(said), std::string::npos) << output;
+  };
+  expect("serve --bind 127.0.0.1 --port " + port, "port: cannot listen on 127.0.0.1:" + port + ": ");
+  expect("serve --bind 127.0.0.1 --port 0 --set agent_port=" + port,
+         "agent_port: cannot listen on 127.0.0.1:" + port + ": ");
+  // 192.0.2.1 is for documentation (RFC 5737): no host holds it.
+  expect("serve --bind 192.0.2.1 --port 0", "bind_address: cannot listen on 192.0.2.1:0: ");
+  ::close(held);
 }
